@@ -1,0 +1,52 @@
+//! `dpdnl`: the command-line front end of the standalone DPD engine and its tools.
+
+mod crosscheck;
+mod design;
+mod diff;
+mod run;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Dissipative particle dynamics with non-linear friction.
+///
+/// The engine reads a documented subset of the LAMMPS input language, so the same script runs in
+/// LAMMPS (with this project's `pair_style dpd/nonlinear`) and here, and the two logs can be diffed.
+#[derive(Parser)]
+#[command(name = "dpdnl", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a LAMMPS-style input script in the standalone engine.
+    Run(run::RunArgs),
+    /// Choose γ and the weight exponent s from a target viscosity and Schmidt number.
+    Design(design::DesignArgs),
+    /// Print kinetic-theory predictions and the finite-step temperature for a parameter set.
+    Theory(design::TheoryArgs),
+    /// Compare two LAMMPS-format logs or dumps column by column.
+    Diff(diff::DiffArgs),
+    /// Run one script in both engines (standalone and LAMMPS) and compare the results.
+    Crosscheck(crosscheck::CrosscheckArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(a) => run::main(a),
+        Command::Design(a) => design::design_main(a),
+        Command::Theory(a) => design::theory_main(a),
+        Command::Diff(a) => diff::main(a),
+        Command::Crosscheck(a) => crosscheck::main(a),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("ERROR: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,19 @@
+//! `dpdnl`: dissipative particle dynamics with non-linear (velocity-dependent) friction.
+//!
+//! - [`kernel`]: pure pair kernels (weights, friction models, noise schemes), shared with the C ABI.
+//! - [`rng`]: the counter-based pair random number keyed by (seed, step, min tag, max tag).
+//! - [`theory`]: closed-form kinetic theory, (η, Sc) design and the finite-step temperature.
+//! - [`engine`]: the standalone engine (boxes, neighbour lists, integrators, measurements).
+//! - [`input`]: the LAMMPS-input subset the engine reads.
+//! - [`io`]: LAMMPS file formats (data, dump, log) read and written.
+//! - [`stats`]: block averaging and simple fits used by measurements and comparisons.
+//!
+//! The library never prints; the `dpdnl` binary decides what a person sees.
+
+pub mod engine;
+pub mod input;
+pub mod io;
+pub mod kernel;
+pub mod rng;
+pub mod stats;
+pub mod theory;

@@ -1,0 +1,1 @@
+//! Statistics helpers: placeholder until filled.

@@ -1,0 +1,1 @@
+//! Closed-form theory (issue 4): placeholder until filled.
