@@ -1,1 +1,343 @@
-//! placeholder
+//! The standalone engine: a periodic orthorhombic box in 2-D or 3-D, a cell-sorted half
+//! neighbour list, the velocity-Verlet and Euler integrators, and the thermodynamic measurements
+//! LAMMPS reports (same definitions, so one log parser and one diff read both engines).
+
+pub mod atoms;
+pub mod domain;
+pub mod forcefield;
+pub mod neighbor;
+
+pub use atoms::Atoms;
+pub use domain::SimBox;
+pub use forcefield::ForceField;
+pub use neighbor::{NeighborList, PairTally};
+
+use crate::kernel::PairCoeff;
+use rayon::prelude::*;
+
+/// Time integration scheme (MODELS §3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Integrator {
+    /// Velocity-Verlet as LAMMPS `fix nve`: half kick, drift, forces at the new step, half kick.
+    VelocityVerlet,
+    /// Euler (Hoogerbrugge–Koelman; finite-step paper eqs. 1–2): x += v δt and v += F/m δt from
+    /// the state at t, then forces at the new state (`fix nve/euler`).
+    Euler,
+}
+
+/// The modified PeX momentum push (MODELS §6; `fix ID all pex/push dp [width W] [every N]`).
+/// Semantics mirror the LAMMPS fix (docs/fixes.md): applied after the step's final integration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PexPush {
+    /// Fix id (for `f_ID` in thermo).
+    pub id: String,
+    /// Momentum Δp_z moved per push.
+    pub dp: f64,
+    /// Slab width (None: the default of docs/fixes.md).
+    pub width: Option<f64>,
+    /// Push every N steps.
+    pub every: u64,
+    /// Accumulated momentum moved so far.
+    pub total: f64,
+}
+
+/// Everything the engine integrates.
+#[derive(Debug)]
+pub struct System {
+    /// The box.
+    pub bx: SimBox,
+    /// The atoms.
+    pub atoms: Atoms,
+    /// Number of atom types.
+    pub ntypes: usize,
+    /// Per-type masses (index 0 unused).
+    pub mass: Vec<Option<f64>>,
+    /// The pair style, once defined.
+    pub ff: Option<ForceField>,
+    /// Neighbour list.
+    pub neighbor: NeighborList,
+    /// Time step.
+    pub dt: f64,
+    /// Current step (LAMMPS's `update->ntimestep`).
+    pub step: u64,
+    /// The integrator, if a `fix nve` or `fix nve/euler` is defined.
+    pub integrator: Option<Integrator>,
+    /// PeX pushes defined with `fix … pex/push`.
+    pub pex: Vec<PexPush>,
+    /// Energy and virial of the last force evaluation.
+    pub tally: PairTally,
+    table: Vec<PairCoeff>,
+    inv_mass: Vec<f64>,
+}
+
+/// Kinetic and configurational sums from which LAMMPS's thermo keywords follow.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Thermo {
+    /// Σ m v_a v_b (xx, yy, zz, xy, xz, yz).
+    pub ke_tensor: [f64; 6],
+    /// Degrees of freedom d N − d (as LAMMPS `compute temp`).
+    pub dof: f64,
+    /// Kinetic temperature Σ m v² / dof.
+    pub temp: f64,
+    /// Scalar pressure (dof·T + trace virial) / (d V).
+    pub press: f64,
+    /// Pressure tensor (Σ m v_a v_b + W_ab) / V; in 2-D zz, xz, yz are 0 as in LAMMPS.
+    pub p_tensor: [f64; 6],
+    /// Total kinetic energy Σ m v² / 2.
+    pub ke: f64,
+    /// Total pair energy.
+    pub pe: f64,
+    /// Volume (area in 2-D).
+    pub vol: f64,
+}
+
+impl System {
+    /// An empty system in `bx` with `ntypes` atom types; δt defaults to 0.005 (LAMMPS `units lj`),
+    /// skin to 0.3 (LAMMPS `units lj`).
+    pub fn new(bx: SimBox, ntypes: usize) -> System {
+        System {
+            bx,
+            atoms: Atoms::default(),
+            ntypes,
+            mass: vec![None; ntypes + 1],
+            ff: None,
+            neighbor: NeighborList::new(0.3),
+            dt: 0.005,
+            step: 0,
+            integrator: None,
+            pex: Vec::new(),
+            tally: PairTally::default(),
+            table: Vec::new(),
+            inv_mass: Vec::new(),
+        }
+    }
+
+    /// Dimension (2 or 3).
+    pub fn dim(&self) -> usize {
+        self.bx.dim
+    }
+
+    /// Check everything a run needs and evaluate the forces of the current step (LAMMPS's
+    /// `Verlet::setup`: forces are keyed with the current step).
+    pub fn setup(&mut self) -> Result<(), String> {
+        let Some(ff) = self.ff.as_mut() else {
+            return Err("no pair style defined (pair_style dpd/nonlinear …)".into());
+        };
+        if let Some((i, j)) = ff.missing() {
+            return Err(format!("pair coefficients for types {i} {j} are not set (pair_coeff)"));
+        }
+        for t in 1..=self.ntypes {
+            if self.mass[t].is_none() {
+                return Err(format!("mass of atom type {t} is not set (mass)"));
+            }
+        }
+        if !(self.dt.is_finite() && self.dt > 0.0) {
+            return Err(format!("timestep {} must be > 0", self.dt));
+        }
+        ff.model.set_timestep(self.dt);
+        let rc_max = ff.rc_max();
+        let len = self.bx.len();
+        for d in 0..self.bx.dim {
+            if len[d] < 2.0 * rc_max {
+                return Err(format!(
+                    "box length {} in {} is shorter than 2 rc = {}: a pair's periodic images would share one random number",
+                    len[d],
+                    ["x", "y", "z"][d],
+                    2.0 * rc_max
+                ));
+            }
+        }
+        self.table = ff.dense_table();
+        self.inv_mass = self.mass.iter().map(|m| m.map_or(0.0, |m| 1.0 / m)).collect();
+        if self.dim() == 2 {
+            for (x, v) in self.atoms.x.iter_mut().zip(self.atoms.v.iter_mut()) {
+                x[2] = 0.0;
+                v[2] = 0.0;
+            }
+        }
+        self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
+        self.compute_forces();
+        Ok(())
+    }
+
+    fn compute_forces(&mut self) {
+        let Some(ff) = self.ff.as_ref() else { return };
+        if self.neighbor.needs_rebuild(&self.atoms) {
+            self.neighbor.build(&mut self.atoms, &self.bx, ff.rc_max());
+        }
+        self.tally = self.neighbor.compute_forces(
+            &mut self.atoms,
+            &self.bx,
+            ff,
+            &self.table,
+            &self.inv_mass,
+            self.step,
+        );
+    }
+
+    /// Advance one step with the configured integrator (after [`System::setup`]).
+    pub fn step_once(&mut self) {
+        self.step += 1;
+        let dt = self.dt;
+        let inv_mass = &self.inv_mass;
+        let a = &mut self.atoms;
+        match self.integrator {
+            Some(Integrator::VelocityVerlet) => {
+                let dtf = 0.5 * dt;
+                a.x.par_iter_mut()
+                    .zip(a.v.par_iter_mut())
+                    .zip(a.f.par_iter().zip(a.typ.par_iter()))
+                    .for_each(|((x, v), (f, &t))| {
+                        let dtfm = dtf * inv_mass[t as usize];
+                        for k in 0..3 {
+                            v[k] += dtfm * f[k];
+                            x[k] += dt * v[k];
+                        }
+                    });
+                self.compute_forces();
+                let a = &mut self.atoms;
+                let inv_mass = &self.inv_mass;
+                a.v.par_iter_mut()
+                    .zip(a.f.par_iter().zip(a.typ.par_iter()))
+                    .for_each(|(v, (f, &t))| {
+                        let dtfm = dtf * inv_mass[t as usize];
+                        for k in 0..3 {
+                            v[k] += dtfm * f[k];
+                        }
+                    });
+            }
+            Some(Integrator::Euler) => {
+                a.x.par_iter_mut()
+                    .zip(a.v.par_iter_mut())
+                    .zip(a.f.par_iter().zip(a.typ.par_iter()))
+                    .for_each(|((x, v), (f, &t))| {
+                        let dtfm = dt * inv_mass[t as usize];
+                        for k in 0..3 {
+                            x[k] += dt * v[k];
+                            v[k] += dtfm * f[k];
+                        }
+                    });
+                self.compute_forces();
+            }
+            None => self.compute_forces(),
+        }
+        if self.dim() == 2 {
+            for (v, f) in self.atoms.v.iter_mut().zip(self.atoms.f.iter_mut()) {
+                v[2] = 0.0;
+                f[2] = 0.0;
+            }
+        }
+        self.apply_pex();
+    }
+
+    /// The PeX slab of the x coordinate (wrapped): 1, 2 or 0 (neither). See docs/fixes.md.
+    fn apply_pex(&mut self) {
+        if self.pex.is_empty() {
+            return;
+        }
+        let bx = &self.bx;
+        let lx = bx.len()[0];
+        let step = self.step;
+        for push in self.pex.iter_mut() {
+            if step % push.every != 0 {
+                continue;
+            }
+            let w = push.width.unwrap_or(lx / 20.0);
+            let c1 = bx.lo[0] + 0.25 * lx;
+            let c2 = bx.lo[0] + 0.75 * lx;
+            let mut slow: Option<(f64, u32, usize)> = None;
+            let mut fast: Option<(f64, u32, usize)> = None;
+            for i in 0..self.atoms.len() {
+                let mut x = self.atoms.x[i];
+                let mut im = [0; 3];
+                bx.wrap(&mut x, &mut im);
+                let (vz, tag) = (self.atoms.v[i][2], self.atoms.tag[i]);
+                if (x[0] - c1).abs() < 0.5 * w {
+                    let better = match slow {
+                        None => true,
+                        Some((v0, t0, _)) => vz < v0 || (vz == v0 && tag < t0),
+                    };
+                    if better {
+                        slow = Some((vz, tag, i));
+                    }
+                } else if (x[0] - c2).abs() < 0.5 * w {
+                    let better = match fast {
+                        None => true,
+                        Some((v0, t0, _)) => vz > v0 || (vz == v0 && tag < t0),
+                    };
+                    if better {
+                        fast = Some((vz, tag, i));
+                    }
+                }
+            }
+            if let (Some((_, _, i)), Some((_, _, j))) = (slow, fast) {
+                let mi = 1.0 / self.inv_mass[self.atoms.typ[i] as usize];
+                let mj = 1.0 / self.inv_mass[self.atoms.typ[j] as usize];
+                self.atoms.v[i][2] += push.dp / mi;
+                self.atoms.v[j][2] -= push.dp / mj;
+                push.total += push.dp;
+            }
+        }
+    }
+
+    /// The thermodynamic state with LAMMPS's definitions (MODELS §6).
+    pub fn thermo(&self) -> Thermo {
+        let d = self.dim();
+        let mut kt = [0.0; 6];
+        for ((v, &t), _) in self.atoms.v.iter().zip(&self.atoms.typ).zip(0..) {
+            let m = self.mass[t as usize].unwrap_or(0.0);
+            kt[0] += m * v[0] * v[0];
+            kt[1] += m * v[1] * v[1];
+            kt[2] += m * v[2] * v[2];
+            kt[3] += m * v[0] * v[1];
+            kt[4] += m * v[0] * v[2];
+            kt[5] += m * v[1] * v[2];
+        }
+        let n = self.atoms.len() as f64;
+        let dof = d as f64 * n - d as f64;
+        let mv2 = if d == 3 { kt[0] + kt[1] + kt[2] } else { kt[0] + kt[1] };
+        let temp = if dof > 0.0 { mv2 / dof } else { 0.0 };
+        let vol = self.bx.volume();
+        let w = self.tally.virial;
+        let trace = if d == 3 { w[0] + w[1] + w[2] } else { w[0] + w[1] };
+        let press = (dof * temp + trace) / (d as f64 * vol);
+        let mut p = [0.0; 6];
+        for a in 0..6 {
+            p[a] = (kt[a] + w[a]) / vol;
+        }
+        if d == 2 {
+            p[2] = 0.0;
+            p[4] = 0.0;
+            p[5] = 0.0;
+        }
+        Thermo {
+            ke_tensor: kt,
+            dof,
+            temp,
+            press,
+            p_tensor: p,
+            ke: 0.5 * mv2,
+            pe: self.tally.energy,
+            vol,
+        }
+    }
+
+    /// Total momentum Σ m v.
+    pub fn momentum(&self) -> [f64; 3] {
+        let mut p = [0.0; 3];
+        for (v, &t) in self.atoms.v.iter().zip(&self.atoms.typ) {
+            let m = self.mass[t as usize].unwrap_or(0.0);
+            for k in 0..3 {
+                p[k] += m * v[k];
+            }
+        }
+        p
+    }
+
+    /// Bytes per atom held by the atom arrays and the neighbour structures.
+    pub fn bytes(&self) -> (usize, usize) {
+        let a = &self.atoms;
+        let atom_bytes = a.x.capacity() * 24 * 3 + a.tag.capacity() * 4 + a.typ.capacity() * 4 + a.image.capacity() * 12;
+        (atom_bytes, self.neighbor.bytes())
+    }
+}

@@ -1,0 +1,62 @@
+//! Per-atom data as contiguous arrays (structure of arrays).
+
+/// The atoms of the system. Index order is internal (sorted by cell for locality); `tag` is the
+/// global, user-visible id (LAMMPS's atom ID) that keys the pair noise.
+#[derive(Clone, Debug, Default)]
+pub struct Atoms {
+    /// Positions (wrapped into the box at every neighbour-list build).
+    pub x: Vec<[f64; 3]>,
+    /// Velocities.
+    pub v: Vec<[f64; 3]>,
+    /// Forces from the last force evaluation.
+    pub f: Vec<[f64; 3]>,
+    /// Global ids, 1 ≤ tag < 2³².
+    pub tag: Vec<u32>,
+    /// Types, 1-based.
+    pub typ: Vec<u32>,
+    /// Periodic image counters.
+    pub image: Vec<[i32; 3]>,
+}
+
+impl Atoms {
+    /// Number of atoms.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// True when there are no atoms.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Append one atom (zero force).
+    pub fn push(&mut self, tag: u32, typ: u32, x: [f64; 3], v: [f64; 3], image: [i32; 3]) {
+        self.x.push(x);
+        self.v.push(v);
+        self.f.push([0.0; 3]);
+        self.tag.push(tag);
+        self.typ.push(typ);
+        self.image.push(image);
+    }
+
+    /// The largest tag, 0 when empty.
+    pub fn max_tag(&self) -> u32 {
+        self.tag.iter().copied().max().unwrap_or(0)
+    }
+
+    /// Reorder every array by `perm` (new index k holds old atom `perm[k]`), using `scratch`
+    /// buffers so that no allocation happens once they have grown to size.
+    pub fn permute(&mut self, perm: &[u32], scratch: &mut Atoms) {
+        fn apply<T: Copy>(src: &mut Vec<T>, dst: &mut Vec<T>, perm: &[u32]) {
+            dst.clear();
+            dst.extend(perm.iter().map(|&p| src[p as usize]));
+            std::mem::swap(src, dst);
+        }
+        apply(&mut self.x, &mut scratch.x, perm);
+        apply(&mut self.v, &mut scratch.v, perm);
+        apply(&mut self.f, &mut scratch.f, perm);
+        apply(&mut self.tag, &mut scratch.tag, perm);
+        apply(&mut self.typ, &mut scratch.typ, perm);
+        apply(&mut self.image, &mut scratch.image, perm);
+    }
+}
