@@ -1,2 +1,3 @@
 //! placeholder
 pub mod format;
+pub mod expr;
