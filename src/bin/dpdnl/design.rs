@@ -1,14 +1,447 @@
-//! placeholder
+//! `dpdnl design` and `dpdnl theory`: the command-line face of [`dpdnl::theory`].
+//!
+//! Both print `key = value` lines (comments start with `#`) or, with `--json`, one JSON object.
+//! Numbers are printed in Rust's shortest round-trip form, so pasting them back reproduces the
+//! design bit for bit.
+
+use dpdnl::theory::{
+    Design, DesignMode, Dim, Fluid, Targets, TheoryError, Transport, design_from_targets,
+    design_paper_approx, euler_critical_density, euler_critical_dt, euler_temperature_ratio,
+    kinetic_theory,
+};
+use std::fmt::Write as _;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// Choose γ and the weight exponent s from a target viscosity and Schmidt number.
+///
+/// By default the kinetic theory (ideal fluid, a = 0) is inverted exactly: the printed γ and s
+/// give η and Sc. With `--paper-approx`, `--eta` is the dissipative viscosity η0 and `--sc` is Sc0
+/// of the weighting-function paper, whose recipe assumes η ≈ η0 (eqs. 52–53, 65).
 #[derive(clap::Args)]
-pub struct DesignArgs {}
-#[derive(clap::Args)]
-pub struct TheoryArgs {}
-
-pub fn design_main(_a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    Err("not implemented yet".into())
+pub struct DesignArgs {
+    /// Target shear viscosity η (with --paper-approx: the paper's η0).
+    #[arg(long, allow_negative_numbers = true)]
+    eta: f64,
+    /// Target Schmidt number Sc = η/(m n D) (with --paper-approx: the paper's Sc0).
+    #[arg(long, allow_negative_numbers = true)]
+    sc: f64,
+    /// Number density n (particles per unit area in 2-D).
+    #[arg(long, allow_negative_numbers = true)]
+    density: f64,
+    /// Cut-off radius r_c.
+    #[arg(long, allow_negative_numbers = true)]
+    rc: f64,
+    /// Thermal energy kT.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    kt: f64,
+    /// Particle mass m.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    mass: f64,
+    /// Space dimension, 2 or 3.
+    #[arg(long, default_value_t = 3, allow_negative_numbers = true)]
+    dim: i64,
+    /// Use the weighting-function paper's approximation η ≈ η0 (its Tables 4–5) instead of the
+    /// exact inversion.
+    #[arg(long)]
+    paper_approx: bool,
+    /// The seed written into the printed `pair_style` line.
+    #[arg(long, default_value_t = 12345)]
+    seed: u32,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
 }
-pub fn theory_main(_a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    Err("not implemented yet".into())
+
+/// Print kinetic-theory predictions (and, with --dt, the Euler finite-step temperature).
+#[derive(clap::Args)]
+pub struct TheoryArgs {
+    /// An input script to read the parameters from (not available yet).
+    script: Option<PathBuf>,
+    /// Friction amplitude γ (`gamma0` of `pair_coeff`).
+    #[arg(
+        long,
+        required_unless_present = "script",
+        allow_negative_numbers = true
+    )]
+    gamma: Option<f64>,
+    /// Weight exponent s of w_D = (1 − r/r_c)^s.
+    #[arg(
+        long,
+        required_unless_present = "script",
+        allow_negative_numbers = true
+    )]
+    s: Option<f64>,
+    /// Number density n (particles per unit area in 2-D).
+    #[arg(
+        long,
+        required_unless_present = "script",
+        allow_negative_numbers = true
+    )]
+    density: Option<f64>,
+    /// Cut-off radius r_c.
+    #[arg(
+        long,
+        required_unless_present = "script",
+        allow_negative_numbers = true
+    )]
+    rc: Option<f64>,
+    /// Thermal energy kT (the thermostat's kT0 for the Euler temperature).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    kt: f64,
+    /// Particle mass m.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    mass: f64,
+    /// Space dimension, 2 or 3.
+    #[arg(long, default_value_t = 3, allow_negative_numbers = true)]
+    dim: i64,
+    /// Time step δt: also print the Euler integrator's T_eq/T0, δt_c and n_c.
+    #[arg(long, allow_negative_numbers = true)]
+    dt: Option<f64>,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Shortest round-trip decimal form; exponent form outside [1e-5, 1e16).
+fn num(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || (1e-5..1e16).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A JSON number, or `null` for a non-finite value.
+fn jnum(x: f64) -> String {
+    if x.is_finite() { num(x) } else { "null".into() }
+}
+
+/// Escapes a string for JSON.
+fn jstr(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+fn dim_of(d: i64) -> Result<Dim, TheoryError> {
+    u32::try_from(d)
+        .map_err(|_| TheoryError::Parameter {
+            name: "dimension d",
+            value: d as f64,
+            requirement: "2 or 3",
+        })
+        .and_then(Dim::new)
+}
+
+fn fluid_of(dim: i64, density: f64, rc: f64, mass: f64, kt: f64) -> Result<Fluid, TheoryError> {
+    Fluid::new(dim_of(dim)?.get(), density, rc, mass, kt)
+}
+
+fn transport_json(t: &Transport) -> String {
+    format!(
+        "{{\"eta_k\":{},\"eta_d\":{},\"eta\":{},\"diffusion\":{},\"schmidt\":{}}}",
+        jnum(t.eta_k),
+        jnum(t.eta_d),
+        jnum(t.eta),
+        jnum(t.diffusion),
+        jnum(t.schmidt)
+    )
+}
+
+fn fluid_json(f: &Fluid) -> String {
+    format!(
+        "{{\"dim\":{},\"density\":{},\"cutoff\":{},\"mass\":{},\"kt\":{}}}",
+        f.dim.get(),
+        jnum(f.density),
+        jnum(f.cutoff),
+        jnum(f.mass),
+        jnum(f.kt)
+    )
+}
+
+fn transport_text(out: &mut String, t: &Transport) {
+    let _ = writeln!(out, "eta_K = {}", num(t.eta_k));
+    let _ = writeln!(out, "eta_D = {}", num(t.eta_d));
+    let _ = writeln!(out, "eta = {}", num(t.eta));
+    let _ = writeln!(out, "D = {}", num(t.diffusion));
+    let _ = writeln!(out, "Sc = {}", num(t.schmidt));
+}
+
+/// The two input lines that reproduce a design in both engines.
+fn input_lines(f: &Fluid, d: &Design, seed: u32) -> (String, String) {
+    (
+        format!(
+            "pair_style dpd/nonlinear {} {} {} weight {}",
+            num(f.kt),
+            num(f.cutoff),
+            seed,
+            num(d.s)
+        ),
+        format!("pair_coeff * * 0.0 {} 0.0", num(d.gamma)),
+    )
+}
+
+/// `dpdnl design`.
+pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let fluid = fluid_of(a.dim, a.density, a.rc, a.mass, a.kt)?;
+    let design = if a.paper_approx {
+        design_paper_approx(&fluid, a.eta, a.sc)?
+    } else {
+        design_from_targets(&Targets {
+            fluid,
+            eta: a.eta,
+            sc: a.sc,
+        })?
+    };
+    let pred = kinetic_theory(&fluid, design.gamma, design.s)?;
+    let (style, coeff) = input_lines(&fluid, &design, a.seed);
+    let lim = &design.limits;
+    let d = fluid.dim.get();
+    let eqs = match fluid.dim {
+        Dim::Three => "eqs. 54-55",
+        Dim::Two => "eqs. 63-64",
+    };
+    let mut out = String::new();
+    if a.json {
+        let (mode, targets) = match design.mode {
+            DesignMode::Exact => (
+                "exact",
+                format!("{{\"eta\":{},\"sc\":{}}}", jnum(a.eta), jnum(a.sc)),
+            ),
+            DesignMode::PaperApprox => (
+                "paper-approx",
+                format!("{{\"eta0\":{},\"sc0\":{}}}", jnum(a.eta), jnum(a.sc)),
+            ),
+        };
+        let gas = lim.sc_gas_max.map_or("null".to_string(), jnum);
+        let _ = writeln!(
+            out,
+            "{{\"command\":\"design\",\"mode\":{},\"fluid\":{},\"targets\":{},\
+             \"design\":{{\"eta0\":{},\"s\":{},\"gamma\":{}}},\"predicted\":{},\
+             \"limits\":{{\"p\":{},\"p0\":{},\"eta_max\":{},\"sc_min\":{},\"sc_gas_max\":{},\
+             \"density_min\":{},\"cutoff_min\":{}}},\"pair_style\":{},\"pair_coeff\":{}}}",
+            jstr(mode),
+            fluid_json(&fluid),
+            targets,
+            jnum(design.eta0),
+            jnum(design.s),
+            jnum(design.gamma),
+            transport_json(&pred),
+            jnum(lim.p),
+            jnum(lim.p0),
+            jnum(lim.eta_max),
+            jnum(lim.sc_min),
+            gas,
+            jnum(lim.density_min),
+            jnum(lim.cutoff_min),
+            jstr(&style),
+            jstr(&coeff)
+        );
+        print!("{out}");
+        return Ok(ExitCode::SUCCESS);
+    }
+    let _ = writeln!(
+        out,
+        "# fluid: d = {d}, n = {}, r_c = {}, m = {}, kT = {} (ideal fluid, a = 0)",
+        num(fluid.density),
+        num(fluid.cutoff),
+        num(fluid.mass),
+        num(fluid.kt)
+    );
+    match design.mode {
+        DesignMode::Exact => {
+            let _ = writeln!(
+                out,
+                "# design: exact inversion of the kinetic theory (MODELS.md 5) for eta = {}, Sc = {}",
+                num(a.eta),
+                num(a.sc)
+            );
+        }
+        DesignMode::PaperApprox => {
+            let _ = writeln!(
+                out,
+                "# design: the weighting-function paper's APPROXIMATION eta ~ eta0 (eqs. 52-53, 65)\n\
+                 # for eta0 = {}, Sc0 = {}; kinetic theory then gives eta = eta0 (1 + 1/(2 Sc0)) and\n\
+                 # Sc = Sc0 + 1/2 (see the check below); drop --paper-approx for the exact inversion",
+                num(a.eta),
+                num(a.sc)
+            );
+        }
+    }
+    let _ = writeln!(out, "eta0 = {}", num(design.eta0));
+    let _ = writeln!(out, "s = {}", num(design.s));
+    let _ = writeln!(out, "gamma = {}", num(design.gamma));
+    let _ = writeln!(
+        out,
+        "# check: kinetic theory of (gamma, s) with w_D = (1 - r/r_c)^s"
+    );
+    transport_text(&mut out, &pred);
+    let _ = writeln!(
+        out,
+        "# limits: s > 0 <=> P_{d}(s) > P_{d}(0) ({}{eqs}); P is the paper's C",
+        if design.mode == DesignMode::Exact {
+            "exact form of "
+        } else {
+            ""
+        }
+    );
+    let _ = writeln!(out, "P = {}", num(lim.p));
+    let _ = writeln!(out, "P0 = {}", num(lim.p0));
+    match design.mode {
+        DesignMode::Exact => {
+            let _ = writeln!(out, "# largest eta for this Sc; smallest Sc for this eta");
+            let _ = writeln!(out, "eta_max = {}", num(lim.eta_max));
+            let _ = writeln!(out, "Sc_min = {}", num(lim.sc_min));
+            if let Some(gas) = lim.sc_gas_max {
+                let _ = writeln!(
+                    out,
+                    "# a gas-like design (eta_K > eta_D) also exists for 0.5 < Sc < Sc_gas_max"
+                );
+                let _ = writeln!(out, "Sc_gas_max = {}", num(gas));
+            }
+        }
+        DesignMode::PaperApprox => {
+            let _ = writeln!(
+                out,
+                "# largest eta0 for this Sc0; smallest Sc0 for this eta0"
+            );
+            let _ = writeln!(out, "eta0_max = {}", num(lim.eta_max));
+            let _ = writeln!(out, "Sc0_min = {}", num(lim.sc_min));
+        }
+    }
+    let _ = writeln!(
+        out,
+        "# smallest density and cut-off with the other inputs fixed"
+    );
+    let _ = writeln!(out, "n_min = {}", num(lim.density_min));
+    let _ = writeln!(out, "rc_min = {}", num(lim.cutoff_min));
+    let _ = writeln!(
+        out,
+        "# input lines for LAMMPS and dpdnl (friction none, noise plain; set the seed you want)"
+    );
+    let _ = writeln!(out, "{style}");
+    let _ = writeln!(out, "{coeff}");
+    print!("{out}");
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `dpdnl theory`.
+pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    if let Some(p) = &a.script {
+        return Err(format!(
+            "reading parameters from a script is not available yet (got {}); \
+             pass --gamma, --s, --density and --rc instead",
+            p.display()
+        )
+        .into());
+    }
+    let gamma = a.gamma.ok_or("--gamma is required")?;
+    let s = a.s.ok_or("--s is required")?;
+    let density = a.density.ok_or("--density is required")?;
+    let rc = a.rc.ok_or("--rc is required")?;
+    let fluid = fluid_of(a.dim, density, rc, a.mass, a.kt)?;
+    let t = kinetic_theory(&fluid, gamma, s)?;
+    // Euler: (dt, T_eq/T0 or None when unstable, dt_c, n_c or None when no density is stable).
+    let euler = match a.dt {
+        None => None,
+        Some(dt) => {
+            let ratio = match euler_temperature_ratio(&fluid, gamma, s, dt) {
+                Ok(r) => Some(r),
+                Err(TheoryError::EulerUnstable { .. }) => None,
+                Err(e) => return Err(e.into()),
+            };
+            let dt_c = euler_critical_dt(&fluid, gamma, s)?;
+            let n_c = match euler_critical_density(&fluid, gamma, s, dt) {
+                Ok(n) => Some(n),
+                Err(TheoryError::EulerNoStableDensity { .. }) => None,
+                Err(e) => return Err(e.into()),
+            };
+            Some((dt, ratio, dt_c, n_c))
+        }
+    };
+    let mut out = String::new();
+    if a.json {
+        let euler_json = match euler {
+            None => "null".to_string(),
+            Some((dt, ratio, dt_c, n_c)) => format!(
+                "{{\"dt\":{},\"stable\":{},\"t_ratio\":{},\"dt_c\":{},\"n_c\":{}}}",
+                jnum(dt),
+                ratio.is_some(),
+                ratio.map_or("null".to_string(), jnum),
+                jnum(dt_c),
+                n_c.map_or("null".to_string(), jnum)
+            ),
+        };
+        let _ = writeln!(
+            out,
+            "{{\"command\":\"theory\",\"fluid\":{},\"gamma\":{},\"s\":{},\"predicted\":{},\"euler\":{}}}",
+            fluid_json(&fluid),
+            jnum(gamma),
+            jnum(s),
+            transport_json(&t),
+            euler_json
+        );
+        print!("{out}");
+        return Ok(ExitCode::SUCCESS);
+    }
+    let _ = writeln!(
+        out,
+        "# fluid: d = {}, n = {}, r_c = {}, m = {}, kT = {}; gamma = {}, s = {}",
+        fluid.dim.get(),
+        num(fluid.density),
+        num(fluid.cutoff),
+        num(fluid.mass),
+        num(fluid.kt),
+        num(gamma),
+        num(s)
+    );
+    let _ = writeln!(
+        out,
+        "# kinetic theory of the ideal fluid (a = 0), w_D = (1 - r/r_c)^s (MODELS.md 5)"
+    );
+    transport_text(&mut out, &t);
+    if let Some((dt, ratio, dt_c, n_c)) = euler {
+        let _ = writeln!(
+            out,
+            "# Euler integrator, ideal fluid (finite-step paper eqs. 22-26; sigma^2 = 2 gamma kT, w_R^2 = w_D)"
+        );
+        let _ = writeln!(out, "dt = {}", num(dt));
+        match ratio {
+            Some(r) => {
+                let _ = writeln!(out, "T_eq/T0 = {}", num(r));
+            }
+            None => {
+                let _ = writeln!(out, "# dt >= dt_c: no finite equilibrium temperature");
+                let _ = writeln!(out, "T_eq/T0 = unstable");
+            }
+        }
+        let _ = writeln!(out, "dt_c = {}", num(dt_c));
+        match n_c {
+            Some(n) => {
+                let _ = writeln!(out, "n_c = {}", num(n));
+            }
+            None => {
+                let _ = writeln!(out, "# dt >= 2 A1/A2: no density is stable at this dt");
+                let _ = writeln!(out, "n_c = none");
+            }
+        }
+        let _ = writeln!(
+            out,
+            "# velocity-Verlet: the finite-step paper gives no closed form; none is computed"
+        );
+    }
+    print!("{out}");
+    Ok(ExitCode::SUCCESS)
 }
