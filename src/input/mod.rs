@@ -1,3 +1,12 @@
-//! placeholder
-pub mod format;
+//! The LAMMPS-input subset the standalone engine reads (see `docs/input.md`).
+//!
+//! - [`lexer`]: continuation lines, comments, quoted words;
+//! - [`expr`]: equal-style variable formulas;
+//! - [`format`]: C printf-style formats for thermo and dump output;
+//! - [`script`]: the interpreter that turns commands into engine state and runs it.
 pub mod expr;
+pub mod format;
+pub mod lexer;
+pub mod script;
+
+pub use script::{Collect, Console, Interpreter, Options, ScriptError};

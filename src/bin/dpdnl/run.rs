@@ -1,9 +1,81 @@
-//! placeholder
+//! `dpdnl run SCRIPT`: run a LAMMPS-style input script in the standalone engine.
+
+use dpdnl::input::{Console, Interpreter, Options};
+use std::io::{IsTerminal, Write};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// Run a LAMMPS-style input script (the subset in docs/input.md).
 #[derive(clap::Args)]
-pub struct RunArgs {}
+pub struct RunArgs {
+    /// The input script (paths inside it are relative to the current directory, as in LAMMPS).
+    pub script: PathBuf,
+    /// Define an index-style variable NAME with VALUE (as LAMMPS's `-var`); repeatable.
+    #[arg(long = "var", short = 'v', num_args = 2, value_names = ["NAME", "VALUE"], action = clap::ArgAction::Append, allow_hyphen_values = true)]
+    pub var: Vec<String>,
+    /// Log file; `none` for no log.
+    #[arg(long, default_value = "log.dpdnl")]
+    pub log: String,
+    /// Worker threads (results are bit-identical for any number).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Do not echo thermo output to the screen (the log still gets it).
+    #[arg(long)]
+    pub quiet: bool,
+}
 
-pub fn main(_a: RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    Err("not implemented yet".into())
+struct Screen {
+    quiet: bool,
+    tty: bool,
+    progress_shown: bool,
+}
+
+impl Console for Screen {
+    fn line(&mut self, text: &str) {
+        if self.progress_shown {
+            eprint!("\r\x1b[2K");
+            self.progress_shown = false;
+        }
+        if !self.quiet {
+            println!("{text}");
+        }
+    }
+    fn progress(&mut self, step: u64, first: u64, last: u64) {
+        if self.tty {
+            let frac = (step - first) as f64 / (last - first).max(1) as f64;
+            eprint!("\r  step {step} / {last} ({:.1}%)", 100.0 * frac);
+            let _ = std::io::stderr().flush();
+            self.progress_shown = true;
+        }
+    }
+}
+
+pub fn main(a: RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let threads = if a.threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        a.threads
+    };
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build_global()
+        .map_err(|e| format!("cannot start {threads} threads: {e}"))?;
+    let vars = a
+        .var
+        .chunks(2)
+        .map(|c| (c[0].clone(), c.get(1).cloned().unwrap_or_default()))
+        .collect();
+    let opts = Options {
+        log: (a.log != "none").then(|| PathBuf::from(&a.log)),
+        vars,
+        threads,
+    };
+    let mut screen = Screen {
+        quiet: a.quiet,
+        tty: std::io::stderr().is_terminal(),
+        progress_shown: false,
+    };
+    let mut interp = Interpreter::new(&mut screen, &opts)?;
+    interp.run_file(&a.script)?;
+    Ok(ExitCode::SUCCESS)
 }

@@ -1,0 +1,1597 @@
+//! The interpreter of the LAMMPS-input subset (see `docs/input.md` for the full list).
+//!
+//! Every command is parsed and validated once, into the engine's typed values; every error names
+//! the file, the line and the command. Output (what LAMMPS prints to the screen and the log) goes
+//! to a [`Console`] supplied by the caller and to the log file.
+
+use super::expr::{ExprContext, eval_equal};
+use super::format::{FmtArg, sprintf};
+use super::lexer::{logical_lines, split_words, strip_comment};
+use crate::engine::{ForceField, Integrator, PexPush, SimBox, System};
+use crate::io::data::{DataFile, format_data, parse_data};
+use crate::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
+use crate::rng::{STREAM_CREATE_ATOMS, STREAM_VELOCITY, keyed_gaussian, keyed_uniform};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Where the interpreter's screen output goes (the library never prints by itself).
+pub trait Console {
+    /// One line of output (no trailing newline).
+    fn line(&mut self, text: &str);
+    /// Progress of a run: `step` reached, run from `first` to `last`. Called about every second.
+    fn progress(&mut self, _step: u64, _first: u64, _last: u64) {}
+}
+
+/// A console that collects lines in memory (tests, library users).
+#[derive(Default, Debug)]
+pub struct Collect(pub Vec<String>);
+
+impl Console for Collect {
+    fn line(&mut self, text: &str) {
+        self.0.push(text.to_string());
+    }
+}
+
+/// An input error: file, line, command and what is wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScriptError {
+    /// Input file (or `-var`/command line).
+    pub file: String,
+    /// 1-based line number (0 when not from a file).
+    pub line: usize,
+    /// The command word.
+    pub command: String,
+    /// The message.
+    pub message: String,
+}
+
+impl fmt::Display for ScriptError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}:{}: {}: {}",
+            self.file, self.line, self.command, self.message
+        )
+    }
+}
+
+impl std::error::Error for ScriptError {}
+
+#[derive(Clone, Debug)]
+enum Var {
+    Index(String),
+    Str(String),
+    Equal(String),
+}
+
+/// Commands accepted and ignored: they only matter to LAMMPS (communication, neighbour
+/// bookkeeping, atom maps, Newton's third law flag, processor grids, echo).
+pub const IGNORED_COMMANDS: &[&str] = &[
+    "comm_modify",
+    "neigh_modify",
+    "atom_modify",
+    "newton",
+    "processors",
+    "echo",
+];
+
+#[derive(Clone, Debug)]
+struct ThermoSettings {
+    every: u64,
+    columns: Vec<String>,
+    fmt_line: Option<Vec<String>>,
+    fmt_int: Option<String>,
+    fmt_float: Option<String>,
+    fmt_col: BTreeMap<usize, String>,
+    norm: bool,
+}
+
+impl Default for ThermoSettings {
+    fn default() -> Self {
+        ThermoSettings {
+            every: 0,
+            columns: ["step", "temp", "epair", "emol", "etotal", "press"]
+                .map(String::from)
+                .to_vec(),
+            fmt_line: None,
+            fmt_int: None,
+            fmt_float: None,
+            fmt_col: BTreeMap::new(),
+            norm: true,
+        }
+    }
+}
+
+struct Dump {
+    id: String,
+    every: u64,
+    path: String,
+    columns: Vec<String>,
+    fmt_line: Option<Vec<String>>,
+    fmt_int: Option<String>,
+    fmt_float: Option<String>,
+    writer: BufWriter<File>,
+    last: Option<u64>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+enum FixKind {
+    Nve,
+    NveEuler,
+    Enforce2d,
+    Pex,
+}
+
+/// Run-time options from the command line.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// Log file (None: no log file).
+    pub log: Option<PathBuf>,
+    /// `-var NAME VALUE` definitions (index-style, as LAMMPS's `-var`).
+    pub vars: Vec<(String, String)>,
+    /// Number of threads the caller configured (printed in "Loop time").
+    pub threads: usize,
+}
+
+/// The interpreter state.
+pub struct Interpreter<'c> {
+    console: &'c mut dyn Console,
+    log: Option<BufWriter<File>>,
+    vars: BTreeMap<String, Var>,
+    dim: usize,
+    regions: BTreeMap<String, [[f64; 2]; 3]>,
+    sys: Option<System>,
+    skin: f64,
+    dt: f64,
+    thermo: ThermoSettings,
+    dumps: Vec<Dump>,
+    fixes: Vec<(String, FixKind)>,
+    threads: usize,
+    depth: usize,
+    run_first: u64,
+}
+
+type CmdResult = Result<(), String>;
+
+fn parse_f64(tok: &str, what: &str) -> Result<f64, String> {
+    let v: f64 = tok
+        .parse()
+        .map_err(|_| format!("expected a number for {what}, found '{tok}'"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("{what} = '{tok}' is not finite"))
+    }
+}
+
+fn parse_int<T: std::str::FromStr>(tok: &str, what: &str) -> Result<T, String> {
+    tok.parse()
+        .map_err(|_| format!("expected an integer for {what}, found '{tok}'"))
+}
+
+fn need(args: &[String], n: usize, usage: &str) -> CmdResult {
+    if args.len() < n {
+        Err(format!("missing arguments; usage: {usage}"))
+    } else {
+        Ok(())
+    }
+}
+
+/// A LAMMPS type range: `*`, `n`, `n*`, `*n`, `m*n`, within 1..=ntypes.
+pub fn type_range(tok: &str, ntypes: usize) -> Result<(usize, usize), String> {
+    let bad = || format!("invalid type or type range '{tok}' (types are 1..{ntypes})");
+    let (lo, hi) = match tok.split_once('*') {
+        None => {
+            let t: usize = tok.parse().map_err(|_| bad())?;
+            (t, t)
+        }
+        Some((a, b)) => {
+            let lo = if a.is_empty() { 1 } else { a.parse().map_err(|_| bad())? };
+            let hi = if b.is_empty() { ntypes } else { b.parse().map_err(|_| bad())? };
+            (lo, hi)
+        }
+    };
+    if lo < 1 || hi > ntypes || lo > hi {
+        return Err(bad());
+    }
+    Ok((lo, hi))
+}
+
+/// LAMMPS's header name of a thermo keyword.
+fn thermo_header(kw: &str) -> String {
+    match kw {
+        "step" => "Step".into(),
+        "elapsed" => "Elapsed".into(),
+        "dt" => "Dt".into(),
+        "time" => "Time".into(),
+        "atoms" => "Atoms".into(),
+        "temp" => "Temp".into(),
+        "press" => "Press".into(),
+        "ke" => "KinEng".into(),
+        "pe" => "PotEng".into(),
+        "epair" => "E_pair".into(),
+        "evdwl" => "E_vdwl".into(),
+        "emol" => "E_mol".into(),
+        "etotal" => "TotEng".into(),
+        "vol" => "Volume".into(),
+        "density" => "Density".into(),
+        "pxx" | "pyy" | "pzz" | "pxy" | "pxz" | "pyz" | "lx" | "ly" | "lz" | "xlo" | "xhi"
+        | "ylo" | "yhi" | "zlo" | "zhi" => {
+            let mut c = kw.chars();
+            match c.next() {
+                Some(f) => f.to_uppercase().chain(c).collect(),
+                None => String::new(),
+            }
+        }
+        other => other.to_string(),
+    }
+}
+
+fn is_int_keyword(kw: &str) -> bool {
+    matches!(kw, "step" | "elapsed" | "atoms")
+}
+
+impl<'c> Interpreter<'c> {
+    /// A fresh interpreter writing to `console` (and to `opts.log` when set).
+    pub fn new(console: &'c mut dyn Console, opts: &Options) -> Result<Interpreter<'c>, String> {
+        let log = match &opts.log {
+            Some(p) => Some(BufWriter::new(
+                File::create(p).map_err(|e| format!("cannot open log file {}: {e}", p.display()))?,
+            )),
+            None => None,
+        };
+        let mut vars = BTreeMap::new();
+        for (k, v) in &opts.vars {
+            vars.insert(k.clone(), Var::Index(v.clone()));
+        }
+        Ok(Interpreter {
+            console,
+            log,
+            vars,
+            dim: 3,
+            regions: BTreeMap::new(),
+            sys: None,
+            skin: 0.3,
+            dt: 0.005,
+            thermo: ThermoSettings::default(),
+            dumps: Vec::new(),
+            fixes: Vec::new(),
+            threads: opts.threads.max(1),
+            depth: 0,
+            run_first: 0,
+        })
+    }
+
+    /// The system, once a box exists.
+    pub fn system(&self) -> Option<&System> {
+        self.sys.as_ref()
+    }
+
+    fn out(&mut self, text: &str) {
+        self.console.line(text);
+        if let Some(l) = self.log.as_mut() {
+            let _ = writeln!(l, "{text}");
+        }
+    }
+
+    fn warn(&mut self, text: &str) {
+        self.out(&format!("WARNING: {text}"));
+    }
+
+    /// Run a script file.
+    pub fn run_file(&mut self, path: &Path) -> Result<(), ScriptError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ScriptError {
+            file: name.clone(),
+            line: 0,
+            command: "include".into(),
+            message: format!("cannot read input file: {e}"),
+        })?;
+        self.run_text(&text, &name)
+    }
+
+    /// Run script text; `name` is used in error messages.
+    pub fn run_text(&mut self, text: &str, name: &str) -> Result<(), ScriptError> {
+        for raw in logical_lines(text) {
+            let err = |command: &str, message: String| ScriptError {
+                file: name.to_string(),
+                line: raw.line,
+                command: command.to_string(),
+                message,
+            };
+            let body = strip_comment(&raw.text);
+            if body.trim().is_empty() {
+                continue;
+            }
+            let first = body.split_whitespace().next().unwrap_or("").to_string();
+            let substituted = self.substitute(body).map_err(|m| err(&first, m))?;
+            let words = split_words(strip_comment(&substituted)).map_err(|m| err(&first, m))?;
+            let Some((cmd, args)) = words.split_first() else {
+                continue;
+            };
+            if cmd == "include" {
+                if args.len() != 1 {
+                    return Err(err(cmd, "usage: include FILE".into()));
+                }
+                if self.depth > 16 {
+                    return Err(err(cmd, "include nested more than 16 deep".into()));
+                }
+                self.depth += 1;
+                let r = self.run_file(Path::new(&args[0]));
+                self.depth -= 1;
+                r?;
+                continue;
+            }
+            self.command(cmd, args).map_err(|m| err(cmd, m))?;
+        }
+        if let Some(l) = self.log.as_mut() {
+            let _ = l.flush();
+        }
+        Ok(())
+    }
+
+    // ------------------------------------------------------------------ variables
+
+    fn var_string(&self, name: &str) -> Result<String, String> {
+        match self.vars.get(name) {
+            None => Err(format!("variable '{name}' is not defined")),
+            Some(Var::Index(s)) | Some(Var::Str(s)) => Ok(s.clone()),
+            Some(Var::Equal(e)) => {
+                let v = self.eval(e)?;
+                sprintf("%.15g", &[FmtArg::Float(v)])
+            }
+        }
+    }
+
+    fn eval(&self, expr: &str) -> Result<f64, String> {
+        struct Ctx<'a, 'b>(&'a Interpreter<'b>, usize);
+        impl ExprContext for Ctx<'_, '_> {
+            fn variable(&self, name: &str) -> Result<f64, String> {
+                if self.1 > 64 {
+                    return Err(format!("variable '{name}' refers to itself"));
+                }
+                match self.0.vars.get(name) {
+                    None => Err(format!("variable '{name}' is not defined")),
+                    Some(Var::Index(s)) | Some(Var::Str(s)) => s
+                        .trim()
+                        .parse::<f64>()
+                        .map_err(|_| format!("variable '{name}' = '{s}' is not a number")),
+                    Some(Var::Equal(e)) => eval_equal(e, &Ctx(self.0, self.1 + 1)),
+                }
+            }
+            fn thermo(&self, keyword: &str) -> Option<Result<f64, String>> {
+                self.0.thermo_value(keyword)
+            }
+        }
+        eval_equal(expr, &Ctx(self, 0))
+    }
+
+    fn substitute(&self, s: &str) -> Result<String, String> {
+        if !s.contains('$') {
+            return Ok(s.to_string());
+        }
+        let mut out = String::with_capacity(s.len());
+        let mut i = 0;
+        let b = s.as_bytes();
+        let mut in_single = false;
+        let mut in_triple = false;
+        while i < b.len() {
+            if !in_single && s[i..].starts_with("\"\"\"") {
+                in_triple = !in_triple;
+                out.push_str("\"\"\"");
+                i += 3;
+                continue;
+            }
+            let c = b[i];
+            if c == b'\'' && !in_triple {
+                in_single = !in_single;
+            }
+            if c != b'$' || in_single || in_triple || i + 1 >= b.len() {
+                let ch = s[i..].chars().next().unwrap_or(' ');
+                out.push(ch);
+                i += ch.len_utf8();
+                continue;
+            }
+            match b[i + 1] {
+                b'{' => {
+                    let end = s[i + 2..]
+                        .find('}')
+                        .ok_or_else(|| format!("unterminated ${{ in: {s}"))?;
+                    let name = &s[i + 2..i + 2 + end];
+                    out.push_str(&self.var_string(name)?);
+                    i += end + 3;
+                }
+                b'(' => {
+                    let mut level = 0;
+                    let mut end = None;
+                    for (k, ch) in s[i + 1..].char_indices() {
+                        match ch {
+                            '(' => level += 1,
+                            ')' => {
+                                level -= 1;
+                                if level == 0 {
+                                    end = Some(i + 1 + k);
+                                    break;
+                                }
+                            }
+                            _ => {}
+                        }
+                    }
+                    let end = end.ok_or_else(|| format!("unterminated $( in: {s}"))?;
+                    let inner = &s[i + 2..end];
+                    let (expr, fmtstr) = match inner.rsplit_once(":%") {
+                        Some((e, f)) => (e, format!("%{f}")),
+                        None => (inner, "%.20g".to_string()),
+                    };
+                    let v = self.eval(expr)?;
+                    out.push_str(&sprintf(&fmtstr, &[FmtArg::Float(v)])?);
+                    i = end + 1;
+                }
+                other => {
+                    let name = (other as char).to_string();
+                    out.push_str(&self.var_string(&name)?);
+                    i += 2;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    // ------------------------------------------------------------------ thermo
+
+    fn thermo_value(&self, kw: &str) -> Option<Result<f64, String>> {
+        if let Some(name) = kw.strip_prefix("v_") {
+            return Some(self.eval(&format!("v_{name}")));
+        }
+        if let Some(id) = kw.strip_prefix("f_") {
+            let sys = self.sys.as_ref()?;
+            return Some(
+                sys.pex
+                    .iter()
+                    .find(|p| p.id == id)
+                    .map(|p| p.total)
+                    .ok_or_else(|| format!("fix '{id}' has no scalar (only pex/push fixes do)")),
+            );
+        }
+        let no_box = || Some(Err(format!("thermo keyword '{kw}' needs a simulation box")));
+        let Some(sys) = self.sys.as_ref() else {
+            return match kw {
+                "step" | "elapsed" | "dt" | "time" | "atoms" | "temp" | "press" | "pxx" | "pyy"
+                | "pzz" | "pxy" | "pxz" | "pyz" | "ke" | "pe" | "epair" | "evdwl" | "emol"
+                | "etotal" | "vol" | "lx" | "ly" | "lz" | "density" => no_box(),
+                _ => None,
+            };
+        };
+        let n = sys.atoms.len() as f64;
+        let norm = if self.thermo.norm && n > 0.0 { 1.0 / n } else { 1.0 };
+        let t = sys.thermo();
+        let len = sys.bx.len();
+        let v = match kw {
+            "step" => sys.step as f64,
+            "elapsed" => (sys.step - self.run_first) as f64,
+            "dt" => self.dt,
+            "time" => sys.step as f64 * self.dt,
+            "atoms" => n,
+            "temp" => t.temp,
+            "press" => t.press,
+            "pxx" => t.p_tensor[0],
+            "pyy" => t.p_tensor[1],
+            "pzz" => t.p_tensor[2],
+            "pxy" => t.p_tensor[3],
+            "pxz" => t.p_tensor[4],
+            "pyz" => t.p_tensor[5],
+            "ke" => t.ke * norm,
+            "pe" | "epair" | "evdwl" => t.pe * norm,
+            "emol" => 0.0,
+            "etotal" => (t.ke + t.pe) * norm,
+            "vol" => t.vol,
+            "lx" => len[0],
+            "ly" => len[1],
+            "lz" => len[2],
+            "xlo" => sys.bx.lo[0],
+            "xhi" => sys.bx.hi[0],
+            "ylo" => sys.bx.lo[1],
+            "yhi" => sys.bx.hi[1],
+            "zlo" => sys.bx.lo[2],
+            "zhi" => sys.bx.hi[2],
+            "density" => {
+                let m: f64 = sys
+                    .atoms
+                    .typ
+                    .iter()
+                    .map(|&ty| sys.mass[ty as usize].unwrap_or(0.0))
+                    .sum();
+                m / t.vol
+            }
+            _ => return None,
+        };
+        Some(Ok(v))
+    }
+
+    fn thermo_header_line(&self) -> String {
+        self.thermo
+            .columns
+            .iter()
+            .map(|c| thermo_header(c))
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+
+    fn thermo_row(&self) -> Result<String, String> {
+        let mut fields = Vec::with_capacity(self.thermo.columns.len());
+        for (k, kw) in self.thermo.columns.iter().enumerate() {
+            let v = self
+                .thermo_value(kw)
+                .ok_or_else(|| format!("unknown thermo keyword '{kw}'"))??;
+            let int = is_int_keyword(kw);
+            let fmtstr = self
+                .thermo
+                .fmt_col
+                .get(&(k + 1))
+                .cloned()
+                .or_else(|| self.thermo.fmt_line.as_ref().and_then(|l| l.get(k).cloned()))
+                .or_else(|| {
+                    if int {
+                        self.thermo.fmt_int.clone()
+                    } else {
+                        self.thermo.fmt_float.clone()
+                    }
+                })
+                .unwrap_or_else(|| if int { "%10d".into() } else { "%14.8g".into() });
+            let arg = if int { FmtArg::Int(v as i64) } else { FmtArg::Float(v) };
+            fields.push(sprintf(&fmtstr, &[arg])?);
+        }
+        Ok(fields.join(" "))
+    }
+
+    // ------------------------------------------------------------------ commands
+
+    fn sys_mut(&mut self) -> Result<&mut System, String> {
+        self.sys
+            .as_mut()
+            .ok_or_else(|| "needs a simulation box (create_box or read_data) first".to_string())
+    }
+
+    fn command(&mut self, cmd: &str, args: &[String]) -> CmdResult {
+        match cmd {
+            c if IGNORED_COMMANDS.contains(&c) => Ok(()),
+            "units" => {
+                need(args, 1, "units lj")?;
+                if args[0] != "lj" {
+                    return Err(format!("units '{}' not supported: only 'lj'", args[0]));
+                }
+                Ok(())
+            }
+            "dimension" => {
+                need(args, 1, "dimension 2|3")?;
+                if self.sys.is_some() {
+                    return Err("dimension must be set before the box is created".into());
+                }
+                self.dim = match args[0].as_str() {
+                    "2" => 2,
+                    "3" => 3,
+                    o => return Err(format!("dimension '{o}' must be 2 or 3")),
+                };
+                Ok(())
+            }
+            "boundary" => {
+                need(args, 3, "boundary p p p")?;
+                if args.iter().take(3).any(|a| a != "p") {
+                    return Err(format!(
+                        "boundary '{}': only fully periodic boxes ('p p p') are supported",
+                        args.join(" ")
+                    ));
+                }
+                Ok(())
+            }
+            "atom_style" => {
+                need(args, 1, "atom_style atomic")?;
+                if args[0] != "atomic" {
+                    return Err(format!("atom_style '{}' not supported: only 'atomic'", args[0]));
+                }
+                Ok(())
+            }
+            "variable" => self.cmd_variable(args),
+            "region" => self.cmd_region(args),
+            "create_box" => self.cmd_create_box(args),
+            "create_atoms" => self.cmd_create_atoms(args),
+            "read_data" => self.cmd_read_data(args),
+            "write_data" => self.cmd_write_data(args),
+            "mass" => {
+                need(args, 2, "mass TYPE(S) VALUE")?;
+                let m = parse_f64(&args[1], "mass")?;
+                if m <= 0.0 {
+                    return Err(format!("mass {m} must be > 0"));
+                }
+                let sys = self.sys_mut()?;
+                let (lo, hi) = type_range(&args[0], sys.ntypes)?;
+                for t in lo..=hi {
+                    sys.mass[t] = Some(m);
+                }
+                Ok(())
+            }
+            "velocity" => self.cmd_velocity(args),
+            "pair_style" => self.cmd_pair_style(args),
+            "pair_coeff" => self.cmd_pair_coeff(args),
+            "neighbor" => {
+                need(args, 2, "neighbor SKIN bin")?;
+                let skin = parse_f64(&args[0], "skin")?;
+                if skin < 0.0 {
+                    return Err(format!("skin {skin} must be >= 0"));
+                }
+                if !["bin", "nsq", "multi"].contains(&args[1].as_str()) {
+                    return Err(format!("unknown neighbor style '{}'", args[1]));
+                }
+                self.skin = skin;
+                if let Some(s) = self.sys.as_mut() {
+                    s.neighbor = crate::engine::NeighborList::new(skin);
+                }
+                Ok(())
+            }
+            "timestep" => {
+                need(args, 1, "timestep DT")?;
+                let dt = parse_f64(&args[0], "timestep")?;
+                if dt <= 0.0 {
+                    return Err(format!("timestep {dt} must be > 0"));
+                }
+                self.dt = dt;
+                if let Some(s) = self.sys.as_mut() {
+                    s.dt = dt;
+                }
+                Ok(())
+            }
+            "fix" => self.cmd_fix(args),
+            "unfix" => {
+                need(args, 1, "unfix ID")?;
+                let pos = self
+                    .fixes
+                    .iter()
+                    .position(|(id, _)| id == &args[0])
+                    .ok_or_else(|| format!("no fix with ID '{}'", args[0]))?;
+                let (id, kind) = self.fixes.remove(pos);
+                if let Some(sys) = self.sys.as_mut() {
+                    match kind {
+                        FixKind::Nve | FixKind::NveEuler => sys.integrator = None,
+                        FixKind::Pex => sys.pex.retain(|p| p.id != id),
+                        FixKind::Enforce2d => {}
+                    }
+                }
+                Ok(())
+            }
+            "thermo" => {
+                need(args, 1, "thermo N")?;
+                self.thermo.every = parse_int(&args[0], "thermo interval")?;
+                Ok(())
+            }
+            "thermo_style" => self.cmd_thermo_style(args),
+            "thermo_modify" => self.cmd_thermo_modify(args),
+            "dump" => self.cmd_dump(args),
+            "dump_modify" => self.cmd_dump_modify(args),
+            "undump" => {
+                need(args, 1, "undump ID")?;
+                let before = self.dumps.len();
+                self.dumps.retain(|d| d.id != args[0]);
+                if self.dumps.len() == before {
+                    return Err(format!("no dump with ID '{}'", args[0]));
+                }
+                Ok(())
+            }
+            "run" => self.cmd_run(args),
+            "reset_timestep" => {
+                need(args, 1, "reset_timestep N")?;
+                let n: u64 = parse_int(&args[0], "timestep")?;
+                self.sys_mut()?.step = n;
+                Ok(())
+            }
+            "print" => {
+                need(args, 1, "print TEXT [file F] [append F] [screen yes|no]")?;
+                let mut screen = true;
+                let mut file: Option<(String, bool)> = None;
+                let mut k = 1;
+                while k < args.len() {
+                    need(&args[k..], 2, "print TEXT [file F] [append F] [screen yes|no]")?;
+                    match args[k].as_str() {
+                        "file" => file = Some((args[k + 1].clone(), false)),
+                        "append" => file = Some((args[k + 1].clone(), true)),
+                        "screen" => screen = args[k + 1] == "yes",
+                        o => return Err(format!("unknown print keyword '{o}'")),
+                    }
+                    k += 2;
+                }
+                if let Some((path, append)) = file {
+                    let mut f = std::fs::OpenOptions::new()
+                        .create(true)
+                        .write(true)
+                        .append(append)
+                        .truncate(!append)
+                        .open(&path)
+                        .map_err(|e| format!("cannot open {path}: {e}"))?;
+                    writeln!(f, "{}", args[0]).map_err(|e| format!("cannot write {path}: {e}"))?;
+                }
+                if screen {
+                    self.out(&args[0]);
+                } else if let Some(l) = self.log.as_mut() {
+                    let _ = writeln!(l, "{}", args[0]);
+                }
+                Ok(())
+            }
+            "log" => {
+                need(args, 1, "log FILE [append]")?;
+                let append = args.get(1).is_some_and(|a| a == "append");
+                if let Some(mut l) = self.log.take() {
+                    let _ = l.flush();
+                }
+                if args[0] != "none" {
+                    let f = std::fs::OpenOptions::new()
+                        .create(true)
+                        .write(true)
+                        .append(append)
+                        .truncate(!append)
+                        .open(&args[0])
+                        .map_err(|e| format!("cannot open log file {}: {e}", args[0]))?;
+                    self.log = Some(BufWriter::new(f));
+                }
+                Ok(())
+            }
+            "write_restart" | "read_restart" => Err(format!(
+                "'{cmd}' is LAMMPS-only; in the standalone engine use write_data/read_data (state incl. velocities)"
+            )),
+            _ => Err(format!(
+                "unknown command '{cmd}' (see docs/input.md for the supported subset)"
+            )),
+        }
+    }
+
+    fn cmd_variable(&mut self, args: &[String]) -> CmdResult {
+        need(args, 2, "variable NAME STYLE ARGS…")?;
+        let name = args[0].clone();
+        if !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+            return Err(format!("variable name '{name}' must be alphanumeric or _"));
+        }
+        match args[1].as_str() {
+            "delete" => {
+                self.vars.remove(&name);
+            }
+            "index" => {
+                need(args, 3, "variable NAME index VALUE…")?;
+                if args.len() > 3 {
+                    return Err("index variables with several values (loops with next) are not supported".into());
+                }
+                // As LAMMPS: an index variable already defined (e.g. by -var) is kept.
+                self.vars.entry(name).or_insert(Var::Index(args[2].clone()));
+            }
+            "string" => {
+                need(args, 3, "variable NAME string VALUE")?;
+                self.vars.insert(name, Var::Str(args[2].clone()));
+            }
+            "equal" => {
+                need(args, 3, "variable NAME equal FORMULA")?;
+                self.vars.insert(name, Var::Equal(args[2..].join(" ")));
+            }
+            o => {
+                return Err(format!(
+                    "variable style '{o}' not supported (index, string, equal, delete)"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn cmd_region(&mut self, args: &[String]) -> CmdResult {
+        let usage = "region ID block xlo xhi ylo yhi zlo zhi [units box|lattice]";
+        need(args, 8, usage)?;
+        if args[1] != "block" {
+            return Err(format!("region style '{}' not supported: only 'block'", args[1]));
+        }
+        let mut k = 8;
+        while k < args.len() {
+            need(&args[k..], 2, usage)?;
+            match (args[k].as_str(), args[k + 1].as_str()) {
+                ("units", "box") | ("units", "lattice") => {}
+                ("side", "in") => {}
+                (a, b) => return Err(format!("unsupported region keyword '{a} {b}'")),
+            }
+            k += 2;
+        }
+        let mut b = [[0.0; 2]; 3];
+        for d in 0..3 {
+            for s in 0..2 {
+                let tok = &args[2 + 2 * d + s];
+                b[d][s] = match tok.as_str() {
+                    "INF" | "EDGE" => {
+                        let sys = self.sys.as_ref().ok_or_else(|| {
+                            format!("'{tok}' in a region needs an existing box")
+                        })?;
+                        if s == 0 { sys.bx.lo[d] } else { sys.bx.hi[d] }
+                    }
+                    _ => parse_f64(tok, "region bound")?,
+                };
+            }
+            if b[d][0] >= b[d][1] {
+                return Err(format!(
+                    "region {} bounds in {}: lo {} >= hi {}",
+                    args[0],
+                    ["x", "y", "z"][d],
+                    b[d][0],
+                    b[d][1]
+                ));
+            }
+        }
+        self.regions.insert(args[0].clone(), b);
+        Ok(())
+    }
+
+    fn region(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
+        self.regions
+            .get(id)
+            .copied()
+            .ok_or_else(|| format!("no region with ID '{id}'"))
+    }
+
+    fn new_system(&mut self, ntypes: usize, lo: [f64; 3], hi: [f64; 3]) -> CmdResult {
+        if self.sys.is_some() {
+            return Err("a simulation box already exists".into());
+        }
+        if ntypes == 0 {
+            return Err("the number of atom types must be >= 1".into());
+        }
+        let bx = SimBox::new(self.dim, lo, hi)?;
+        let mut sys = System::new(bx, ntypes);
+        sys.dt = self.dt;
+        sys.neighbor = crate::engine::NeighborList::new(self.skin);
+        self.sys = Some(sys);
+        Ok(())
+    }
+
+    fn cmd_create_box(&mut self, args: &[String]) -> CmdResult {
+        need(args, 2, "create_box NTYPES REGION-ID")?;
+        let ntypes: usize = parse_int(&args[0], "number of atom types")?;
+        let r = self.region(&args[1])?;
+        self.new_system(ntypes, [r[0][0], r[1][0], r[2][0]], [r[0][1], r[1][1], r[2][1]])?;
+        let d = self.dim;
+        self.out(&format!(
+            "Created orthogonal box = ({} {} {}) to ({} {} {}) in {d}-D",
+            r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1]
+        ));
+        Ok(())
+    }
+
+    fn cmd_create_atoms(&mut self, args: &[String]) -> CmdResult {
+        let usage = "create_atoms TYPE random N SEED REGION-ID | create_atoms TYPE single X Y Z";
+        need(args, 2, usage)?;
+        let dim = self.dim;
+        let regions = self.regions.clone();
+        let sys = self.sys_mut()?;
+        let t: u32 = parse_int(&args[0], "atom type")?;
+        if t == 0 || t as usize > sys.ntypes {
+            return Err(format!("atom type {t} out of range 1..{}", sys.ntypes));
+        }
+        let mut next = sys.atoms.max_tag();
+        let mut created = 0usize;
+        match args[1].as_str() {
+            "random" => {
+                need(args, 5, usage)?;
+                if args.len() > 5 {
+                    return Err(format!("create_atoms random keyword '{}' not supported", args[5]));
+                }
+                let n: usize = parse_int(&args[2], "number of atoms")?;
+                let seed: u32 = parse_int(&args[3], "seed")?;
+                if seed == 0 {
+                    return Err("seed must be > 0".into());
+                }
+                let r = if args[4] == "NULL" {
+                    [
+                        [sys.bx.lo[0], sys.bx.hi[0]],
+                        [sys.bx.lo[1], sys.bx.hi[1]],
+                        [sys.bx.lo[2], sys.bx.hi[2]],
+                    ]
+                } else {
+                    *regions
+                        .get(&args[4])
+                        .ok_or_else(|| format!("no region with ID '{}'", args[4]))?
+                };
+                let mut lo = [0.0; 3];
+                let mut hi = [0.0; 3];
+                for d in 0..3 {
+                    lo[d] = r[d][0].max(sys.bx.lo[d]);
+                    hi[d] = r[d][1].min(sys.bx.hi[d]);
+                    if lo[d] >= hi[d] {
+                        return Err(format!("region {} does not overlap the box", args[4]));
+                    }
+                }
+                for _ in 0..n {
+                    next = next
+                        .checked_add(1)
+                        .ok_or("atom ids would exceed 2^32 - 1")?;
+                    let mut x = [0.0; 3];
+                    for d in 0..dim {
+                        let u = keyed_uniform(seed, STREAM_CREATE_ATOMS, 0, next, d as u32);
+                        x[d] = lo[d] + u * (hi[d] - lo[d]);
+                    }
+                    sys.atoms.push(next, t, x, [0.0; 3], [0; 3]);
+                    created += 1;
+                }
+            }
+            "single" => {
+                need(args, 5, usage)?;
+                let mut x = [0.0; 3];
+                for d in 0..3 {
+                    x[d] = parse_f64(&args[2 + d], "coordinate")?;
+                }
+                if dim == 2 {
+                    x[2] = 0.0;
+                }
+                next = next.checked_add(1).ok_or("atom ids would exceed 2^32 - 1")?;
+                let mut im = [0; 3];
+                sys.bx.wrap(&mut x, &mut im);
+                sys.atoms.push(next, t, x, [0.0; 3], [0; 3]);
+                created = 1;
+            }
+            o => return Err(format!("create_atoms style '{o}' not supported (random, single)")),
+        }
+        self.out(&format!("Created {created} atoms"));
+        Ok(())
+    }
+
+    fn cmd_read_data(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "read_data FILE")?;
+        if args.len() > 1 {
+            return Err(format!("read_data keyword '{}' not supported", args[1]));
+        }
+        let text = std::fs::read_to_string(&args[0])
+            .map_err(|e| format!("cannot read data file {}: {e}", args[0]))?;
+        let d = parse_data(&text, &args[0])?;
+        if self.dim == 2 && d.atoms.iter().any(|a| a.2[2] != 0.0) {
+            return Err(format!("{}: a 2-D system needs z = 0 for every atom", args[0]));
+        }
+        self.new_system(d.ntypes, d.lo, d.hi)?;
+        let sys = self.sys_mut()?;
+        let mut index = BTreeMap::new();
+        for (k, &(tag, t, x, im)) in d.atoms.iter().enumerate() {
+            sys.atoms.push(tag, t, x, [0.0; 3], im);
+            index.insert(tag, k);
+        }
+        for (tag, v) in &d.velocities {
+            let k = index
+                .get(tag)
+                .ok_or_else(|| format!("{}: Velocities for unknown atom id {tag}", args[0]))?;
+            sys.atoms.v[*k] = *v;
+        }
+        for (t, m) in d.masses.iter().enumerate() {
+            if m.is_some() {
+                sys.mass[t] = *m;
+            }
+        }
+        let n = d.atoms.len();
+        self.out(&format!("Read data file {}: {n} atoms, {} atom types", args[0], d.ntypes));
+        Ok(())
+    }
+
+    fn cmd_write_data(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "write_data FILE [nocoeff]")?;
+        for a in &args[1..] {
+            if a != "nocoeff" {
+                return Err(format!("write_data keyword '{a}' not supported"));
+            }
+        }
+        let sys = self.sys.as_ref().ok_or("needs a simulation box first")?;
+        let mut order: Vec<usize> = (0..sys.atoms.len()).collect();
+        order.sort_by_key(|&i| sys.atoms.tag[i]);
+        let mut atoms = Vec::with_capacity(order.len());
+        let mut vels = Vec::with_capacity(order.len());
+        for &i in &order {
+            let mut x = sys.atoms.x[i];
+            let mut im = sys.atoms.image[i];
+            sys.bx.wrap(&mut x, &mut im);
+            atoms.push((sys.atoms.tag[i], sys.atoms.typ[i], x, im));
+            vels.push((sys.atoms.tag[i], sys.atoms.v[i]));
+        }
+        let d = DataFile {
+            ntypes: sys.ntypes,
+            lo: sys.bx.lo,
+            hi: sys.bx.hi,
+            masses: sys.mass.clone(),
+            atoms,
+            velocities: vels,
+        };
+        let title = format!("LAMMPS data file via write_data (dpdnl), timestep = {}", sys.step);
+        std::fs::write(&args[0], format_data(&d, &title))
+            .map_err(|e| format!("cannot write {}: {e}", args[0]))
+    }
+
+    fn cmd_velocity(&mut self, args: &[String]) -> CmdResult {
+        let usage = "velocity all create T SEED [dist uniform|gaussian] [mom yes|no] [rot no] [loop all|local|geom] | velocity all set VX VY VZ | velocity all zero linear | velocity all scale T";
+        need(args, 2, usage)?;
+        if args[0] != "all" {
+            return Err(format!("group '{}' not supported: only 'all'", args[0]));
+        }
+        let dim = self.dim;
+        let sys = self.sys_mut()?;
+        if sys.mass.iter().skip(1).any(|m| m.is_none()) {
+            return Err("all masses must be set before velocity".into());
+        }
+        let n = sys.atoms.len();
+        let mass = |sys: &System, i: usize| sys.mass[sys.atoms.typ[i] as usize].unwrap_or(1.0);
+        let zero_momentum = |sys: &mut System| {
+            let p = sys.momentum();
+            let mtot: f64 = (0..sys.atoms.len()).map(|i| mass(sys, i)).sum();
+            for v in sys.atoms.v.iter_mut() {
+                for k in 0..3 {
+                    v[k] -= p[k] / mtot;
+                }
+            }
+        };
+        match args[1].as_str() {
+            "create" => {
+                need(args, 4, usage)?;
+                let t = parse_f64(&args[2], "temperature")?;
+                if t < 0.0 {
+                    return Err(format!("temperature {t} must be >= 0"));
+                }
+                let seed: u32 = parse_int(&args[3], "seed")?;
+                if seed == 0 {
+                    return Err("seed must be > 0".into());
+                }
+                let mut gaussian = false;
+                let mut mom = true;
+                let mut k = 4;
+                while k < args.len() {
+                    need(&args[k..], 2, usage)?;
+                    let val = args[k + 1].as_str();
+                    match args[k].as_str() {
+                        "dist" => {
+                            gaussian = match val {
+                                "uniform" => false,
+                                "gaussian" => true,
+                                o => return Err(format!("dist '{o}' must be uniform or gaussian")),
+                            }
+                        }
+                        "mom" => mom = val == "yes",
+                        "rot" => {
+                            if val != "no" {
+                                return Err("rot yes is not supported (periodic systems)".into());
+                            }
+                        }
+                        "loop" | "sum" => {}
+                        o => return Err(format!("unknown velocity keyword '{o}'")),
+                    }
+                    k += 2;
+                }
+                for i in 0..n {
+                    let tag = sys.atoms.tag[i];
+                    let f = 1.0 / mass(sys, i).sqrt();
+                    let mut v = [0.0; 3];
+                    for (d, vd) in v.iter_mut().enumerate().take(dim) {
+                        *vd = f * if gaussian {
+                            keyed_gaussian(seed, STREAM_VELOCITY, 0, tag, d as u32)
+                        } else {
+                            keyed_uniform(seed, STREAM_VELOCITY, 0, tag, d as u32) - 0.5
+                        };
+                    }
+                    sys.atoms.v[i] = v;
+                }
+                if mom {
+                    zero_momentum(sys);
+                }
+                let cur = sys.thermo().temp;
+                if cur > 0.0 {
+                    let s = (t / cur).sqrt();
+                    for v in sys.atoms.v.iter_mut() {
+                        for c in v.iter_mut() {
+                            *c *= s;
+                        }
+                    }
+                }
+            }
+            "set" => {
+                need(args, 5, usage)?;
+                let mut val = [None; 3];
+                for d in 0..3 {
+                    if args[2 + d] != "NULL" {
+                        val[d] = Some(parse_f64(&args[2 + d], "velocity")?);
+                    }
+                }
+                for v in sys.atoms.v.iter_mut() {
+                    for d in 0..dim {
+                        if let Some(x) = val[d] {
+                            v[d] = x;
+                        }
+                    }
+                }
+            }
+            "zero" => {
+                need(args, 3, usage)?;
+                if args[2] != "linear" {
+                    return Err(format!("velocity zero '{}': only 'linear'", args[2]));
+                }
+                zero_momentum(sys);
+            }
+            "scale" => {
+                need(args, 3, usage)?;
+                let t = parse_f64(&args[2], "temperature")?;
+                let cur = sys.thermo().temp;
+                if cur <= 0.0 {
+                    return Err("cannot scale a zero temperature".into());
+                }
+                let s = (t / cur).sqrt();
+                for v in sys.atoms.v.iter_mut() {
+                    for c in v.iter_mut() {
+                        *c *= s;
+                    }
+                }
+            }
+            o => return Err(format!("velocity style '{o}' not supported (create, set, zero, scale)")),
+        }
+        Ok(())
+    }
+
+    fn cmd_pair_style(&mut self, args: &[String]) -> CmdResult {
+        let usage = "pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep] [weight s]";
+        need(args, 1, usage)?;
+        if args[0] != "dpd/nonlinear" {
+            return Err(format!("pair style '{}' not supported: only dpd/nonlinear", args[0]));
+        }
+        need(args, 4, usage)?;
+        let kt = parse_f64(&args[1], "T")?;
+        if kt <= 0.0 {
+            return Err(format!("T = {kt} must be > 0"));
+        }
+        let rc = parse_f64(&args[2], "rc")?;
+        if rc <= 0.0 {
+            return Err(format!("rc = {rc} must be > 0"));
+        }
+        let seed: u32 = parse_int(&args[3], "seed")?;
+        if seed == 0 || seed > i32::MAX as u32 {
+            return Err(format!("seed {seed} must be in 1..2147483647"));
+        }
+        let mut friction = Friction::None;
+        let mut noise = Noise::Plain;
+        let mut weight = Weight::STANDARD;
+        let mut k = 4;
+        while k < args.len() {
+            need(&args[k..], 2, usage)?;
+            let val = &args[k + 1];
+            match args[k].as_str() {
+                "friction" => {
+                    friction = Friction::from_keyword(val)
+                        .ok_or_else(|| format!("friction '{val}' must be none, cross or dot"))?
+                }
+                "noise" => {
+                    noise = Noise::from_keyword(val).ok_or_else(|| {
+                        format!("noise '{val}' must be plain, corrected or twostep")
+                    })?
+                }
+                "weight" => {
+                    let s = parse_f64(val, "weight exponent")?;
+                    weight = Weight::new(s).ok_or_else(|| format!("weight exponent {s} must be > 0"))?
+                }
+                o => return Err(format!("unknown pair_style keyword '{o}'; {usage}")),
+            }
+            k += 2;
+        }
+        let dt = self.dt;
+        let sys = self.sys_mut()?;
+        let model = PairModel::new(kt, friction, noise, weight, dt);
+        sys.ff = Some(ForceField::new(model, seed, rc, sys.ntypes));
+        Ok(())
+    }
+
+    fn cmd_pair_coeff(&mut self, args: &[String]) -> CmdResult {
+        let usage = "pair_coeff I J a gamma0 gamma1 [rc]";
+        need(args, 5, usage)?;
+        if args.len() > 6 {
+            return Err(format!("too many arguments; usage: {usage}"));
+        }
+        let sys = self.sys_mut()?;
+        let ntypes = sys.ntypes;
+        let ff = sys
+            .ff
+            .as_mut()
+            .ok_or("pair_coeff before pair_style")?;
+        let (ilo, ihi) = type_range(&args[0], ntypes)?;
+        let (jlo, jhi) = type_range(&args[1], ntypes)?;
+        let c = PairCoeff {
+            a: parse_f64(&args[2], "a")?,
+            gamma0: parse_f64(&args[3], "gamma0")?,
+            gamma1: parse_f64(&args[4], "gamma1")?,
+            rc: match args.get(5) {
+                Some(t) => parse_f64(t, "rc")?,
+                None => ff.rc_global,
+            },
+        };
+        c.validate()?;
+        if ff.model.friction == Friction::None && c.gamma1 != 0.0 {
+            return Err(format!(
+                "gamma1 = {} has no effect with 'friction none': set it to 0 or choose cross/dot",
+                c.gamma1
+            ));
+        }
+        for i in ilo..=ihi {
+            for j in jlo.max(i)..=jhi {
+                ff.set(i, j, c);
+            }
+        }
+        Ok(())
+    }
+
+    fn cmd_fix(&mut self, args: &[String]) -> CmdResult {
+        let usage = "fix ID all nve | nve/euler | enforce2d | pex/push DP [width W] [every N]";
+        need(args, 3, usage)?;
+        if args[1] != "all" {
+            return Err(format!("group '{}' not supported: only 'all'", args[1]));
+        }
+        let id = args[0].clone();
+        if self.fixes.iter().any(|(i, _)| i == &id) {
+            return Err(format!("fix ID '{id}' already exists (unfix it first)"));
+        }
+        let dim = self.dim;
+        let sys = self.sys_mut()?;
+        let kind = match args[2].as_str() {
+            s @ ("nve" | "nve/euler") => {
+                if args.len() > 3 {
+                    return Err(format!("fix {s} takes no arguments"));
+                }
+                if sys.integrator.is_some() {
+                    return Err("only one time-integration fix (nve or nve/euler) is allowed".into());
+                }
+                if s == "nve" {
+                    sys.integrator = Some(Integrator::VelocityVerlet);
+                    FixKind::Nve
+                } else {
+                    sys.integrator = Some(Integrator::Euler);
+                    FixKind::NveEuler
+                }
+            }
+            "enforce2d" => {
+                if dim != 2 {
+                    return Err("fix enforce2d needs dimension 2".into());
+                }
+                FixKind::Enforce2d
+            }
+            "pex/push" => {
+                need(args, 4, usage)?;
+                if dim != 3 {
+                    return Err("fix pex/push moves z momentum: it needs dimension 3".into());
+                }
+                let dp = parse_f64(&args[3], "dp")?;
+                let mut width = None;
+                let mut every = 1u64;
+                let mut k = 4;
+                while k < args.len() {
+                    need(&args[k..], 2, usage)?;
+                    match args[k].as_str() {
+                        "width" => {
+                            let w = parse_f64(&args[k + 1], "width")?;
+                            if w <= 0.0 || w > 0.5 * sys.bx.len()[0] {
+                                return Err(format!("width {w} must be in (0, Lx/2]"));
+                            }
+                            width = Some(w);
+                        }
+                        "every" => {
+                            every = parse_int(&args[k + 1], "every")?;
+                            if every == 0 {
+                                return Err("every must be >= 1".into());
+                            }
+                        }
+                        o => return Err(format!("unknown fix pex/push keyword '{o}'")),
+                    }
+                    k += 2;
+                }
+                sys.pex.push(PexPush {
+                    id: id.clone(),
+                    dp,
+                    width,
+                    every,
+                    total: 0.0,
+                });
+                FixKind::Pex
+            }
+            o => return Err(format!("fix style '{o}' not supported; {usage}")),
+        };
+        self.fixes.push((id, kind));
+        Ok(())
+    }
+
+    fn cmd_thermo_style(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "thermo_style custom KEYWORDS… | thermo_style one")?;
+        match args[0].as_str() {
+            "one" => self.thermo.columns = ThermoSettings::default().columns,
+            "custom" => {
+                need(args, 2, "thermo_style custom KEYWORDS…")?;
+                for kw in &args[1..] {
+                    let known = kw.starts_with("v_")
+                        || kw.starts_with("f_")
+                        || matches!(
+                            kw.as_str(),
+                            "step" | "elapsed" | "dt" | "time" | "atoms" | "temp" | "press"
+                                | "pxx" | "pyy" | "pzz" | "pxy" | "pxz" | "pyz" | "ke" | "pe"
+                                | "epair" | "evdwl" | "emol" | "etotal" | "vol" | "lx" | "ly"
+                                | "lz" | "xlo" | "xhi" | "ylo" | "yhi" | "zlo" | "zhi"
+                                | "density"
+                        );
+                    if !known {
+                        return Err(format!("unknown thermo keyword '{kw}'"));
+                    }
+                }
+                self.thermo.columns = args[1..].to_vec();
+            }
+            o => return Err(format!("thermo_style '{o}' not supported (one, custom)")),
+        }
+        self.thermo.fmt_line = None;
+        self.thermo.fmt_col.clear();
+        Ok(())
+    }
+
+    fn cmd_thermo_modify(&mut self, args: &[String]) -> CmdResult {
+        let usage = "thermo_modify norm yes|no | format line|int|float|N FORMAT | flush yes|no";
+        need(args, 2, usage)?;
+        let mut k = 0;
+        while k < args.len() {
+            need(&args[k..], 2, usage)?;
+            match args[k].as_str() {
+                "norm" => self.thermo.norm = args[k + 1] == "yes",
+                "flush" | "lost" | "lost/bond" | "warn" => {}
+                "format" => {
+                    need(&args[k..], 3, usage)?;
+                    let what = args[k + 1].as_str();
+                    let f = args[k + 2].clone();
+                    match what {
+                        "line" => {
+                            self.thermo.fmt_line =
+                                Some(f.split_whitespace().map(String::from).collect())
+                        }
+                        "int" => self.thermo.fmt_int = Some(f),
+                        "float" => self.thermo.fmt_float = Some(f),
+                        "none" => {
+                            self.thermo.fmt_line = None;
+                            self.thermo.fmt_int = None;
+                            self.thermo.fmt_float = None;
+                            self.thermo.fmt_col.clear();
+                            k += 2;
+                            continue;
+                        }
+                        n => {
+                            let col: usize = parse_int(n, "thermo column")?;
+                            if col == 0 || col > self.thermo.columns.len() {
+                                return Err(format!("thermo column {col} out of range"));
+                            }
+                            self.thermo.fmt_col.insert(col, f);
+                        }
+                    }
+                    k += 3;
+                    continue;
+                }
+                o => return Err(format!("unknown thermo_modify keyword '{o}'")),
+            }
+            k += 2;
+        }
+        Ok(())
+    }
+
+    fn cmd_dump(&mut self, args: &[String]) -> CmdResult {
+        let usage = "dump ID all custom N FILE COLUMNS…";
+        need(args, 6, usage)?;
+        if args[1] != "all" {
+            return Err(format!("group '{}' not supported: only 'all'", args[1]));
+        }
+        if args[2] != "custom" {
+            return Err(format!("dump style '{}' not supported: only custom", args[2]));
+        }
+        if self.dumps.iter().any(|d| d.id == args[0]) {
+            return Err(format!("dump ID '{}' already exists", args[0]));
+        }
+        let every: u64 = parse_int(&args[3], "dump interval")?;
+        if every == 0 {
+            return Err("dump interval must be >= 1".into());
+        }
+        let columns = args[5..].to_vec();
+        for c in &columns {
+            if !matches!(
+                c.as_str(),
+                "id" | "type" | "mass" | "x" | "y" | "z" | "xu" | "yu" | "zu" | "ix" | "iy" | "iz"
+                    | "vx" | "vy" | "vz" | "fx" | "fy" | "fz"
+            ) {
+                return Err(format!("unknown dump column '{c}'"));
+            }
+        }
+        let f = File::create(&args[4]).map_err(|e| format!("cannot open dump file {}: {e}", args[4]))?;
+        self.dumps.push(Dump {
+            id: args[0].clone(),
+            every,
+            path: args[4].clone(),
+            columns,
+            fmt_line: None,
+            fmt_int: None,
+            fmt_float: None,
+            writer: BufWriter::new(f),
+            last: None,
+        });
+        Ok(())
+    }
+
+    fn cmd_dump_modify(&mut self, args: &[String]) -> CmdResult {
+        let usage = "dump_modify ID sort id|off | format line|int|float FORMAT";
+        need(args, 3, usage)?;
+        let d = self
+            .dumps
+            .iter_mut()
+            .find(|d| d.id == args[0])
+            .ok_or_else(|| format!("no dump with ID '{}'", args[0]))?;
+        let mut k = 1;
+        while k < args.len() {
+            need(&args[k..], 2, usage)?;
+            match args[k].as_str() {
+                // Output is always sorted by id (the engine reorders atoms for locality).
+                "sort" => k += 2,
+                "flush" => k += 2,
+                "format" => {
+                    need(&args[k..], 3, usage)?;
+                    let f = args[k + 2].clone();
+                    match args[k + 1].as_str() {
+                        "line" => d.fmt_line = Some(f.split_whitespace().map(String::from).collect()),
+                        "int" => d.fmt_int = Some(f),
+                        "float" => d.fmt_float = Some(f),
+                        o => return Err(format!("dump_modify format '{o}' not supported (line, int, float)")),
+                    }
+                    k += 3;
+                }
+                o => return Err(format!("unknown dump_modify keyword '{o}'")),
+            }
+        }
+        Ok(())
+    }
+
+    fn write_dumps(&mut self, setup: bool) -> CmdResult {
+        let Some(sys) = self.sys.as_ref() else {
+            return Ok(());
+        };
+        let step = sys.step;
+        for d in self.dumps.iter_mut() {
+            if step % d.every != 0 || d.last == Some(step) {
+                continue;
+            }
+            let _ = setup;
+            d.last = Some(step);
+            let n = sys.atoms.len();
+            let mut order: Vec<usize> = (0..n).collect();
+            order.sort_by_key(|&i| sys.atoms.tag[i]);
+            let w = &mut d.writer;
+            let io = |e: std::io::Error| format!("cannot write dump file: {e}");
+            writeln!(w, "ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{n}\nITEM: BOX BOUNDS pp pp pp").map_err(io)?;
+            for a in 0..3 {
+                writeln!(w, "{:.16e} {:.16e}", sys.bx.lo[a], sys.bx.hi[a]).map_err(io)?;
+            }
+            writeln!(w, "ITEM: ATOMS {}", d.columns.join(" ")).map_err(io)?;
+            let mut line = String::new();
+            for &i in &order {
+                line.clear();
+                let mut x = sys.atoms.x[i];
+                let mut im = sys.atoms.image[i];
+                sys.bx.wrap(&mut x, &mut im);
+                let xu = sys.bx.unwrap(x, im);
+                for (k, c) in d.columns.iter().enumerate() {
+                    let (int, val) = match c.as_str() {
+                        "id" => (true, f64::from(sys.atoms.tag[i])),
+                        "type" => (true, f64::from(sys.atoms.typ[i])),
+                        "ix" => (true, f64::from(im[0])),
+                        "iy" => (true, f64::from(im[1])),
+                        "iz" => (true, f64::from(im[2])),
+                        "mass" => (false, sys.mass[sys.atoms.typ[i] as usize].unwrap_or(0.0)),
+                        "x" => (false, x[0]),
+                        "y" => (false, x[1]),
+                        "z" => (false, x[2]),
+                        "xu" => (false, xu[0]),
+                        "yu" => (false, xu[1]),
+                        "zu" => (false, xu[2]),
+                        "vx" => (false, sys.atoms.v[i][0]),
+                        "vy" => (false, sys.atoms.v[i][1]),
+                        "vz" => (false, sys.atoms.v[i][2]),
+                        "fx" => (false, sys.atoms.f[i][0]),
+                        "fy" => (false, sys.atoms.f[i][1]),
+                        _ => (false, sys.atoms.f[i][2]),
+                    };
+                    let fmtstr = d
+                        .fmt_line
+                        .as_ref()
+                        .and_then(|l| l.get(k).map(String::as_str))
+                        .or(if int { d.fmt_int.as_deref() } else { d.fmt_float.as_deref() })
+                        .unwrap_or(if int { "%d" } else { "%g" });
+                    let arg = if int { FmtArg::Int(val as i64) } else { FmtArg::Float(val) };
+                    if k > 0 {
+                        line.push(' ');
+                    }
+                    line.push_str(&sprintf(fmtstr, &[arg])?);
+                }
+                writeln!(w, "{line}").map_err(io)?;
+            }
+            w.flush().map_err(io)?;
+            let _ = &d.path;
+        }
+        Ok(())
+    }
+
+    fn cmd_run(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "run N [upto] [pre yes|no] [post yes|no]")?;
+        let mut n: u64 = parse_int(&args[0], "number of steps")?;
+        let mut upto = false;
+        let mut k = 1;
+        while k < args.len() {
+            match args[k].as_str() {
+                "upto" => {
+                    upto = true;
+                    k += 1;
+                }
+                "pre" | "post" => k += 2,
+                o => return Err(format!("run keyword '{o}' not supported (upto, pre, post)")),
+            }
+        }
+        let threads = self.threads;
+        let sys = self.sys_mut()?;
+        if upto {
+            n = n.checked_sub(sys.step).ok_or("run upto: target step is in the past")?;
+        }
+        sys.setup()?;
+        let integ = sys.integrator;
+        let first = sys.step;
+        let last = first + n;
+        let natoms = sys.atoms.len();
+        let dt = sys.dt;
+        self.run_first = first;
+        if integ.is_none() {
+            self.warn("No fixes with time integration, atoms won't move");
+        }
+        let scheme = match integ {
+            Some(Integrator::Euler) => "Euler (nve/euler)",
+            _ => "velocity-Verlet (nve)",
+        };
+        self.out(&format!("Setting up {scheme} run ...\n  Unit style    : lj\n  Current step  : {first}\n  Time step     : {dt}"));
+        let header = self.thermo_header_line();
+        self.out(&header);
+        let row = self.thermo_row()?;
+        self.out(&row);
+        self.write_dumps(true)?;
+        let every = self.thermo.every;
+        let start = Instant::now();
+        let mut last_progress = Instant::now();
+        for _ in 0..n {
+            let sys = self.sys_mut()?;
+            sys.step_once();
+            let step = sys.step;
+            if (every > 0 && step % every == 0) || step == last {
+                let row = self.thermo_row()?;
+                self.out(&row);
+            }
+            if !self.dumps.is_empty() {
+                self.write_dumps(false)?;
+            }
+            if last_progress.elapsed().as_secs_f64() > 1.0 {
+                last_progress = Instant::now();
+                self.console.progress(step, first, last);
+                if let Some(l) = self.log.as_mut() {
+                    let _ = l.flush();
+                }
+            }
+        }
+        let secs = start.elapsed().as_secs_f64();
+        self.out(&format!(
+            "Loop time of {secs:.6} on {threads} procs for {n} steps with {natoms} atoms\n"
+        ));
+        if secs > 0.0 && n > 0 {
+            let steps_per_s = n as f64 / secs;
+            self.out(&format!(
+                "Performance: {:.3} tau/day, {:.3} timesteps/s, {:.3} katom-step/s",
+                86400.0 * steps_per_s * dt,
+                steps_per_s,
+                steps_per_s * natoms as f64 / 1000.0
+            ));
+        }
+        if let Some(l) = self.log.as_mut() {
+            let _ = l.flush();
+        }
+        Ok(())
+    }
+}
