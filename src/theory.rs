@@ -188,18 +188,7 @@ pub enum TheoryError {
         sc: f64,
     },
     /// The targets would need s ≤ 0, i.e. P_d(s) ≤ P_d(0) (eqs. 54–55 in 3-D, 63–64 in 2-D).
-    ExponentNotPositive {
-        /// Exact inversion or the paper's approximation.
-        mode: DesignMode,
-        /// The fluid.
-        fluid: Fluid,
-        /// The viscosity asked for: η (exact) or η0 (paper).
-        eta: f64,
-        /// The Schmidt number asked for: Sc (exact) or Sc0 (paper).
-        sc: f64,
-        /// The bounds that would have to be moved.
-        limits: DesignLimits,
-    },
+    ExponentNotPositive(Box<Unreachable>),
     /// Euler: δt ≥ δt_c, the finite-step temperature is infinite or negative (eq. 25).
     EulerUnstable {
         /// The step.
@@ -214,6 +203,21 @@ pub enum TheoryError {
         /// 2 A1 / A2, the δt_c of the dilute limit n → 0.
         dt_max: f64,
     },
+}
+
+/// The details of [`TheoryError::ExponentNotPositive`]: what was asked and which bounds to move.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unreachable {
+    /// Exact inversion or the paper's approximation.
+    pub mode: DesignMode,
+    /// The fluid.
+    pub fluid: Fluid,
+    /// The viscosity asked for: η (exact) or η0 (paper).
+    pub eta: f64,
+    /// The Schmidt number asked for: Sc (exact) or Sc0 (paper).
+    pub sc: f64,
+    /// The bounds that would have to be moved.
+    pub limits: DesignLimits,
 }
 
 impl fmt::Display for TheoryError {
@@ -234,13 +238,14 @@ impl fmt::Display for TheoryError {
                 "Sc = {sc} is unreachable: an ideal DPD fluid has Sc = η/(2 η_K) > 1/2 \
                  (Sc = 1/2 would mean no dissipative viscosity); raise Sc above 0.5"
             ),
-            TheoryError::ExponentNotPositive {
-                mode,
-                fluid,
-                eta,
-                sc,
-                limits,
-            } => {
+            TheoryError::ExponentNotPositive(u) => {
+                let Unreachable {
+                    mode,
+                    fluid,
+                    eta,
+                    sc,
+                    limits,
+                } = u.as_ref();
                 let d = fluid.dim;
                 let (eqs, eta_name, sc_name, bound) = match (mode, d) {
                     (DesignMode::Exact, Dim::Three) => {
@@ -489,13 +494,13 @@ fn finish(
             gamma: gamma_for(fluid, eta0, s)?,
             limits,
         }),
-        None => Err(TheoryError::ExponentNotPositive {
+        None => Err(TheoryError::ExponentNotPositive(Box::new(Unreachable {
             mode,
             fluid: *fluid,
             eta,
             sc,
             limits,
-        }),
+        }))),
     }
 }
 

@@ -323,7 +323,8 @@ fn exact_design_round_trips() {
                                     assert!(sc > des.limits.sc_min || sc < gas, "{ctx}");
                                     ok += 1;
                                 }
-                                Err(TheoryError::ExponentNotPositive { limits, .. }) => {
+                                Err(TheoryError::ExponentNotPositive(u)) => {
+                                    let limits = u.limits;
                                     assert!(eta >= limits.eta_max * (1.0 - 1e-12));
                                     assert!(n <= limits.density_min * (1.0 + 1e-12));
                                     assert!(limits.p <= limits.p0);
@@ -364,10 +365,7 @@ fn exact_design_bounds_are_sharp() {
             eta: eta_max * (1.0 + 1e-9),
             sc,
         });
-        assert!(matches!(
-            outside,
-            Err(TheoryError::ExponentNotPositive { .. })
-        ));
+        assert!(matches!(outside, Err(TheoryError::ExponentNotPositive(_))));
         // Sc bound for a fixed η: Sc slightly above sc_min works.
         let eta = 0.9 * eta_max;
         let probe = design_from_targets(&Targets { fluid, eta, sc }).unwrap();
@@ -415,9 +413,10 @@ fn limit_errors_are_specific() {
         sc: 400.0,
     })
     .unwrap_err();
-    let TheoryError::ExponentNotPositive { limits, .. } = &err else {
+    let TheoryError::ExponentNotPositive(u) = &err else {
         panic!("wrong error {err}");
     };
+    let limits = u.limits;
     assert!(agrees(limits.eta_max, "50.0313"));
     let msg = err.to_string();
     for part in [
@@ -431,17 +430,19 @@ fn limit_errors_are_specific() {
     }
     // Paper mode: eq. 63 (η0 < 50) and eq. 64 (Sc0 > 16 η0² / X = 576 for η0 = 60).
     let err = design_paper_approx(&fluid, 60.0, 400.0).unwrap_err();
-    let TheoryError::ExponentNotPositive { limits, .. } = &err else {
+    let TheoryError::ExponentNotPositive(u) = &err else {
         panic!("wrong error {err}");
     };
+    let limits = u.limits;
     assert!(agrees(limits.eta_max, "50") && agrees(limits.sc_min, "576"));
     assert!(err.to_string().contains("paper's approximation"));
     // 3-D, paper mode: eq. 54 η0 < sqrt(3 Sc X / 50), eq. 55 Sc0 > 50 η0² / (3 X).
     let f3 = Fluid::new(3, 3.0, 1.0, 1.0, 1.0).unwrap();
     let err = design_paper_approx(&f3, 5.0, 10.0).unwrap_err();
-    let TheoryError::ExponentNotPositive { limits, .. } = &err else {
+    let TheoryError::ExponentNotPositive(u) = &err else {
         panic!("wrong error {err}");
     };
+    let limits = u.limits;
     assert!(rel(limits.eta_max, (3.0 * 10.0 * 9.0 / 50.0f64).sqrt()) < 1e-14);
     assert!(rel(limits.sc_min, 50.0 * 25.0 / 27.0) < 1e-14);
     assert!(err.to_string().contains("54-55"));
