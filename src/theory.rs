@@ -18,17 +18,17 @@
 //! mass/(length^(d−2)·time) (a 2-D viscosity is mass/time), D is length²/time, Sc = η/(m n D) is a
 //! pure number, kT is an energy and δt a time.
 //!
-//! The integrals are [f] = ∫_{r<r_c} f(r) d^d r, all in closed form ([`radial_moment`]); no
+//! The integrals are \[f\] = ∫_{r<r_c} f(r) d^d r, all in closed form ([`radial_moment`]); no
 //! quadrature. "The weighting-function paper" is Mai-Duy, Phan-Thien & Tran-Cong, Appl. Math.
 //! Model. (2017); "the finite-step paper" is Marsh & Yeomans, Europhys. Lett. 37 (1997).
 //!
 //! # Derivation check (weighting-function paper vs `MODELS.md`)
-//! With [r^k (1 − r/r_c)^s] = S_d r_c^(d+k) (d+k−1)! / ∏_{j=1}^{d+k} (s+j), S_2 = 2π, S_3 = 4π,
+//! With \[r^k (1 − r/r_c)^s\] = S_d r_c^(d+k) (d+k−1)! / ∏_{j=1}^{d+k} (s+j), S_2 = 2π, S_3 = 4π,
 //! the weight γ w_D(r) = 2(d+2) η0 K_d(s) / (n² r_c^(d+2)) · (1 − r/r_c)^s with
 //! K_d(s) = d ∏_{j=1}^{d+2}(s+j) / (S_d (d+1)!) (K_3 = (s+1)…(s+5)/(32π), eq. 43;
 //! K_2 = (s+1)…(s+4)/(6π), eq. 58) gives
-//! η_D = γ n² [R² w_D] / (2d(d+2)) = η0 K_d S_d (d+1)! / (d ∏_{j=1}^{d+2}(s+j)) = η0 exactly, and
-//! Γ = γ [w_D] = 2(d+2) η0 P_d(s) / ((d+1) n² r_c²) with P_3 = (s+4)(s+5), P_2 = (s+3)(s+4), so
+//! η_D = γ n² \[R² w_D\] / (2d(d+2)) = η0 K_d S_d (d+1)! / (d ∏_{j=1}^{d+2}(s+j)) = η0 exactly, and
+//! Γ = γ \[w_D\] = 2(d+2) η0 P_d(s) / ((d+1) n² r_c²) with P_3 = (s+4)(s+5), P_2 = (s+3)(s+4), so
 //! η_K = d m kT / (2Γ) = c_d m kT n² r_c² / (η0 P_d(s)), c_d = d(d+1) / (4(d+2)):
 //! c_3 = 3/5 (eq. 45), c_2 = 3/8 (eq. 60). This reproduces eqs. 44, 45, 59 and 60 of the paper
 //! and `MODELS.md` §5; no disagreement was found. One remark on the paper's text: its claim
@@ -348,13 +348,13 @@ fn positive(name: &'static str, value: f64) -> Result<(), TheoryError> {
     }
 }
 
-/// [r^k w] = ∫_{r<r_c} r^k (1 − r/r_c)^s d^d r in closed form:
+/// \[r^k w\] = ∫_{r<r_c} r^k (1 − r/r_c)^s d^d r in closed form:
 /// S_d r_c^(d+k) B(d+k, s+1) = S_d r_c^(d+k) (d+k−1)! / ∏_{j=1}^{d+k} (s+j),
-/// with S_2 = 2π, S_3 = 4π (the [·] of `MODELS.md` §4–5 and of both papers).
+/// with S_2 = 2π, S_3 = 4π (the \[·\] of `MODELS.md` §4–5 and of both papers).
 ///
 /// The integral exists for s > −1; nothing is checked here (the public functions that call it
-/// check s > 0 first). Used with k = 0 for [w_D], k = 2 for [R² w_D], and exponent 2s for
-/// [w_D²].
+/// check s > 0 first). Used with k = 0 for \[w_D\], k = 2 for \[R² w_D\], and exponent 2s for
+/// \[w_D²\].
 pub fn radial_moment(dim: Dim, k: u32, s: f64, cutoff: f64) -> f64 {
     let dk = dim.get() + k;
     let fact: f64 = (1..dk).map(f64::from).product();
@@ -367,7 +367,7 @@ pub fn radial_moment(dim: Dim, k: u32, s: f64, cutoff: f64) -> f64 {
 pub struct Transport {
     /// Kinetic ("gas") viscosity η_K = d m kT / (2Γ).
     pub eta_k: f64,
-    /// Dissipative ("liquid") viscosity η_D = γ n² [R² w_D] / (2d(d+2)).
+    /// Dissipative ("liquid") viscosity η_D = γ n² \[R² w_D\] / (2d(d+2)).
     pub eta_d: f64,
     /// Shear viscosity η = η_K + η_D.
     pub eta: f64,
@@ -380,7 +380,7 @@ pub struct Transport {
 /// Kinetic theory of the ideal DPD fluid (a = 0) with w_D = (1 − r/r_c)^s (`MODELS.md` §5;
 /// weighting-function paper eqs. 23–24 in 3-D, eq. 60 in 2-D, after Marsh, Backx & Ernst):
 ///
-/// Γ = γ [w_D], η_K = d m kT / (2Γ), η_D = γ n² [R² w_D] / (2d(d+2)), η = η_K + η_D,
+/// Γ = γ \[w_D\], η_K = d m kT / (2Γ), η_D = γ n² \[R² w_D\] / (2d(d+2)), η = η_K + η_D,
 /// D = d kT / (n Γ), Sc = η / (m n D).
 ///
 /// `gamma` is the friction amplitude γ of F^D = −γ w_D (e·v) e (`gamma0` of `pair_coeff`), finite
@@ -512,7 +512,10 @@ fn finish(
 ///
 /// Errors: bad fluid or η (not finite and > 0); Sc ≤ 1/2 ([`TheoryError::SchmidtBelowHalf`]);
 /// s ≤ 0, i.e. P_d(s) ≤ P_d(0), the exact form of eqs. 54–55 / 63–64
-/// ([`TheoryError::ExponentNotPositive`], which names the bounds to move).
+/// ([`TheoryError::ExponentNotPositive`], which names the bounds to move). P_d grows with
+/// Sc, n and r_c and falls with η, so s ≤ 0 means η too large or Sc, n or r_c too small: the
+/// Schmidt-number bound is a lower bound (for Q = P_d(0) η² / (4 c_d X) > 1 a second, gas-like
+/// window 1/2 < Sc < Q − sqrt(Q² − Q) also exists; see [`DesignLimits`]).
 pub fn design_from_targets(t: &Targets) -> Result<Design, TheoryError> {
     let fluid = &t.fluid;
     fluid.validate()?;
@@ -575,7 +578,7 @@ pub fn design_paper_approx(fluid: &Fluid, eta0: f64, sc0: f64) -> Result<Design,
 
 /// The coefficients of the finite-step paper, eq. 23, for w_D = (1 − r/r_c)^s, w_R² = w_D and
 /// σ² = 2 γ kT0 (kT0 = `fluid.kt`, the temperature set in the thermostat):
-/// A1 = γ [w_D] / (m d), A2 = 2 γ² [w_D²] / (m² d), A3 = σ² [w_R²] / d = 2 m kT0 A1.
+/// A1 = γ \[w_D\] / (m d), A2 = 2 γ² \[w_D²\] / (m² d), A3 = σ² \[w_R²\] / d = 2 m kT0 A1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EulerCoefficients {
     /// A1 (1/time).
