@@ -1,0 +1,350 @@
+//! Reading LAMMPS logs and text dumps, and the comparison functions behind `dpdnl diff`.
+//!
+//! The two logs in tests/data/diff_logs imitate LAMMPS 2022 (`thermo_style one`, a WARNING
+//! inside the block, the timing summary after it) and LAMMPS 2025 (two runs, the second with
+//! custom columns `c_pxy[4] v_eta f_ave cpu` printed with `%20.15g`).
+//!
+//! Values read from text are compared exactly with the same decimal literals: both go through
+//! correctly rounded decimal-to-binary conversion.
+
+use dpdnl::io::dump_read::parse_dump;
+use dpdnl::io::lammps_log::{
+    ThermoBlock, Tolerance, compare_dumps_exact, compare_exact, compare_exact_logs, compare_stats,
+    differences, looks_like_dump, parse_log,
+};
+
+const LOG_2022: &str = include_str!("data/diff_logs/log_lammps2022.lammps");
+const LOG_2025: &str = include_str!("data/diff_logs/log_lammps2025.lammps");
+
+#[test]
+fn lammps_2022_log() {
+    let blocks = parse_log(LOG_2022).unwrap();
+    assert_eq!(blocks.len(), 1);
+    let b = &blocks[0];
+    assert_eq!(
+        b.columns,
+        ["Step", "Temp", "E_pair", "E_mol", "TotEng", "Press"]
+    );
+    assert_eq!(
+        b.rows.len(),
+        11,
+        "the WARNING line inside the block is skipped"
+    );
+    assert_eq!(b.rows[0], [0.0, 1.0, 25.104742, 0.0, 26.604242, 23.815478]);
+    let steps = b.column("Step").unwrap();
+    assert_eq!(
+        steps,
+        (0..=10).map(|k| 100.0 * k as f64).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        b.column("temp").unwrap()[5],
+        1.0085476,
+        "case-insensitive lookup"
+    );
+    assert!(b.column("Volume").is_none());
+    assert!(!looks_like_dump(LOG_2022));
+}
+
+#[test]
+fn lammps_2025_log_two_runs_wide_columns() {
+    let blocks = parse_log(LOG_2025).unwrap();
+    assert_eq!(blocks.len(), 2);
+    assert_eq!(blocks[0].columns, ["Step", "Temp", "Press"]);
+    assert_eq!(blocks[0].rows.len(), 5);
+    assert_eq!(blocks[0].rows[4], [200.0, 0.99704211, 23.634182]);
+    let b = &blocks[1];
+    assert_eq!(
+        b.columns,
+        [
+            "Step", "Time", "Temp", "Press", "c_myT", "c_pxy[4]", "v_eta", "f_ave", "CPU"
+        ]
+    );
+    assert_eq!(b.rows.len(), 6);
+    assert_eq!(b.column_index("c_pxy[4]"), Some(5));
+    let last = b.rows.last().unwrap();
+    assert_eq!(last[0], 450.0);
+    assert_eq!(last[5], -0.00863709949995196);
+    assert_eq!(last[6], -0.00148192789534372);
+}
+
+#[test]
+fn block_boundaries() {
+    let text = "\
+some preamble
+Step Temp
+0 1.0
+WARNING: something
+
+10 1.5
+ERROR: Lost atoms: original 100 current 99
+Step Temp
+Loop time of 0 on 1 procs
+Step Temp E
+20 2 nan
+30 -inf 4e-3
+";
+    let blocks = parse_log(text).unwrap();
+    assert_eq!(blocks.len(), 2, "the header with no rows is not a block");
+    assert_eq!(blocks[0].rows, [[0.0, 1.0], [10.0, 1.5]]);
+    assert_eq!(blocks[1].rows.len(), 2);
+    assert!(blocks[1].rows[0][2].is_nan());
+    assert_eq!(blocks[1].rows[1][1], f64::NEG_INFINITY);
+    assert_eq!(parse_log("").unwrap(), Vec::<ThermoBlock>::new());
+    assert_eq!(parse_log("Stepping stone\n1 2\n").unwrap().len(), 0);
+}
+
+#[test]
+fn row_length_errors_and_unfinished_logs() {
+    let e = parse_log("Step Temp\n0 1\n10 1 2\n20 1\n").unwrap_err();
+    assert!(
+        e.contains("line 3") && e.contains("3 values") && e.contains("2 columns"),
+        "{e}"
+    );
+    // A log still being written: the unterminated last line is dropped.
+    let blocks = parse_log("Step Temp Press\n0 1 2\n10 1.5 2.5\n20 1.").unwrap();
+    assert_eq!(blocks[0].rows.len(), 2);
+}
+
+const DUMP: &str = "\
+ITEM: TIMESTEP
+100
+ITEM: NUMBER OF ATOMS
+3
+ITEM: BOX BOUNDS pp pp pp
+0.0 8.0
+-1.0 7.0
+0 8
+ITEM: ATOMS id type x y z vx
+3 1 0.5 0.5 0.5 -0.1
+1 1 1.5 2.5 3.5 0.2
+2 2 4.0 4.0 4.0 0.0
+ITEM: TIMESTEP
+200
+ITEM: UNITS
+lj
+ITEM: TIME
+2.0
+ITEM: NUMBER OF ATOMS
+3
+ITEM: BOX BOUNDS xy xz yz pp pp pp
+0.0 8.5 0.5
+0.0 8.0 0.0
+0.0 8.0 0.25
+ITEM: ATOMS id type x y z vx
+2 2 4.1 4.0 4.0 0.01
+1 1 1.6 2.5 3.5 0.2
+3 1 0.4 0.5 0.5 -0.1
+";
+
+#[test]
+fn dump_frames() {
+    assert!(looks_like_dump(DUMP));
+    let frames = parse_dump(DUMP).unwrap();
+    assert_eq!(frames.len(), 2);
+    let f = &frames[0];
+    assert_eq!(f.step, 100);
+    assert_eq!(f.box_bounds, [[0.0, 8.0], [-1.0, 7.0], [0.0, 8.0]]);
+    assert_eq!(f.tilt, None);
+    assert_eq!(f.columns, ["id", "type", "x", "y", "z", "vx"]);
+    let ids: Vec<f64> = f.rows.iter().map(|r| r[0]).collect();
+    assert_eq!(ids, [1.0, 2.0, 3.0], "rows sorted by id");
+    assert_eq!(f.rows[0], [1.0, 1.0, 1.5, 2.5, 3.5, 0.2]);
+    let g = &frames[1];
+    assert_eq!(g.step, 200);
+    assert_eq!(g.tilt, Some([0.5, 0.0, 0.25]));
+    assert_eq!(g.box_bounds[0], [0.0, 8.5]);
+    assert_eq!(g.rows[2], [3.0, 1.0, 0.4, 0.5, 0.5, -0.1]);
+}
+
+#[test]
+fn dump_errors() {
+    let cases: &[(&str, &str)] = &[
+        ("ITEM: TIMESTEP\nabc\n", "timestep"),
+        ("hello\n", "expected 'ITEM: TIMESTEP'"),
+        (
+            "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\nITEM: ATOMS id x\n1 0.5\n",
+            "truncated",
+        ),
+        (
+            "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp pp\n0 1\n0 1\n0 1\nITEM: ATOMS id x\n1 C\n",
+            "line 10",
+        ),
+        (
+            "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: ATOMS id x\n1 0.5\n",
+            "BOX BOUNDS",
+        ),
+        (
+            "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS abc origin pp pp pp\n",
+            "general triclinic",
+        ),
+        (
+            "ITEM: TIMESTEP\n0\nITEM: ATOMS id x\n1 0.5\n",
+            "NUMBER OF ATOMS",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = parse_dump(text).unwrap_err();
+        assert!(e.contains(want), "{text:?}: {e}");
+    }
+}
+
+#[test]
+fn relative_and_absolute_differences() {
+    assert_eq!(differences(2.0, 2.0), (0.0, 0.0));
+    assert_eq!(differences(0.0, 0.0), (0.0, 0.0));
+    assert_eq!(differences(f64::NAN, f64::NAN), (0.0, 0.0));
+    assert_eq!(differences(1.0, f64::NAN).1, f64::INFINITY);
+    assert_eq!(differences(f64::INFINITY, f64::INFINITY), (0.0, 0.0));
+    assert_eq!(differences(4.0, -4.0), (8.0, 2.0));
+    assert_eq!(differences(1.0, 0.5), (0.5, 0.5));
+}
+
+fn block(columns: &[&str], rows: &[&[f64]]) -> ThermoBlock {
+    ThermoBlock {
+        columns: columns.iter().map(|c| c.to_string()).collect(),
+        rows: rows.iter().map(|r| r.to_vec()).collect(),
+    }
+}
+
+#[test]
+fn exact_comparison_of_blocks() {
+    let a = block(
+        &["Step", "Temp", "Press", "CPU"],
+        &[
+            &[0.0, 1.0, 2.0, 0.0],
+            &[10.0, 1.5, 2.5, 0.1],
+            &[20.0, 1.25, 3.0, 0.2],
+        ],
+    );
+    // Same values in another column order, other timings, one extra step; Press at step 10
+    // differs by 4e-8 relative.
+    let b = block(
+        &["Step", "Press", "Temp", "CPU"],
+        &[
+            &[0.0, 2.0, 1.0, 0.5],
+            &[10.0, 2.5 * (1.0 + 4e-8), 1.5, 0.6],
+            &[20.0, 3.0, 1.25, 0.7],
+            &[30.0, 3.0, 1.0, 0.8],
+        ],
+    );
+    let r = compare_exact(&a, &b, None, Tolerance::default()).unwrap();
+    assert_eq!(r.n_matched, 3);
+    assert_eq!((r.n_only_in_a, r.n_only_in_b), (0, 1));
+    assert_eq!(r.only_in_b, ["step 30"]);
+    let names: Vec<&str> = r.columns.iter().map(|c| c.column.as_str()).collect();
+    assert_eq!(names, ["Temp", "Press"], "CPU (timing) left out");
+    assert_eq!(r.failing_columns(), ["Press"]);
+    let p = &r.columns[1];
+    assert_eq!(p.n_fail, 1);
+    // |A−B| / max(|A|, |B|) = 4e-8 / (1 + 4e-8), up to rounding of the perturbed value.
+    assert!((p.max_rel - 4e-8 / (1.0 + 4e-8)).abs() < 1e-14, "{p:?}");
+    assert_eq!(p.worst.as_ref().map(|w| w.0.as_str()), Some("step 10"));
+    // A looser tolerance passes; so does a large atol.
+    let loose = Tolerance {
+        rtol: 1e-7,
+        atol: 0.0,
+    };
+    assert!(compare_exact(&a, &b, None, loose).unwrap().values_pass());
+    let abs = Tolerance {
+        rtol: 0.0,
+        atol: 1e-6,
+    };
+    assert!(compare_exact(&a, &b, None, abs).unwrap().values_pass());
+    // Picking columns; the timing column can be asked for by name.
+    let only_temp = ["temp".to_string()];
+    let r = compare_exact(&a, &b, Some(&only_temp), Tolerance::default()).unwrap();
+    assert!(r.values_pass() && r.columns.len() == 1);
+    let cpu = ["CPU".to_string()];
+    assert!(
+        !compare_exact(&a, &b, Some(&cpu), Tolerance::default())
+            .unwrap()
+            .values_pass()
+    );
+}
+
+#[test]
+fn exact_comparison_errors() {
+    let a = block(&["Step", "Temp"], &[&[0.0, 1.0]]);
+    let b = block(&["Step", "Temp", "Volume"], &[&[0.0, 1.0, 8.0]]);
+    let e = compare_exact(&a, &b, None, Tolerance::default()).unwrap_err();
+    assert!(e.contains("column mismatch") && e.contains("Volume"), "{e}");
+    let vol = ["Volume".to_string()];
+    let e = compare_exact(&a, &b, Some(&vol), Tolerance::default()).unwrap_err();
+    assert!(e.contains("'Volume' is not in A"), "{e}");
+    let c = block(&["Step", "Temp"], &[&[5.0, 1.0]]);
+    let e = compare_exact(&a, &c, None, Tolerance::default()).unwrap_err();
+    assert!(e.contains("no Step in common"), "{e}");
+    let d = block(&["Temp"], &[&[1.0]]);
+    let e = compare_exact(&d, &d, None, Tolerance::default()).unwrap_err();
+    assert!(e.contains("no Step column"), "{e}");
+    let dup = block(&["Step", "Temp"], &[&[0.0, 1.0], &[0.0, 2.0]]);
+    let e = compare_exact(&dup, &a, None, Tolerance::default()).unwrap_err();
+    assert!(e.contains("step 0 appears twice"), "{e}");
+    let e =
+        compare_exact_logs(&[a.clone()], &[a.clone(), a], None, Tolerance::default()).unwrap_err();
+    assert!(e.contains("1 thermo block(s) but B has 2"), "{e}");
+}
+
+#[test]
+fn multi_block_logs_compare_block_by_block() {
+    let blocks = parse_log(LOG_2025).unwrap();
+    let e = compare_exact_logs(&blocks, &blocks, None, Tolerance::default()).unwrap_err();
+    assert!(e.contains("block 2 has different columns"), "{e}");
+    let r = compare_exact_logs(&blocks[1..], &blocks[1..], None, Tolerance::default()).unwrap();
+    assert!(r.values_pass() && r.rows_match());
+    assert_eq!(r.n_matched, 6);
+    assert!(r.columns.iter().all(|c| c.column != "CPU"));
+}
+
+#[test]
+fn dump_comparison_matches_step_and_id() {
+    let a = parse_dump(DUMP).unwrap();
+    // Same frames with the atom lines shuffled differently and one x moved at step 200, id 1.
+    let shuffled = DUMP
+        .replace(
+            "3 1 0.5 0.5 0.5 -0.1\n1 1 1.5 2.5 3.5 0.2\n",
+            "1 1 1.5 2.5 3.5 0.2\n3 1 0.5 0.5 0.5 -0.1\n",
+        )
+        .replace("1 1 1.6 2.5", "1 1 1.6000001 2.5");
+    let b = parse_dump(&shuffled).unwrap();
+    let r = compare_dumps_exact(&a, &a, None, Tolerance::default()).unwrap();
+    assert!(r.values_pass() && r.rows_match());
+    assert_eq!(r.n_matched, 6);
+    let r = compare_dumps_exact(&a, &b, None, Tolerance::default()).unwrap();
+    assert_eq!(r.failing_columns(), ["x"]);
+    let x = r.columns.iter().find(|c| c.column == "x").unwrap();
+    assert_eq!(
+        x.worst.as_ref().map(|w| w.0.as_str()),
+        Some("step 200 id 1")
+    );
+    assert_eq!(x.n_fail, 1);
+}
+
+#[test]
+fn stats_comparison() {
+    // Two alternating series with the same mean 1 and a third shifted by 0.5: blocks of two
+    // values average to exactly 1, so the blocked errors are tiny and the shift is obvious.
+    let n = 256;
+    let mk = |shift: f64| -> ThermoBlock {
+        ThermoBlock {
+            columns: vec!["Step".into(), "Temp".into()],
+            rows: (0..n)
+                .map(|i| {
+                    vec![
+                        i as f64,
+                        1.0 + shift + if i % 2 == 0 { 0.25 } else { -0.25 },
+                    ]
+                })
+                .collect(),
+        }
+    };
+    let r = compare_stats(&mk(0.0), &mk(0.0), None, 10, 3.0).unwrap();
+    assert!(r.pass());
+    assert_eq!((r.n_a, r.n_b), (246, 246));
+    assert_eq!(r.columns[0].z, 0.0);
+    let r = compare_stats(&mk(0.0), &mk(0.5), None, 0, 3.0).unwrap();
+    assert_eq!(r.failing_columns(), ["Temp"]);
+    assert!(r.columns[0].z < -3.0);
+    let e = compare_stats(&mk(0.0), &mk(0.0), None, 255, 3.0).unwrap_err();
+    assert!(e.contains("fewer than 2"), "{e}");
+}
