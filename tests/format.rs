@@ -24,6 +24,8 @@ fn arg(a: A) -> FmtArg<'static> {
     }
 }
 
+// 3.14159265358979 below is a 15-digit value on purpose, not f64::consts::PI.
+#[allow(clippy::approx_constant)]
 #[rustfmt::skip]
 const GLIBC: &[(&str, A, &str)] = &[
     ("%g", F(0.0), "0"),

@@ -280,8 +280,13 @@ fn exact_comparison_errors() {
     let dup = block(&["Step", "Temp"], &[&[0.0, 1.0], &[0.0, 2.0]]);
     let e = compare_exact(&dup, &a, None, Tolerance::default()).unwrap_err();
     assert!(e.contains("step 0 appears twice"), "{e}");
-    let e =
-        compare_exact_logs(&[a.clone()], &[a.clone(), a], None, Tolerance::default()).unwrap_err();
+    let e = compare_exact_logs(
+        std::slice::from_ref(&a),
+        &[a.clone(), a.clone()],
+        None,
+        Tolerance::default(),
+    )
+    .unwrap_err();
     assert!(e.contains("1 thermo block(s) but B has 2"), "{e}");
 }
 

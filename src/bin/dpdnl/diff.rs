@@ -148,7 +148,7 @@ fn run(args: &DiffArgs) -> Result<bool, String> {
         ("--atol", args.atol),
         ("--zmax", args.zmax),
     ] {
-        if !(v >= 0.0) {
+        if v.is_nan() || v < 0.0 {
             return Err(format!("{name} must be a non-negative number, got {v}"));
         }
     }
