@@ -280,6 +280,12 @@ fn exact_comparison_errors() {
     let dup = block(&["Step", "Temp"], &[&[0.0, 1.0], &[0.0, 2.0]]);
     let e = compare_exact(&dup, &a, None, Tolerance::default()).unwrap_err();
     assert!(e.contains("step 0 appears twice"), "{e}");
+    let ragged = block(&["Step", "Temp"], &[&[0.0, 1.0], &[10.0]]);
+    let e = compare_exact(&a, &ragged, None, Tolerance::default()).unwrap_err();
+    assert!(e.contains("B: row 2"), "{e}");
+    let e = compare_stats(&ragged, &a, None, 0, 3.0).unwrap_err();
+    assert!(e.contains("A: row 2"), "{e}");
+    assert!(ragged.column("Temp").unwrap()[1].is_nan());
     let e = compare_exact_logs(
         std::slice::from_ref(&a),
         &[a.clone(), a.clone()],

@@ -32,7 +32,12 @@ impl ThermoBlock {
     /// The values of column `name`, one per row.
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
         let i = self.column_index(name)?;
-        Some(self.rows.iter().map(|r| r[i]).collect())
+        Some(
+            self.rows
+                .iter()
+                .map(|r| r.get(i).copied().unwrap_or(f64::NAN))
+                .collect(),
+        )
     }
 }
 
@@ -365,6 +370,23 @@ fn compare_keyed(
     }
 }
 
+/// Every row has one value per column (the fields are public, so a block may have been built
+/// by hand).
+fn check_shape<'a>(
+    label: &str,
+    columns: &[String],
+    rows: impl IntoIterator<Item = &'a Vec<f64>>,
+) -> Result<(), String> {
+    match rows.into_iter().position(|r| r.len() != columns.len()) {
+        Some(i) => Err(format!(
+            "{label}: row {} has a different number of values than the {} columns",
+            i + 1,
+            columns.len()
+        )),
+        None => Ok(()),
+    }
+}
+
 fn step_index(block: &ThermoBlock, label: &str) -> Result<usize, String> {
     block
         .column_index("Step")
@@ -455,6 +477,11 @@ pub fn compare_exact_logs(
     let (Some(a0), Some(b0)) = (a.first(), b.first()) else {
         return Err("no thermo block to compare".to_string());
     };
+    for (label, blocks) in [("A", a), ("B", b)] {
+        for blk in blocks {
+            check_shape(label, &blk.columns, &blk.rows)?;
+        }
+    }
     let cols = select_columns(&a0.columns, &b0.columns, columns, &["Step"])?;
     for (k, (ba, bb)) in a.iter().zip(b).enumerate().skip(1) {
         let ck = select_columns(&ba.columns, &bb.columns, columns, &["Step"])?;
@@ -497,6 +524,11 @@ pub fn compare_dumps_exact(
     let (Some(a0), Some(b0)) = (a.first(), b.first()) else {
         return Err("a dump has no frames".to_string());
     };
+    for (label, frames) in [("A", a), ("B", b)] {
+        for f in frames {
+            check_shape(&format!("{label} step {}", f.step), &f.columns, &f.rows)?;
+        }
+    }
     let cols = select_columns(&a0.columns, &b0.columns, columns, &["id"])?;
     let describe = |k: Key| format!("step {} id {}", k.0, k.1);
     let ka = Keyed {
@@ -575,6 +607,8 @@ pub fn compare_stats(
     skip: usize,
     zmax: f64,
 ) -> Result<StatsReport, String> {
+    check_shape("A", &a.columns, &a.rows)?;
+    check_shape("B", &b.columns, &b.rows)?;
     let cols = select_columns(&a.columns, &b.columns, columns, &["Step"])?;
     for (label, blk) in [("A", a), ("B", b)] {
         if blk.rows.len() < skip + 2 {
