@@ -1004,7 +1004,7 @@ impl<'c> Interpreter<'c> {
     }
 
     fn cmd_velocity(&mut self, args: &[String]) -> CmdResult {
-        let usage = "velocity all create T SEED [dist uniform|gaussian] [mom yes|no] [rot no] [loop all|local|geom] | velocity all set VX VY VZ | velocity all zero linear | velocity all scale T";
+        let usage = "velocity all create T SEED [dist uniform|gaussian] [mom yes|no] [rot no] [loop all|local|geom] | velocity all set VX VY VZ [sum yes|no] | velocity all zero linear | velocity all scale T";
         need(args, 2, usage)?;
         if args[0] != "all" {
             return Err(format!("group '{}' not supported: only 'all'", args[0]));
@@ -1095,10 +1095,21 @@ impl<'c> Interpreter<'c> {
                         val[d] = Some(parse_f64(&args[2 + d], "velocity")?);
                     }
                 }
+                let mut sum = false;
+                let mut k = 5;
+                while k < args.len() {
+                    need(&args[k..], 2, usage)?;
+                    match (args[k].as_str(), args[k + 1].as_str()) {
+                        ("sum", v) => sum = v == "yes",
+                        ("units", "box") | ("units", "lattice") => {}
+                        (o, _) => return Err(format!("unknown velocity set keyword '{o}'")),
+                    }
+                    k += 2;
+                }
                 for v in sys.atoms.v.iter_mut() {
                     for d in 0..dim {
                         if let Some(x) = val[d] {
-                            v[d] = x;
+                            v[d] = if sum { v[d] + x } else { x };
                         }
                     }
                 }
@@ -1593,5 +1604,12 @@ impl<'c> Interpreter<'c> {
             let _ = l.flush();
         }
         Ok(())
+    }
+}
+
+impl Interpreter<'_> {
+    /// Consume the interpreter, returning the system (if a box was created).
+    pub fn into_system(self) -> Option<System> {
+        self.sys
     }
 }

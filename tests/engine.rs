@@ -1,0 +1,172 @@
+//! Engine tests: conservation, determinism across thread counts, data round-trip, input errors.
+
+use dpdnl::engine::System;
+use dpdnl::input::{Collect, Interpreter, Options, ScriptError};
+
+fn run(text: &str) -> Result<(Vec<String>, Option<System>), ScriptError> {
+    let mut console = Collect::default();
+    let opts = Options::default();
+    let mut interp = Interpreter::new(&mut console, &opts).expect("no log file");
+    interp.run_text(text, "test.in")?;
+    let sys = interp.into_system();
+    Ok((console.0, sys))
+}
+
+fn tmp(name: &str) -> String {
+    let dir = std::env::temp_dir().join(format!("dpdnl-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name).display().to_string()
+}
+
+fn fluid(dim: u32, friction: &str, noise: &str, steps: u32) -> String {
+    let (zlo, zhi, n) = if dim == 3 { ("0", "5", 500) } else { ("-0.5", "0.5", 400) };
+    format!(
+        "units lj\ndimension {dim}\nboundary p p p\natom_style atomic\n\
+         region box block 0 5 0 5 {zlo} {zhi}\ncreate_box 2 box\n\
+         create_atoms 1 random {n} 4242 box\ncreate_atoms 2 random {n} 4343 box\n\
+         mass 1 1.0\nmass 2 2.5\nvelocity all create 1.0 87287 mom yes\n\
+         comm_modify vel yes\n\
+         pair_style dpd/nonlinear 1.0 1.0 9898 friction {friction} noise {noise}\n\
+         pair_coeff * * 25.0 4.5 0.5\npair_coeff 1 2 30.0 3.0 0.2 0.9\n\
+         neighbor 0.3 bin\ntimestep 0.01\nfix 1 all nve\nthermo 100\n\
+         thermo_style custom step temp press pxy ke pe\nrun {steps}\n"
+    )
+}
+
+fn momentum(sys: &System) -> [f64; 3] {
+    sys.momentum()
+}
+
+/// Total momentum is conserved to round-off over 1000 steps, in 3-D and 2-D, with unequal
+/// masses, per-pair cut-offs and the non-linear dot friction with two-step noise.
+#[test]
+fn momentum_conserved() {
+    for dim in [3, 2] {
+        for (f, n) in [("dot", "twostep"), ("dot", "corrected"), ("cross", "plain")] {
+            let (_, sys) = run(&fluid(dim, f, n, 1000)).expect("runs");
+            let sys = sys.expect("system");
+            let p = momentum(&sys);
+            // Scale: the momentum of one thermal particle is ~1; 1000 steps of round-off in
+            // sums of ~10^3 forces of size ~10^2 stay far below 1e-9.
+            for k in 0..3 {
+                assert!(p[k].abs() < 1e-9, "{dim}-D {f}/{n}: P = {p:?}");
+            }
+            assert!(sys.thermo().temp > 0.5, "the fluid is alive");
+        }
+    }
+}
+
+fn state_by_tag(sys: &System) -> Vec<(u32, [u64; 3], [u64; 3])> {
+    let a = &sys.atoms;
+    let mut v: Vec<_> = (0..a.len())
+        .map(|i| (a.tag[i], a.x[i].map(f64::to_bits), a.v[i].map(f64::to_bits)))
+        .collect();
+    v.sort_by_key(|e| e.0);
+    v
+}
+
+/// The same bits with 1, 2 and 3 threads (fixed summation order, MODELS-independent).
+#[test]
+fn bit_identical_across_thread_counts() {
+    let script = fluid(3, "dot", "twostep", 300);
+    let states: Vec<_> = [1, 2, 3]
+        .iter()
+        .map(|&t| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(t).build().expect("pool");
+            pool.install(|| {
+                let (lines, sys) = run(&script).expect("runs");
+                (lines.into_iter().filter(|l| !l.starts_with("Loop") && !l.starts_with("Perf")).collect::<Vec<_>>(), state_by_tag(&sys.expect("system")))
+            })
+        })
+        .collect();
+    assert_eq!(states[0], states[1]);
+    assert_eq!(states[0], states[2]);
+}
+
+/// write_data → read_data → write_data reproduces the file and the state exactly.
+#[test]
+fn data_round_trip() {
+    let (a, b) = (tmp("rt_a.data"), tmp("rt_b.data"));
+    let mut script = fluid(3, "dot", "corrected", 50);
+    script.push_str(&format!("write_data {a}\n"));
+    let (_, s1) = run(&script).expect("runs");
+    let again = format!(
+        "units lj\natom_style atomic\nread_data {a}\nwrite_data {b}\n"
+    );
+    let (_, s2) = run(&again).expect("reads");
+    let (ta, tb) = (std::fs::read_to_string(&a).expect("a"), std::fs::read_to_string(&b).expect("b"));
+    let strip = |t: &str| t.lines().skip(1).collect::<Vec<_>>().join("\n");
+    assert_eq!(strip(&ta), strip(&tb));
+    let (s1, s2) = (s1.expect("s1"), s2.expect("s2"));
+    let v1: Vec<_> = state_by_tag(&s1).into_iter().map(|e| (e.0, e.2)).collect();
+    let v2: Vec<_> = state_by_tag(&s2).into_iter().map(|e| (e.0, e.2)).collect();
+    assert_eq!(v1, v2, "velocities survive the round trip bit for bit");
+    assert_eq!(s1.atoms.len(), 1000);
+}
+
+/// Galilean invariance of the whole engine: after a uniform velocity shift u, the peculiar
+/// velocities v − u follow the unshifted run to round-off (chaos over 100 steps amplifies the
+/// different summation orders, hence 1e-8 rather than bits).
+#[test]
+fn galilean_invariance_engine() {
+    let base = fluid(3, "dot", "twostep", 100);
+    let u = [0.7, -0.3, 0.2];
+    let shifted = base.replace(
+        "velocity all create 1.0 87287 mom yes\n",
+        "velocity all create 1.0 87287 mom yes\nvelocity all set 0.7 -0.3 0.2 sum yes\n",
+    );
+    let (_, s0) = run(&base).expect("runs");
+    let (_, s1) = run(&shifted).expect("runs");
+    let (s0, s1) = (s0.expect("system"), s1.expect("system"));
+    let (a, b) = (state_by_tag(&s0), state_by_tag(&s1));
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(x.0, y.0);
+        for k in 0..3 {
+            let (v0, v1) = (f64::from_bits(x.2[k]), f64::from_bits(y.2[k]) - u[k]);
+            assert!((v0 - v1).abs() < 1e-8, "atom {}: {v0} vs {v1}", x.0);
+        }
+    }
+}
+
+/// Each bad script gives a ScriptError naming the line and the command, never a panic.
+#[test]
+fn bad_scripts_give_clear_errors() {
+    let head = "units lj\natom_style atomic\nregion box block 0 5 0 5 0 5\ncreate_box 1 box\ncreate_atoms 1 random 100 1 box\nmass 1 1.0\n";
+    let cases: &[(&str, &str, &str)] = &[
+        ("frobnicate 3\n", "frobnicate", "unknown command"),
+        ("pair_style dpd/nonlinear 1.0 1.0\n", "pair_style", "missing arguments"),
+        ("pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 0 -4.5 0\n", "pair_coeff", "gamma0"),
+        ("pair_style dpd/nonlinear 1.0 0.0 5\n", "pair_style", "rc"),
+        ("pair_style dpd/nonlinear 1.0 -1 5\n", "pair_style", "rc"),
+        ("pair_style dpd/nonlinear 1.0 1.0 5 frction dot\n", "pair_style", "unknown pair_style keyword 'frction'"),
+        ("pair_style dpd/nonlinear 1.0 1.0 5 noise fancy\n", "pair_style", "noise 'fancy'"),
+        ("pair_style dpd/nonlinear 1.0 1.0 5 weight 0\n", "pair_style", "weight exponent"),
+        ("pair_style dpd/nonlinear 1.0 3.0 5\npair_coeff 1 1 0 4.5 0\nfix 1 all nve\nrun 1\n", "run", "shorter than 2 rc"),
+        ("pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 0 4.5 0 x\n", "pair_coeff", "'x'"),
+        ("pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 2 0 4.5 0\n", "pair_coeff", "type"),
+        ("pair_style dpd/nonlinear 1.0 1.0 5\nfix 1 all nve\nrun 1\n", "run", "pair coefficients"),
+        ("variable x equal 1/(\n print ${x}\n", "print", ""),
+        ("thermo_style custom step bogus\n", "thermo_style", "bogus"),
+        ("read_data /nonexistent/file.data\n", "read_data", "cannot read"),
+        ("fix 1 all nve extra\n", "fix", "no arguments"),
+    ];
+    for (tail, command, needle) in cases {
+        let script = format!("{head}{tail}");
+        let err = run(&script).expect_err(&format!("script should fail: {tail}"));
+        assert_eq!(&err.command, command, "{err}");
+        assert!(err.message.contains(needle), "'{}' lacks '{needle}'", err.message);
+        assert!(err.line > 6, "line number points into the tail: {err}");
+        assert_eq!(err.file, "test.in");
+    }
+}
+
+/// The log has LAMMPS's shape: a `Step …` header, rows, then `Loop time of`.
+#[test]
+fn log_shape() {
+    let (lines, _) = run(&fluid(2, "none", "plain", 200).replace("0.5\npair_coeff 1 2 30.0 3.0 0.2 0.9", "0.0\npair_coeff 1 2 30.0 3.0 0.0 0.9")).expect("runs");
+    let h = lines.iter().position(|l| l.starts_with("Step")).expect("header");
+    assert_eq!(lines[h].split_whitespace().collect::<Vec<_>>(), ["Step", "Temp", "Press", "Pxy", "KinEng", "PotEng"]);
+    let rows: Vec<_> = lines[h + 1..].iter().take_while(|l| !l.starts_with("Loop time of")).collect();
+    assert_eq!(rows.len(), 3, "steps 0, 100, 200");
+    assert!(lines.iter().any(|l| l.starts_with("Loop time of")));
+}
