@@ -1,0 +1,34 @@
+#include "dpdnl_styles.h"
+
+#include "fix_nve_euler.h"
+#include "fix_pex_push.h"
+#include "pair_dpd_nonlinear.h"
+
+#include "force.h"
+#include "lammps.h"
+#include "modify.h"
+
+using namespace LAMMPS_NS;
+
+namespace {
+template <typename T> Pair *make_pair(LAMMPS *lmp)
+{
+  return new T(lmp);
+}
+template <typename T> Fix *make_fix(LAMMPS *lmp, int narg, char **arg)
+{
+  return new T(lmp, narg, arg);
+}
+}    // namespace
+
+void dpdnl_register_styles(LAMMPS *lmp)
+{
+  (*lmp->force->pair_map)["dpd/nonlinear"] = &make_pair<PairDPDNonlinear>;
+  (*lmp->modify->fix_map)["nve/euler"] = &make_fix<FixNVEEuler>;
+  (*lmp->modify->fix_map)["pex/push"] = &make_fix<FixPexPush>;
+}
+
+bool dpdnl_styles_registered(LAMMPS *lmp)
+{
+  return lmp->force && lmp->force->pair_map->count("dpd/nonlinear") == 1;
+}

@@ -1,0 +1,30 @@
+// fix ID group pex/push dp [width W] [every N]: the modified PeX momentum exchange of reverse
+// non-equilibrium MD (MODELS §6). Exact semantics: docs/fixes.md.
+
+#ifndef DPDNL_FIX_PEX_PUSH_H
+#define DPDNL_FIX_PEX_PUSH_H
+
+#include "fix.h"
+
+namespace LAMMPS_NS {
+
+class FixPexPush : public Fix {
+ public:
+  FixPexPush(class LAMMPS *, int, char **);
+  int setmask() override;
+  void init() override;
+  void end_of_step() override;
+  double compute_scalar() override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+
+ protected:
+  double dp;          // momentum moved per exchange
+  double width;       // slab width; <= 0 means the default Lx/20
+  double total;       // momentum moved so far (the fix's scalar)
+  bigint exchanges;   // number of exchanges done so far
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

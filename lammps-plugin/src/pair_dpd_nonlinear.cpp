@@ -1,0 +1,352 @@
+// pair_style dpd/nonlinear: LAMMPS driver over the dpdnl C ABI (see pair_dpd_nonlinear.h).
+//
+// No physics here: compute() hands positions, velocities, tags, types, masses and the
+// neighbour list to dpdnl_compute(), which accumulates forces and the LAMMPS energy/virial
+// tallies. The pair noise is keyed by (seed, step, tag pair), so newton on/off and any number
+// of MPI ranks draw the same random number for the same pair.
+//
+// LAMMPS on Debian 12 is built without C++ exceptions: an error ends the process. Errors from
+// Rust come back as status codes with a message; this file turns them into error->all/one.
+
+#include "pair_dpd_nonlinear.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
+#include "utils.h"
+
+#include "dpdnl.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+static_assert(sizeof(tagint) == sizeof(int32_t), "dpd/nonlinear needs 32-bit tags (LAMMPS_SMALLBIG)");
+
+PairDPDNonlinear::PairDPDNonlinear(LAMMPS *lmp) :
+    Pair(lmp), temperature(0.0), cut_global(0.0), seed(0), weight_s(2.0), friction("none"),
+    noise("plain"), a0(nullptr), gamma0(nullptr), gamma1(nullptr), cut(nullptr), params(nullptr)
+{
+  writedata = 1;
+  restartinfo = 1;
+  single_enable = 0;
+}
+
+PairDPDNonlinear::~PairDPDNonlinear()
+{
+  dpdnl_params_free(params);
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+    memory->destroy(a0);
+    memory->destroy(gamma0);
+    memory->destroy(gamma1);
+    memory->destroy(cut);
+  }
+}
+
+void PairDPDNonlinear::rust_error(const std::string &context)
+{
+  error->all(FLERR, context + ": " + dpdnl_last_error());
+}
+
+void PairDPDNonlinear::allocate()
+{
+  allocated = 1;
+  const int n = atom->ntypes;
+  memory->create(setflag, n + 1, n + 1, "pair:setflag");
+  for (int i = 1; i <= n; i++)
+    for (int j = i; j <= n; j++) setflag[i][j] = 0;
+  memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+  memory->create(a0, n + 1, n + 1, "pair:a0");
+  memory->create(gamma0, n + 1, n + 1, "pair:gamma0");
+  memory->create(gamma1, n + 1, n + 1, "pair:gamma1");
+  memory->create(cut, n + 1, n + 1, "pair:cut");
+}
+
+// pair_style dpd/nonlinear T rc seed [friction F] [noise N] [weight s]
+void PairDPDNonlinear::settings(int narg, char **arg)
+{
+  const std::string usage =
+      "Illegal pair_style dpd/nonlinear command: expected 'pair_style dpd/nonlinear T rc seed "
+      "[friction none|cross|dot] [noise plain|corrected|twostep] [weight s]'";
+  if (narg < 3) error->all(FLERR, usage);
+
+  temperature = utils::numeric(FLERR, arg[0], false, lmp);
+  cut_global = utils::numeric(FLERR, arg[1], false, lmp);
+  seed = utils::bnumeric(FLERR, arg[2], false, lmp);
+  friction = "none";
+  noise = "plain";
+  weight_s = 2.0;
+
+  for (int iarg = 3; iarg < narg; iarg += 2) {
+    const std::string key = arg[iarg];
+    if (iarg + 1 >= narg)
+      error->all(FLERR, "Illegal pair_style dpd/nonlinear command: keyword '" + key +
+                            "' needs a value");
+    if (key == "friction")
+      friction = arg[iarg + 1];
+    else if (key == "noise")
+      noise = arg[iarg + 1];
+    else if (key == "weight")
+      weight_s = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+    else
+      error->all(FLERR, "Illegal pair_style dpd/nonlinear command: unknown keyword '" + key +
+                            "' (expected friction, noise or weight)");
+  }
+
+  // Validate everything in Rust now, so a bad value fails on this line.
+  DpdnlParams *check = nullptr;
+  if (dpdnl_params_new(temperature, seed, friction.c_str(), noise.c_str(), weight_s, 1, &check) !=
+      DPDNL_STATUS_OK)
+    rust_error("Illegal pair_style dpd/nonlinear command");
+  dpdnl_params_free(check);
+  if (dpdnl_coeff_check(0.0, 0.0, 0.0, cut_global) != DPDNL_STATUS_OK)
+    rust_error("Illegal pair_style dpd/nonlinear command (global cutoff)");
+
+  // As other pair styles do: a new pair_style resets explicitly set cutoffs to the global one.
+  if (allocated) {
+    for (int i = 1; i <= atom->ntypes; i++)
+      for (int j = i; j <= atom->ntypes; j++)
+        if (setflag[i][j]) cut[i][j] = cut_global;
+  }
+}
+
+// pair_coeff I J a gamma0 gamma1 [rc]
+void PairDPDNonlinear::coeff(int narg, char **arg)
+{
+  if (narg < 5 || narg > 6)
+    error->all(FLERR, std::string("Incorrect args for pair coefficients: expected 'pair_coeff I J "
+                                  "a gamma0 gamma1 [rc]' for pair_style dpd/nonlinear"));
+  if (!allocated) allocate();
+
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+
+  const double a_one = utils::numeric(FLERR, arg[2], false, lmp);
+  const double gamma0_one = utils::numeric(FLERR, arg[3], false, lmp);
+  const double gamma1_one = utils::numeric(FLERR, arg[4], false, lmp);
+  const double cut_one = (narg == 6) ? utils::numeric(FLERR, arg[5], false, lmp) : cut_global;
+  if (dpdnl_coeff_check(a_one, gamma0_one, gamma1_one, cut_one) != DPDNL_STATUS_OK)
+    rust_error("Incorrect args for pair coefficients of pair_style dpd/nonlinear");
+
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++) {
+    for (int j = MAX(jlo, i); j <= jhi; j++) {
+      a0[i][j] = a_one;
+      gamma0[i][j] = gamma0_one;
+      gamma1[i][j] = gamma1_one;
+      cut[i][j] = cut_one;
+      setflag[i][j] = 1;
+      count++;
+    }
+  }
+  if (count == 0) error->all(FLERR, std::string("Incorrect args for pair coefficients"));
+}
+
+// Hand the current settings and coefficients to Rust (types may have been added since).
+void PairDPDNonlinear::build_params()
+{
+  dpdnl_params_free(params);
+  params = nullptr;
+  if (dpdnl_params_new(temperature, seed, friction.c_str(), noise.c_str(), weight_s, atom->ntypes,
+                       &params) != DPDNL_STATUS_OK)
+    rust_error("Pair dpd/nonlinear");
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++)
+      if (setflag[i][j] &&
+          dpdnl_params_set_coeff(params, i, j, a0[i][j], gamma0[i][j], gamma1[i][j], cut[i][j]) !=
+              DPDNL_STATUS_OK)
+        rust_error("Pair dpd/nonlinear");
+  if (dpdnl_params_check_complete(params) != DPDNL_STATUS_OK)
+    rust_error("Pair dpd/nonlinear (no mixing: every type pair needs a pair_coeff)");
+}
+
+void PairDPDNonlinear::init_style()
+{
+  if (comm->ghost_velocity == 0)
+    error->all(FLERR, std::string("Pair dpd/nonlinear requires ghost atoms store velocity: use "
+                                  "'comm_modify vel yes'"));
+  if (atom->tag_enable == 0)
+    error->all(FLERR, std::string("Pair dpd/nonlinear requires atom IDs (its noise is keyed by "
+                                  "them)"));
+  build_params();
+  // The default request: a half list (newton on or off as set by the 'newton' command).
+  neighbor->request(this, instance_me);
+}
+
+double PairDPDNonlinear::init_one(int i, int j)
+{
+  if (setflag[i][j] == 0)
+    error->all(FLERR, "Pair dpd/nonlinear: coefficients for types " + std::to_string(i) + " " +
+                          std::to_string(j) + " are not set (this style does not mix)");
+  a0[j][i] = a0[i][j];
+  gamma0[j][i] = gamma0[i][j];
+  gamma1[j][i] = gamma1[i][j];
+  cut[j][i] = cut[i][j];
+  return cut[i][j];
+}
+
+void PairDPDNonlinear::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const bool any = nall > 0;
+
+  DpdnlAtoms atoms;
+  atoms.x = any ? &atom->x[0][0] : nullptr;
+  atoms.v = any ? &atom->v[0][0] : nullptr;
+  atoms.tag = atom->tag;
+  atoms.atom_type = atom->type;
+  atoms.mass = atom->mass;
+  atoms.rmass = atom->rmass_flag ? atom->rmass : nullptr;
+  atoms.nlocal = nlocal;
+  atoms.nall = nall;
+
+  DpdnlNeighList nl;
+  nl.inum = list->inum;
+  nl.ilist = list->ilist;
+  nl.numneigh = list->numneigh;
+  nl.firstneigh = list->firstneigh;
+  nl.neighmask = NEIGHMASK;
+  nl.full = 0;
+
+  DpdnlStep st;
+  st.step = update->ntimestep;
+  st.dt = update->dt;
+  st.newton_pair = force->newton_pair;
+  st.dimension = domain->dimension;
+
+  DpdnlTally tally;
+  tally.eflag_global = eflag_global;
+  tally.vflag_global = vflag_global;
+  tally.eng_vdwl = &eng_vdwl;
+  tally.virial = virial;
+  tally.eatom = eflag_atom ? eatom : nullptr;
+  tally.vatom = (vflag_atom && any) ? &vatom[0][0] : nullptr;
+
+  if (dpdnl_compute(params, &atoms, &nl, &st, any ? &atom->f[0][0] : nullptr, &tally) !=
+      DPDNL_STATUS_OK)
+    error->one(FLERR, std::string("Pair dpd/nonlinear: ") + dpdnl_last_error());
+
+  if (vflag_fdotr) virial_fdotr_compute();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Restart and data files. Binary restart layout (settings, then one record per type pair I <= J):
+//   double T, double rc, bigint seed, double s, string friction, string noise
+//   (a string is an int length followed by that many chars)
+//   per pair: int setflag, and if set: double a, gamma0, gamma1, rc
+
+static void write_string(FILE *fp, const std::string &s)
+{
+  const int n = static_cast<int>(s.size());
+  fwrite(&n, sizeof(int), 1, fp);
+  fwrite(s.data(), sizeof(char), n, fp);
+}
+
+static std::string read_string(FILE *fp, int me, MPI_Comm world, Error *error)
+{
+  int n = 0;
+  if (me == 0) utils::sfread(FLERR, &n, sizeof(int), 1, fp, nullptr, error);
+  MPI_Bcast(&n, 1, MPI_INT, 0, world);
+  if (n < 0 || n > 64) error->all(FLERR, std::string("Pair dpd/nonlinear: corrupt restart file"));
+  std::string s(n, '\0');
+  if (me == 0 && n > 0) utils::sfread(FLERR, &s[0], sizeof(char), n, fp, nullptr, error);
+  MPI_Bcast(&s[0], n, MPI_CHAR, 0, world);
+  return s;
+}
+
+void PairDPDNonlinear::write_restart_settings(FILE *fp)
+{
+  fwrite(&temperature, sizeof(double), 1, fp);
+  fwrite(&cut_global, sizeof(double), 1, fp);
+  fwrite(&seed, sizeof(bigint), 1, fp);
+  fwrite(&weight_s, sizeof(double), 1, fp);
+  write_string(fp, friction);
+  write_string(fp, noise);
+}
+
+void PairDPDNonlinear::read_restart_settings(FILE *fp)
+{
+  const int me = comm->me;
+  if (me == 0) {
+    utils::sfread(FLERR, &temperature, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &cut_global, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &seed, sizeof(bigint), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &weight_s, sizeof(double), 1, fp, nullptr, error);
+  }
+  MPI_Bcast(&temperature, 1, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&cut_global, 1, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&seed, 1, MPI_LMP_BIGINT, 0, world);
+  MPI_Bcast(&weight_s, 1, MPI_DOUBLE, 0, world);
+  friction = read_string(fp, me, world, error);
+  noise = read_string(fp, me, world, error);
+}
+
+void PairDPDNonlinear::write_restart(FILE *fp)
+{
+  write_restart_settings(fp);
+  for (int i = 1; i <= atom->ntypes; i++) {
+    for (int j = i; j <= atom->ntypes; j++) {
+      fwrite(&setflag[i][j], sizeof(int), 1, fp);
+      if (setflag[i][j]) {
+        fwrite(&a0[i][j], sizeof(double), 1, fp);
+        fwrite(&gamma0[i][j], sizeof(double), 1, fp);
+        fwrite(&gamma1[i][j], sizeof(double), 1, fp);
+        fwrite(&cut[i][j], sizeof(double), 1, fp);
+      }
+    }
+  }
+}
+
+void PairDPDNonlinear::read_restart(FILE *fp)
+{
+  read_restart_settings(fp);
+  allocate();
+  const int me = comm->me;
+  for (int i = 1; i <= atom->ntypes; i++) {
+    for (int j = i; j <= atom->ntypes; j++) {
+      if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
+      MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
+      if (setflag[i][j]) {
+        if (me == 0) {
+          utils::sfread(FLERR, &a0[i][j], sizeof(double), 1, fp, nullptr, error);
+          utils::sfread(FLERR, &gamma0[i][j], sizeof(double), 1, fp, nullptr, error);
+          utils::sfread(FLERR, &gamma1[i][j], sizeof(double), 1, fp, nullptr, error);
+          utils::sfread(FLERR, &cut[i][j], sizeof(double), 1, fp, nullptr, error);
+        }
+        MPI_Bcast(&a0[i][j], 1, MPI_DOUBLE, 0, world);
+        MPI_Bcast(&gamma0[i][j], 1, MPI_DOUBLE, 0, world);
+        MPI_Bcast(&gamma1[i][j], 1, MPI_DOUBLE, 0, world);
+        MPI_Bcast(&cut[i][j], 1, MPI_DOUBLE, 0, world);
+      }
+    }
+  }
+}
+
+// "Pair Coeffs" section: I a gamma0 gamma1 rc (read_data passes it to coeff() as I I ...).
+void PairDPDNonlinear::write_data(FILE *fp)
+{
+  for (int i = 1; i <= atom->ntypes; i++)
+    fprintf(fp, "%d %.17g %.17g %.17g %.17g\n", i, a0[i][i], gamma0[i][i], gamma1[i][i],
+            cut[i][i]);
+}
+
+// "PairIJ Coeffs" section: I J a gamma0 gamma1 rc.
+void PairDPDNonlinear::write_data_all(FILE *fp)
+{
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++)
+      fprintf(fp, "%d %d %.17g %.17g %.17g %.17g\n", i, j, a0[i][j], gamma0[i][j], gamma1[i][j],
+              cut[i][j]);
+}

@@ -1,0 +1,62 @@
+// pair_style dpd/nonlinear: DPD with non-linear (velocity-dependent) friction.
+//
+// A thin LAMMPS driver: argument parsing, coefficient storage, restart and data-file I/O live
+// here; every force, energy and virial is computed in Rust through the dpdnl C ABI
+// (capi/include/dpdnl.h), which walks the whole neighbour list in one call.
+//
+//   pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep]
+//                            [weight s]
+//   pair_coeff I J a gamma0 gamma1 [rc]
+
+#ifndef DPDNL_PAIR_DPD_NONLINEAR_H
+#define DPDNL_PAIR_DPD_NONLINEAR_H
+
+#include "pair.h"
+
+#include <string>
+
+struct DpdnlParams;
+
+namespace LAMMPS_NS {
+
+class PairDPDNonlinear : public Pair {
+ public:
+  PairDPDNonlinear(class LAMMPS *);
+  ~PairDPDNonlinear() override;
+
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
+  void write_data(FILE *) override;
+  void write_data_all(FILE *) override;
+
+ protected:
+  // pair_style settings, as given (validated by the Rust side in settings()).
+  double temperature;
+  double cut_global;
+  bigint seed;
+  double weight_s;
+  std::string friction;
+  std::string noise;
+
+  // pair_coeff values per type pair (1-based), kept for init_one, restart and write_data.
+  double **a0, **gamma0, **gamma1, **cut;
+
+  // The validated parameter table handed to Rust; rebuilt in init_style().
+  DpdnlParams *params;
+
+  void allocate();
+  void build_params();
+  [[noreturn]] void rust_error(const std::string &context);
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
