@@ -1,0 +1,322 @@
+#!/usr/bin/env python3
+"""LAMMPS-side tests of the dpdnl styles (build/lmp_dpdnl). Stdlib only.
+
+    lammps-plugin/tests/run.sh           # build, then run everything
+    python3 lammps-plugin/tests/run_tests.py [--keep DIR]
+
+Checks, for every input in inputs/ (3-D vv, 2-D vv + enforce2d, 3-D Euler, 3-D PeX):
+newton on vs off and 1 vs 2 MPI ranks give the same thermo and dumps (<= 1e-12 relative);
+total momentum is conserved; the restart continues the run; bad arguments give LAMMPS ERROR
+lines with clear messages; the styles survive `clear`. Prints the measured differences.
+"""
+import argparse
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
+LMP = os.path.join(ROOT, "build", "lmp_dpdnl")
+INPUTS = os.path.join(HERE, "inputs")
+DATA = os.path.join(ROOT, "tests", "data", "lammps")
+TOL = 1e-12
+MPIRUN = ["mpirun", "--oversubscribe", "--allow-run-as-root"]
+
+# Per-type masses of each input (to sum momentum from the dumps).
+MASSES = {
+    "dpd3d": {1: 1.0, 2: 2.0},
+    "dpd2d": {1: 1.0, 2: 1.5},
+    "euler3d": {1: 1.0, 2: 2.0},
+    "pex3d": {1: 1.0},
+}
+DATAFILE = {"dpd3d": "dpd3d", "dpd2d": "dpd2d", "euler3d": "dpd3d", "pex3d": "pex3d"}
+
+failures = []
+
+
+def check(ok, what):
+    print(("  ok    " if ok else "  FAIL  ") + what)
+    if not ok:
+        failures.append(what)
+
+
+def run_lammps(workdir, name, script, np=1, newton=True, variables=None):
+    """Run `script` (a path) in workdir; returns (returncode, log text, output text)."""
+    os.makedirs(workdir, exist_ok=True)
+    src = open(script).read()
+    if not newton:
+        src = "newton off\n" + src
+    path = os.path.join(workdir, name + ".in")
+    with open(path, "w") as f:
+        f.write(src)
+    log = os.path.join(workdir, name + ".log")
+    cmd = ([LMP] if np == 1 else MPIRUN + ["-np", str(np), LMP]) + ["-in", path, "-log", log]
+    for k, v in (variables or {}).items():
+        cmd += ["-var", k, str(v)]
+    p = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, timeout=600)
+    text = open(log).read() if os.path.exists(log) else ""
+    return p.returncode, text, p.stdout + p.stderr
+
+
+def thermo_blocks(log):
+    """List of runs; each run a list of rows (lists of floats) of the thermo table."""
+    blocks, rows, header = [], None, None
+    for line in log.splitlines():
+        words = line.split()
+        if words[:1] == ["Step"]:
+            header, rows = words, []
+        elif rows is not None:
+            if line.startswith("Loop time"):
+                blocks.append((header, rows))
+                rows = None
+            else:
+                try:
+                    rows.append([float(w) for w in words])
+                except ValueError:
+                    pass
+    return blocks
+
+
+def read_dump(path):
+    """{step: (columns, {id: row})}."""
+    out = {}
+    with open(path) as f:
+        lines = f.read().splitlines()
+    k = 0
+    while k < len(lines):
+        if lines[k].startswith("ITEM: TIMESTEP"):
+            step = int(lines[k + 1])
+            n = int(lines[k + 3])
+            cols = lines[k + 8].split()[2:]
+            rows = {}
+            for line in lines[k + 9 : k + 9 + n]:
+                vals = [float(w) for w in line.split()]
+                rows[int(vals[0])] = vals
+            out[step] = (cols, rows)
+            k += 9 + n
+        else:
+            k += 1
+    return out
+
+
+def rel_diff_rows(a, b):
+    """Max relative difference between two equally shaped tables (per value, |a-b|/max(|a|,|b|);
+    values below 1e-300 on both sides count as equal)."""
+    worst = 0.0
+    if len(a) != len(b):
+        return math.inf
+    for ra, rb in zip(a, b):
+        if len(ra) != len(rb):
+            return math.inf
+        for x, y in zip(ra, rb):
+            d = max(abs(x), abs(y))
+            if d > 1e-300:
+                worst = max(worst, abs(x - y) / d)
+    return worst
+
+
+def rel_diff_dumps(a, b):
+    """Max over steps and columns of max|a-b| / max|column| (positions, velocities, forces)."""
+    worst = 0.0
+    if sorted(a) != sorted(b):
+        return math.inf
+    for step in a:
+        (cols, ra), (_, rb) = a[step], b[step]
+        if sorted(ra) != sorted(rb):
+            return math.inf
+        for c in range(len(cols)):
+            scale = max(abs(r[c]) for r in ra.values()) or 1.0
+            diff = max(abs(ra[i][c] - rb[i][c]) for i in ra)
+            worst = max(worst, diff / scale)
+    return worst
+
+
+def momentum(dump, masses):
+    cols, rows = dump
+    it, ivx = cols.index("type"), cols.index("vx")
+    p = [0.0, 0.0, 0.0]
+    for r in rows.values():
+        m = masses[int(r[it])]
+        for d in range(3):
+            p[d] += m * r[ivx + d]
+    return p
+
+
+def consistency(tmp):
+    print("newton on/off and MPI ranks (relative differences of thermo | dumps at steps 0/50/100)")
+    results = {}
+    for name in ["dpd3d", "dpd2d", "euler3d", "pex3d"]:
+        script = os.path.join(INPUTS, name + ".in")
+        data = os.path.join(DATA, DATAFILE[name] + ".data")
+        runs = {}
+        for label, np, newton in [
+            ("np1_on", 1, True),
+            ("np1_off", 1, False),
+            ("np2_on", 2, True),
+            ("np2_off", 2, False),
+        ]:
+            wd = os.path.join(tmp, name, label)
+            dump = os.path.join(wd, "dump")
+            rc, log, out = run_lammps(wd, name, script, np, newton, {"data": data, "dump": dump})
+            check(rc == 0, f"{name} {label} runs" + ("" if rc == 0 else ": " + out[-2000:]))
+            if rc != 0:
+                continue
+            dangerous = re.search(r"Dangerous builds = (\d+)", log)
+            check(dangerous and dangerous.group(1) == "0", f"{name} {label}: no dangerous builds")
+            runs[label] = (thermo_blocks(log), read_dump(dump))
+        if "np1_on" not in runs:
+            continue
+        ref_thermo, ref_dump = runs["np1_on"]
+        for label in ["np1_off", "np2_on", "np2_off"]:
+            if label not in runs:
+                continue
+            t, d = runs[label]
+            rt = rel_diff_rows(ref_thermo[-1][1], t[-1][1])
+            rd = rel_diff_dumps(ref_dump, d)
+            results[(name, label)] = (rt, rd)
+            check(rt <= TOL and rd <= TOL,
+                  f"{name}: np1 newton on vs {label}: thermo {rt:.2e}, dump {rd:.2e}")
+        # Conservation of total momentum between step 0 and step 100.
+        p0, p1 = momentum(ref_dump[0], MASSES[name]), momentum(ref_dump[100], MASSES[name])
+        dp = max(abs(a - b) for a, b in zip(p0, p1))
+        check(dp < 1e-10, f"{name}: total momentum change over 100 steps {dp:.2e}")
+        if name == "dpd2d":
+            zmax = max(abs(r[c]) for _, (cols, rows) in ref_dump.items() for r in rows.values()
+                       for c in [cols.index("z"), cols.index("vz"), cols.index("fz")])
+            check(zmax == 0.0, f"dpd2d: z, vz, fz stay 0 (max |.| = {zmax})")
+        if name == "pex3d":
+            header, rows = ref_thermo[-1]
+            f2 = rows[-1][header.index("f_2")]
+            check(abs(f2 - 100 * 0.05) < 1e-12, f"pex3d: f_2 after 100 pushes = {f2!r} (5.0)")
+    return results
+
+
+def restart(tmp):
+    print("restart: run 50 + write_restart + run 50  vs  read_restart + run 50")
+    wd = os.path.join(tmp, "restart")
+    rfile = os.path.join(wd, "restart.dpd3d")
+    data = os.path.join(DATA, "dpd3d.data")
+    out = {}
+    for np in [1, 2]:
+        rc, logw, o = run_lammps(wd, f"write{np}", os.path.join(INPUTS, "restart_write.in"), np,
+                                 True, {"data": data, "dump": os.path.join(wd, f"dw{np}"),
+                                        "restart": rfile})
+        check(rc == 0, f"restart_write np{np} runs" + ("" if rc == 0 else ": " + o[-2000:]))
+        rc, logr, o = run_lammps(wd, f"read{np}", os.path.join(INPUTS, "restart_read.in"), np,
+                                 True, {"dump": os.path.join(wd, f"dr{np}"), "restart": rfile})
+        check(rc == 0, f"restart_read np{np} runs" + ("" if rc == 0 else ": " + o[-2000:]))
+        if rc != 0:
+            continue
+        tw, tr = thermo_blocks(logw)[-1][1], thermo_blocks(logr)[-1][1]
+        rt = rel_diff_rows(tw, tr)
+        rd = rel_diff_dumps(read_dump(os.path.join(wd, f"dw{np}")),
+                            read_dump(os.path.join(wd, f"dr{np}")))
+        out[np] = (rt, rd)
+        check(tw[0][0] == 50 and tr[-1][0] == 100 and rt <= TOL and rd <= TOL,
+              f"restart np{np}: continued run vs uninterrupted: thermo {rt:.2e}, dump {rd:.2e}")
+    return out
+
+
+ERROR_CASES = [
+    # (label, commands after the common header, expected text in the ERROR line)
+    ("no ghost velocities", "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 1 1 0\nrun 0",
+     "comm_modify vel yes", False),
+    ("too few pair_style args", "pair_style dpd/nonlinear 1.0 1.0", "pair_style dpd/nonlinear T rc seed", True),
+    ("bad friction", "pair_style dpd/nonlinear 1.0 1.0 5 friction bogus", "unknown friction 'bogus'", True),
+    ("bad noise", "pair_style dpd/nonlinear 1.0 1.0 5 noise twostage", "unknown noise 'twostage'", True),
+    ("bad weight", "pair_style dpd/nonlinear 1.0 1.0 5 weight -1", "weight exponent s = -1", True),
+    ("unknown keyword", "pair_style dpd/nonlinear 1.0 1.0 5 frcition dot", "unknown keyword 'frcition'", True),
+    ("seed 0", "pair_style dpd/nonlinear 1.0 1.0 0", "seed = 0", True),
+    ("negative T", "pair_style dpd/nonlinear -1.0 1.0 5", "temperature kT = -1", True),
+    ("zero rc", "pair_style dpd/nonlinear 1.0 0.0 5", "rc = 0 must be > 0", True),
+    ("non-numeric T", "pair_style dpd/nonlinear hot 1.0 5", "Expected floating point", True),
+    ("negative gamma0", "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 25 -4.5 0", "gamma0 = -4.5 must be >= 0", True),
+    ("negative gamma1", "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 25 4.5 -1", "gamma1 = -1 must be >= 0", True),
+    ("pair_coeff arg count", "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 25 4.5", "pair_coeff I J a gamma0 gamma1 [rc]", True),
+    ("missing pair", "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 25 4.5 0\npair_coeff 2 2 25 4.5 0\nrun 0",
+     "types 1 2 are not set", True),
+    ("nve/euler args", "fix 1 all nve/euler 1.0", "fix ID group-ID nve/euler", True),
+    ("pex/push dp", "fix 1 all pex/push -0.1", "dp = -0.1 must be a finite number > 0", True),
+    ("pex/push width", "fix 1 all pex/push 0.1 width 0", "width = 0 must be", True),
+    ("pex/push every", "fix 1 all pex/push 0.1 every 0", "every = 0 must be >= 1", True),
+    ("pex/push keyword", "fix 1 all pex/push 0.1 slab 2", "unknown keyword 'slab'", True),
+    ("pex/push wide", "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 1 1 0\nfix 1 all pex/push 0.1 width 3\nrun 0",
+     "must be smaller than Lx/2", True),
+]
+
+
+def errors(tmp):
+    print("bad arguments give LAMMPS ERROR lines")
+    data = os.path.join(DATA, "dpd3d.data")
+    for k, (label, cmds, want, vel) in enumerate(ERROR_CASES):
+        head = "units lj\natom_style atomic\n" + ("comm_modify vel yes\n" if vel else "")
+        head += f"read_data {data}\nmass * 1.0\n"
+        wd = os.path.join(tmp, "errors")
+        script = os.path.join(wd, f"case{k}.src")
+        os.makedirs(wd, exist_ok=True)
+        with open(script, "w") as f:
+            f.write(head + cmds + "\n")
+        rc, log, out = run_lammps(wd, f"case{k}", script)
+        lines = [l for l in (out + log).splitlines() if l.startswith("ERROR")]
+        ok = rc != 0 and any(want in l for l in lines)
+        check(ok, f"{label}: {lines[0] if lines else '(no ERROR line) ' + out[-500:]}")
+    # 2-D rejects pex/push.
+    wd = os.path.join(tmp, "errors")
+    script = os.path.join(wd, "pex2d.src")
+    with open(script, "w") as f:
+        f.write(f"units lj\ndimension 2\natom_style atomic\ncomm_modify vel yes\n"
+                f"read_data {os.path.join(DATA, 'dpd2d.data')}\nmass * 1.0\n"
+                "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 1 1 0\n"
+                "fix 1 all pex/push 0.1\nrun 0\n")
+    rc, log, out = run_lammps(wd, "pex2d", script)
+    lines = [l for l in out.splitlines() if l.startswith("ERROR")]
+    check(rc != 0 and any("requires a 3-D system" in l for l in lines),
+          f"pex/push in 2-D: {lines[0] if lines else out[-300:]}")
+
+
+def survives_clear(tmp):
+    print("styles survive 'clear'")
+    wd = os.path.join(tmp, "clear")
+    os.makedirs(wd, exist_ok=True)
+    data = os.path.join(DATA, "dpd3d.data")
+    block = (f"units lj\natom_style atomic\ncomm_modify vel yes\nread_data {data}\nmass * 1.0\n"
+             "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 5 4.5 0\n"
+             "fix 1 all nve/euler\nfix 2 all pex/push 0.1\nrun 5\n")
+    script = os.path.join(wd, "clear.src")
+    with open(script, "w") as f:
+        f.write(block + "clear\n" + block + "clear\n" + block)
+    rc, log, out = run_lammps(wd, "clear", script)
+    check(rc == 0 and len(thermo_blocks(log)) == 3,
+          "three runs separated by 'clear'" + ("" if rc == 0 else ": " + out[-500:]))
+    check("WARNING: could not hook" not in out, "LAMMPS::create() interposition active")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--keep", help="keep the run directories here")
+    args = ap.parse_args()
+    if not os.access(LMP, os.X_OK):
+        sys.exit(f"{LMP} not found: run lammps-plugin/build.sh first")
+    tmp = args.keep or tempfile.mkdtemp(prefix="dpdnl-lammps-")
+    try:
+        consistency(tmp)
+        restart(tmp)
+        errors(tmp)
+        survives_clear(tmp)
+    finally:
+        if not args.keep:
+            shutil.rmtree(tmp, ignore_errors=True)
+    if failures:
+        print(f"\n{len(failures)} FAILED")
+        for f in failures:
+            print("  - " + f)
+        sys.exit(1)
+    print("\nall LAMMPS-side tests passed")
+
+
+if __name__ == "__main__":
+    main()
