@@ -338,7 +338,10 @@ pub fn pair_force(model: &PairModel, c: &PairCoeff, p: &PairInput) -> PairForce 
     let fc = c.a * q;
     let fd = -gamma * wd * ev;
     let (fr, fa) = match model.noise {
-        Noise::Plain => ((2.0 * model.kt * gamma).sqrt() * wr * p.xi * model.inv_sqrt_dt, 0.0),
+        Noise::Plain => (
+            (2.0 * model.kt * gamma).sqrt() * wr * p.xi * model.inv_sqrt_dt,
+            0.0,
+        ),
         Noise::Corrected => {
             let fr = (2.0 * model.kt * gamma).sqrt() * wr * p.xi * model.inv_sqrt_dt;
             let de_gamma = friction.dgamma_ds(c, gamma) * friction.rate_gradient_along_e(r, rdotv);
@@ -353,7 +356,10 @@ pub fn pair_force(model: &PairModel, c: &PairCoeff, p: &PairInput) -> PairForce 
                 p.dv[2] + kick * p.dr[2],
             ];
             let gamma2 = friction.gamma(c, friction.rate(p.dr, dv2));
-            ((2.0 * model.kt * gamma2).sqrt() * wr * p.xi * model.inv_sqrt_dt, 0.0)
+            (
+                (2.0 * model.kt * gamma2).sqrt() * wr * p.xi * model.inv_sqrt_dt,
+                0.0,
+            )
         }
     };
     PairForce {

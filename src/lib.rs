@@ -10,6 +10,10 @@
 //!
 //! The library never prints; the `dpdnl` binary decides what a person sees.
 
+// Component loops `for k in 0..dim` index several arrays at once (x, v, f, box lengths);
+// they read closer to the equations than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
 pub mod engine;
 pub mod input;
 pub mod io;

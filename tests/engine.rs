@@ -1,4 +1,5 @@
 //! Engine tests: conservation, determinism across thread counts, data round-trip, input errors.
+#![allow(clippy::needless_range_loop)]
 
 use dpdnl::engine::System;
 use dpdnl::input::{Collect, Interpreter, Options, ScriptError};
@@ -19,7 +20,11 @@ fn tmp(name: &str) -> String {
 }
 
 fn fluid(dim: u32, friction: &str, noise: &str, steps: u32) -> String {
-    let (zlo, zhi, n) = if dim == 3 { ("0", "5", 500) } else { ("-0.5", "0.5", 400) };
+    let (zlo, zhi, n) = if dim == 3 {
+        ("0", "5", 500)
+    } else {
+        ("-0.5", "0.5", 400)
+    };
     format!(
         "units lj\ndimension {dim}\nboundary p p p\natom_style atomic\n\
          region box block 0 5 0 5 {zlo} {zhi}\ncreate_box 2 box\n\
@@ -72,10 +77,19 @@ fn bit_identical_across_thread_counts() {
     let states: Vec<_> = [1, 2, 3]
         .iter()
         .map(|&t| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(t).build().expect("pool");
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .expect("pool");
             pool.install(|| {
                 let (lines, sys) = run(&script).expect("runs");
-                (lines.into_iter().filter(|l| !l.starts_with("Loop") && !l.starts_with("Perf")).collect::<Vec<_>>(), state_by_tag(&sys.expect("system")))
+                (
+                    lines
+                        .into_iter()
+                        .filter(|l| !l.starts_with("Loop") && !l.starts_with("Perf"))
+                        .collect::<Vec<_>>(),
+                    state_by_tag(&sys.expect("system")),
+                )
             })
         })
         .collect();
@@ -90,11 +104,12 @@ fn data_round_trip() {
     let mut script = fluid(3, "dot", "corrected", 50);
     script.push_str(&format!("write_data {a}\n"));
     let (_, s1) = run(&script).expect("runs");
-    let again = format!(
-        "units lj\natom_style atomic\nread_data {a}\nwrite_data {b}\n"
-    );
+    let again = format!("units lj\natom_style atomic\nread_data {a}\nwrite_data {b}\n");
     let (_, s2) = run(&again).expect("reads");
-    let (ta, tb) = (std::fs::read_to_string(&a).expect("a"), std::fs::read_to_string(&b).expect("b"));
+    let (ta, tb) = (
+        std::fs::read_to_string(&a).expect("a"),
+        std::fs::read_to_string(&b).expect("b"),
+    );
     let strip = |t: &str| t.lines().skip(1).collect::<Vec<_>>().join("\n");
     assert_eq!(strip(&ta), strip(&tb));
     let (s1, s2) = (s1.expect("s1"), s2.expect("s2"));
@@ -134,27 +149,71 @@ fn bad_scripts_give_clear_errors() {
     let head = "units lj\natom_style atomic\nregion box block 0 5 0 5 0 5\ncreate_box 1 box\ncreate_atoms 1 random 100 1 box\nmass 1 1.0\n";
     let cases: &[(&str, &str, &str)] = &[
         ("frobnicate 3\n", "frobnicate", "unknown command"),
-        ("pair_style dpd/nonlinear 1.0 1.0\n", "pair_style", "missing arguments"),
-        ("pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 0 -4.5 0\n", "pair_coeff", "gamma0"),
+        (
+            "pair_style dpd/nonlinear 1.0 1.0\n",
+            "pair_style",
+            "missing arguments",
+        ),
+        (
+            "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 0 -4.5 0\n",
+            "pair_coeff",
+            "gamma0",
+        ),
         ("pair_style dpd/nonlinear 1.0 0.0 5\n", "pair_style", "rc"),
         ("pair_style dpd/nonlinear 1.0 -1 5\n", "pair_style", "rc"),
-        ("pair_style dpd/nonlinear 1.0 1.0 5 frction dot\n", "pair_style", "unknown pair_style keyword 'frction'"),
-        ("pair_style dpd/nonlinear 1.0 1.0 5 noise fancy\n", "pair_style", "noise 'fancy'"),
-        ("pair_style dpd/nonlinear 1.0 1.0 5 weight 0\n", "pair_style", "weight exponent"),
-        ("pair_style dpd/nonlinear 1.0 3.0 5\npair_coeff 1 1 0 4.5 0\nfix 1 all nve\nrun 1\n", "run", "shorter than 2 rc"),
-        ("pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 0 4.5 0 x\n", "pair_coeff", "'x'"),
-        ("pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 2 0 4.5 0\n", "pair_coeff", "type"),
-        ("pair_style dpd/nonlinear 1.0 1.0 5\nfix 1 all nve\nrun 1\n", "run", "pair coefficients"),
+        (
+            "pair_style dpd/nonlinear 1.0 1.0 5 frction dot\n",
+            "pair_style",
+            "unknown pair_style keyword 'frction'",
+        ),
+        (
+            "pair_style dpd/nonlinear 1.0 1.0 5 noise fancy\n",
+            "pair_style",
+            "noise 'fancy'",
+        ),
+        (
+            "pair_style dpd/nonlinear 1.0 1.0 5 weight 0\n",
+            "pair_style",
+            "weight exponent",
+        ),
+        (
+            "pair_style dpd/nonlinear 1.0 3.0 5\npair_coeff 1 1 0 4.5 0\nfix 1 all nve\nrun 1\n",
+            "run",
+            "shorter than 2 rc",
+        ),
+        (
+            "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 0 4.5 0 x\n",
+            "pair_coeff",
+            "'x'",
+        ),
+        (
+            "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 2 0 4.5 0\n",
+            "pair_coeff",
+            "type",
+        ),
+        (
+            "pair_style dpd/nonlinear 1.0 1.0 5\nfix 1 all nve\nrun 1\n",
+            "run",
+            "pair coefficients",
+        ),
         ("variable x equal 1/(\n print ${x}\n", "print", ""),
         ("thermo_style custom step bogus\n", "thermo_style", "bogus"),
-        ("read_data /nonexistent/file.data\n", "read_data", "cannot read"),
+        (
+            "read_data /nonexistent/file.data\n",
+            "read_data",
+            "cannot read",
+        ),
         ("fix 1 all nve extra\n", "fix", "no arguments"),
     ];
     for (tail, command, needle) in cases {
         let script = format!("{head}{tail}");
         let err = run(&script).expect_err(&format!("script should fail: {tail}"));
         assert_eq!(&err.command, command, "{err}");
-        assert!(err.message.contains(needle), "'{}' lacks '{needle}'", err.message);
+        assert!(
+            err.message.contains(needle),
+            "'{}' lacks '{needle}'",
+            err.message
+        );
         assert!(err.line > 6, "line number points into the tail: {err}");
         assert_eq!(err.file, "test.in");
     }
@@ -163,10 +222,23 @@ fn bad_scripts_give_clear_errors() {
 /// The log has LAMMPS's shape: a `Step …` header, rows, then `Loop time of`.
 #[test]
 fn log_shape() {
-    let (lines, _) = run(&fluid(2, "none", "plain", 200).replace("0.5\npair_coeff 1 2 30.0 3.0 0.2 0.9", "0.0\npair_coeff 1 2 30.0 3.0 0.0 0.9")).expect("runs");
-    let h = lines.iter().position(|l| l.starts_with("Step")).expect("header");
-    assert_eq!(lines[h].split_whitespace().collect::<Vec<_>>(), ["Step", "Temp", "Press", "Pxy", "KinEng", "PotEng"]);
-    let rows: Vec<_> = lines[h + 1..].iter().take_while(|l| !l.starts_with("Loop time of")).collect();
+    let (lines, _) = run(&fluid(2, "none", "plain", 200).replace(
+        "0.5\npair_coeff 1 2 30.0 3.0 0.2 0.9",
+        "0.0\npair_coeff 1 2 30.0 3.0 0.0 0.9",
+    ))
+    .expect("runs");
+    let h = lines
+        .iter()
+        .position(|l| l.starts_with("Step"))
+        .expect("header");
+    assert_eq!(
+        lines[h].split_whitespace().collect::<Vec<_>>(),
+        ["Step", "Temp", "Press", "Pxy", "KinEng", "PotEng"]
+    );
+    let rows: Vec<_> = lines[h + 1..]
+        .iter()
+        .take_while(|l| !l.starts_with("Loop time of"))
+        .collect();
     assert_eq!(rows.len(), 3, "steps 0, 100, 200");
     assert!(lines.iter().any(|l| l.starts_with("Loop time of")));
 }

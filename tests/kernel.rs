@@ -1,13 +1,20 @@
 //! Tier (a): exact identities of the pair kernel (MODELS §1–2).
 
-use dpdnl::kernel::{Friction, Noise, PairCoeff, PairForce, PairInput, PairModel, Weight, pair_force};
+use dpdnl::kernel::{
+    Friction, Noise, PairCoeff, PairForce, PairInput, PairModel, Weight, pair_force,
+};
 use dpdnl::rng::keyed_gaussian;
 
 const FRICTIONS: [Friction; 3] = [Friction::None, Friction::Cross, Friction::Dot];
 const NOISES: [Noise; 3] = [Noise::Plain, Noise::Corrected, Noise::TwoStep];
 
 fn coeff() -> PairCoeff {
-    PairCoeff { a: 25.0, gamma0: 5.0, gamma1: 1.0, rc: 1.0 }
+    PairCoeff {
+        a: 25.0,
+        gamma0: 5.0,
+        gamma1: 1.0,
+        rc: 1.0,
+    }
 }
 
 /// Deterministic pseudo-random pair states inside the cut-off.
@@ -39,7 +46,11 @@ fn antisymmetry_is_exact() {
         for n in NOISES {
             let m = model(f, n, 1e-3);
             for p in states(300) {
-                let q = PairInput { dr: p.dr.map(|x| -x), dv: p.dv.map(|x| -x), ..p };
+                let q = PairInput {
+                    dr: p.dr.map(|x| -x),
+                    dv: p.dv.map(|x| -x),
+                    ..p
+                };
                 let a = pair_force(&m, &coeff(), &p).vector(p.dr);
                 let b = pair_force(&m, &coeff(), &q).vector(q.dr);
                 for k in 0..3 {
@@ -58,18 +69,37 @@ fn rotate(r: [[f64; 3]; 3], x: [f64; 3]) -> [f64; 3] {
 #[test]
 fn rotation_invariance() {
     let (a, b, c) = (0.3f64, 1.1f64, -0.7f64);
-    let rz = [[a.cos(), -a.sin(), 0.0], [a.sin(), a.cos(), 0.0], [0.0, 0.0, 1.0]];
-    let rx = [[1.0, 0.0, 0.0], [0.0, b.cos(), -b.sin()], [0.0, b.sin(), b.cos()]];
-    let ry = [[c.cos(), 0.0, c.sin()], [0.0, 1.0, 0.0], [-c.sin(), 0.0, c.cos()]];
+    let rz = [
+        [a.cos(), -a.sin(), 0.0],
+        [a.sin(), a.cos(), 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let rx = [
+        [1.0, 0.0, 0.0],
+        [0.0, b.cos(), -b.sin()],
+        [0.0, b.sin(), b.cos()],
+    ];
+    let ry = [
+        [c.cos(), 0.0, c.sin()],
+        [0.0, 1.0, 0.0],
+        [-c.sin(), 0.0, c.cos()],
+    ];
     for f in FRICTIONS {
         for n in NOISES {
             let m = model(f, n, 1e-3);
             for p in states(200) {
                 let rot = |x| rotate(ry, rotate(rx, rotate(rz, x)));
-                let q = PairInput { dr: rot(p.dr), dv: rot(p.dv), ..p };
+                let q = PairInput {
+                    dr: rot(p.dr),
+                    dv: rot(p.dv),
+                    ..p
+                };
                 let (x, y) = (pair_force(&m, &coeff(), &p), pair_force(&m, &coeff(), &q));
                 for (u, w) in [(x.fc, y.fc), (x.fd, y.fd), (x.fr, y.fr), (x.fa, y.fa)] {
-                    assert!((u - w).abs() <= 1e-12 * (1.0 + u.abs()), "{f:?} {n:?}: {u} vs {w}");
+                    assert!(
+                        (u - w).abs() <= 1e-12 * (1.0 + u.abs()),
+                        "{f:?} {n:?}: {u} vs {w}"
+                    );
                 }
             }
         }
@@ -85,7 +115,10 @@ fn galilean_invariance() {
         let u = [3.7, -1.3, 0.25];
         let vi = [p.dv[0] + 0.1 + u[0], p.dv[1] - 0.2 + u[1], p.dv[2] + u[2]];
         let vj = [0.1 + u[0], -0.2 + u[1], u[2]];
-        let q = PairInput { dv: [vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]], ..p };
+        let q = PairInput {
+            dv: [vi[0] - vj[0], vi[1] - vj[1], vi[2] - vj[2]],
+            ..p
+        };
         let (x, y) = (pair_force(&m, &coeff(), &p), pair_force(&m, &coeff(), &q));
         assert!((x.total() - y.total()).abs() <= 1e-12 * (1.0 + x.total().abs()));
     }
@@ -97,7 +130,10 @@ fn cross_correction_is_zero() {
     let plain = model(Friction::Cross, Noise::Plain, 1e-3);
     let corr = model(Friction::Cross, Noise::Corrected, 1e-3);
     for p in states(300) {
-        let (a, b) = (pair_force(&plain, &coeff(), &p), pair_force(&corr, &coeff(), &p));
+        let (a, b) = (
+            pair_force(&plain, &coeff(), &p),
+            pair_force(&corr, &coeff(), &p),
+        );
         assert_eq!(b.fa, 0.0);
         assert_eq!(a, b);
     }
@@ -114,7 +150,10 @@ fn plain_amplitude_obeys_fdt() {
             let wr = 1.0 - r;
             let sigma2 = (pf.fr * 2.5e-3f64.sqrt() / (wr * p.xi)).powi(2);
             let gamma = f.gamma(&coeff(), f.rate(p.dr, p.dv));
-            assert!((sigma2 - 2.0 * 0.1 * gamma).abs() <= 1e-12 * sigma2, "{f:?}");
+            assert!(
+                (sigma2 - 2.0 * 0.1 * gamma).abs() <= 1e-12 * sigma2,
+                "{f:?}"
+            );
             // and the dissipative part is −γ w_D (e·v)
             let ev = p.dr.iter().zip(p.dv).map(|(a, b)| a * b).sum::<f64>() / r;
             assert!((pf.fd + gamma * wr * wr * ev).abs() <= 1e-12 * (1.0 + pf.fd.abs()));
@@ -140,7 +179,11 @@ fn correction_matches_finite_difference() {
         };
         let de_gamma = (g(h) - g(-h)) / (2.0 * h);
         let want = 0.1 * p.inv_mass_sum * (1.0 - r).powi(2) * de_gamma * p.xi * p.xi;
-        assert!((pf.fa - want).abs() <= 1e-6 * want.abs() + 1e-12, "{} vs {want}", pf.fa);
+        assert!(
+            (pf.fa - want).abs() <= 1e-6 * want.abs() + 1e-12,
+            "{} vs {want}",
+            pf.fa
+        );
     }
 }
 
@@ -157,7 +200,9 @@ fn slope(xs: &[f64], ys: &[f64]) -> f64 {
 #[test]
 fn twostep_converges_to_corrected() {
     let c = coeff();
-    let dts: Vec<f64> = (0..9).map(|k| 1e-2 * 10f64.powf(-0.5 * f64::from(k))).collect();
+    let dts: Vec<f64> = (0..9)
+        .map(|k| 1e-2 * 10f64.powf(-0.5 * f64::from(k)))
+        .collect();
     for p in states(40).into_iter().take(10) {
         let (mut d_ts, mut d_pl) = (Vec::new(), Vec::new());
         for &dt in &dts {
@@ -171,8 +216,14 @@ fn twostep_converges_to_corrected() {
         }
         let x: Vec<f64> = dts.iter().map(|d| d.ln()).collect();
         let (s_ts, s_pl) = (slope(&x, &d_ts), slope(&x, &d_pl));
-        assert!((s_ts - 1.5).abs() < 0.1, "two-step − corrected impulse slope {s_ts}");
-        assert!((s_pl - 1.0).abs() < 0.02, "plain − corrected impulse slope {s_pl}");
+        assert!(
+            (s_ts - 1.5).abs() < 0.1,
+            "two-step − corrected impulse slope {s_ts}"
+        );
+        assert!(
+            (s_pl - 1.0).abs() < 0.02,
+            "plain − corrected impulse slope {s_pl}"
+        );
     }
 }
 
@@ -180,11 +231,22 @@ fn twostep_converges_to_corrected() {
 #[test]
 fn cutoff_and_overlap() {
     let m = model(Friction::Dot, Noise::Corrected, 1e-3);
-    let base = PairInput { dr: [1.0, 0.0, 0.0], dv: [0.3, 0.1, 0.0], inv_mass_sum: 2.0, xi: 1.3 };
+    let base = PairInput {
+        dr: [1.0, 0.0, 0.0],
+        dv: [0.3, 0.1, 0.0],
+        inv_mass_sum: 2.0,
+        xi: 1.3,
+    };
     assert_eq!(pair_force(&m, &coeff(), &base), PairForce::default());
-    let zero = PairInput { dr: [0.0; 3], ..base };
+    let zero = PairInput {
+        dr: [0.0; 3],
+        ..base
+    };
     assert_eq!(pair_force(&m, &coeff(), &zero), PairForce::default());
-    let near = PairInput { dr: [1.0 - 1e-9, 0.0, 0.0], ..base };
+    let near = PairInput {
+        dr: [1.0 - 1e-9, 0.0, 0.0],
+        ..base
+    };
     assert!(pair_force(&m, &coeff(), &near).total().abs() < 1e-6);
 }
 
@@ -199,7 +261,11 @@ fn weight_exponents() {
             assert!((wr * wr - wd).abs() <= 1e-15);
         }
     }
-    assert!(Weight::new(0.0).is_none() && Weight::new(-1.0).is_none() && Weight::new(f64::NAN).is_none());
+    assert!(
+        Weight::new(0.0).is_none()
+            && Weight::new(-1.0).is_none()
+            && Weight::new(f64::NAN).is_none()
+    );
 }
 
 /// In 2-D (z = 0) the cross estimator is (x v_y − y v_x)².

@@ -74,7 +74,11 @@ fn every_key_field_matters() {
     for v in variants {
         assert_ne!(v, base);
         // A good mixer flips about half of the 128 bits.
-        let flipped: u32 = v.iter().zip(base.iter()).map(|(a, b)| (a ^ b).count_ones()).sum();
+        let flipped: u32 = v
+            .iter()
+            .zip(base.iter())
+            .map(|(a, b)| (a ^ b).count_ones())
+            .sum();
         assert!((32..=96).contains(&flipped), "only {flipped} bits changed");
     }
 }
@@ -104,6 +108,9 @@ fn gaussian_moments() {
     assert!((kurt - 3.0).abs() < 5e-2, "kurtosis {kurt}");
     // P(|x| > 3) = 0.0026998; binomial σ = sqrt(N p) ≈ 52 counts.
     let expect = 0.002_699_8 * nf;
-    assert!((f64::from(tail) - expect).abs() < 5.0 * expect.sqrt(), "tail {tail} vs {expect}");
+    assert!(
+        (f64::from(tail) - expect).abs() < 5.0 * expect.sqrt(),
+        "tail {tail} vs {expect}"
+    );
     let _ = gaussian_from_bits([0, 0, 0, 0]).is_finite();
 }

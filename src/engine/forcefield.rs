@@ -74,6 +74,10 @@ impl ForceField {
 
     /// The largest cut-off over all set type pairs.
     pub fn rc_max(&self) -> f64 {
-        self.coeff.iter().flatten().map(|c| c.rc).fold(0.0, f64::max)
+        self.coeff
+            .iter()
+            .flatten()
+            .map(|c| c.rc)
+            .fold(0.0, f64::max)
     }
 }

@@ -124,7 +124,9 @@ impl System {
             return Err("no pair style defined (pair_style dpd/nonlinear …)".into());
         };
         if let Some((i, j)) = ff.missing() {
-            return Err(format!("pair coefficients for types {i} {j} are not set (pair_coeff)"));
+            return Err(format!(
+                "pair coefficients for types {i} {j} are not set (pair_coeff)"
+            ));
         }
         for t in 1..=self.ntypes {
             if self.mass[t].is_none() {
@@ -148,7 +150,11 @@ impl System {
             }
         }
         self.table = ff.dense_table();
-        self.inv_mass = self.mass.iter().map(|m| m.map_or(0.0, |m| 1.0 / m)).collect();
+        self.inv_mass = self
+            .mass
+            .iter()
+            .map(|m| m.map_or(0.0, |m| 1.0 / m))
+            .collect();
         if self.dim() == 2 {
             for (x, v) in self.atoms.x.iter_mut().zip(self.atoms.v.iter_mut()) {
                 x[2] = 0.0;
@@ -239,7 +245,7 @@ impl System {
         let lx = bx.len()[0];
         let step = self.step;
         for push in self.pex.iter_mut() {
-            if step % push.every != 0 {
+            if !step.is_multiple_of(push.every) {
                 continue;
             }
             let w = push.width.unwrap_or(lx / 20.0);
@@ -295,11 +301,19 @@ impl System {
         }
         let n = self.atoms.len() as f64;
         let dof = d as f64 * n - d as f64;
-        let mv2 = if d == 3 { kt[0] + kt[1] + kt[2] } else { kt[0] + kt[1] };
+        let mv2 = if d == 3 {
+            kt[0] + kt[1] + kt[2]
+        } else {
+            kt[0] + kt[1]
+        };
         let temp = if dof > 0.0 { mv2 / dof } else { 0.0 };
         let vol = self.bx.volume();
         let w = self.tally.virial;
-        let trace = if d == 3 { w[0] + w[1] + w[2] } else { w[0] + w[1] };
+        let trace = if d == 3 {
+            w[0] + w[1] + w[2]
+        } else {
+            w[0] + w[1]
+        };
         let press = (dof * temp + trace) / (d as f64 * vol);
         let mut p = [0.0; 6];
         for a in 0..6 {
@@ -337,7 +351,10 @@ impl System {
     /// Bytes per atom held by the atom arrays and the neighbour structures.
     pub fn bytes(&self) -> (usize, usize) {
         let a = &self.atoms;
-        let atom_bytes = a.x.capacity() * 24 * 3 + a.tag.capacity() * 4 + a.typ.capacity() * 4 + a.image.capacity() * 12;
+        let atom_bytes = a.x.capacity() * 24 * 3
+            + a.tag.capacity() * 4
+            + a.typ.capacity() * 4
+            + a.image.capacity() * 12;
         (atom_bytes, self.neighbor.bytes())
     }
 }

@@ -252,7 +252,8 @@ impl NeighborList {
             let mut energy = 0.0;
             for i in blk.start..blk.end {
                 let (xi, vi, ti) = (x[i], v[i], typ[i] as usize);
-                let row = blk.row_start[i - blk.start] as usize..blk.row_start[i - blk.start + 1] as usize;
+                let row = blk.row_start[i - blk.start] as usize
+                    ..blk.row_start[i - blk.start + 1] as usize;
                 for k in row {
                     let j = blk.nbr[k] as usize;
                     let dr = bx.min_image([xi[0] - x[j][0], xi[1] - x[j][1], xi[2] - x[j][2]]);

@@ -28,10 +28,8 @@ pub fn logical_lines(text: &str) -> Vec<RawLine> {
             entry.text.push(' ');
         }
         entry.text.push_str(body);
-        if !cont {
-            if let Some(done) = cur.take() {
-                out.push(done);
-            }
+        if !cont && let Some(done) = cur.take() {
+            out.push(done);
         }
     }
     if let Some(done) = cur.take() {
@@ -115,7 +113,13 @@ mod tests {
     #[test]
     fn continuation_and_numbering() {
         let l = logical_lines("a &\n  b\nc\n");
-        assert_eq!(l[0], RawLine { line: 1, text: "a    b".into() });
+        assert_eq!(
+            l[0],
+            RawLine {
+                line: 1,
+                text: "a    b".into()
+            }
+        );
         assert_eq!(l[1].line, 3);
     }
 

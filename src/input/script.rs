@@ -190,8 +190,16 @@ pub fn type_range(tok: &str, ntypes: usize) -> Result<(usize, usize), String> {
             (t, t)
         }
         Some((a, b)) => {
-            let lo = if a.is_empty() { 1 } else { a.parse().map_err(|_| bad())? };
-            let hi = if b.is_empty() { ntypes } else { b.parse().map_err(|_| bad())? };
+            let lo = if a.is_empty() {
+                1
+            } else {
+                a.parse().map_err(|_| bad())?
+            };
+            let hi = if b.is_empty() {
+                ntypes
+            } else {
+                b.parse().map_err(|_| bad())?
+            };
             (lo, hi)
         }
     };
@@ -239,9 +247,11 @@ impl<'c> Interpreter<'c> {
     /// A fresh interpreter writing to `console` (and to `opts.log` when set).
     pub fn new(console: &'c mut dyn Console, opts: &Options) -> Result<Interpreter<'c>, String> {
         let log = match &opts.log {
-            Some(p) => Some(BufWriter::new(
-                File::create(p).map_err(|e| format!("cannot open log file {}: {e}", p.display()))?,
-            )),
+            Some(p) => {
+                Some(BufWriter::new(File::create(p).map_err(|e| {
+                    format!("cannot open log file {}: {e}", p.display())
+                })?))
+            }
             None => None,
         };
         let mut vars = BTreeMap::new();
@@ -467,7 +477,11 @@ impl<'c> Interpreter<'c> {
             };
         };
         let n = sys.atoms.len() as f64;
-        let norm = if self.thermo.norm && n > 0.0 { 1.0 / n } else { 1.0 };
+        let norm = if self.thermo.norm && n > 0.0 {
+            1.0 / n
+        } else {
+            1.0
+        };
         let t = sys.thermo();
         let len = sys.bx.len();
         let v = match kw {
@@ -533,7 +547,12 @@ impl<'c> Interpreter<'c> {
                 .fmt_col
                 .get(&(k + 1))
                 .cloned()
-                .or_else(|| self.thermo.fmt_line.as_ref().and_then(|l| l.get(k).cloned()))
+                .or_else(|| {
+                    self.thermo
+                        .fmt_line
+                        .as_ref()
+                        .and_then(|l| l.get(k).cloned())
+                })
                 .or_else(|| {
                     if int {
                         self.thermo.fmt_int.clone()
@@ -542,7 +561,11 @@ impl<'c> Interpreter<'c> {
                     }
                 })
                 .unwrap_or_else(|| if int { "%10d".into() } else { "%14.8g".into() });
-            let arg = if int { FmtArg::Int(v as i64) } else { FmtArg::Float(v) };
+            let arg = if int {
+                FmtArg::Int(v as i64)
+            } else {
+                FmtArg::Float(v)
+            };
             fields.push(sprintf(&fmtstr, &[arg])?);
         }
         Ok(fields.join(" "))
@@ -591,7 +614,10 @@ impl<'c> Interpreter<'c> {
             "atom_style" => {
                 need(args, 1, "atom_style atomic")?;
                 if args[0] != "atomic" {
-                    return Err(format!("atom_style '{}' not supported: only 'atomic'", args[0]));
+                    return Err(format!(
+                        "atom_style '{}' not supported: only 'atomic'",
+                        args[0]
+                    ));
                 }
                 Ok(())
             }
@@ -693,7 +719,11 @@ impl<'c> Interpreter<'c> {
                 let mut file: Option<(String, bool)> = None;
                 let mut k = 1;
                 while k < args.len() {
-                    need(&args[k..], 2, "print TEXT [file F] [append F] [screen yes|no]")?;
+                    need(
+                        &args[k..],
+                        2,
+                        "print TEXT [file F] [append F] [screen yes|no]",
+                    )?;
                     match args[k].as_str() {
                         "file" => file = Some((args[k + 1].clone(), false)),
                         "append" => file = Some((args[k + 1].clone(), true)),
@@ -759,7 +789,10 @@ impl<'c> Interpreter<'c> {
             "index" => {
                 need(args, 3, "variable NAME index VALUE…")?;
                 if args.len() > 3 {
-                    return Err("index variables with several values (loops with next) are not supported".into());
+                    return Err(
+                        "index variables with several values (loops with next) are not supported"
+                            .into(),
+                    );
                 }
                 // As LAMMPS: an index variable already defined (e.g. by -var) is kept.
                 self.vars.entry(name).or_insert(Var::Index(args[2].clone()));
@@ -785,7 +818,10 @@ impl<'c> Interpreter<'c> {
         let usage = "region ID block xlo xhi ylo yhi zlo zhi [units box|lattice]";
         need(args, 8, usage)?;
         if args[1] != "block" {
-            return Err(format!("region style '{}' not supported: only 'block'", args[1]));
+            return Err(format!(
+                "region style '{}' not supported: only 'block'",
+                args[1]
+            ));
         }
         let mut k = 8;
         while k < args.len() {
@@ -803,9 +839,10 @@ impl<'c> Interpreter<'c> {
                 let tok = &args[2 + 2 * d + s];
                 b[d][s] = match tok.as_str() {
                     "INF" | "EDGE" => {
-                        let sys = self.sys.as_ref().ok_or_else(|| {
-                            format!("'{tok}' in a region needs an existing box")
-                        })?;
+                        let sys = self
+                            .sys
+                            .as_ref()
+                            .ok_or_else(|| format!("'{tok}' in a region needs an existing box"))?;
                         if s == 0 { sys.bx.lo[d] } else { sys.bx.hi[d] }
                     }
                     _ => parse_f64(tok, "region bound")?,
@@ -851,7 +888,11 @@ impl<'c> Interpreter<'c> {
         need(args, 2, "create_box NTYPES REGION-ID")?;
         let ntypes: usize = parse_int(&args[0], "number of atom types")?;
         let r = self.region(&args[1])?;
-        self.new_system(ntypes, [r[0][0], r[1][0], r[2][0]], [r[0][1], r[1][1], r[2][1]])?;
+        self.new_system(
+            ntypes,
+            [r[0][0], r[1][0], r[2][0]],
+            [r[0][1], r[1][1], r[2][1]],
+        )?;
         let d = self.dim;
         self.out(&format!(
             "Created orthogonal box = ({} {} {}) to ({} {} {}) in {d}-D",
@@ -876,7 +917,10 @@ impl<'c> Interpreter<'c> {
             "random" => {
                 need(args, 5, usage)?;
                 if args.len() > 5 {
-                    return Err(format!("create_atoms random keyword '{}' not supported", args[5]));
+                    return Err(format!(
+                        "create_atoms random keyword '{}' not supported",
+                        args[5]
+                    ));
                 }
                 let n: usize = parse_int(&args[2], "number of atoms")?;
                 let seed: u32 = parse_int(&args[3], "seed")?;
@@ -925,13 +969,19 @@ impl<'c> Interpreter<'c> {
                 if dim == 2 {
                     x[2] = 0.0;
                 }
-                next = next.checked_add(1).ok_or("atom ids would exceed 2^32 - 1")?;
+                next = next
+                    .checked_add(1)
+                    .ok_or("atom ids would exceed 2^32 - 1")?;
                 let mut im = [0; 3];
                 sys.bx.wrap(&mut x, &mut im);
                 sys.atoms.push(next, t, x, [0.0; 3], [0; 3]);
                 created = 1;
             }
-            o => return Err(format!("create_atoms style '{o}' not supported (random, single)")),
+            o => {
+                return Err(format!(
+                    "create_atoms style '{o}' not supported (random, single)"
+                ));
+            }
         }
         self.out(&format!("Created {created} atoms"));
         Ok(())
@@ -946,7 +996,10 @@ impl<'c> Interpreter<'c> {
             .map_err(|e| format!("cannot read data file {}: {e}", args[0]))?;
         let d = parse_data(&text, &args[0])?;
         if self.dim == 2 && d.atoms.iter().any(|a| a.2[2] != 0.0) {
-            return Err(format!("{}: a 2-D system needs z = 0 for every atom", args[0]));
+            return Err(format!(
+                "{}: a 2-D system needs z = 0 for every atom",
+                args[0]
+            ));
         }
         self.new_system(d.ntypes, d.lo, d.hi)?;
         let sys = self.sys_mut()?;
@@ -967,7 +1020,10 @@ impl<'c> Interpreter<'c> {
             }
         }
         let n = d.atoms.len();
-        self.out(&format!("Read data file {}: {n} atoms, {} atom types", args[0], d.ntypes));
+        self.out(&format!(
+            "Read data file {}: {n} atoms, {} atom types",
+            args[0], d.ntypes
+        ));
         Ok(())
     }
 
@@ -998,7 +1054,10 @@ impl<'c> Interpreter<'c> {
             atoms,
             velocities: vels,
         };
-        let title = format!("LAMMPS data file via write_data (dpdnl), timestep = {}", sys.step);
+        let title = format!(
+            "LAMMPS data file via write_data (dpdnl), timestep = {}",
+            sys.step
+        );
         std::fs::write(&args[0], format_data(&d, &title))
             .map_err(|e| format!("cannot write {}: {e}", args[0]))
     }
@@ -1135,7 +1194,11 @@ impl<'c> Interpreter<'c> {
                     }
                 }
             }
-            o => return Err(format!("velocity style '{o}' not supported (create, set, zero, scale)")),
+            o => {
+                return Err(format!(
+                    "velocity style '{o}' not supported (create, set, zero, scale)"
+                ));
+            }
         }
         Ok(())
     }
@@ -1144,7 +1207,10 @@ impl<'c> Interpreter<'c> {
         let usage = "pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep] [weight s]";
         need(args, 1, usage)?;
         if args[0] != "dpd/nonlinear" {
-            return Err(format!("pair style '{}' not supported: only dpd/nonlinear", args[0]));
+            return Err(format!(
+                "pair style '{}' not supported: only dpd/nonlinear",
+                args[0]
+            ));
         }
         need(args, 4, usage)?;
         let kt = parse_f64(&args[1], "T")?;
@@ -1178,7 +1244,8 @@ impl<'c> Interpreter<'c> {
                 }
                 "weight" => {
                     let s = parse_f64(val, "weight exponent")?;
-                    weight = Weight::new(s).ok_or_else(|| format!("weight exponent {s} must be > 0"))?
+                    weight =
+                        Weight::new(s).ok_or_else(|| format!("weight exponent {s} must be > 0"))?
                 }
                 o => return Err(format!("unknown pair_style keyword '{o}'; {usage}")),
             }
@@ -1199,10 +1266,7 @@ impl<'c> Interpreter<'c> {
         }
         let sys = self.sys_mut()?;
         let ntypes = sys.ntypes;
-        let ff = sys
-            .ff
-            .as_mut()
-            .ok_or("pair_coeff before pair_style")?;
+        let ff = sys.ff.as_mut().ok_or("pair_coeff before pair_style")?;
         let (ilo, ihi) = type_range(&args[0], ntypes)?;
         let (jlo, jhi) = type_range(&args[1], ntypes)?;
         let c = PairCoeff {
@@ -1247,7 +1311,9 @@ impl<'c> Interpreter<'c> {
                     return Err(format!("fix {s} takes no arguments"));
                 }
                 if sys.integrator.is_some() {
-                    return Err("only one time-integration fix (nve or nve/euler) is allowed".into());
+                    return Err(
+                        "only one time-integration fix (nve or nve/euler) is allowed".into(),
+                    );
                 }
                 if s == "nve" {
                     sys.integrator = Some(Integrator::VelocityVerlet);
@@ -1318,10 +1384,35 @@ impl<'c> Interpreter<'c> {
                         || kw.starts_with("f_")
                         || matches!(
                             kw.as_str(),
-                            "step" | "elapsed" | "dt" | "time" | "atoms" | "temp" | "press"
-                                | "pxx" | "pyy" | "pzz" | "pxy" | "pxz" | "pyz" | "ke" | "pe"
-                                | "epair" | "evdwl" | "emol" | "etotal" | "vol" | "lx" | "ly"
-                                | "lz" | "xlo" | "xhi" | "ylo" | "yhi" | "zlo" | "zhi"
+                            "step"
+                                | "elapsed"
+                                | "dt"
+                                | "time"
+                                | "atoms"
+                                | "temp"
+                                | "press"
+                                | "pxx"
+                                | "pyy"
+                                | "pzz"
+                                | "pxy"
+                                | "pxz"
+                                | "pyz"
+                                | "ke"
+                                | "pe"
+                                | "epair"
+                                | "evdwl"
+                                | "emol"
+                                | "etotal"
+                                | "vol"
+                                | "lx"
+                                | "ly"
+                                | "lz"
+                                | "xlo"
+                                | "xhi"
+                                | "ylo"
+                                | "yhi"
+                                | "zlo"
+                                | "zhi"
                                 | "density"
                         );
                     if !known {
@@ -1390,7 +1481,10 @@ impl<'c> Interpreter<'c> {
             return Err(format!("group '{}' not supported: only 'all'", args[1]));
         }
         if args[2] != "custom" {
-            return Err(format!("dump style '{}' not supported: only custom", args[2]));
+            return Err(format!(
+                "dump style '{}' not supported: only custom",
+                args[2]
+            ));
         }
         if self.dumps.iter().any(|d| d.id == args[0]) {
             return Err(format!("dump ID '{}' already exists", args[0]));
@@ -1403,13 +1497,29 @@ impl<'c> Interpreter<'c> {
         for c in &columns {
             if !matches!(
                 c.as_str(),
-                "id" | "type" | "mass" | "x" | "y" | "z" | "xu" | "yu" | "zu" | "ix" | "iy" | "iz"
-                    | "vx" | "vy" | "vz" | "fx" | "fy" | "fz"
+                "id" | "type"
+                    | "mass"
+                    | "x"
+                    | "y"
+                    | "z"
+                    | "xu"
+                    | "yu"
+                    | "zu"
+                    | "ix"
+                    | "iy"
+                    | "iz"
+                    | "vx"
+                    | "vy"
+                    | "vz"
+                    | "fx"
+                    | "fy"
+                    | "fz"
             ) {
                 return Err(format!("unknown dump column '{c}'"));
             }
         }
-        let f = File::create(&args[4]).map_err(|e| format!("cannot open dump file {}: {e}", args[4]))?;
+        let f = File::create(&args[4])
+            .map_err(|e| format!("cannot open dump file {}: {e}", args[4]))?;
         self.dumps.push(Dump {
             id: args[0].clone(),
             every,
@@ -1443,10 +1553,16 @@ impl<'c> Interpreter<'c> {
                     need(&args[k..], 3, usage)?;
                     let f = args[k + 2].clone();
                     match args[k + 1].as_str() {
-                        "line" => d.fmt_line = Some(f.split_whitespace().map(String::from).collect()),
+                        "line" => {
+                            d.fmt_line = Some(f.split_whitespace().map(String::from).collect())
+                        }
                         "int" => d.fmt_int = Some(f),
                         "float" => d.fmt_float = Some(f),
-                        o => return Err(format!("dump_modify format '{o}' not supported (line, int, float)")),
+                        o => {
+                            return Err(format!(
+                                "dump_modify format '{o}' not supported (line, int, float)"
+                            ));
+                        }
                     }
                     k += 3;
                 }
@@ -1472,7 +1588,11 @@ impl<'c> Interpreter<'c> {
             order.sort_by_key(|&i| sys.atoms.tag[i]);
             let w = &mut d.writer;
             let io = |e: std::io::Error| format!("cannot write dump file: {e}");
-            writeln!(w, "ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{n}\nITEM: BOX BOUNDS pp pp pp").map_err(io)?;
+            writeln!(
+                w,
+                "ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{n}\nITEM: BOX BOUNDS pp pp pp"
+            )
+            .map_err(io)?;
             for a in 0..3 {
                 writeln!(w, "{:.16e} {:.16e}", sys.bx.lo[a], sys.bx.hi[a]).map_err(io)?;
             }
@@ -1509,9 +1629,17 @@ impl<'c> Interpreter<'c> {
                         .fmt_line
                         .as_ref()
                         .and_then(|l| l.get(k).map(String::as_str))
-                        .or(if int { d.fmt_int.as_deref() } else { d.fmt_float.as_deref() })
+                        .or(if int {
+                            d.fmt_int.as_deref()
+                        } else {
+                            d.fmt_float.as_deref()
+                        })
                         .unwrap_or(if int { "%d" } else { "%g" });
-                    let arg = if int { FmtArg::Int(val as i64) } else { FmtArg::Float(val) };
+                    let arg = if int {
+                        FmtArg::Int(val as i64)
+                    } else {
+                        FmtArg::Float(val)
+                    };
                     if k > 0 {
                         line.push(' ');
                     }
@@ -1543,7 +1671,9 @@ impl<'c> Interpreter<'c> {
         let threads = self.threads;
         let sys = self.sys_mut()?;
         if upto {
-            n = n.checked_sub(sys.step).ok_or("run upto: target step is in the past")?;
+            n = n
+                .checked_sub(sys.step)
+                .ok_or("run upto: target step is in the past")?;
         }
         sys.setup()?;
         let integ = sys.integrator;

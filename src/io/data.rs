@@ -31,7 +31,11 @@ fn strip_comment(line: &str) -> &str {
     }
 }
 
-fn num<T: std::str::FromStr>(tok: &str, what: &str, ctx: &dyn Fn(String) -> String) -> Result<T, String> {
+fn num<T: std::str::FromStr>(
+    tok: &str,
+    what: &str,
+    ctx: &dyn Fn(String) -> String,
+) -> Result<T, String> {
     tok.parse::<T>()
         .map_err(|_| ctx(format!("expected {what}, found '{tok}'")))
 }
@@ -59,11 +63,15 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
             "bonds" | "angles" | "dihedrals" | "impropers" | "bond types" | "angle types"
             | "dihedral types" | "improper types" => {
                 if num::<u64>(toks[0], "a count", &ctx)? != 0 {
-                    return Err(ctx(format!("'{rest}' > 0: atom_style atomic has no topology")));
+                    return Err(ctx(format!(
+                        "'{rest}' > 0: atom_style atomic has no topology"
+                    )));
                 }
             }
             _ => {
-                if toks.len() == 4 && ["xlo xhi", "ylo yhi", "zlo zhi"].contains(&toks[2..].join(" ").as_str()) {
+                if toks.len() == 4
+                    && ["xlo xhi", "ylo yhi", "zlo zhi"].contains(&toks[2..].join(" ").as_str())
+                {
                     let a = match toks[2] {
                         "xlo" => 0,
                         "ylo" => 1,
@@ -84,7 +92,9 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
     }
     let natoms = natoms.ok_or_else(|| format!("{name}: header has no 'atoms' line"))?;
     if d.ntypes == 0 {
-        return Err(format!("{name}: header has no 'atom types' line (or 0 types)"));
+        return Err(format!(
+            "{name}: header has no 'atom types' line (or 0 types)"
+        ));
     }
     d.masses = vec![None; d.ntypes + 1];
     // Sections.
@@ -106,16 +116,20 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
             "Atoms" | "Velocities" => natoms,
             other => return Err(err_at(k - 1, format!("unsupported section '{other}'"))),
         };
-        if section == "Atoms" {
-            if let Some(s) = &style {
-                if s != "atomic" {
-                    return Err(err_at(k - 1, format!("Atoms section style '{s}': only 'atomic' is supported")));
-                }
-            }
+        if section == "Atoms"
+            && let Some(s) = &style
+            && s != "atomic"
+        {
+            return Err(err_at(
+                k - 1,
+                format!("Atoms section style '{s}': only 'atomic' is supported"),
+            ));
         }
         for _ in 0..count {
             let Some(raw) = lines.get(k) else {
-                return Err(format!("{name}: unexpected end of file in section {section}"));
+                return Err(format!(
+                    "{name}: unexpected end of file in section {section}"
+                ));
             };
             let toks: Vec<&str> = strip_comment(raw).split_whitespace().collect();
             let ctx = |m: String| err_at(k, m);
@@ -177,7 +191,10 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
         }
     }
     if d.atoms.len() != natoms {
-        return Err(format!("{name}: header says {natoms} atoms, Atoms section has {}", d.atoms.len()));
+        return Err(format!(
+            "{name}: header says {natoms} atoms, Atoms section has {}",
+            d.atoms.len()
+        ));
     }
     let mut tags: Vec<u32> = d.atoms.iter().map(|a| a.0).collect();
     tags.sort_unstable();

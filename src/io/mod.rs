@@ -1,4 +1,4 @@
 //! placeholder
 pub mod data;
-pub mod lammps_log;
 pub mod dump_read;
+pub mod lammps_log;
