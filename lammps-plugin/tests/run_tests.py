@@ -32,8 +32,10 @@ MASSES = {
     "dpd2d": {1: 1.0, 2: 1.5},
     "euler3d": {1: 1.0, 2: 2.0},
     "pex3d": {1: 1.0},
+    "lees_edwards3d": {1: 1.0, 2: 2.0},
 }
-DATAFILE = {"dpd3d": "dpd3d", "dpd2d": "dpd2d", "euler3d": "dpd3d", "pex3d": "pex3d"}
+DATAFILE = {"dpd3d": "dpd3d", "dpd2d": "dpd2d", "euler3d": "dpd3d", "pex3d": "pex3d",
+            "lees_edwards3d": "dpd3d"}
 
 failures = []
 
@@ -104,19 +106,22 @@ def read_dump(path):
 
 
 def rel_diff_rows(a, b):
-    """Max relative difference between two equally shaped tables (per value, |a-b|/max(|a|,|b|);
-    values below 1e-300 on both sides count as equal)."""
-    worst = 0.0
-    if len(a) != len(b):
-        return math.inf
-    for ra, rb in zip(a, b):
-        if len(ra) != len(rb):
-            return math.inf
-        for x, y in zip(ra, rb):
-            d = max(abs(x), abs(y))
-            if d > 1e-300:
-                worst = max(worst, abs(x - y) / d)
-    return worst
+    """Max over columns of max|a-b| / max|column| for two equally shaped thermo tables (the
+    column's largest magnitude sets the scale, so near-zero entries such as Pxy do not inflate
+    it). Also returns the largest per-value |a-b| / max(|a|, |b|) for the report."""
+    if len(a) != len(b) or any(len(ra) != len(rb) for ra, rb in zip(a, b)):
+        return math.inf, math.inf
+    worst, worst_value = 0.0, 0.0
+    for c in range(len(a[0])):
+        scale = max(max(abs(r[c]) for r in a), max(abs(r[c]) for r in b))
+        if scale == 0.0:
+            continue
+        worst = max(worst, max(abs(ra[c] - rb[c]) for ra, rb in zip(a, b)) / scale)
+        for ra, rb in zip(a, b):
+            d = max(abs(ra[c]), abs(rb[c]))
+            if d > 0.0:
+                worst_value = max(worst_value, abs(ra[c] - rb[c]) / d)
+    return worst, worst_value
 
 
 def rel_diff_dumps(a, b):
@@ -149,7 +154,7 @@ def momentum(dump, masses):
 def consistency(tmp):
     print("newton on/off and MPI ranks (relative differences of thermo | dumps at steps 0/50/100)")
     results = {}
-    for name in ["dpd3d", "dpd2d", "euler3d", "pex3d"]:
+    for name in ["dpd3d", "dpd2d", "euler3d", "pex3d", "lees_edwards3d"]:
         script = os.path.join(INPUTS, name + ".in")
         data = os.path.join(DATA, DATAFILE[name] + ".data")
         runs = {}
@@ -175,11 +180,16 @@ def consistency(tmp):
             if label not in runs:
                 continue
             t, d = runs[label]
-            rt = rel_diff_rows(ref_thermo[-1][1], t[-1][1])
+            rt, rv = rel_diff_rows(ref_thermo[-1][1], t[-1][1])
             rd = rel_diff_dumps(ref_dump, d)
             results[(name, label)] = (rt, rd)
             check(rt <= TOL and rd <= TOL,
-                  f"{name}: np1 newton on vs {label}: thermo {rt:.2e}, dump {rd:.2e}")
+                  f"{name}: np1 newton on vs {label}: thermo {rt:.2e} (per value {rv:.2e}), "
+                  f"dump {rd:.2e}")
+        if name == "lees_edwards3d":
+            # The boundary velocity jump changes total momentum: nothing more to check here
+            # (100 steps are too short for the shear profile to develop).
+            continue
         # Conservation of total momentum between step 0 and step 100.
         p0, p1 = momentum(ref_dump[0], MASSES[name]), momentum(ref_dump[100], MASSES[name])
         dp = max(abs(a - b) for a, b in zip(p0, p1))
@@ -212,7 +222,7 @@ def restart(tmp):
         if rc != 0:
             continue
         tw, tr = thermo_blocks(logw)[-1][1], thermo_blocks(logr)[-1][1]
-        rt = rel_diff_rows(tw, tr)
+        rt, _ = rel_diff_rows(tw, tr)
         rd = rel_diff_dumps(read_dump(os.path.join(wd, f"dw{np}")),
                             read_dump(os.path.join(wd, f"dr{np}")))
         out[np] = (rt, rd)
