@@ -277,8 +277,8 @@ impl System {
                 }
             }
             if let (Some((_, _, i)), Some((_, _, j))) = (slow, fast) {
-                let mi = 1.0 / self.inv_mass[self.atoms.typ[i] as usize];
-                let mj = 1.0 / self.inv_mass[self.atoms.typ[j] as usize];
+                let mi = self.mass[self.atoms.typ[i] as usize].unwrap_or(1.0);
+                let mj = self.mass[self.atoms.typ[j] as usize].unwrap_or(1.0);
                 self.atoms.v[i][2] += push.dp / mi;
                 self.atoms.v[j][2] -= push.dp / mj;
                 push.total += push.dp;

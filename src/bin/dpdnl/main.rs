@@ -34,7 +34,13 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // Accept LAMMPS's single-dash spelling `-var NAME VALUE` (and `-log`, `-in`-free forms).
+    let args = std::env::args_os().map(|a| match a.to_str() {
+        Some("-var") => "--var".into(),
+        Some("-log") => "--log".into(),
+        _ => a,
+    });
+    let cli = Cli::parse_from(args);
     let result = match cli.command {
         Command::Run(a) => run::main(a),
         Command::Design(a) => design::design_main(a),

@@ -25,6 +25,7 @@ pub struct RunArgs {
 }
 
 struct Screen {
+    lines: Vec<String>,
     quiet: bool,
     tty: bool,
     progress_shown: bool,
@@ -32,6 +33,7 @@ struct Screen {
 
 impl Console for Screen {
     fn line(&mut self, text: &str) {
+        self.lines.push(text.to_string());
         if self.progress_shown {
             eprint!("\r\x1b[2K");
             self.progress_shown = false;
@@ -71,11 +73,36 @@ pub fn main(a: RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         threads,
     };
     let mut screen = Screen {
+        lines: Vec::new(),
         quiet: a.quiet,
         tty: std::io::stderr().is_terminal(),
         progress_shown: false,
     };
     let mut interp = Interpreter::new(&mut screen, &opts)?;
     interp.run_file(&a.script)?;
+    drop(interp);
+    summary(&screen.lines);
     Ok(ExitCode::SUCCESS)
+}
+
+/// A short summary of the last run: the mean of each thermo column over its second half, with a
+/// block-averaged standard error (the first half is treated as equilibration).
+fn summary(lines: &[String]) {
+    let Ok(blocks) = dpdnl::io::lammps_log::parse_log(&lines.join("\n")) else {
+        return;
+    };
+    let Some(b) = blocks.last() else { return };
+    if b.rows.len() < 4 {
+        return;
+    }
+    let half = &b.rows[b.rows.len() / 2..];
+    println!(
+        "Summary of the last run (second half: {} thermo rows, block-averaged errors):",
+        half.len()
+    );
+    for (k, name) in b.columns.iter().enumerate().skip(1) {
+        let xs: Vec<f64> = half.iter().map(|r| r[k]).collect();
+        let e = dpdnl::stats::block_average(&xs);
+        println!("  {name:>8} = {:.6e} ± {:.1e}", e.mean, e.stderr);
+    }
 }
