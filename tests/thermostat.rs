@@ -32,17 +32,33 @@ fn temperature(friction: &str, noise: &str, gamma1: f64) -> (f64, f64) {
     drop(interp);
     let blocks = parse_log(&console.0.join("\n")).expect("log parses");
     let b = &blocks[0];
-    let (step, temp) = (b.column_index("Step").expect("Step"), b.column_index("Temp").expect("Temp"));
-    let series: Vec<f64> = b.rows.iter().filter(|r| r[step] > 1000.0).map(|r| r[temp]).collect();
+    let (step, temp) = (
+        b.column_index("Step").expect("Step"),
+        b.column_index("Temp").expect("Temp"),
+    );
+    let series: Vec<f64> = b
+        .rows
+        .iter()
+        .filter(|r| r[step] > 1000.0)
+        .map(|r| r[temp])
+        .collect();
     let est = block_average(&series);
-    eprintln!("{friction}/{noise}: <T> = {:.6} ± {:.6} ({} samples)", est.mean, est.stderr, series.len());
+    eprintln!(
+        "{friction}/{noise}: <T> = {:.6} ± {:.6} ({} samples)",
+        est.mean,
+        est.stderr,
+        series.len()
+    );
     (est.mean, est.stderr)
 }
 
 fn assert_samples_t0(friction: &str, noise: &str, gamma1: f64) {
     let (t, s) = temperature(friction, noise, gamma1);
     let tol = 4.0 * s + 0.015 * T0;
-    assert!((t - T0).abs() < tol, "{friction}/{noise}: <T> = {t} ± {s}, |T − T0| ≥ {tol}");
+    assert!(
+        (t - T0).abs() < tol,
+        "{friction}/{noise}: <T> = {t} ± {s}, |T − T0| ≥ {tol}"
+    );
 }
 
 #[test]
@@ -69,5 +85,8 @@ fn dot_twostep_samples_t0() {
 #[test]
 fn dot_plain_is_visibly_wrong() {
     let (t, s) = temperature("dot", "plain", 1.0);
-    assert!(t - T0 > 0.05 * T0 + 4.0 * s, "dot/plain <T> = {t} ± {s} should be > 5% above T0");
+    assert!(
+        t - T0 > 0.05 * T0 + 4.0 * s,
+        "dot/plain <T> = {t} ± {s} should be > 5% above T0"
+    );
 }
