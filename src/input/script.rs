@@ -281,6 +281,12 @@ impl<'c> Interpreter<'c> {
         self.sys.as_ref()
     }
 
+    /// The file names of the dumps currently defined, as given to `dump` (after variable
+    /// substitution), in the order they were defined.
+    pub fn dump_files(&self) -> Vec<String> {
+        self.dumps.iter().map(|d| d.path.clone()).collect()
+    }
+
     fn out(&mut self, text: &str) {
         self.console.line(text);
         if let Some(l) = self.log.as_mut() {

@@ -1,9 +1,423 @@
-//! placeholder
-use std::process::ExitCode;
+//! `dpdnl crosscheck SCRIPT`: run one script in the standalone engine (in-process) and in LAMMPS
+//! (`build/lmp_dpdnl`, a subprocess), then compare the thermo logs, and the dumps whose file
+//! names contain `${engine}`, value by value.
+//!
+//! Both engines run with the current directory set to the script's directory (scripts use
+//! relative paths, as in LAMMPS) and with `-var engine standalone` / `-var engine lammps`, so a
+//! dump written to `dump.${engine}` gets one file per engine. The dumps are moved into the work
+//! directory after each run. Exit status: 0 agree, 1 differ, 2 cannot run.
 
+use dpdnl::input::format::{FmtArg, sprintf};
+use dpdnl::input::{Console, Interpreter, Options};
+use dpdnl::io::dump_read::{DumpFrame, parse_dump};
+use dpdnl::io::lammps_log::{
+    ExactReport, Tolerance, compare_dumps_exact, compare_exact_logs, parse_log,
+};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+/// Run one script in the standalone engine and in LAMMPS and compare thermo logs and dumps.
+///
+/// Exit status: 0 when both engines agree within --rtol, 1 when they differ, 2 when the script
+/// cannot be run in one of them (or LAMMPS is missing).
 #[derive(clap::Args)]
-pub struct CrosscheckArgs {}
+pub struct CrosscheckArgs {
+    /// The input script (run with its own directory as the current directory, in both engines).
+    pub script: PathBuf,
+    /// The LAMMPS executable with `pair_style dpd/nonlinear` (default: $DPDNL_LMP, else
+    /// build/lmp_dpdnl; build it with `bash lammps-plugin/build.sh`).
+    #[arg(long)]
+    pub lmp: Option<PathBuf>,
+    /// Relative tolerance: |A−B| / max(|A|, |B|).
+    #[arg(long, default_value_t = 1e-9)]
+    pub rtol: f64,
+    /// Define an index-style variable NAME with VALUE in both engines; repeatable.
+    #[arg(long = "var", short = 'v', num_args = 2, value_names = ["NAME", "VALUE"], action = clap::ArgAction::Append, allow_hyphen_values = true)]
+    pub var: Vec<String>,
+    /// Where the logs (standalone.log, lammps.log) and dumps go (default: a new directory
+    /// under the system's temporary directory).
+    #[arg(long)]
+    pub workdir: Option<PathBuf>,
+    /// Worker threads of the standalone engine (results are bit-identical for any number).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+}
 
-pub fn main(_a: CrosscheckArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    Err("not implemented yet".into())
+/// An error that means "cannot run" (exit 2).
+struct CannotRun(String);
+
+impl<E: std::fmt::Display> From<E> for CannotRun {
+    fn from(e: E) -> Self {
+        CannotRun(e.to_string())
+    }
+}
+
+struct Quiet;
+
+impl Console for Quiet {
+    fn line(&mut self, _text: &str) {}
+}
+
+pub fn main(a: CrosscheckArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    match run(&a) {
+        Ok(true) => Ok(ExitCode::SUCCESS),
+        Ok(false) => Ok(ExitCode::from(1)),
+        Err(CannotRun(e)) => {
+            eprintln!("ERROR: dpdnl crosscheck: {e}");
+            Ok(ExitCode::from(2))
+        }
+    }
+}
+
+fn c(fmt: &str, v: f64) -> String {
+    sprintf(fmt, &[FmtArg::Float(v)]).unwrap_or_else(|_| v.to_string())
+}
+
+/// The LAMMPS executable, as an absolute path when given as a path.
+fn find_lmp(a: &CrosscheckArgs) -> Result<PathBuf, CannotRun> {
+    let given = a
+        .lmp
+        .clone()
+        .or_else(|| std::env::var_os("DPDNL_LMP").map(PathBuf::from))
+        .unwrap_or_else(|| PathBuf::from("build/lmp_dpdnl"));
+    let hint = "build it with `bash lammps-plugin/build.sh` (from the repository root), or \
+                point --lmp or $DPDNL_LMP at a LAMMPS with pair_style dpd/nonlinear";
+    if given.components().count() == 1 && given.is_relative() && !given.exists() {
+        // A bare name: look it up on PATH.
+        if let Some(paths) = std::env::var_os("PATH") {
+            for dir in std::env::split_paths(&paths) {
+                let p = dir.join(&given);
+                if p.is_file() {
+                    return Ok(p);
+                }
+            }
+        }
+        return Err(CannotRun(format!(
+            "LAMMPS executable '{}' not found on PATH; {hint}",
+            given.display()
+        )));
+    }
+    if !given.is_file() {
+        return Err(CannotRun(format!(
+            "LAMMPS executable {} not found; {hint}",
+            given.display()
+        )));
+    }
+    Ok(std::fs::canonicalize(&given)?)
+}
+
+fn default_workdir(script: &Path) -> PathBuf {
+    let stem = script
+        .file_name()
+        .map(|s| {
+            s.to_string_lossy()
+                .replace(|c: char| !c.is_ascii_alphanumeric(), "_")
+        })
+        .unwrap_or_default();
+    std::env::temp_dir().join(format!("dpdnl-crosscheck-{stem}-{}", std::process::id()))
+}
+
+/// Moves `from` (relative to the script directory, the current directory) to `dir/name`.
+fn move_file(from: &Path, to: &Path) -> Result<(), CannotRun> {
+    if std::fs::rename(from, to).is_err() {
+        std::fs::copy(from, to).map_err(|e| {
+            CannotRun(format!(
+                "cannot move {} to {}: {e}",
+                from.display(),
+                to.display()
+            ))
+        })?;
+        let _ = std::fs::remove_file(from);
+    }
+    Ok(())
+}
+
+fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
+    if a.rtol.is_nan() || a.rtol < 0.0 {
+        return Err(CannotRun(format!(
+            "--rtol must be a non-negative number, got {}",
+            a.rtol
+        )));
+    }
+    let lmp = find_lmp(a)?;
+    let script = std::fs::canonicalize(&a.script)
+        .map_err(|e| CannotRun(format!("cannot open script {}: {e}", a.script.display())))?;
+    let script_dir = script
+        .parent()
+        .map(Path::to_path_buf)
+        .ok_or_else(|| CannotRun(format!("{} has no directory", script.display())))?;
+    let workdir = a
+        .workdir
+        .clone()
+        .unwrap_or_else(|| default_workdir(&script));
+    std::fs::create_dir_all(&workdir)
+        .map_err(|e| CannotRun(format!("cannot create {}: {e}", workdir.display())))?;
+    let workdir = std::fs::canonicalize(&workdir)?;
+    let mut vars: Vec<(String, String)> = a
+        .var
+        .chunks(2)
+        .map(|c| (c[0].clone(), c.get(1).cloned().unwrap_or_default()))
+        .filter(|(k, _)| k != "engine")
+        .collect();
+    if a.var.chunks(2).any(|c| c[0] == "engine") {
+        eprintln!("WARNING: -var engine is set by crosscheck itself; the given value is ignored");
+    }
+    std::env::set_current_dir(&script_dir)
+        .map_err(|e| CannotRun(format!("cannot enter {}: {e}", script_dir.display())))?;
+
+    // 1. Standalone engine, in-process.
+    let threads = if a.threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        a.threads
+    };
+    // A global pool may already exist (e.g. when called twice in one process); that is fine.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build_global();
+    let log_s = workdir.join("standalone.log");
+    vars.push(("engine".into(), "standalone".into()));
+    let opts = Options {
+        log: Some(log_s.clone()),
+        vars: vars.clone(),
+        threads,
+    };
+    vars.pop();
+    let mut quiet = Quiet;
+    let dump_files = {
+        let mut interp = Interpreter::new(&mut quiet, &opts)?;
+        interp
+            .run_file(&script)
+            .map_err(|e| CannotRun(format!("the standalone engine failed: {e}")))?;
+        interp.dump_files()
+    };
+    // Dumps whose names contain the engine name: (standalone file, lammps file).
+    let mut dumps: Vec<(PathBuf, PathBuf)> = Vec::new();
+    for f in &dump_files {
+        if let Some(k) = f.rfind("standalone") {
+            let other = format!("{}lammps{}", &f[..k], &f[k + "standalone".len()..]);
+            dumps.push((PathBuf::from(f), PathBuf::from(other)));
+        }
+    }
+    let moved = |p: &Path, tag: &str| {
+        let name = p
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| tag.to_string());
+        workdir.join(name)
+    };
+    for (s, _) in &dumps {
+        move_file(s, &moved(s, "dump.standalone"))?;
+    }
+
+    // 2. LAMMPS, a subprocess.
+    let log_l = workdir.join("lammps.log");
+    let mut cmd = Command::new(&lmp);
+    cmd.arg("-in")
+        .arg(&script)
+        .arg("-log")
+        .arg(&log_l)
+        .args(["-screen", "none"]);
+    for (k, v) in &vars {
+        cmd.args(["-var", k, v]);
+    }
+    cmd.args(["-var", "engine", "lammps"]);
+    let out = cmd
+        .output()
+        .map_err(|e| CannotRun(format!("cannot start {}: {e}", lmp.display())))?;
+    if !out.status.success() {
+        let log = std::fs::read_to_string(&log_l).unwrap_or_default();
+        let tail: Vec<&str> = log.lines().rev().take(8).collect();
+        let tail: Vec<&str> = tail.into_iter().rev().collect();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        return Err(CannotRun(format!(
+            "LAMMPS ({}) failed ({}); end of {}:\n{}\n{}",
+            lmp.display(),
+            out.status,
+            log_l.display(),
+            tail.join("\n"),
+            stderr.trim_end()
+        )));
+    }
+    for (_, l) in &dumps {
+        if !l.is_file() {
+            return Err(CannotRun(format!(
+                "LAMMPS did not write {} (the standalone engine wrote its dump with \
+                 'standalone' in the name; use ${{engine}} in the dump file name)",
+                l.display()
+            )));
+        }
+        move_file(l, &moved(l, "dump.lammps"))?;
+    }
+
+    // 3. Compare.
+    let tol = Tolerance {
+        rtol: a.rtol,
+        atol: 0.0,
+    };
+    let read = |p: &Path| {
+        std::fs::read_to_string(p)
+            .map_err(|e| CannotRun(format!("cannot read {}: {e}", p.display())))
+    };
+    let blocks_s = parse_log(&read(&log_s)?).map_err(|e| format!("{}: {e}", log_s.display()))?;
+    let blocks_l = parse_log(&read(&log_l)?).map_err(|e| format!("{}: {e}", log_l.display()))?;
+    if blocks_s.is_empty() || blocks_l.is_empty() {
+        return Err(CannotRun(
+            "a log has no thermo block (does the script run any steps?)".into(),
+        ));
+    }
+    println!("script: {}", script.display());
+    println!("lammps: {}", lmp.display());
+    println!("workdir: {}", workdir.display());
+    let r = compare_exact_logs(&blocks_s, &blocks_l, None, tol)
+        .map_err(|e| format!("comparing thermo logs: {e}"))?;
+    let mut pass = print_report("thermo (A = standalone.log, B = lammps.log)", &r);
+    let mut n_dump_rows = 0;
+    for (s, l) in &dumps {
+        let (ps, pl) = (moved(s, "dump.standalone"), moved(l, "dump.lammps"));
+        let fs = parse_dump(&read(&ps)?).map_err(|e| format!("{}: {e}", ps.display()))?;
+        let mut fl = parse_dump(&read(&pl)?).map_err(|e| format!("{}: {e}", pl.display()))?;
+        let shifted = minimum_image(&fs, &mut fl);
+        let r = compare_dumps_exact(&fs, &fl, None, tol)
+            .map_err(|e| format!("comparing dumps {} and {}: {e}", ps.display(), pl.display()))?;
+        n_dump_rows += r.n_matched;
+        let title = format!(
+            "dump (A = {}, B = {})",
+            ps.file_name().unwrap_or_default().to_string_lossy(),
+            pl.file_name().unwrap_or_default().to_string_lossy()
+        );
+        pass &= print_report(&title, &r);
+        if shifted > 0 {
+            println!(
+                "({shifted} LAMMPS position(s) shifted by a box length to the standalone image: \
+                 LAMMPS wraps atoms back into the box only when it re-neighbours)"
+            );
+        }
+    }
+    let what = if dumps.is_empty() {
+        "thermo log".to_string()
+    } else {
+        format!(
+            "thermo log and {} dump(s), {n_dump_rows} atom rows",
+            dumps.len()
+        )
+    };
+    if pass {
+        println!("CROSSCHECK AGREE: {what} within rtol {}", c("%g", a.rtol));
+    } else {
+        println!(
+            "CROSSCHECK DIFFER: {what} not within rtol {} (see the table(s) above)",
+            c("%g", a.rtol)
+        );
+    }
+    Ok(pass)
+}
+
+/// Prints one comparison table; true when it passes (values and rows).
+fn print_report(title: &str, r: &ExactReport) -> bool {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "\n{title}: {} row(s) matched by {}",
+        r.n_matched, r.key
+    );
+    for (label, n, keys) in [
+        ("standalone", r.n_only_in_a, &r.only_in_a),
+        ("lammps", r.n_only_in_b, &r.only_in_b),
+    ] {
+        if n > 0 {
+            let more = if n > keys.len() { ", …" } else { "" };
+            let _ = writeln!(out, "rows only in {label}: {n} ({}{more})", keys.join(", "));
+        }
+    }
+    let w = r
+        .columns
+        .iter()
+        .map(|c| c.column.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(6);
+    let wa = r
+        .columns
+        .iter()
+        .filter_map(|c| c.worst.as_ref().map(|w| w.0.chars().count()))
+        .max()
+        .unwrap_or(0)
+        .max(8);
+    let _ = writeln!(
+        out,
+        "{:<w$}  {:>10}  {:>10}  {:>5}  {:<wa$}  {:>22}  {:>22}",
+        "column", "max |A-B|", "max rel", "fail", "worst at", "standalone", "lammps"
+    );
+    for cd in &r.columns {
+        let (at, va, vb) = match &cd.worst {
+            Some((at, va, vb)) => (at.as_str(), c("%.15g", *va), c("%.15g", *vb)),
+            None => ("-", String::new(), String::new()),
+        };
+        let line = format!(
+            "{:<w$}  {:>10}  {:>10}  {:>5}  {:<wa$}  {:>22}  {:>22}{}",
+            cd.column,
+            c("%.3e", cd.max_abs),
+            c("%.3e", cd.max_rel),
+            cd.n_fail,
+            at,
+            va,
+            vb,
+            if cd.pass() { "" } else { "  <- DIFFERS" }
+        );
+        let _ = writeln!(out, "{}", line.trim_end());
+    }
+    print!("{out}");
+    r.values_pass() && r.rows_match()
+}
+
+/// Maps the `x`, `y`, `z` values of `b` to the periodic image nearest `a`'s value for the same
+/// atom and step (orthogonal boxes only), since the engines wrap atoms at different times
+/// (LAMMPS only when it re-neighbours). A value is changed only when it is more than half a box
+/// length away. Returns how many values were shifted.
+fn minimum_image(a: &[DumpFrame], b: &mut [DumpFrame]) -> usize {
+    let mut shifted = 0;
+    for fb in b.iter_mut() {
+        let Some(fa) = a.iter().find(|f| f.step == fb.step) else {
+            continue;
+        };
+        if fa.tilt.is_some() || fb.tilt.is_some() || fa.box_bounds.len() < 3 {
+            continue;
+        }
+        let (Some(ida), Some(idb)) = (
+            fa.columns.iter().position(|c| c == "id"),
+            fb.columns.iter().position(|c| c == "id"),
+        ) else {
+            continue;
+        };
+        let by_id: std::collections::HashMap<i64, &Vec<f64>> =
+            fa.rows.iter().map(|r| (r[ida] as i64, r)).collect();
+        for (dim, name) in ["x", "y", "z"].iter().enumerate() {
+            let (Some(ka), Some(kb)) = (
+                fa.columns.iter().position(|c| c == name),
+                fb.columns.iter().position(|c| c == name),
+            ) else {
+                continue;
+            };
+            let len = fa.box_bounds[dim][1] - fa.box_bounds[dim][0];
+            if !(len.is_finite() && len > 0.0) {
+                continue;
+            }
+            for rb in fb.rows.iter_mut() {
+                let Some(ra) = by_id.get(&(rb[idb] as i64)) else {
+                    continue;
+                };
+                let (Some(&va), Some(vb)) = (ra.get(ka), rb.get_mut(kb)) else {
+                    continue;
+                };
+                let n = ((*vb - va) / len).round();
+                if n != 0.0 && n.is_finite() {
+                    *vb -= n * len;
+                    shifted += 1;
+                }
+            }
+        }
+    }
+    shifted
 }

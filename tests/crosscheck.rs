@@ -1,0 +1,170 @@
+//! Cross-engine golden cases (`tests/data/crosscheck/in.*`): each script runs in the standalone
+//! engine and in LAMMPS (`build/lmp_dpdnl`) through `dpdnl crosscheck`, which must report
+//! agreement (thermo every 10 steps and dumps at steps 0 and 100 within rtol 1e-9). On top of
+//! that, the per-atom forces at step 0 (same state from read_data, same keyed noise) must agree
+//! to 1e-12 relative.
+//!
+//! Without `build/lmp_dpdnl` (build: `bash lammps-plugin/build.sh`) the test prints a skip
+//! message and passes, unless DPDNL_REQUIRE_LAMMPS is set, in which case it fails.
+
+use dpdnl::io::dump_read::{DumpFrame, parse_dump};
+use dpdnl::io::lammps_log::{Tolerance, compare_dumps_exact, compare_exact_logs, parse_log};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn lmp() -> Option<PathBuf> {
+    let p = root().join("build/lmp_dpdnl");
+    if p.is_file() {
+        return Some(p);
+    }
+    let msg = format!(
+        "{} not found (build it with `bash lammps-plugin/build.sh`)",
+        p.display()
+    );
+    if std::env::var_os("DPDNL_REQUIRE_LAMMPS").is_some() {
+        panic!("DPDNL_REQUIRE_LAMMPS is set but {msg}");
+    }
+    eprintln!("SKIPPED: cross-engine tests: {msg}");
+    None
+}
+
+fn cases() -> Vec<PathBuf> {
+    let dir = root().join("tests/data/crosscheck");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("tests/data/crosscheck")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("in."))
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+fn frames_at(frames: &[DumpFrame], step: u64) -> Vec<DumpFrame> {
+    frames.iter().filter(|f| f.step == step).cloned().collect()
+}
+
+fn read(p: &Path) -> String {
+    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("cannot read {}: {e}", p.display()))
+}
+
+/// All cases in one test: they share the script directory, where the engines write their
+/// dumps before crosscheck moves them away.
+#[test]
+fn golden_cases_agree_between_engines() {
+    let Some(lmp) = lmp() else { return };
+    let cases = cases();
+    assert!(
+        cases.len() >= 8,
+        "expected the golden cases, found {cases:?}"
+    );
+    let tmp = std::env::temp_dir().join(format!("dpdnl-crosscheck-test-{}", std::process::id()));
+    let mut failures = Vec::new();
+    let mut summary = Vec::new();
+    for script in &cases {
+        let name = script.file_name().unwrap().to_string_lossy().into_owned();
+        let work = tmp.join(&name);
+        let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+            .arg("crosscheck")
+            .arg(script)
+            .arg("--lmp")
+            .arg(&lmp)
+            .arg("--workdir")
+            .arg(&work)
+            .arg("--threads")
+            .arg("2")
+            .output()
+            .expect("run dpdnl crosscheck");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        if out.status.code() != Some(0) {
+            failures.push(format!(
+                "{name}: crosscheck exit {:?}\n{stdout}\n{}",
+                out.status.code(),
+                String::from_utf8_lossy(&out.stderr)
+            ));
+            continue;
+        }
+        // Step-0 forces, 1e-12 relative.
+        let case = name.trim_start_matches("in.");
+        let ds = parse_dump(&read(&work.join(format!("dump.{case}.standalone")))).unwrap();
+        let dl = parse_dump(&read(&work.join(format!("dump.{case}.lammps")))).unwrap();
+        let cols: Vec<String> = ["fx", "fy", "fz"].iter().map(|s| s.to_string()).collect();
+        let tol = Tolerance {
+            rtol: 1e-12,
+            atol: 0.0,
+        };
+        // Per-value relative differences |Δf| / max(|f_A|, |f_B|) are reported; the check is
+        // against the force scale of the frame, max |Δf| / max_i |f_i| <= 1e-12, because an
+        // atom's net force can be a near-cancellation of pair forces of O(10-30), and the two
+        // engines sum the pairs in different orders (round-off ~1e-13 absolute).
+        let r0 =
+            compare_dumps_exact(&frames_at(&ds, 0), &frames_at(&dl, 0), Some(&cols), tol).unwrap();
+        assert!(r0.n_matched > 0, "{name}: no step-0 frame in the dumps");
+        let f0 = r0.columns.iter().map(|c| c.max_rel).fold(0.0, f64::max);
+        let d0 = r0.columns.iter().map(|c| c.max_abs).fold(0.0, f64::max);
+        let frame0 = &frames_at(&ds, 0)[0];
+        let ks: Vec<usize> = cols
+            .iter()
+            .map(|c| frame0.columns.iter().position(|d| d == c).unwrap())
+            .collect();
+        let scale = frame0
+            .rows
+            .iter()
+            .flat_map(|r| ks.iter().map(|&k| r[k].abs()))
+            .fold(0.0, f64::max);
+        let s0 = d0 / scale;
+        if s0 > 1e-12 {
+            failures.push(format!(
+                "{name}: step-0 forces differ: max |Δf| {d0:.3e} / max |f| {scale:.3e} = {s0:.3e} > 1e-12"
+            ));
+        }
+        // Thermo at step 100 (reported; crosscheck already judged all rows at 1e-9).
+        let ls = parse_log(&read(&work.join("standalone.log"))).unwrap();
+        let ll = parse_log(&read(&work.join("lammps.log"))).unwrap();
+        let last = |b: &[dpdnl::io::lammps_log::ThermoBlock]| {
+            let mut b = b[0].clone();
+            b.rows.retain(|r| r[0] == 100.0);
+            b
+        };
+        let rt =
+            compare_exact_logs(&[last(&ls)], &[last(&ll)], None, Tolerance::default()).unwrap();
+        let (tcol, t100) = rt
+            .columns
+            .iter()
+            .map(|c| (c.column.clone(), c.max_rel))
+            .fold((String::new(), 0.0), |a, b| if b.1 > a.1 { b } else { a });
+        let r100 =
+            compare_dumps_exact(&frames_at(&ds, 100), &frames_at(&dl, 100), Some(&cols), tol)
+                .unwrap();
+        let f100 = r100.columns.iter().map(|c| c.max_rel).fold(0.0, f64::max);
+        summary.push(format!(
+            "{case:<26} step-0 forces: max |Δf|/max|f| {s0:.2e}, per-value max rel {f0:.2e}; step-100 thermo max rel {t100:.2e} ({tcol}); step-100 forces max rel {f100:.2e}"
+        ));
+    }
+    eprintln!("cross-engine agreement:\n{}", summary.join("\n"));
+    let _ = std::fs::remove_dir_all(&tmp);
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// A missing LAMMPS executable is "cannot run" (exit 2) with a hint on how to build it.
+#[test]
+fn missing_lammps_is_exit_2_with_a_hint() {
+    let script = root().join("tests/data/crosscheck/in.none_plain_3d");
+    let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+        .arg("crosscheck")
+        .arg(&script)
+        .arg("--lmp")
+        .arg(root().join("build/no_such_lmp"))
+        .output()
+        .expect("run dpdnl crosscheck");
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("lammps-plugin/build.sh"), "{err}");
+}
