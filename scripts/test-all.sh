@@ -24,8 +24,10 @@ echo "== cargo fmt --check"
 cargo fmt --all -- --check
 echo "== cargo clippy -D warnings"
 cargo clippy --workspace --all-targets -- -D warnings
-echo "== cargo test (workspace)"
-cargo test --workspace
-echo "== LAMMPS shim: build build/lmp_dpdnl and run its tests"
+echo "== build build/lmp_dpdnl (Debian LAMMPS + this project's styles)"
+bash lammps-plugin/build.sh
+echo "== cargo test (workspace; cross-engine golden tests require build/lmp_dpdnl)"
+DPDNL_REQUIRE_LAMMPS=1 cargo test --workspace
+echo "== LAMMPS shim tests (newton on/off, 1 vs 2 ranks, restart, errors)"
 bash lammps-plugin/tests/run.sh
 echo "== all tests passed"
