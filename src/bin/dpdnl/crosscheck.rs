@@ -7,7 +7,7 @@
 //! dump written to `dump.${engine}` gets one file per engine. The dumps are moved into the work
 //! directory after each run. Exit status: 0 agree, 1 differ, 2 cannot run.
 
-use dpdnl::input::format::{FmtArg, sprintf};
+use crate::report::{TableStyle, c, write_exact_table};
 use dpdnl::input::{Console, Interpreter, Options};
 use dpdnl::io::dump_read::{DumpFrame, parse_dump};
 use dpdnl::io::lammps_log::{
@@ -68,10 +68,6 @@ pub fn main(a: CrosscheckArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             Ok(ExitCode::from(2))
         }
     }
-}
-
-fn c(fmt: &str, v: f64) -> String {
-    sprintf(fmt, &[FmtArg::Float(v)]).unwrap_or_else(|_| v.to_string())
 }
 
 /// The LAMMPS executable, as an absolute path when given as a path.
@@ -322,52 +318,16 @@ fn print_report(title: &str, r: &ExactReport) -> bool {
         "\n{title}: {} row(s) matched by {}",
         r.n_matched, r.key
     );
-    for (label, n, keys) in [
-        ("standalone", r.n_only_in_a, &r.only_in_a),
-        ("lammps", r.n_only_in_b, &r.only_in_b),
-    ] {
-        if n > 0 {
-            let more = if n > keys.len() { ", …" } else { "" };
-            let _ = writeln!(out, "rows only in {label}: {n} ({}{more})", keys.join(", "));
-        }
-    }
-    let w = r
-        .columns
-        .iter()
-        .map(|c| c.column.chars().count())
-        .max()
-        .unwrap_or(0)
-        .max(6);
-    let wa = r
-        .columns
-        .iter()
-        .filter_map(|c| c.worst.as_ref().map(|w| w.0.chars().count()))
-        .max()
-        .unwrap_or(0)
-        .max(8);
-    let _ = writeln!(
-        out,
-        "{:<w$}  {:>10}  {:>10}  {:>5}  {:<wa$}  {:>22}  {:>22}",
-        "column", "max |A-B|", "max rel", "fail", "worst at", "standalone", "lammps"
+    write_exact_table(
+        &mut out,
+        r,
+        &TableStyle {
+            labels: ["standalone", "lammps"],
+            value_fmt: "%.15g",
+            value_width: 22,
+            blank_before_header: false,
+        },
     );
-    for cd in &r.columns {
-        let (at, va, vb) = match &cd.worst {
-            Some((at, va, vb)) => (at.as_str(), c("%.15g", *va), c("%.15g", *vb)),
-            None => ("-", String::new(), String::new()),
-        };
-        let line = format!(
-            "{:<w$}  {:>10}  {:>10}  {:>5}  {:<wa$}  {:>22}  {:>22}{}",
-            cd.column,
-            c("%.3e", cd.max_abs),
-            c("%.3e", cd.max_rel),
-            cd.n_fail,
-            at,
-            va,
-            vb,
-            if cd.pass() { "" } else { "  <- DIFFERS" }
-        );
-        let _ = writeln!(out, "{}", line.trim_end());
-    }
     print!("{out}");
     r.values_pass() && r.rows_match()
 }

@@ -3,8 +3,8 @@
 //! Exit status: 0 when the files agree, 1 when they differ, 2 when they cannot be compared
 //! (unreadable file, no thermo block, mismatched columns, …).
 
+use crate::report::{TableStyle, c, write_exact_table};
 use clap::ValueEnum;
-use dpdnl::input::format::{FmtArg, sprintf};
 use dpdnl::io::dump_read::{DumpFrame, parse_dump};
 use dpdnl::io::lammps_log::{
     ExactReport, StatsReport, ThermoBlock, Tolerance, compare_dumps_exact, compare_exact_logs,
@@ -201,11 +201,6 @@ fn run(args: &DiffArgs) -> Result<bool, String> {
     }
 }
 
-/// `%` formatting through the project's printf (same look as LAMMPS output).
-fn c(fmt: &str, v: f64) -> String {
-    sprintf(fmt, &[FmtArg::Float(v)]).unwrap_or_else(|_| v.to_string())
-}
-
 fn tol_text(t: Tolerance) -> String {
     format!("rtol {}, atol {}", c("%g", t.rtol), c("%g", t.atol))
 }
@@ -297,52 +292,16 @@ fn print_exact(args: &DiffArgs, ia: &Input, ib: &Input, r: &ExactReport) -> bool
         r.key,
         tol_text(r.tolerance)
     );
-    for (label, n, keys) in [
-        ("A", r.n_only_in_a, &r.only_in_a),
-        ("B", r.n_only_in_b, &r.only_in_b),
-    ] {
-        if n > 0 {
-            let more = if n > keys.len() { ", …" } else { "" };
-            let _ = writeln!(out, "rows only in {label}: {n} ({}{more})", keys.join(", "));
-        }
-    }
-    let w = r
-        .columns
-        .iter()
-        .map(|c| c.column.chars().count())
-        .max()
-        .unwrap_or(0)
-        .max(6);
-    let wa = r
-        .columns
-        .iter()
-        .filter_map(|c| c.worst.as_ref().map(|w| w.0.chars().count()))
-        .max()
-        .unwrap_or(0)
-        .max(8);
-    let _ = writeln!(
-        out,
-        "\n{:<w$}  {:>10}  {:>10}  {:>5}  {:<wa$}  {:>17}  {:>17}",
-        "column", "max |A-B|", "max rel", "fail", "worst at", "A", "B"
+    write_exact_table(
+        &mut out,
+        r,
+        &TableStyle {
+            labels: ["A", "B"],
+            value_fmt: "%.10g",
+            value_width: 17,
+            blank_before_header: true,
+        },
     );
-    for cd in &r.columns {
-        let (at, va, vb) = match &cd.worst {
-            Some((at, va, vb)) => (at.as_str(), c("%.10g", *va), c("%.10g", *vb)),
-            None => ("-", String::new(), String::new()),
-        };
-        let line = format!(
-            "{:<w$}  {:>10}  {:>10}  {:>5}  {:<wa$}  {:>17}  {:>17}{}",
-            cd.column,
-            c("%.3e", cd.max_abs),
-            c("%.3e", cd.max_rel),
-            cd.n_fail,
-            at,
-            va,
-            vb,
-            if cd.pass() { "" } else { "  <- DIFFERS" }
-        );
-        let _ = writeln!(out, "{}", line.trim_end());
-    }
     let _ = writeln!(out, "\nverdict: {verdict}");
     print!("{out}");
     pass

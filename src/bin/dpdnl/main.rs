@@ -3,6 +3,7 @@
 mod crosscheck;
 mod design;
 mod diff;
+mod report;
 mod run;
 
 use clap::{Parser, Subcommand};
