@@ -15,6 +15,12 @@ use crate::kernel::{PairCoeff, PairInput, pair_force};
 use crate::rng::pair_gaussian;
 use rayon::prelude::*;
 
+/// The linear index of cell coordinates (x fastest).
+#[inline]
+fn cell_id(c: [usize; 3], ncell: [usize; 3]) -> usize {
+    (c[2] * ncell[1] + c[1]) * ncell[0] + c[0]
+}
+
 /// Atoms per block: the unit of parallel work and of the fixed summation order.
 pub const BLOCK_ATOMS: usize = 256;
 
@@ -133,14 +139,15 @@ impl NeighborList {
             }
         }
         let total_cells = ncell[0] * ncell[1] * ncell[2];
-        let cell_index = |x: &[f64; 3]| -> u32 {
+        let cell_coords = |x: &[f64; 3]| -> [usize; 3] {
             let mut c = [0usize; 3];
             for d in 0..bx.dim {
                 let f = ((x[d] - bx.lo[d]) / len[d] * ncell[d] as f64).floor();
                 c[d] = (f.max(0.0) as usize).min(ncell[d] - 1);
             }
-            ((c[2] * ncell[1] + c[1]) * ncell[0] + c[0]) as u32
+            c
         };
+        let cell_index = |x: &[f64; 3]| -> u32 { cell_id(cell_coords(x), ncell) as u32 };
         // Counting sort by cell, stable in the current order.
         self.cell_of.clear();
         self.cell_of.extend(atoms.x.iter().map(cell_index));
@@ -178,15 +185,11 @@ impl NeighborList {
             blk.row_start.push(0);
             for i in blk.start..blk.end {
                 let xi = x[i];
-                let mut c = [0usize; 3];
-                for d in 0..bx.dim {
-                    let f = ((xi[d] - bx.lo[d]) / len[d] * ncell[d] as f64).floor();
-                    c[d] = (f.max(0.0) as usize).min(ncell[d] - 1);
-                }
+                let c = cell_coords(&xi);
                 for &cz in &axes[2][c[2]] {
                     for &cy in &axes[1][c[1]] {
                         for &cx in &axes[0][c[0]] {
-                            let cell = (cz * ncell[1] + cy) * ncell[0] + cx;
+                            let cell = cell_id([cx, cy, cz], ncell);
                             let lo = (cell_start[cell] as usize).max(i + 1);
                             let hi = cell_start[cell + 1] as usize;
                             for (j, xj) in x.iter().enumerate().take(hi).skip(lo) {

@@ -209,6 +209,16 @@ pub fn type_range(tok: &str, ntypes: usize) -> Result<(usize, usize), String> {
     Ok((lo, hi))
 }
 
+/// Rescale all velocities so that the kinetic temperature becomes `t` (current T must be > 0).
+fn scale_to(sys: &mut System, t: f64) {
+    let s = (t / sys.thermo().temp).sqrt();
+    for v in sys.atoms.v.iter_mut() {
+        for c in v.iter_mut() {
+            *c *= s;
+        }
+    }
+}
+
 /// LAMMPS's header name of a thermo keyword.
 fn thermo_header(kw: &str) -> String {
     match kw {
@@ -1142,14 +1152,8 @@ impl<'c> Interpreter<'c> {
                 if mom {
                     zero_momentum(sys);
                 }
-                let cur = sys.thermo().temp;
-                if cur > 0.0 {
-                    let s = (t / cur).sqrt();
-                    for v in sys.atoms.v.iter_mut() {
-                        for c in v.iter_mut() {
-                            *c *= s;
-                        }
-                    }
+                if sys.thermo().temp > 0.0 {
+                    scale_to(sys, t);
                 }
             }
             "set" => {
@@ -1189,16 +1193,10 @@ impl<'c> Interpreter<'c> {
             "scale" => {
                 need(args, 3, usage)?;
                 let t = parse_f64(&args[2], "temperature")?;
-                let cur = sys.thermo().temp;
-                if cur <= 0.0 {
+                if sys.thermo().temp <= 0.0 {
                     return Err("cannot scale a zero temperature".into());
                 }
-                let s = (t / cur).sqrt();
-                for v in sys.atoms.v.iter_mut() {
-                    for c in v.iter_mut() {
-                        *c *= s;
-                    }
-                }
+                scale_to(sys, t);
             }
             o => {
                 return Err(format!(
