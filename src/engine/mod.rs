@@ -181,8 +181,18 @@ impl System {
         );
     }
 
-    /// Advance one step with the configured integrator (after [`System::setup`]).
+    /// Advance one step with the configured integrator (after [`System::setup`]), then apply
+    /// the PeX pushes (LAMMPS `end_of_step`, in definition order).
     pub fn step_once(&mut self) {
+        self.advance();
+        for k in 0..self.pex.len() {
+            self.apply_pex_push(k);
+        }
+    }
+
+    /// One step of integration and forces, without the end-of-step fixes: the caller applies
+    /// [`System::apply_pex_push`] and its measurements in the order the fixes were defined.
+    pub fn advance(&mut self) {
         self.step += 1;
         let dt = self.dt;
         let inv_mass = &self.inv_mass;
@@ -233,20 +243,17 @@ impl System {
                 f[2] = 0.0;
             }
         }
-        self.apply_pex();
     }
 
-    /// The PeX slab of the x coordinate (wrapped): 1, 2 or 0 (neither). See docs/fixes.md.
-    fn apply_pex(&mut self) {
-        if self.pex.is_empty() {
-            return;
-        }
+    /// The end-of-step action of PeX push `k` (index into [`System::pex`]) at the current step;
+    /// does nothing on steps that are not a multiple of its `every`. See docs/fixes.md.
+    pub fn apply_pex_push(&mut self, k: usize) {
         let bx = &self.bx;
         let lx = bx.len()[0];
         let step = self.step;
-        for push in self.pex.iter_mut() {
+        if let Some(push) = self.pex.get_mut(k) {
             if !step.is_multiple_of(push.every) {
-                continue;
+                return;
             }
             let w = push.width.unwrap_or(lx / 20.0);
             let c1 = bx.lo[0] + 0.25 * lx;
