@@ -125,9 +125,36 @@ fn golden_cases_agree_between_engines() {
                 "{name}: step-0 forces differ: max |Δf| {d0:.3e} / max |f| {scale:.3e} = {s0:.3e} > 1e-12"
             ));
         }
+        // Set-up lines from the shared Rust code (dpdnl::init): the resolved (eta, sc) design
+        // and the Euler heating warning must read the same in both logs (LAMMPS appends the
+        // source location to a WARNING line, so the standalone text must be contained in it).
+        let (text_s, text_l) = (
+            read(&work.join("standalone.log")),
+            read(&work.join("lammps.log")),
+        );
+        let setup_lines: Vec<&str> = text_s
+            .lines()
+            .filter(|l| {
+                l.starts_with("WARNING: Euler")
+                    || l.contains("from the (eta, sc) design")
+                    || (l.starts_with("pair_coeff ") && l.contains(" -> gamma0 = "))
+            })
+            .collect();
+        for line in &setup_lines {
+            if !text_l.lines().any(|m| m.starts_with(line)) {
+                failures.push(format!(
+                    "{name}: LAMMPS log lacks the set-up line\n  {line}"
+                ));
+            }
+        }
+        if name.contains("design") && setup_lines.len() < 3 {
+            failures.push(format!(
+                "{name}: expected design and warning lines, got {setup_lines:?}"
+            ));
+        }
         // Thermo at step 100 (reported; crosscheck already judged all rows at 1e-9).
-        let ls = parse_log(&read(&work.join("standalone.log"))).unwrap();
-        let ll = parse_log(&read(&work.join("lammps.log"))).unwrap();
+        let ls = parse_log(&text_s).unwrap();
+        let ll = parse_log(&text_l).unwrap();
         let last = |b: &[dpdnl::io::lammps_log::ThermoBlock]| {
             let mut b = b[0].clone();
             b.rows.retain(|r| r[0] == 100.0);

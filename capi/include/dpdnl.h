@@ -202,6 +202,60 @@ enum DpdnlStatus dpdnl_compute(const struct DpdnlParams *params,
                                double *f,
                                struct DpdnlTally *tally);
 
+// The line to log left by the last successful [`dpdnl_design_pair`], [`dpdnl_common_exponent`]
+// or [`dpdnl_euler_warning`] on this thread ("" when there is nothing to say). Valid until the
+// next such call on this thread.
+const char *dpdnl_last_message(void);
+
+// `pair_coeff I J a eta E sc S`: the `gamma0` and weight exponent s that give viscosity `eta`
+// and Schmidt number `sc` at number density `density` (N/V; per area in 2-D), cut-off `rc`,
+// mass `mass`, thermostat `kt` (exact kinetic-theory inversion, `dpdnl::init::resolve_design`).
+// On success `*gamma0` and `*s` are set and [`dpdnl_last_message`] holds the line to log.
+//
+// # Safety
+// `gamma0` and `s` are null or valid for writing.
+enum DpdnlStatus dpdnl_design_pair(int32_t itype,
+                                   int32_t jtype,
+                                   int32_t dimension,
+                                   double density,
+                                   double rc,
+                                   double mass,
+                                   double kt,
+                                   double eta,
+                                   double sc,
+                                   double *gamma0,
+                                   double *s);
+
+// The one weight exponent of `n` designed pairs (`itype[k] jtype[k]` needs `s[k]`): an error
+// if they differ (the exponent is global in the pair style). `current` is the pair style's
+// exponent; `*s_out` gets the common one (or `current` when `n` is 0), and
+// [`dpdnl_last_message`] says so when it replaces `current`.
+//
+// # Safety
+// `itype`, `jtype` and `s` hold `n` entries (or are null when `n` is 0); `s_out` is valid for
+// writing.
+enum DpdnlStatus dpdnl_common_exponent(int32_t n,
+                                       const int32_t *itype,
+                                       const int32_t *jtype,
+                                       const double *s,
+                                       double current,
+                                       double *s_out);
+
+// The Euler finite-step heating check of `dpdnl::init::euler_warning` (finite-step paper
+// eqs. 22 and 25): [`dpdnl_last_message`] holds the warning text, or "" when δt is small
+// enough. `gamma` is the largest `gamma0`, `mass` the lightest mass, `conservative` non-zero
+// when some pair has a ≠ 0, `nonlinear` non-zero for friction cross/dot.
+enum DpdnlStatus dpdnl_euler_warning(int32_t dimension,
+                                     double density,
+                                     double rc,
+                                     double mass,
+                                     double kt,
+                                     double gamma,
+                                     double s,
+                                     double dt,
+                                     int32_t conservative,
+                                     int32_t nonlinear);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

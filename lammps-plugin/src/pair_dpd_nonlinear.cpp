@@ -17,6 +17,8 @@
 #include "force.h"
 #include "lammps_compat.h"
 #include "memory.h"
+#include "modify.h"
+#include "fix.h"
 #include "neigh_list.h"
 #include "neighbor.h"
 #include "update.h"
@@ -25,6 +27,7 @@
 #include "dpdnl.h"
 
 #include <cstring>
+#include <vector>
 
 using namespace LAMMPS_NS;
 
@@ -32,7 +35,8 @@ static_assert(sizeof(tagint) == sizeof(int32_t), "dpd/nonlinear needs 32-bit tag
 
 PairDPDNonlinear::PairDPDNonlinear(LAMMPS *lmp) :
     Pair(lmp), temperature(0.0), cut_global(0.0), seed(0), weight_s(2.0), friction("none"),
-    noise("plain"), a0(nullptr), gamma0(nullptr), gamma1(nullptr), cut(nullptr), params(nullptr)
+    noise("plain"), a0(nullptr), gamma0(nullptr), gamma1(nullptr), cut(nullptr), eta_t(nullptr),
+    sc_t(nullptr), params(nullptr)
 {
   writedata = 1;
   restartinfo = 1;
@@ -49,6 +53,8 @@ PairDPDNonlinear::~PairDPDNonlinear()
     memory->destroy(gamma0);
     memory->destroy(gamma1);
     memory->destroy(cut);
+    memory->destroy(eta_t);
+    memory->destroy(sc_t);
   }
 }
 
@@ -69,6 +75,10 @@ void PairDPDNonlinear::allocate()
   memory->create(gamma0, n + 1, n + 1, "pair:gamma0");
   memory->create(gamma1, n + 1, n + 1, "pair:gamma1");
   memory->create(cut, n + 1, n + 1, "pair:cut");
+  memory->create(eta_t, n + 1, n + 1, "pair:eta_t");
+  memory->create(sc_t, n + 1, n + 1, "pair:sc_t");
+  for (int i = 0; i <= n; i++)
+    for (int j = 0; j <= n; j++) eta_t[i][j] = sc_t[i][j] = 0.0;
 }
 
 // pair_style dpd/nonlinear T rc seed [friction F] [noise N] [weight s]
@@ -120,8 +130,55 @@ void PairDPDNonlinear::settings(int narg, char **arg)
 }
 
 // pair_coeff I J a gamma0 gamma1 [rc]
+// pair_coeff I J a eta E sc S [gamma1 G] [rc R]
 void PairDPDNonlinear::coeff(int narg, char **arg)
 {
+  const bool targets = narg >= 4 && strcmp(arg[3], "eta") == 0;
+  if (targets) {
+    const std::string usage = "Incorrect args for pair coefficients: expected 'pair_coeff I J a "
+                              "eta E sc S [gamma1 G] [rc R]' for pair_style dpd/nonlinear";
+    if (narg < 7 || (narg - 7) % 2 != 0 || strcmp(arg[5], "sc") != 0) error->all(FLERR, usage);
+    if (!allocated) allocate();
+    int ilo, ihi, jlo, jhi;
+    utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+    utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+    const double a_one = utils::numeric(FLERR, arg[2], false, lmp);
+    const double eta_one = utils::numeric(FLERR, arg[4], false, lmp);
+    const double sc_one = utils::numeric(FLERR, arg[6], false, lmp);
+    double gamma1_one = 0.0, cut_one = cut_global;
+    for (int k = 7; k < narg; k += 2) {
+      if (strcmp(arg[k], "gamma1") == 0)
+        gamma1_one = utils::numeric(FLERR, arg[k + 1], false, lmp);
+      else if (strcmp(arg[k], "rc") == 0)
+        cut_one = utils::numeric(FLERR, arg[k + 1], false, lmp);
+      else
+        error->all(FLERR, std::string("unknown keyword '") + arg[k] + "'; " + usage);
+    }
+    if (!(eta_one > 0.0) || !(sc_one > 0.5))
+      error->all(FLERR, std::string("pair_coeff dpd/nonlinear: eta must be > 0 and sc > 1/2 (an ideal DPD "
+                        "fluid has Sc > 1/2)"));
+    // gamma0 = 1 stands in until init_style(); the rest is checked now.
+    if (dpdnl_coeff_check(a_one, 1.0, gamma1_one, cut_one) != DPDNL_STATUS_OK)
+      rust_error("Incorrect args for pair coefficients of pair_style dpd/nonlinear");
+    if (friction == "none" && gamma1_one != 0.0)
+      error->all(FLERR, std::string("pair_coeff dpd/nonlinear: gamma1 has no effect with 'friction none': set "
+                        "it to 0 or choose cross/dot"));
+    int count = 0;
+    for (int i = ilo; i <= ihi; i++) {
+      for (int j = MAX(jlo, i); j <= jhi; j++) {
+        a0[i][j] = a_one;
+        gamma0[i][j] = 1.0;
+        gamma1[i][j] = gamma1_one;
+        cut[i][j] = cut_one;
+        eta_t[i][j] = eta_one;
+        sc_t[i][j] = sc_one;
+        setflag[i][j] = 1;
+        count++;
+      }
+    }
+    if (count == 0) error->all(FLERR, std::string("Incorrect args for pair coefficients"));
+    return;
+  }
   if (narg < 5 || narg > 6)
     error->all(FLERR, std::string("Incorrect args for pair coefficients: expected 'pair_coeff I J "
                                   "a gamma0 gamma1 [rc]' for pair_style dpd/nonlinear"));
@@ -145,6 +202,7 @@ void PairDPDNonlinear::coeff(int narg, char **arg)
       gamma0[i][j] = gamma0_one;
       gamma1[i][j] = gamma1_one;
       cut[i][j] = cut_one;
+      eta_t[i][j] = sc_t[i][j] = 0.0;
       setflag[i][j] = 1;
       count++;
     }
@@ -178,9 +236,91 @@ void PairDPDNonlinear::init_style()
   if (atom->tag_enable == 0)
     error->all(FLERR, std::string("Pair dpd/nonlinear requires atom IDs (its noise is keyed by "
                                   "them)"));
+  resolve_targets();
   build_params();
+  euler_check();
   // The default request: a half list (newton on or off as set by the 'newton' command).
   dpdnl_compat::request_half_list(neighbor, this, instance_me);
+}
+
+// pair_coeff ... eta E sc S: gamma0 and the weight exponent from the targets at the current
+// number density (dpdnl::init::resolve_design, the same as the standalone engine).
+void PairDPDNonlinear::resolve_targets()
+{
+  std::vector<int> ti, tj;
+  std::vector<double> sv;
+  const int ntypes = atom->ntypes;
+  bool any = false;
+  for (int i = 1; i <= ntypes; i++)
+    for (int j = i; j <= ntypes; j++)
+      if (setflag[i][j] && eta_t[i][j] > 0.0) any = true;
+  if (!any) return;
+  if (atom->rmass_flag || !atom->mass)
+    error->all(FLERR, std::string("pair_coeff dpd/nonlinear eta ... sc ...: needs per-type masses"));
+  const double mass = atom->mass[1];
+  for (int t = 2; t <= ntypes; t++)
+    if (atom->mass[t] != mass)
+      error->all(FLERR, std::string("pair_coeff … eta … sc …: the kinetic theory behind the design is for one "
+                        "particle mass, but the atom types have different masses"));
+  const int dim = domain->dimension;
+  double volume = domain->xprd * domain->yprd;
+  if (dim == 3) volume *= domain->zprd;
+  const double density = static_cast<double>(atom->natoms) / volume;
+  for (int i = 1; i <= ntypes; i++) {
+    for (int j = i; j <= ntypes; j++) {
+      if (!setflag[i][j] || eta_t[i][j] <= 0.0) continue;
+      double g = 0.0, s = 0.0;
+      if (dpdnl_design_pair(i, j, dim, density, cut[i][j], mass, temperature, eta_t[i][j],
+                            sc_t[i][j], &g, &s) != DPDNL_STATUS_OK)
+        rust_error("Pair dpd/nonlinear");
+      gamma0[i][j] = g;
+      if (comm->me == 0) utils::logmesg(lmp, std::string(dpdnl_last_message()) + "\n");
+      ti.push_back(i);
+      tj.push_back(j);
+      sv.push_back(s);
+    }
+  }
+  double s_out = weight_s;
+  if (dpdnl_common_exponent(static_cast<int>(sv.size()), ti.data(), tj.data(), sv.data(), weight_s,
+                            &s_out) != DPDNL_STATUS_OK)
+    rust_error("Pair dpd/nonlinear");
+  weight_s = s_out;
+  const std::string note = dpdnl_last_message();
+  if (comm->me == 0 && !note.empty()) utils::logmesg(lmp, note + "\n");
+}
+
+// Warn when fix nve/euler runs at a step that heats the fluid (finite-step paper eqs. 22, 25),
+// with the same text as the standalone engine (dpdnl::init::euler_warning).
+void PairDPDNonlinear::euler_check()
+{
+  bool euler = false;
+  for (int k = 0; k < modify->nfix; k++)
+    if (strcmp(modify->fix[k]->style, "nve/euler") == 0) euler = true;
+  if (!euler || atom->natoms == 0) return;
+  const int ntypes = atom->ntypes;
+  double gmax = -1.0, rc = cut_global, mass = 0.0;
+  bool conservative = false;
+  for (int i = 1; i <= ntypes; i++)
+    for (int j = i; j <= ntypes; j++) {
+      if (!setflag[i][j]) continue;
+      if (a0[i][j] != 0.0) conservative = true;
+      if (gamma0[i][j] > gmax) {
+        gmax = gamma0[i][j];
+        rc = cut[i][j];
+      }
+    }
+  if (atom->rmass_flag || !atom->mass) return;
+  mass = atom->mass[1];
+  for (int t = 2; t <= ntypes; t++) mass = MIN(mass, atom->mass[t]);
+  const int dim = domain->dimension;
+  double volume = domain->xprd * domain->yprd;
+  if (dim == 3) volume *= domain->zprd;
+  const double density = static_cast<double>(atom->natoms) / volume;
+  if (dpdnl_euler_warning(dim, density, rc, mass, temperature, gmax, weight_s, update->dt,
+                          conservative ? 1 : 0, friction != "none" ? 1 : 0) != DPDNL_STATUS_OK)
+    rust_error("Pair dpd/nonlinear (Euler step check)");
+  const std::string text = dpdnl_last_message();
+  if (comm->me == 0 && !text.empty()) error->warning(FLERR, text);
 }
 
 double PairDPDNonlinear::init_one(int i, int j)

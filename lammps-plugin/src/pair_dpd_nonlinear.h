@@ -7,6 +7,7 @@
 //   pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep]
 //                            [weight s]
 //   pair_coeff I J a gamma0 gamma1 [rc]
+//   pair_coeff I J a eta E sc S [gamma1 G] [rc R]   (gamma0 and s from targets, at init)
 
 #ifndef DPDNL_PAIR_DPD_NONLINEAR_H
 #define DPDNL_PAIR_DPD_NONLINEAR_H
@@ -48,12 +49,16 @@ class PairDPDNonlinear : public Pair {
 
   // pair_coeff values per type pair (1-based), kept for init_one, restart and write_data.
   double **a0, **gamma0, **gamma1, **cut;
+  // (eta, sc) targets per type pair (0: gamma0 given explicitly); resolved in init_style().
+  double **eta_t, **sc_t;
 
   // The validated parameter table handed to Rust; rebuilt in init_style().
   DpdnlParams *params;
 
   void allocate();
   void build_params();
+  void resolve_targets();
+  void euler_check();
   [[noreturn]] void rust_error(const std::string &context);
 };
 

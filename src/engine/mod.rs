@@ -66,8 +66,19 @@ pub struct System {
     pub pex: Vec<PexPush>,
     /// Energy and virial of the last force evaluation.
     pub tally: PairTally,
+    /// What the last [`System::setup`] resolved or found worth a warning (the caller logs them).
+    pub setup_notes: Vec<SetupNote>,
     table: Vec<PairCoeff>,
     inv_mass: Vec<f64>,
+}
+
+/// A line for the log from [`System::setup`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum SetupNote {
+    /// Information (e.g. the γ and s resolved from `pair_coeff … eta … sc …`).
+    Info(String),
+    /// A warning (e.g. Euler finite-step heating, `crate::init::euler_warning`).
+    Warning(String),
 }
 
 /// Kinetic and configurational sums from which LAMMPS's thermo keywords follow.
@@ -107,6 +118,7 @@ impl System {
             integrator: None,
             pex: Vec::new(),
             tally: PairTally::default(),
+            setup_notes: Vec::new(),
             table: Vec::new(),
             inv_mass: Vec::new(),
         }
@@ -136,6 +148,29 @@ impl System {
         if !(self.dt.is_finite() && self.dt > 0.0) {
             return Err(format!("timestep {} must be > 0", self.dt));
         }
+        let dim = self.bx.dim as u32;
+        let density = self.atoms.len() as f64 / self.bx.volume();
+        self.setup_notes.clear();
+        let masses: Vec<f64> = self.mass.iter().flatten().copied().collect();
+        let m_min = masses.iter().copied().fold(f64::INFINITY, f64::min);
+        if ff.has_targets() {
+            if masses.iter().any(|&m| m != m_min) {
+                return Err(
+                    "pair_coeff … eta … sc …: the kinetic theory behind the design is \
+                            for one particle mass, but the atom types have different masses"
+                        .into(),
+                );
+            }
+            for line in ff.resolve_targets(dim, density, m_min)? {
+                self.setup_notes.push(SetupNote::Info(line));
+            }
+        }
+        if self.integrator == Some(Integrator::Euler)
+            && !self.atoms.is_empty()
+            && let Some(w) = Self::euler_note(ff, self.ntypes, dim, density, m_min, self.dt)?
+        {
+            self.setup_notes.push(SetupNote::Warning(w));
+        }
         ff.model.set_timestep(self.dt);
         let rc_max = ff.rc_max();
         let len = self.bx.len();
@@ -164,6 +199,43 @@ impl System {
         self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
         self.compute_forces();
         Ok(())
+    }
+
+    /// The Euler heating warning for the pair with the largest `gamma0` (the worst case).
+    fn euler_note(
+        ff: &ForceField,
+        ntypes: usize,
+        dim: u32,
+        density: f64,
+        mass: f64,
+        dt: f64,
+    ) -> Result<Option<String>, String> {
+        let mut worst: Option<PairCoeff> = None;
+        let mut conservative = false;
+        for i in 1..=ntypes {
+            for j in i..=ntypes {
+                if let Some(c) = ff.get(i, j) {
+                    conservative |= c.a != 0.0;
+                    if worst.is_none_or(|w| c.gamma0 > w.gamma0) {
+                        worst = Some(*c);
+                    }
+                }
+            }
+        }
+        let Some(c) = worst else { return Ok(None) };
+        let nonlinear = ff.model.friction != crate::kernel::Friction::None;
+        crate::init::euler_warning(
+            dim,
+            density,
+            c.rc,
+            mass,
+            ff.model.kt,
+            c.gamma0,
+            ff.model.weight.exponent(),
+            dt,
+            conservative,
+            nonlinear,
+        )
     }
 
     fn compute_forces(&mut self) {

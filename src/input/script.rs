@@ -7,7 +7,7 @@
 use super::expr::{ExprContext, eval_equal};
 use super::format::{FmtArg, sprintf};
 use super::lexer::{logical_lines, split_words, strip_comment};
-use crate::engine::{ForceField, Integrator, PexPush, SimBox, System};
+use crate::engine::{ForceField, Integrator, PexPush, SetupNote, SimBox, System};
 use crate::io::data::{DataFile, format_data, parse_data};
 use crate::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
 use crate::rng::{STREAM_CREATE_ATOMS, STREAM_VELOCITY, keyed_gaussian, keyed_uniform};
@@ -1263,7 +1263,10 @@ impl<'c> Interpreter<'c> {
     }
 
     fn cmd_pair_coeff(&mut self, args: &[String]) -> CmdResult {
-        let usage = "pair_coeff I J a gamma0 gamma1 [rc]";
+        if args.get(3).map(String::as_str) == Some("eta") {
+            return self.cmd_pair_coeff_targets(args);
+        }
+        let usage = "pair_coeff I J a gamma0 gamma1 [rc] | I J a eta E sc S [gamma1 G] [rc R]";
         need(args, 5, usage)?;
         if args.len() > 6 {
             return Err(format!("too many arguments; usage: {usage}"));
@@ -1292,6 +1295,68 @@ impl<'c> Interpreter<'c> {
         for i in ilo..=ihi {
             for j in jlo.max(i)..=jhi {
                 ff.set(i, j, c);
+            }
+        }
+        Ok(())
+    }
+
+    /// `pair_coeff I J a eta E sc S [gamma1 G] [rc R]`: γ0 and the weight exponent come from the
+    /// targets η and Sc at every run's set-up (`crate::init::resolve_design`).
+    fn cmd_pair_coeff_targets(&mut self, args: &[String]) -> CmdResult {
+        let usage = "pair_coeff I J a eta E sc S [gamma1 G] [rc R]";
+        need(args, 7, usage)?;
+        if args[5] != "sc" {
+            return Err(format!(
+                "expected 'sc' after 'eta {}', got '{}'; usage: {usage}",
+                args[4], args[5]
+            ));
+        }
+        let sys = self.sys_mut()?;
+        let ntypes = sys.ntypes;
+        let ff = sys.ff.as_mut().ok_or("pair_coeff before pair_style")?;
+        let (ilo, ihi) = type_range(&args[0], ntypes)?;
+        let (jlo, jhi) = type_range(&args[1], ntypes)?;
+        let a = parse_f64(&args[2], "a")?;
+        let eta = parse_f64(&args[4], "eta")?;
+        let sc = parse_f64(&args[6], "sc")?;
+        if !(eta.is_finite() && eta > 0.0) {
+            return Err(format!("eta = {eta} must be finite and > 0"));
+        }
+        if !(sc.is_finite() && sc > 0.5) {
+            return Err(format!(
+                "sc = {sc} is unreachable: an ideal DPD fluid has Sc > 1/2"
+            ));
+        }
+        let (mut gamma1, mut rc) = (0.0, ff.rc_global);
+        let mut k = 7;
+        while k < args.len() {
+            let value = args
+                .get(k + 1)
+                .ok_or_else(|| format!("keyword '{}' needs a value; usage: {usage}", args[k]))?;
+            match args[k].as_str() {
+                "gamma1" => gamma1 = parse_f64(value, "gamma1")?,
+                "rc" => rc = parse_f64(value, "rc")?,
+                o => return Err(format!("unknown keyword '{o}'; usage: {usage}")),
+            }
+            k += 2;
+        }
+        // γ0 = 1 stands in until set-up; validate the rest now so a bad value fails on this line.
+        let c = PairCoeff {
+            a,
+            gamma0: 1.0,
+            gamma1,
+            rc,
+        };
+        c.validate()?;
+        if ff.model.friction == Friction::None && c.gamma1 != 0.0 {
+            return Err(format!(
+                "gamma1 = {} has no effect with 'friction none': set it to 0 or choose cross/dot",
+                c.gamma1
+            ));
+        }
+        for i in ilo..=ihi {
+            for j in jlo.max(i)..=jhi {
+                ff.set_targets(i, j, c, eta, sc);
             }
         }
         Ok(())
@@ -1680,12 +1745,19 @@ impl<'c> Interpreter<'c> {
                 .ok_or("run upto: target step is in the past")?;
         }
         sys.setup()?;
+        let notes = std::mem::take(&mut sys.setup_notes);
         let integ = sys.integrator;
         let first = sys.step;
         let last = first + n;
         let natoms = sys.atoms.len();
         let dt = sys.dt;
         self.run_first = first;
+        for note in notes {
+            match note {
+                SetupNote::Info(text) => self.out(&text),
+                SetupNote::Warning(text) => self.warn(&text),
+            }
+        }
         if integ.is_none() {
             self.warn("No fixes with time integration, atoms won't move");
         }

@@ -1,0 +1,153 @@
+//! What both engines do when a run is initialised, so that the standalone engine and the LAMMPS
+//! pair style (through the C ABI) resolve the same parameters and print the same lines:
+//!
+//! - [`resolve_design`]: `pair_coeff I J a eta E sc S …` — the γ (`gamma0`) and the weight exponent
+//!   s that give the target viscosity η and Schmidt number Sc at the current number density, by the
+//!   exact inversion of the kinetic theory ([`crate::theory::design_from_targets`], `MODELS.md` §5).
+//! - [`euler_warning`]: the finite-step heating of the Euler integrator (finite-step paper
+//!   eqs. 22 and 25, `MODELS.md` §4) for the run's step, with the thresholds documented in
+//!   `docs/theory.md`.
+//!
+//! Nothing here prints: each function returns the text, the caller logs it.
+
+use crate::theory::{self, Fluid, Targets, TheoryError};
+
+/// Warn when δt exceeds this fraction of the Euler critical step δt_c (eq. 25).
+pub const EULER_WARN_DT_FRACTION: f64 = 0.1;
+/// Warn when eq. 22 predicts more heating than this (T_eq/T0 − 1).
+pub const EULER_WARN_HEATING: f64 = 0.01;
+
+/// A design target resolved at init: the `pair_coeff` parameters that realise (η, Sc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResolvedDesign {
+    /// `gamma0` of the pair (γ of eq. 43 / 58, so that γ w_D gives η_D = η0).
+    pub gamma: f64,
+    /// The weight exponent s (`weight s` of the pair style).
+    pub s: f64,
+    /// The line to log, e.g. `pair_coeff 1 1: eta 10 sc 400 at n = 4 … -> gamma0 = …, s = …`.
+    pub message: String,
+}
+
+/// Resolve `pair_coeff … eta E sc S` for one type pair (`label`, e.g. "1 1") at number density
+/// `density` (N/V, per area in 2-D), cut-off `rc`, particle mass `mass` and thermostat `kt`.
+///
+/// Errors name the pair and say which bound of the design was hit (eqs. 54–55 / 63–64).
+#[allow(clippy::too_many_arguments)]
+pub fn resolve_design(
+    label: &str,
+    dim: u32,
+    density: f64,
+    rc: f64,
+    mass: f64,
+    kt: f64,
+    eta: f64,
+    sc: f64,
+) -> Result<ResolvedDesign, String> {
+    let fail = |e: TheoryError| format!("pair_coeff {label} eta {eta} sc {sc}: {e}");
+    let fluid = Fluid::new(dim, density, rc, mass, kt).map_err(fail)?;
+    let design = theory::design_from_targets(&Targets { fluid, eta, sc }).map_err(fail)?;
+    let tr = theory::kinetic_theory(&fluid, design.gamma, design.s).map_err(fail)?;
+    let message = format!(
+        "pair_coeff {label}: eta {eta} sc {sc} at n = {density:.10} (N/V), m = {mass}, kT = {kt}, \
+         rc = {rc}, d = {dim} -> gamma0 = {:.10}, weight s = {:.10} (kinetic theory: eta_D = {:.6}, \
+         eta_K = {:.6}, D = {:.6}, Sc = {:.6}; ideal fluid, a = 0)",
+        design.gamma, design.s, tr.eta_d, tr.eta_k, tr.diffusion, tr.schmidt
+    );
+    Ok(ResolvedDesign {
+        gamma: design.gamma,
+        s: design.s,
+        message,
+    })
+}
+
+/// Check that every designed pair implies the same weight exponent (it is global in
+/// `pair_style dpd/nonlinear`). `designs` holds (pair label, s); `current` is the pair style's
+/// exponent. Returns the common s and, when it differs from `current`, the line to log.
+pub fn common_exponent(
+    designs: &[(String, f64)],
+    current: f64,
+) -> Result<Option<(f64, Option<String>)>, String> {
+    let Some((first_label, s0)) = designs.first() else {
+        return Ok(None);
+    };
+    for (label, s) in &designs[1..] {
+        if (s - s0).abs() > 1e-12 * s0.abs().max(1.0) {
+            return Err(format!(
+                "the (eta, sc) targets of pairs {first_label} and {label} need different weight \
+                 exponents (s = {s0} and s = {s}), but the weight exponent of pair_style \
+                 dpd/nonlinear is one for all pairs: give every pair the same targets and cut-off, \
+                 or set gamma0 explicitly"
+            ));
+        }
+    }
+    let note = (current != *s0).then(|| {
+        format!(
+            "pair_style dpd/nonlinear: weight exponent s = {s0:.10} from the (eta, sc) design \
+             replaces {current} for every pair"
+        )
+    });
+    Ok(Some((*s0, note)))
+}
+
+/// The warning for an Euler (`fix nve/euler`) run, or `None` when the step is small enough
+/// (δt ≤ [`EULER_WARN_DT_FRACTION`] δt_c and predicted heating ≤ [`EULER_WARN_HEATING`]).
+///
+/// The prediction is eq. 22 for the ideal fluid at number density `density` with friction
+/// `gamma` (the largest `gamma0` of the run), weight exponent `s`, cut-off `rc` and the lightest
+/// mass `mass`. `conservative` says some pair has a ≠ 0 and `nonlinear` that the friction grows
+/// with velocity (cross/dot): both make eq. 22 a rougher guide, and the text says so.
+#[allow(clippy::too_many_arguments)]
+pub fn euler_warning(
+    dim: u32,
+    density: f64,
+    rc: f64,
+    mass: f64,
+    kt: f64,
+    gamma: f64,
+    s: f64,
+    dt: f64,
+    conservative: bool,
+    nonlinear: bool,
+) -> Result<Option<String>, String> {
+    if gamma <= 0.0 {
+        return Ok(None);
+    }
+    let fluid = Fluid::new(dim, density, rc, mass, kt).map_err(|e| e.to_string())?;
+    let dt_c = theory::euler_critical_dt(&fluid, gamma, s).map_err(|e| e.to_string())?;
+    let frac = dt / dt_c;
+    let mut caveats = String::new();
+    if conservative {
+        caveats.push_str(" Eq. 22 is for the ideal fluid (a = 0); here a != 0.");
+    }
+    if nonlinear {
+        caveats.push_str(
+            " It uses gamma0, the zero-velocity friction; the non-linear friction is larger.",
+        );
+    }
+    let params = format!(
+        "n = {density:.6}, gamma = {gamma:.6}, s = {s:.6}, rc = {rc}, m = {mass}, d = {dim}"
+    );
+    if frac >= 1.0 {
+        return Ok(Some(format!(
+            "Euler step dt = {dt} >= dt_c = {dt_c:.6} (finite-step paper eq. 25, {params}): the \
+             ideal fluid has no equilibrium temperature at this step and will heat without bound. \
+             Use dt < {:.6} (0.1 dt_c) or velocity-Verlet (fix nve).{caveats}",
+            EULER_WARN_DT_FRACTION * dt_c
+        )));
+    }
+    let ratio = 1.0 / (1.0 - frac);
+    // eq. 22 as 2 / (2 − (A1 n + A2/A1) δt) = 1 / (1 − δt/δt_c); computed the long way too:
+    let ratio_eq22 = theory::euler_temperature_ratio(&fluid, gamma, s, dt).unwrap_or(ratio);
+    if frac <= EULER_WARN_DT_FRACTION && ratio_eq22 - 1.0 <= EULER_WARN_HEATING {
+        return Ok(None);
+    }
+    Ok(Some(format!(
+        "Euler step dt = {dt} is {:.3} dt_c (dt_c = {dt_c:.6}, eq. 25; {params}): eq. 22 predicts \
+         T_eq/T0 = {ratio_eq22:.4} (+{:.1}% heating). Measured in 2-D ideal fluids \
+         (docs/theory.md): the heating was 0.7-1.0 times eq. 22's up to 0.2 dt_c, and dense \
+         fluids went unstable well below dt_c (n = 16: above 0.2 dt_c; n = 4: above 0.35 dt_c). \
+         Reduce dt or use fix nve.{caveats}",
+        frac,
+        100.0 * (ratio_eq22 - 1.0)
+    )))
+}

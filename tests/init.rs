@@ -1,0 +1,156 @@
+//! Run set-up in the standalone engine (`dpdnl::init`): `pair_coeff … eta E sc S` resolved from
+//! the current number density, and the Euler finite-step heating warning. The cross-engine twin
+//! (same lines printed by the LAMMPS shim) is the golden case `in.design_euler_2d` in
+//! `tests/crosscheck.rs`.
+
+use dpdnl::engine::System;
+use dpdnl::input::{Collect, Interpreter, Options, ScriptError};
+use dpdnl::theory::{Fluid, Targets, design_from_targets, euler_critical_dt, kinetic_theory};
+
+fn run(text: &str) -> Result<(Vec<String>, Option<System>), ScriptError> {
+    let mut console = Collect::default();
+    let opts = Options::default();
+    let mut interp = Interpreter::new(&mut console, &opts).expect("no log file");
+    interp.run_text(text, "test.in")?;
+    let sys = interp.into_system();
+    Ok((console.0, sys))
+}
+
+/// A 2-D ideal fluid of `n_atoms` atoms in a 10 × 10 box, with the given pair lines, step and
+/// integrator, run for `steps` steps.
+fn script2d(n_atoms: usize, pair: &str, dt: f64, fix: &str, steps: u32) -> String {
+    format!(
+        "units lj\ndimension 2\nboundary p p p\natom_style atomic\ncomm_modify vel yes\n\
+         region box block 0 10 0 10 -0.5 0.5\ncreate_box 2 box\n\
+         create_atoms 1 random {n_atoms} 4321 box\nmass * 1.0\n\
+         velocity all create 1.0 99 mom yes\n{pair}\ntimestep {dt}\n\
+         fix 1 all {fix}\nfix 2 all enforce2d\nthermo 0\nrun {steps}\n"
+    )
+}
+
+fn gamma0(sys: &System, i: usize, j: usize) -> f64 {
+    sys.ff.as_ref().unwrap().get(i, j).unwrap().gamma0
+}
+
+/// γ0 and s are the exact kinetic-theory design at n = N/V, recomputed at every run: adding
+/// atoms between runs changes n and so γ0 (γ ∝ 1/n² at fixed s, and s moves with n too).
+#[test]
+fn targets_resolve_from_the_current_density() {
+    let pair = "pair_style dpd/nonlinear 1.0 1.0 555\npair_coeff * * 0.0 eta 3 sc 20";
+    let mut text = script2d(400, pair, 0.005, "nve", 0);
+    text.push_str("create_atoms 2 random 200 777 box\nrun 0\n");
+    let (lines, sys) = run(&text).expect("script runs");
+    let sys = sys.unwrap();
+    let design = |n: f64| {
+        let fluid = Fluid::new(2, n, 1.0, 1.0, 1.0).unwrap();
+        let d = design_from_targets(&Targets {
+            fluid,
+            eta: 3.0,
+            sc: 20.0,
+        })
+        .unwrap();
+        let tr = kinetic_theory(&fluid, d.gamma, d.s).unwrap();
+        assert!((tr.eta - 3.0).abs() < 1e-12 && (tr.schmidt - 20.0).abs() < 1e-10);
+        d
+    };
+    let (d4, d6) = (design(4.0), design(6.0));
+    // The last run's values (n = 600 / 100 = 6) are in the system, for every pair.
+    for (i, j) in [(1, 1), (1, 2), (2, 2)] {
+        let g = gamma0(&sys, i, j);
+        assert!(
+            (g - d6.gamma).abs() <= 1e-12 * d6.gamma,
+            "{i} {j}: {g} vs {}",
+            d6.gamma
+        );
+    }
+    let s = sys.ff.as_ref().unwrap().model.weight.exponent();
+    assert!((s - d6.s).abs() <= 1e-12 * d6.s, "{s} vs {}", d6.s);
+    // The first run logged the n = 4 design, the second the n = 6 one.
+    let logged: Vec<&String> = lines
+        .iter()
+        .filter(|l| l.starts_with("pair_coeff 1 1:"))
+        .collect();
+    assert_eq!(logged.len(), 2, "{lines:#?}");
+    assert!(
+        logged[0].contains(&format!("gamma0 = {:.10}", d4.gamma)),
+        "{}",
+        logged[0]
+    );
+    assert!(
+        logged[1].contains(&format!("gamma0 = {:.10}", d6.gamma)),
+        "{}",
+        logged[1]
+    );
+    assert!(logged[1].contains("n = 6.0000000000"), "{}", logged[1]);
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.contains("weight exponent s =") && l.contains("replaces 2")),
+        "{lines:#?}"
+    );
+}
+
+/// The weight exponent is one for all pairs: targets needing different s are refused, naming
+/// both pairs; unreachable targets name the bound.
+#[test]
+fn inconsistent_or_unreachable_targets_are_errors() {
+    let pair = "pair_style dpd/nonlinear 1.0 1.0 555\npair_coeff 1 1 0.0 eta 3 sc 20\n\
+                pair_coeff 1 2 0.0 eta 3 sc 30\npair_coeff 2 2 0.0 eta 3 sc 20";
+    let err = run(&script2d(400, pair, 0.005, "nve", 0)).unwrap_err();
+    assert!(
+        err.message.contains("1 1")
+            && err.message.contains("1 2")
+            && err.message.contains("weight"),
+        "{err}"
+    );
+    // eta far above the bound for Sc = 20 at n = 4 (eta_max = 4.53).
+    let pair = "pair_style dpd/nonlinear 1.0 1.0 555\npair_coeff * * 0.0 eta 50 sc 20";
+    let err = run(&script2d(400, pair, 0.005, "nve", 0)).unwrap_err();
+    assert!(err.message.contains("pair_coeff 1 1 eta 50 sc 20"), "{err}");
+    for bad in [
+        "pair_coeff * * 0.0 eta 3 sc 0.4",
+        "pair_coeff * * 0.0 eta -1 sc 20",
+        "pair_coeff * * 0.0 eta 3 Sc 20",
+        "pair_coeff * * 0.0 eta 3 sc 20 gamma1",
+        "pair_coeff * * 0.0 eta 3 sc 20 gamma1 1",
+        "pair_coeff * * 0.0 eta 3 sc 20 rho 1",
+    ] {
+        let pair = format!("pair_style dpd/nonlinear 1.0 1.0 555\n{bad}");
+        let err = run(&script2d(400, &pair, 0.005, "nve", 0)).unwrap_err();
+        assert_eq!(err.command, "pair_coeff", "{bad}: {err}");
+    }
+    // Different masses: the design's kinetic theory is for one mass.
+    let pair = "pair_style dpd/nonlinear 1.0 1.0 555\npair_coeff * * 0.0 eta 3 sc 20\nmass 2 2.0";
+    let err = run(&script2d(400, pair, 0.005, "nve", 0)).unwrap_err();
+    assert!(err.message.contains("different masses"), "{err}");
+}
+
+/// The Euler warning: silent for δt ≤ 0.1 δt_c with ≤ 1 % predicted heating, a warning with
+/// eq. 22's number above, an "unstable" warning at δt ≥ δt_c; never for velocity-Verlet.
+#[test]
+fn euler_heating_warning_thresholds() {
+    let fluid = Fluid::new(2, 4.0, 1.0, 1.0, 1.0).unwrap();
+    let dt_c = euler_critical_dt(&fluid, 4.5, 2.0).unwrap();
+    let pair = "pair_style dpd/nonlinear 1.0 1.0 555\npair_coeff * * 0.0 4.5 0.0";
+    let warnings = |dt: f64, fix: &str| {
+        let (lines, _) = run(&script2d(400, pair, dt, fix, 0)).expect("runs");
+        lines
+            .into_iter()
+            .filter(|l| l.starts_with("WARNING: Euler"))
+            .collect::<Vec<_>>()
+    };
+    // 1/(1 − 0.005) − 1 = 0.5 % < 1 % and 0.005 < 0.1: silent.
+    assert!(warnings(0.005 * dt_c, "nve/euler").is_empty());
+    let w = warnings(0.3 * dt_c, "nve/euler");
+    assert_eq!(w.len(), 1, "{w:?}");
+    let predicted = 1.0 / (1.0 - 0.3);
+    assert!(
+        w[0].contains(&format!("T_eq/T0 = {predicted:.4}")),
+        "{}",
+        w[0]
+    );
+    assert!(w[0].contains("is 0.300 dt_c"), "{}", w[0]);
+    let w = warnings(1.2 * dt_c, "nve/euler");
+    assert!(w[0].contains("no equilibrium temperature"), "{}", w[0]);
+    assert!(warnings(0.3 * dt_c, "nve").is_empty());
+}
