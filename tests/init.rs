@@ -154,3 +154,49 @@ fn euler_heating_warning_thresholds() {
     assert!(w[0].contains("no equilibrium temperature"), "{}", w[0]);
     assert!(warnings(0.3 * dt_c, "nve").is_empty());
 }
+
+/// `dpdnl theory SCRIPT` sets the script's runs up without running them: it reports the
+/// resolved design (the targets come back from the kinetic theory), the Euler temperature of
+/// eq. 22, and writes no dump.
+#[test]
+fn theory_of_a_script() {
+    let dir = std::env::temp_dir().join(format!("dpdnl-theory-script-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/crosscheck");
+    for f in ["in.design_euler_2d", "dpd2d.data"] {
+        std::fs::copy(src.join(f), dir.join(f)).unwrap();
+    }
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+        .current_dir(&dir)
+        .args(["theory", "in.design_euler_2d"])
+        .output()
+        .expect("run dpdnl theory");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let value = |key: &str| -> Vec<f64> {
+        text.lines()
+            .filter_map(|l| l.strip_prefix(&format!("{key} = ")))
+            .map(|v| v.parse::<f64>().unwrap())
+            .collect()
+    };
+    // Three type pairs, each with the targets eta = 3, Sc = 20.
+    assert_eq!(value("eta").len(), 3, "{text}");
+    assert!(
+        value("eta").iter().all(|e| (e - 3.0).abs() < 1e-12),
+        "{text}"
+    );
+    assert!(
+        value("Sc").iter().all(|e| (e - 20.0).abs() < 1e-10),
+        "{text}"
+    );
+    // Eq. 22 in the form 1/(1 − δt/δt_c).
+    let (t, dtc) = (value("T_eq/T0"), value("dt_c"));
+    assert!((t[0] - 1.0 / (1.0 - 0.01 / dtc[0])).abs() < 1e-12, "{text}");
+    assert!(text.contains("# WARNING: Euler step dt = 0.01"), "{text}");
+    assert!(!dir.join("dump.design_euler_2d.standalone").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -9,4 +9,4 @@ pub mod format;
 pub mod lexer;
 pub mod script;
 
-pub use script::{Collect, Console, Interpreter, Options, ScriptError};
+pub use script::{Collect, Console, Interpreter, Options, PlannedRun, ScriptError};

@@ -146,6 +146,8 @@ pub struct Interpreter<'c> {
     regions: BTreeMap<String, [[f64; 2]; 3]>,
     sys: Option<System>,
     skin: f64,
+    dry_run: bool,
+    planned: Vec<PlannedRun>,
     dt: f64,
     thermo: ThermoSettings,
     dumps: Vec<Dump>,
@@ -156,6 +158,70 @@ pub struct Interpreter<'c> {
 }
 
 type CmdResult = Result<(), String>;
+
+/// What a `run` command would run, as seen by its set-up (for `dpdnl theory SCRIPT`): the
+/// state point and every pair's resolved coefficients.
+#[derive(Clone, Debug)]
+pub struct PlannedRun {
+    /// Step at which the run starts.
+    pub first_step: u64,
+    /// Number of steps.
+    pub steps: u64,
+    /// Dimension (2 or 3).
+    pub dim: u32,
+    /// Number of atoms.
+    pub natoms: usize,
+    /// Volume (area in 2-D).
+    pub volume: f64,
+    /// Per-type masses (index 0 unused).
+    pub masses: Vec<f64>,
+    /// The pair style's model (kT, friction, noise, weight; δt set).
+    pub model: PairModel,
+    /// Time step.
+    pub dt: f64,
+    /// The integrator, if any.
+    pub integrator: Option<Integrator>,
+    /// (i, j, coefficients) for i ≤ j, after (η, Sc) targets were resolved.
+    pub coeffs: Vec<(usize, usize, PairCoeff)>,
+    /// The set-up's log lines (resolved designs, warnings).
+    pub notes: Vec<SetupNote>,
+}
+
+impl PlannedRun {
+    fn of(sys: &mut System, steps: u64, notes: Vec<SetupNote>) -> Result<PlannedRun, String> {
+        let ff = sys.ff.as_ref().ok_or("no pair style")?;
+        let mut coeffs = Vec::new();
+        for i in 1..=sys.ntypes {
+            for j in i..=sys.ntypes {
+                if let Some(c) = ff.get(i, j) {
+                    coeffs.push((i, j, *c));
+                }
+            }
+        }
+        Ok(PlannedRun {
+            first_step: sys.step,
+            steps,
+            dim: sys.bx.dim as u32,
+            natoms: sys.atoms.len(),
+            volume: sys.bx.volume(),
+            masses: sys.mass.iter().map(|m| m.unwrap_or(0.0)).collect(),
+            model: ff.model,
+            dt: sys.dt,
+            integrator: sys.integrator,
+            coeffs,
+            notes,
+        })
+    }
+}
+
+/// Commands a dry run ([`Interpreter::set_dry_run`]) skips: everything that writes a file or
+/// only matters to the output of a real run.
+fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
+    matches!(
+        cmd,
+        "dump" | "dump_modify" | "undump" | "write_data" | "log" | "print"
+    ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
+}
 
 fn parse_f64(tok: &str, what: &str) -> Result<f64, String> {
     let v: f64 = tok
@@ -276,6 +342,8 @@ impl<'c> Interpreter<'c> {
             regions: BTreeMap::new(),
             sys: None,
             skin: 0.3,
+            dry_run: false,
+            planned: Vec::new(),
             dt: 0.005,
             thermo: ThermoSettings::default(),
             dumps: Vec::new(),
@@ -284,6 +352,19 @@ impl<'c> Interpreter<'c> {
             depth: 0,
             run_first: 0,
         })
+    }
+
+    /// Dry run (for `dpdnl theory SCRIPT`): every `run` does its set-up (checks, (η, Sc)
+    /// resolution, warnings) and is recorded in [`Interpreter::planned_runs`] instead of being
+    /// run; commands that write files (`dump`, `write_data`, `log`, `print`, `fix ave/*`) are
+    /// skipped.
+    pub fn set_dry_run(&mut self, on: bool) {
+        self.dry_run = on;
+    }
+
+    /// The runs a dry run recorded, in script order.
+    pub fn planned_runs(&self) -> &[PlannedRun] {
+        &self.planned
     }
 
     /// The system, once a box exists.
@@ -596,6 +677,9 @@ impl<'c> Interpreter<'c> {
     }
 
     fn command(&mut self, cmd: &str, args: &[String]) -> CmdResult {
+        if self.dry_run && dry_run_skips(cmd, args) {
+            return Ok(());
+        }
         match cmd {
             c if IGNORED_COMMANDS.contains(&c) => Ok(()),
             "units" => {
@@ -1752,6 +1836,11 @@ impl<'c> Interpreter<'c> {
         let natoms = sys.atoms.len();
         let dt = sys.dt;
         self.run_first = first;
+        if self.dry_run {
+            let plan = PlannedRun::of(self.sys_mut()?, n, notes)?;
+            self.planned.push(plan);
+            return Ok(());
+        }
         for note in notes {
             match note {
                 SetupNote::Info(text) => self.out(&text),

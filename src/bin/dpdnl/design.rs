@@ -56,8 +56,12 @@ pub struct DesignArgs {
 /// Print kinetic-theory predictions (and, with --dt, the Euler finite-step temperature).
 #[derive(clap::Args)]
 pub struct TheoryArgs {
-    /// An input script to read the parameters from (not available yet).
+    /// An input script: every `run` is set up (not run) and its parameters printed with the
+    /// predictions (pair_coeff eta/sc targets resolved at the script's density).
     script: Option<PathBuf>,
+    /// With SCRIPT: define an index-style variable NAME with VALUE (as LAMMPS's `-var`).
+    #[arg(long = "var", num_args = 2, value_names = ["NAME", "VALUE"], action = clap::ArgAction::Append, allow_hyphen_values = true)]
+    var: Vec<String>,
     /// Friction amplitude γ (`gamma0` of `pair_coeff`).
     #[arg(
         long,
@@ -340,12 +344,7 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
 /// `dpdnl theory`.
 pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     if let Some(p) = &a.script {
-        return Err(format!(
-            "reading parameters from a script is not available yet (got {}); \
-             pass --gamma, --s, --density and --rc instead",
-            p.display()
-        )
-        .into());
+        return theory_of_script(p, &a);
     }
     let gamma = a.gamma.ok_or("--gamma is required")?;
     let s = a.s.ok_or("--s is required")?;
@@ -443,5 +442,178 @@ pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>
         );
     }
     print!("{out}");
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `dpdnl theory SCRIPT`: set up every `run` of the script without running it and print, for
+/// each, the state point, the kinetic theory of each type pair (ideal fluid, a = 0) and the Euler
+/// finite-step temperature (or that velocity-Verlet has no closed form).
+fn theory_of_script(
+    path: &std::path::Path,
+    a: &TheoryArgs,
+) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    use dpdnl::engine::{Integrator, SetupNote};
+    use dpdnl::input::{Collect, Interpreter, Options};
+    let vars = a
+        .var
+        .chunks(2)
+        .map(|c| (c[0].clone(), c.get(1).cloned().unwrap_or_default()))
+        .collect();
+    let opts = Options {
+        vars,
+        ..Options::default()
+    };
+    let mut console = Collect::default();
+    let mut interp = Interpreter::new(&mut console, &opts)?;
+    interp.set_dry_run(true);
+    interp.run_file(path)?;
+    let runs = interp.planned_runs().to_vec();
+    drop(interp);
+    if runs.is_empty() {
+        return Err(format!("{}: the script has no 'run' command", path.display()).into());
+    }
+    let mut out = String::new();
+    let mut json_runs = Vec::new();
+    for (k, r) in runs.iter().enumerate() {
+        let density = r.natoms as f64 / r.volume;
+        let masses: Vec<f64> = r.masses.iter().skip(1).copied().collect();
+        let m = masses.iter().copied().fold(f64::INFINITY, f64::min);
+        let s = r.model.weight.exponent();
+        let kt = r.model.kt;
+        let scheme = match r.integrator {
+            Some(Integrator::Euler) => "euler (fix nve/euler)",
+            Some(Integrator::VelocityVerlet) => "velocity-Verlet (fix nve)",
+            None => "none",
+        };
+        let _ = writeln!(
+            out,
+            "# run {} of {}: steps {}..{}, d = {}, N = {}, n = N/V = {}, kT = {}, dt = {}, \
+             integrator {scheme}, friction {}, noise {}, weight s = {}",
+            k + 1,
+            runs.len(),
+            r.first_step,
+            r.first_step + r.steps,
+            r.dim,
+            r.natoms,
+            num(density),
+            num(kt),
+            num(r.dt),
+            r.model.friction.keyword(),
+            r.model.noise.keyword(),
+            num(s)
+        );
+        if masses.iter().any(|&x| x != m) {
+            let _ = writeln!(
+                out,
+                "# masses differ between types; the one-mass kinetic theory below uses the lightest, m = {}",
+                num(m)
+            );
+        }
+        for note in &r.notes {
+            match note {
+                SetupNote::Info(t) => {
+                    let _ = writeln!(out, "# {t}");
+                }
+                SetupNote::Warning(t) => {
+                    let _ = writeln!(out, "# WARNING: {t}");
+                }
+            }
+        }
+        let mut pairs_json = Vec::new();
+        for (i, j, c) in &r.coeffs {
+            let _ = writeln!(
+                out,
+                "# pair {i} {j}: a = {}, gamma0 = {}, gamma1 = {}, rc = {}",
+                num(c.a),
+                num(c.gamma0),
+                num(c.gamma1),
+                num(c.rc)
+            );
+            if c.gamma0 <= 0.0 {
+                let _ = writeln!(out, "# gamma0 = 0: no dissipation, no kinetic theory");
+                continue;
+            }
+            let fluid = Fluid::new(r.dim, density, c.rc, m, kt)?;
+            let t = kinetic_theory(&fluid, c.gamma0, s)?;
+            let _ = writeln!(
+                out,
+                "# kinetic theory of the ideal fluid, w_D = (1 - r/r_c)^s (MODELS.md 5){}{}",
+                if c.a != 0.0 {
+                    "; a != 0 adds a conservative viscosity not in it"
+                } else {
+                    ""
+                },
+                if c.gamma1 != 0.0 {
+                    "; gamma0 only: the zero-shear limit of the non-linear friction"
+                } else {
+                    ""
+                }
+            );
+            transport_text(&mut out, &t);
+            let mut euler_json = "null".to_string();
+            match r.integrator {
+                Some(Integrator::Euler) => {
+                    let dt_c = euler_critical_dt(&fluid, c.gamma0, s)?;
+                    let ratio = euler_temperature_ratio(&fluid, c.gamma0, s, r.dt).ok();
+                    let _ = writeln!(
+                        out,
+                        "# Euler integrator, ideal fluid (finite-step paper eqs. 22, 25)"
+                    );
+                    match ratio {
+                        Some(x) => {
+                            let _ = writeln!(out, "T_eq/T0 = {}", num(x));
+                        }
+                        None => {
+                            let _ = writeln!(out, "T_eq/T0 = unstable");
+                        }
+                    }
+                    let _ = writeln!(out, "dt_c = {}", num(dt_c));
+                    let _ = writeln!(out, "dt/dt_c = {}", num(r.dt / dt_c));
+                    euler_json = format!(
+                        "{{\"t_ratio\":{},\"dt_c\":{}}}",
+                        ratio.map_or("null".to_string(), jnum),
+                        jnum(dt_c)
+                    );
+                }
+                _ => {
+                    let _ = writeln!(
+                        out,
+                        "# velocity-Verlet: the finite-step paper gives no closed form; none is computed"
+                    );
+                }
+            }
+            pairs_json.push(format!(
+                "{{\"i\":{i},\"j\":{j},\"a\":{},\"gamma0\":{},\"gamma1\":{},\"rc\":{},\"fluid\":{},\"predicted\":{},\"euler\":{euler_json}}}",
+                jnum(c.a),
+                jnum(c.gamma0),
+                jnum(c.gamma1),
+                jnum(c.rc),
+                fluid_json(&fluid),
+                transport_json(&t)
+            ));
+        }
+        json_runs.push(format!(
+            "{{\"first_step\":{},\"steps\":{},\"dim\":{},\"natoms\":{},\"density\":{},\"kt\":{},\"dt\":{},\"integrator\":{},\"s\":{},\"pairs\":[{}]}}",
+            r.first_step,
+            r.steps,
+            r.dim,
+            r.natoms,
+            jnum(density),
+            jnum(kt),
+            jnum(r.dt),
+            jstr(scheme),
+            jnum(s),
+            pairs_json.join(",")
+        ));
+    }
+    if a.json {
+        println!(
+            "{{\"command\":\"theory\",\"script\":{},\"runs\":[{}]}}",
+            jstr(&path.display().to_string()),
+            json_runs.join(",")
+        );
+    } else {
+        print!("{out}");
+    }
     Ok(ExitCode::SUCCESS)
 }
