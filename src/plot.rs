@@ -29,6 +29,11 @@ use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Once;
 
+/// `x > 0`, false for NaN.
+fn is_pos(x: f64) -> bool {
+    x > 0.0
+}
+
 static FONT: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 static REGISTER: Once = Once::new();
 
@@ -408,7 +413,7 @@ fn nice_step(raw: f64) -> f64 {
 
 /// Multiples of `step` in `[lo, hi]`.
 fn multiples(lo: f64, hi: f64, step: f64) -> Vec<f64> {
-    if !(step > 0.0) || !lo.is_finite() || !hi.is_finite() {
+    if !is_pos(step) || !lo.is_finite() || !hi.is_finite() {
         return Vec::new();
     }
     let start = (lo / step).ceil() as i64;

@@ -19,7 +19,12 @@
 //! t_min = t_max / 4, found by iterating from a first fit (ν is not known in advance); the
 //! window is reported. The error is the standard error over independent consecutive blocks of
 //! the run (default 10, fewer if a block would be shorter than 4 t_max), each fitted on the
-//! same window.
+//! same window. The report also gives the difference between μ fitted on the two halves of the
+//! window ([`EhReport::drift`]): when the stress correlation time is not short compared with
+//! τ_L (small boxes, slow conservative stresses) the window is still in the transient and this
+//! difference is significant; then widen the window (`window_factor`) or use a larger box.
+
+use super::is_pos;
 
 use super::corr::msd_all_origins;
 use crate::stats::{LinFit, linear_fit, variance};
@@ -92,6 +97,12 @@ pub struct EhReport {
     pub per_component: Vec<f64>,
     /// μ per block (the error is their standard error).
     pub blocks: Vec<f64>,
+    /// Linearity check: μ fitted on the second half of the window minus μ on the first half,
+    /// and its block error. Zero within errors when ⟨(∫Π)²⟩ is linear over the window; a
+    /// significant positive drift means the window is still in the transient (the stress
+    /// correlation time is not short compared with t_min).
+    pub drift: f64,
+    pub drift_err: f64,
     pub n_samples: usize,
 }
 
@@ -194,7 +205,7 @@ pub fn analyze(components: &[&[f64]], o: &EhOptions) -> Result<EhReport, String>
                 iterations = it;
                 let t_min = a.unwrap_or(o.tmin_fraction * t_max);
                 let mu = scale * fit_window(&msd, dt, t_min, t_max)?.slope;
-                if !(mu > 0.0) {
+                if !is_pos(mu) {
                     return Err(format!(
                         "Einstein–Helfand: the fitted slope on [{t_min}, {t_max}] is not \
                          positive ({mu}); the series is too short or not a stress"
@@ -238,7 +249,7 @@ pub fn analyze(components: &[&[f64]], o: &EhOptions) -> Result<EhReport, String>
     while nb > 1 && n / nb < 4 * lag_max {
         nb -= 1;
     }
-    let blocks: Vec<f64> = if nb >= 2 {
+    let block_curves: Vec<Vec<f64>> = if nb >= 2 {
         let len = n / nb;
         (0..nb)
             .map(|b| {
@@ -246,14 +257,32 @@ pub fn analyze(components: &[&[f64]], o: &EhOptions) -> Result<EhReport, String>
                     .iter()
                     .map(|c| integral_msd(&c[b * len..(b + 1) * len], dt, lag_max))
                     .collect();
-                fit_window(&average_curves(&cs), dt, t_min, t_max).map(|f| scale * f.slope)
+                average_curves(&cs)
             })
-            .collect::<Result<_, _>>()?
+            .collect()
     } else {
         Vec::new()
     };
+    let blocks: Vec<f64> = block_curves
+        .iter()
+        .map(|c| fit_window(c, dt, t_min, t_max).map(|f| scale * f.slope))
+        .collect::<Result<_, _>>()?;
     let viscosity_err = if blocks.len() >= 2 {
         (variance(&blocks) / blocks.len() as f64).sqrt()
+    } else {
+        f64::NAN
+    };
+    // Linearity check: μ from the second half of the window minus μ from the first half.
+    let t_mid = 0.5 * (t_min + t_max);
+    let halves = |c: &[f64]| -> Option<f64> {
+        let a = fit_window(c, dt, t_min, t_mid).ok()?;
+        let b = fit_window(c, dt, t_mid, t_max).ok()?;
+        Some(scale * (b.slope - a.slope))
+    };
+    let drift = halves(&msd).unwrap_or(f64::NAN);
+    let drifts: Vec<f64> = block_curves.iter().filter_map(|c| halves(c)).collect();
+    let drift_err = if drifts.len() >= 2 {
+        (variance(&drifts) / drifts.len() as f64).sqrt()
     } else {
         f64::NAN
     };
@@ -277,6 +306,8 @@ pub fn analyze(components: &[&[f64]], o: &EhOptions) -> Result<EhReport, String>
         viscosity_err,
         per_component,
         blocks,
+        drift,
+        drift_err,
         n_samples: n,
     })
 }

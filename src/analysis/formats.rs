@@ -364,12 +364,11 @@ pub fn parse_ave_time(text: &str) -> Result<AveTime, String> {
     if vector_header {
         return parse_ave_time_vector(text, true).map(AveTime::Vector);
     }
-    if scalar_cols.is_none() {
-        if let Ok(v) = parse_ave_time_vector(text, false) {
-            if !v.blocks.is_empty() {
-                return Ok(AveTime::Vector(v));
-            }
-        }
+    if scalar_cols.is_none()
+        && let Ok(v) = parse_ave_time_vector(text, false)
+        && !v.blocks.is_empty()
+    {
+        return Ok(AveTime::Vector(v));
     }
     parse_ave_time_scalar(text).map(AveTime::Scalar)
 }

@@ -7,6 +7,8 @@
 //! Counts outside the histogram range (LAMMPS's `Missing-counts`, or the end bins of
 //! `beyond extra`) form one more category whose expectation is N [1 − F(hi) + F(lo)].
 
+use super::is_pos;
+
 use super::formats::AveHisto;
 use super::special::{chi2_sf, gamma_p, kolmogorov_sf, ln_gamma};
 use crate::stats::block_average;
@@ -57,7 +59,7 @@ impl SpeedHistogram {
     /// Bins speed samples; each slice of `frames` is one block (e.g. one dump frame).
     pub fn from_samples(frames: &[Vec<f64>], edges: Vec<f64>) -> Result<Self, String> {
         let n = edges.len().saturating_sub(1);
-        if n == 0 || edges.windows(2).any(|w| !(w[1] > w[0])) {
+        if n == 0 || edges.windows(2).any(|w| !is_pos(w[1] - w[0])) {
             return Err("speed histogram: edges must increase (at least one bin)".into());
         }
         let (lo, hi) = (edges[0], edges[n]);
@@ -328,7 +330,7 @@ fn log_likelihood(counts: &[f64], outside: f64, edges: &[f64], kt: f64, o: &MbOp
 /// error. `None` when there are no counts.
 fn fit_kt(counts: &[f64], outside: f64, edges: &[f64], o: &MbOptions) -> Option<(f64, f64)> {
     let n: f64 = counts.iter().sum::<f64>();
-    if !(n > 0.0) {
+    if !is_pos(n) {
         return None;
     }
     // Start from the second moment of the bin centres: <v²> = d kT / m.
@@ -442,14 +444,14 @@ fn chi2_merged(
 /// Compares a speed histogram with the Maxwell–Boltzmann distribution at the set temperature
 /// and fits the temperature.
 pub fn analyze(h: &SpeedHistogram, o: &MbOptions) -> Result<MbReport, String> {
-    if !(o.kt > 0.0) || !(o.mass > 0.0) || !(o.dim == 2 || o.dim == 3) {
+    if !is_pos(o.kt) || !is_pos(o.mass) || !(o.dim == 2 || o.dim == 3) {
         return Err(format!(
             "Maxwell–Boltzmann: need kT > 0, m > 0 and d = 2 or 3 (got kT = {}, m = {}, d = {})",
             o.kt, o.mass, o.dim
         ));
     }
     let n = h.total();
-    if !(n > 0.0) {
+    if !is_pos(n) {
         return Err("Maxwell–Boltzmann: the histogram is empty".into());
     }
     let (p, p_out) = probabilities(&h.edges, o.kt, o);

@@ -24,3 +24,8 @@ pub mod mb;
 pub mod msd;
 pub mod nemd;
 pub mod special;
+
+/// `x > 0`, false for NaN: the check on every positive parameter.
+pub fn is_pos(x: f64) -> bool {
+    x > 0.0
+}

@@ -14,6 +14,8 @@
 //!   from 20 % to 100 % of that. The atoms are split into 8 groups (by position in id order,
 //!   i mod 8); the error is the standard error of the 8 group values of D.
 
+use super::is_pos;
+
 use super::corr::msd_all_origins;
 use crate::io::dump_read::DumpFrame;
 use crate::stats::{LinFit, linear_fit, variance};
@@ -147,7 +149,7 @@ pub fn from_trajectories(
     o: &MsdOptions,
 ) -> Result<MsdReport, String> {
     check_dim(dim)?;
-    if series.is_empty() || series.len() % dim != 0 {
+    if series.is_empty() || !series.len().is_multiple_of(dim) {
         return Err("MSD: no trajectories".into());
     }
     let n_atoms = series.len() / dim;
@@ -157,7 +159,7 @@ pub fn from_trajectories(
             "MSD: need at least 4 frames for every atom (got {frames})"
         ));
     }
-    if !(dt_frame > 0.0) {
+    if !is_pos(dt_frame) {
         return Err(format!(
             "MSD: the time between frames must be positive (got {dt_frame})"
         ));
@@ -225,15 +227,15 @@ pub fn from_trajectories(
     })
 }
 
+/// Steps of the frames, unwrapped coordinates `series[i * dim + k]`, and how they were obtained.
+pub type Unwrapped = (Vec<u64>, Vec<Vec<f64>>, String);
+
 /// Unwrapped coordinates of every atom over the frames of a dump, as `series[i * dim + k]`,
 /// with the frames' steps. Uses `xu yu zu` if present, else `x y z` with image flags
 /// `ix iy iz`, else `x y z` unwrapped by the minimum image between consecutive frames (valid
 /// only when no atom moves half a box between frames; reported in the returned note). Atoms
 /// are matched by `id` (the dump reader sorts rows by id); every frame must hold the same ids.
-pub fn unwrapped_series(
-    frames: &[DumpFrame],
-    dim: usize,
-) -> Result<(Vec<u64>, Vec<Vec<f64>>, String), String> {
+pub fn unwrapped_series(frames: &[DumpFrame], dim: usize) -> Result<Unwrapped, String> {
     check_dim(dim)?;
     let first = frames.first().ok_or("MSD: the dump has no frame")?;
     let axes = ["x", "y", "z"];
@@ -264,13 +266,13 @@ pub fn unwrapped_series(
                 f.rows.len()
             ));
         }
-        if let (Some(j), Some(j0)) = (col(f, "id"), id_col) {
-            if f.rows.iter().zip(&first.rows).any(|(a, b)| a[j] != b[j0]) {
-                return Err(format!(
-                    "MSD: step {} does not hold the same atom ids as step {}",
-                    f.step, first.step
-                ));
-            }
+        if let (Some(j), Some(j0)) = (col(f, "id"), id_col)
+            && f.rows.iter().zip(&first.rows).any(|(a, b)| a[j] != b[j0])
+        {
+            return Err(format!(
+                "MSD: step {} does not hold the same atom ids as step {}",
+                f.step, first.step
+            ));
         }
         steps.push(f.step);
         for k in 0..dim {
@@ -287,11 +289,11 @@ pub fn unwrapped_series(
                     x += r[ji] * l;
                 }
                 let s = &mut series[i * dim + k];
-                if mode == 2 {
-                    if let Some(&prev) = s.last() {
-                        let d: f64 = x - prev;
-                        x = prev + d - l * (d / l).round();
-                    }
+                if mode == 2
+                    && let Some(&prev) = s.last()
+                {
+                    let d: f64 = x - prev;
+                    x = prev + d - l * (d / l).round();
                 }
                 s.push(x);
             }

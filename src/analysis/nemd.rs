@@ -19,6 +19,8 @@
 //! combined with the error of Π_xz. Since least squares is linear in the data, the mean of the
 //! per-output slopes equals the slope of the mean profile.
 
+use super::is_pos;
+
 use super::formats::AveChunk;
 use crate::stats::{BlockEstimate, LinFit, block_average, linear_fit};
 
@@ -141,7 +143,7 @@ pub fn profiles_from_chunk(
         },
         td_source: jt.map(|_| cols.td.clone()),
     };
-    if jd.is_none() && (jn.is_none() || !(ly_lz > 0.0)) {
+    if jd.is_none() && (jn.is_none() || !is_pos(ly_lz)) {
         return Err(format!(
             "fix ave/chunk file has neither '{}' nor 'Ncount' (with the box) for the density",
             cols.density
@@ -255,7 +257,7 @@ fn wrap(v: f64, l: f64) -> f64 {
 
 /// Fits the profiles (see the module documentation).
 pub fn analyze(p: &Profiles, o: &NemdOptions) -> Result<NemdReport, String> {
-    if !(o.lx > 0.0) || !(o.fit_fraction > 0.0 && o.fit_fraction <= 1.0) {
+    if !is_pos(o.lx) || !is_pos(o.fit_fraction) || o.fit_fraction > 1.0 {
         return Err(format!(
             "NEMD: need Lx > 0 and 0 < fit fraction <= 1 (got {}, {})",
             o.lx, o.fit_fraction

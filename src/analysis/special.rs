@@ -2,6 +2,8 @@
 //! gamma functions (χ² tail probabilities and the Maxwell–Boltzmann cumulative distribution),
 //! and the Kolmogorov distribution.
 
+use super::is_pos;
+
 use std::f64::consts::PI;
 
 /// ln Γ(x) for x > 0 (Lanczos approximation, g = 7, n = 9; relative error < 1e-13).
@@ -35,7 +37,7 @@ pub fn ln_gamma(x: f64) -> f64 {
 /// Series for x < a + 1, continued fraction (modified Lentz) otherwise; relative accuracy
 /// ~1e-14. `NaN` for invalid arguments.
 pub fn gamma_p(a: f64, x: f64) -> f64 {
-    if !(a > 0.0) || x.is_nan() || x < 0.0 {
+    if !is_pos(a) || x.is_nan() || x < 0.0 {
         return f64::NAN;
     }
     if x == 0.0 {
@@ -54,7 +56,7 @@ pub fn gamma_p(a: f64, x: f64) -> f64 {
 /// The regularized upper incomplete gamma function Q(a, x) = 1 − P(a, x), computed directly in
 /// the tail (so small values keep their relative accuracy).
 pub fn gamma_q(a: f64, x: f64) -> f64 {
-    if !(a > 0.0) || x.is_nan() || x < 0.0 {
+    if !is_pos(a) || x.is_nan() || x < 0.0 {
         return f64::NAN;
     }
     if x == 0.0 {

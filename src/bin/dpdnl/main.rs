@@ -1,5 +1,6 @@
 //! `dpdnl`: the command-line front end of the standalone DPD engine and its tools.
 
+mod analyze;
 mod crosscheck;
 mod design;
 mod diff;
@@ -32,6 +33,8 @@ enum Command {
     Diff(diff::DiffArgs),
     /// Run one script in both engines (standalone and LAMMPS) and compare the results.
     Crosscheck(crosscheck::CrosscheckArgs),
+    /// Turn run outputs into the papers' numbers (MB, NEMD, Einstein–Helfand, MSD, Couette).
+    Analyze(analyze::AnalyzeArgs),
 }
 
 fn main() -> ExitCode {
@@ -48,6 +51,7 @@ fn main() -> ExitCode {
         Command::Theory(a) => design::theory_main(a),
         Command::Diff(a) => diff::main(a),
         Command::Crosscheck(a) => crosscheck::main(a),
+        Command::Analyze(a) => analyze::main(a),
     };
     match result {
         Ok(code) => code,
