@@ -5,6 +5,7 @@
 pub mod atoms;
 pub mod domain;
 pub mod forcefield;
+pub mod measure;
 pub mod neighbor;
 
 pub use atoms::Atoms;

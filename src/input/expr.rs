@@ -219,12 +219,13 @@ fn tokenize(src: &str) -> Result<Vec<Token>, String> {
                 .find(|d: char| !(d.is_ascii_alphanumeric() || d == '_'))
                 .unwrap_or(rest.len());
             // c_ID[i] and f_ID[i]: the index is part of the word.
-            if (rest.starts_with("c_") || rest.starts_with("f_")) && rest[len..].starts_with('[')
-            {
+            if (rest.starts_with("c_") || rest.starts_with("f_")) && rest[len..].starts_with('[') {
                 let close = rest[len..].find(']').map(|k| len + k);
                 let digits = close.map(|k| &rest[len + 1..k]);
                 match (close, digits) {
-                    (Some(k), Some(d)) if !d.is_empty() && d.bytes().all(|x| x.is_ascii_digit()) => {
+                    (Some(k), Some(d))
+                        if !d.is_empty() && d.bytes().all(|x| x.is_ascii_digit()) =>
+                    {
                         len = k + 1
                     }
                     _ => {
@@ -561,8 +562,7 @@ impl Formula {
                 if let Some(name) = w.strip_prefix("v_")
                     && let Some(f) = binder.atom_variable(name)
                 {
-                    let f =
-                        f.map_err(|e| format!("{} ({e})", self.err_at(*t, "variable")))?;
+                    let f = f.map_err(|e| format!("{} ({e})", self.err_at(*t, "variable")))?;
                     return Ok(match f.constant() {
                         Some(v) => Node::Num(v),
                         None => Node::Sub(Box::new(f)),
@@ -721,10 +721,9 @@ impl Formula {
         }
         match ctx.thermo(w) {
             Some(r) => r.map_err(|e| format!("{} ({e})", self.err_at(t, "thermo keyword"))),
-            None if AtomValue::from_word(w).is_some() => Err(self.err_at(
-                t,
-                "per-atom value (only atom-style variables can use it):",
-            )),
+            None if AtomValue::from_word(w).is_some() => {
+                Err(self.err_at(t, "per-atom value (only atom-style variables can use it):"))
+            }
             None => Err(self.err_at(t, "unknown word")),
         }
     }

@@ -4,9 +4,10 @@
 //! the file, the line and the command. Output (what LAMMPS prints to the screen and the log) goes
 //! to a [`Console`] supplied by the caller and to the log file.
 
-use super::expr::{ExprContext, eval_equal};
+use super::expr::{AtomBinder, ExprContext, Formula, RefKind, eval_equal};
 use super::format::{FmtArg, sprintf};
 use super::lexer::{logical_lines, split_words, strip_comment};
+use super::observe::{self, Observe, VarStyle};
 use crate::engine::{ForceField, Integrator, PexPush, SetupNote, SimBox, System};
 use crate::io::data::{DataFile, format_data, parse_data};
 use crate::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
@@ -66,6 +67,8 @@ enum Var {
     Index(String),
     Str(String),
     Equal(String),
+    /// `variable NAME atom FORMULA` (per-atom values; see `observe`).
+    Atom(String),
 }
 
 /// Commands accepted and ignored: they only matter to LAMMPS (communication, neighbour
@@ -124,6 +127,8 @@ enum FixKind {
     NveEuler,
     Enforce2d,
     Pex,
+    /// `ave/time`, `ave/chunk`, `ave/histo` (in `observe`).
+    Observe,
 }
 
 /// Run-time options from the command line.
@@ -155,6 +160,7 @@ pub struct Interpreter<'c> {
     threads: usize,
     depth: usize,
     run_first: u64,
+    obs: Observe,
 }
 
 type CmdResult = Result<(), String>;
@@ -351,6 +357,7 @@ impl<'c> Interpreter<'c> {
             threads: opts.threads.max(1),
             depth: 0,
             run_first: 0,
+            obs: Observe::new(),
         })
     }
 
@@ -451,29 +458,13 @@ impl<'c> Interpreter<'c> {
                 let v = self.eval(e)?;
                 sprintf("%.15g", &[FmtArg::Float(v)])
             }
+            Some(Var::Atom(_)) => Err(format!(
+                "variable '{name}' is atom-style: it has no single value to substitute"
+            )),
         }
     }
 
     fn eval(&self, expr: &str) -> Result<f64, String> {
-        struct Ctx<'a, 'b>(&'a Interpreter<'b>, usize);
-        impl ExprContext for Ctx<'_, '_> {
-            fn variable(&self, name: &str) -> Result<f64, String> {
-                if self.1 > 64 {
-                    return Err(format!("variable '{name}' refers to itself"));
-                }
-                match self.0.vars.get(name) {
-                    None => Err(format!("variable '{name}' is not defined")),
-                    Some(Var::Index(s)) | Some(Var::Str(s)) => s
-                        .trim()
-                        .parse::<f64>()
-                        .map_err(|_| format!("variable '{name}' = '{s}' is not a number")),
-                    Some(Var::Equal(e)) => eval_equal(e, &Ctx(self.0, self.1 + 1)),
-                }
-            }
-            fn thermo(&self, keyword: &str) -> Option<Result<f64, String>> {
-                self.0.thermo_value(keyword)
-            }
-        }
         eval_equal(expr, &Ctx(self, 0))
     }
 
@@ -554,15 +545,18 @@ impl<'c> Interpreter<'c> {
         if let Some(name) = kw.strip_prefix("v_") {
             return Some(self.eval(&format!("v_{name}")));
         }
-        if let Some(id) = kw.strip_prefix("f_") {
-            let sys = self.sys.as_ref()?;
-            return Some(
-                sys.pex
-                    .iter()
-                    .find(|p| p.id == id)
-                    .map(|p| p.total)
-                    .ok_or_else(|| format!("fix '{id}' has no scalar (only pex/push fixes do)")),
-            );
+        if let Some(r) = observe::split_reference(kw) {
+            return Some(r.and_then(|(kind, id, index)| {
+                let v = self.obs.reference(kind, id, index, self)?;
+                let n = self.sys.as_ref().map_or(0, |s| s.atoms.len());
+                Ok(
+                    if self.thermo.norm && n > 0 && self.obs.extensive(kind, id, index) {
+                        v / n as f64
+                    } else {
+                        v
+                    },
+                )
+            }));
         }
         let no_box = || Some(Err(format!("thermo keyword '{kw}' needs a simulation box")));
         let Some(sys) = self.sys.as_ref() else {
@@ -778,15 +772,30 @@ impl<'c> Interpreter<'c> {
                     .iter()
                     .position(|(id, _)| id == &args[0])
                     .ok_or_else(|| format!("no fix with ID '{}'", args[0]))?;
+                if let Some(user) = self.obs.fix_user(&args[0]) {
+                    return Err(format!("fix '{}' is used by fix '{user}'", args[0]));
+                }
                 let (id, kind) = self.fixes.remove(pos);
                 if let Some(sys) = self.sys.as_mut() {
                     match kind {
                         FixKind::Nve | FixKind::NveEuler => sys.integrator = None,
                         FixKind::Pex => sys.pex.retain(|p| p.id != id),
                         FixKind::Enforce2d => {}
+                        FixKind::Observe => {
+                            self.obs.unfix(&id);
+                        }
                     }
                 }
                 Ok(())
+            }
+            "compute" => {
+                let c = Observe::parse_compute(args, &*self)?;
+                self.obs.add_compute(c);
+                Ok(())
+            }
+            "uncompute" => {
+                need(args, 1, "uncompute ID")?;
+                self.obs.uncompute(&args[0])
             }
             "thermo" => {
                 need(args, 1, "thermo N")?;
@@ -905,9 +914,15 @@ impl<'c> Interpreter<'c> {
                 need(args, 3, "variable NAME equal FORMULA")?;
                 self.vars.insert(name, Var::Equal(args[2..].join(" ")));
             }
+            "atom" => {
+                need(args, 3, "variable NAME atom FORMULA")?;
+                let f = args[2..].join(" ");
+                Formula::parse(&f)?;
+                self.vars.insert(name, Var::Atom(f));
+            }
             o => {
                 return Err(format!(
-                    "variable style '{o}' not supported (index, string, equal, delete)"
+                    "variable style '{o}' not supported (index, string, equal, atom, delete)"
                 ));
             }
         }
@@ -1447,7 +1462,7 @@ impl<'c> Interpreter<'c> {
     }
 
     fn cmd_fix(&mut self, args: &[String]) -> CmdResult {
-        let usage = "fix ID all nve | nve/euler | enforce2d | pex/push DP [width W] [every N]";
+        let usage = "fix ID all nve | nve/euler | enforce2d | pex/push DP [width W] [every N] | ave/time … | ave/chunk … | ave/histo …";
         need(args, 3, usage)?;
         if args[1] != "all" {
             return Err(format!("group '{}' not supported: only 'all'", args[1]));
@@ -1455,6 +1470,12 @@ impl<'c> Interpreter<'c> {
         let id = args[0].clone();
         if self.fixes.iter().any(|(i, _)| i == &id) {
             return Err(format!("fix ID '{id}' already exists (unfix it first)"));
+        }
+        if matches!(args[2].as_str(), "ave/time" | "ave/chunk" | "ave/histo") {
+            let f = Observe::parse_fix(args, &*self)?;
+            self.obs.add_fix(f);
+            self.fixes.push((id, FixKind::Observe));
+            return Ok(());
         }
         let dim = self.dim;
         let sys = self.sys_mut()?;
@@ -1535,6 +1556,7 @@ impl<'c> Interpreter<'c> {
                 for kw in &args[1..] {
                     let known = kw.starts_with("v_")
                         || kw.starts_with("f_")
+                        || kw.starts_with("c_")
                         || matches!(
                             kw.as_str(),
                             "step"
@@ -1806,6 +1828,31 @@ impl<'c> Interpreter<'c> {
         Ok(())
     }
 
+    /// LAMMPS `end_of_step` (and, at `setup`, the fixes' set-up call): PeX pushes and
+    /// measurements in the order the fixes were defined.
+    fn end_of_step(&mut self, setup: bool) -> CmdResult {
+        for k in 0..self.fixes.len() {
+            let (id, kind) = &self.fixes[k];
+            match kind {
+                FixKind::Pex if !setup => {
+                    let id = id.clone();
+                    let sys = self.sys_mut()?;
+                    if let Some(p) = sys.pex.iter().position(|p| p.id == id) {
+                        sys.apply_pex_push(p);
+                    }
+                }
+                FixKind::Observe => {
+                    if let Some(sample) = self.obs.sample(id, &*self)? {
+                        let (id, step) = (id.clone(), self.sys_mut()?.step);
+                        self.obs.accumulate(&id, sample, step)?;
+                    }
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
     fn cmd_run(&mut self, args: &[String]) -> CmdResult {
         need(args, 1, "run N [upto] [pre yes|no] [post yes|no]")?;
         let mut n: u64 = parse_int(&args[0], "number of steps")?;
@@ -1855,6 +1902,8 @@ impl<'c> Interpreter<'c> {
             _ => "velocity-Verlet (nve)",
         };
         self.out(&format!("Setting up {scheme} run ...\n  Unit style    : lj\n  Current step  : {first}\n  Time step     : {dt}"));
+        self.obs.init(first);
+        self.end_of_step(true)?;
         let header = self.thermo_header_line();
         self.out(&header);
         let row = self.thermo_row()?;
@@ -1863,10 +1912,18 @@ impl<'c> Interpreter<'c> {
         let every = self.thermo.every;
         let start = Instant::now();
         let mut last_progress = Instant::now();
+        let measuring = self.obs.has_fixes();
         for _ in 0..n {
             let sys = self.sys_mut()?;
-            sys.step_once();
+            if measuring {
+                sys.advance();
+            } else {
+                sys.step_once();
+            }
             let step = sys.step;
+            if measuring {
+                self.end_of_step(false)?;
+            }
             if (every > 0 && step % every == 0) || step == last {
                 let row = self.thermo_row()?;
                 self.out(&row);
@@ -1906,5 +1963,80 @@ impl Interpreter<'_> {
     /// Consume the interpreter, returning the system (if a box was created).
     pub fn into_system(self) -> Option<System> {
         self.sys
+    }
+}
+
+/// The formula context of an interpreter: variables, thermo keywords, computes and fixes;
+/// the depth guards against variables that refer to themselves.
+struct Ctx<'a, 'b>(&'a Interpreter<'b>, usize);
+
+impl ExprContext for Ctx<'_, '_> {
+    fn variable(&self, name: &str) -> Result<f64, String> {
+        if self.1 > 64 {
+            return Err(format!("variable '{name}' refers to itself"));
+        }
+        match self.0.vars.get(name) {
+            None => Err(format!("variable '{name}' is not defined")),
+            Some(Var::Index(s)) | Some(Var::Str(s)) => s
+                .trim()
+                .parse::<f64>()
+                .map_err(|_| format!("variable '{name}' = '{s}' is not a number")),
+            Some(Var::Equal(e)) => eval_equal(e, &Ctx(self.0, self.1 + 1)),
+            Some(Var::Atom(_)) => Err(format!(
+                "variable '{name}' is atom-style: not usable in an equal-style formula"
+            )),
+        }
+    }
+    fn thermo(&self, keyword: &str) -> Option<Result<f64, String>> {
+        self.0.thermo_value(keyword)
+    }
+    fn reference(
+        &self,
+        kind: RefKind,
+        id: &str,
+        index: Option<usize>,
+    ) -> Option<Result<f64, String>> {
+        Some(self.0.obs.reference(kind, id, index, self.0))
+    }
+}
+
+impl AtomBinder for Ctx<'_, '_> {
+    fn atom_variable(&self, name: &str) -> Option<Result<Formula, String>> {
+        let Some(Var::Atom(src)) = self.0.vars.get(name) else {
+            return None;
+        };
+        if self.1 > 64 {
+            return Some(Err(format!("variable '{name}' refers to itself")));
+        }
+        let inner = Ctx(self.0, self.1 + 1);
+        Some(Formula::parse(src).and_then(|f| f.bind_atoms(&inner, &inner)))
+    }
+}
+
+impl observe::Env for Interpreter<'_> {
+    fn system(&self) -> Option<&System> {
+        self.sys.as_ref()
+    }
+    fn observe(&self) -> &Observe {
+        &self.obs
+    }
+    fn var_style(&self, name: &str) -> VarStyle {
+        match self.vars.get(name) {
+            None => VarStyle::Undefined,
+            Some(Var::Equal(_)) => VarStyle::Equal,
+            Some(Var::Atom(_)) => VarStyle::Atom,
+            Some(_) => VarStyle::Other,
+        }
+    }
+    fn equal_variable(&self, name: &str) -> Result<f64, String> {
+        Ctx(self, 0).variable(name)
+    }
+    fn atom_variable(&self, name: &str) -> Result<Vec<f64>, String> {
+        let sys = self.sys.as_ref().ok_or("needs a simulation box")?;
+        let f = Ctx(self, 0)
+            .atom_variable(name)
+            .ok_or_else(|| format!("variable '{name}' is not an atom-style variable"))??;
+        crate::engine::measure::eval_atoms(&f, sys)
+            .map_err(|e| format!("atom-style variable '{name}': {e}"))
     }
 }
