@@ -367,6 +367,55 @@ fn pex_stress_from_pushed_total() {
     assert!(err < 1e-12);
 }
 
+#[test]
+fn nemd_on_a_lammps_pex_run() {
+    // build/lmp_dpdnl, tests/data/analysis/in.nemd: standard DPD (a = 25, γ = 4.5, kT = 1,
+    // n = 3, δt = 0.01), box 10 × 5 × 5 centred on 0, Δp_z = 0.2 every step, 46 profiles after
+    // 10⁴ steps. Π_xz from the pushed total must equal eq. 55's nominal value (no empty slab in
+    // a dense fluid). The viscosity must lie in the band set by the independent equilibrium
+    // measurement of the same fluid (Einstein–Helfand, in.eq, 10⁵ steps: 0.84 ± 0.04 on a
+    // window up to L²/(4π²ν)), i.e. within ±2σ of it: [0.76, 0.92] (docs/analysis.md).
+    let chunk = parse_ave_chunk(&data("pex.ave_chunk")).expect("parse");
+    let p = nemd::profiles_from_chunk(&chunk, &nemd::NemdColumns::default(), 0, 25.0)
+        .expect("profiles");
+    assert_eq!(p.steps.len(), 46);
+    let push = parse_series(&data("pex_push.ave_time")).expect("push");
+    let (pi, _) = nemd::pex_stress_from_total(
+        &push.steps,
+        push.column("f_push").expect("f_push"),
+        0.01,
+        5.0,
+        5.0,
+    )
+    .expect("stress");
+    let nominal = nemd::pex_stress_nominal(0.2, 1, 0.01, 5.0, 5.0);
+    assert!((pi - nominal).abs() < 1e-9 * nominal, "{pi} vs {nominal}");
+    let o = nemd::NemdOptions {
+        xlo: -5.0,
+        lx: 10.0,
+        stress: pi,
+        stress_err: 0.0,
+        fit_fraction: 0.5,
+    };
+    let r = nemd::analyze(&p, &o).expect("analyze");
+    assert!(r.halves[0].slope.mean < 0.0 && r.halves[1].slope.mean > 0.0);
+    assert!(
+        r.viscosity > 0.76 && r.viscosity < 0.92,
+        "mu = {} ± {}",
+        r.viscosity,
+        r.viscosity_err
+    );
+    // The two halves agree within their errors (symmetry of the set-up).
+    let (a, b) = (&r.halves[0].slope, &r.halves[1].slope);
+    assert!((a.mean + b.mean).abs() < 3.0 * (a.stderr.powi(2) + b.stderr.powi(2)).sqrt());
+    let td = r.td_centre.expect("v_td column");
+    assert!(
+        td.mean > 1.0 && td.mean < 1.05,
+        "viscous heating is small at this rate: {}",
+        td.mean
+    );
+}
+
 // ------------------------------------------------------------------ Einstein–Helfand
 
 /// Ornstein–Uhlenbeck series (exact update) of variance s2 and correlation time tau.

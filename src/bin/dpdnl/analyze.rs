@@ -216,6 +216,10 @@ pub struct CouetteArgs {
     pub v_col: String,
     #[arg(long, default_value = "Coord1")]
     pub y_col: String,
+    /// Multiply the profile coordinate by this (the box length L_y when the chunks use
+    /// `units reduced`, which LAMMPS requires for triclinic boxes).
+    #[arg(long, default_value_t = 1.0)]
+    pub y_scale: f64,
     /// Use only samples/outputs at or after this step.
     #[arg(long, default_value_t = 0)]
     pub from: u64,
@@ -331,7 +335,7 @@ fn save_plot(
 }
 
 fn pm(v: f64, e: f64) -> String {
-    if e.is_finite() && e > 0.0 {
+    if e.is_finite() && e > 1e-9 * v.abs() {
         // Two significant digits of the error.
         let digits = (1 - e.log10().floor() as i32).clamp(0, 12) as usize;
         format!("{v:.digits$} ± {e:.digits$}")
@@ -1175,10 +1179,17 @@ fn run_couette(a: CouetteArgs) -> Result<(), String> {
     let profile = match &a.profile {
         Some(p) => {
             let chunk = in_file(p, parse_ave_chunk(&read(p)?))?;
-            Some(in_file(
+            if !is_pos(a.y_scale) {
+                return Err(format!("--y-scale must be positive (got {})", a.y_scale));
+            }
+            let mut r = in_file(
                 p,
                 couette::rate_from_profile(&chunk, &a.y_col, &a.v_col, a.from),
-            )?)
+            )?;
+            r.y.iter_mut().for_each(|y| *y *= a.y_scale);
+            r.rate.mean /= a.y_scale;
+            r.rate.stderr /= a.y_scale;
+            Some(r)
         }
         None => None,
     };
