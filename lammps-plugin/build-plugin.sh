@@ -54,8 +54,14 @@ fi
 [ -f "$LAMMPS_INC/pair.h" ] || die "$LAMMPS_INC/pair.h not found (PLUGIN_LAMMPS_INC must hold the LAMMPS headers)"
 [ -n "$DEFS" ] || DEFS="-DLAMMPS_SMALLBIG"
 
-# Rust C ABI (the same static library as build/lmp_dpdnl; position-independent on Linux).
-cargo build --release -p dpdnl-capi --target-dir "$BUILD/cargo"
+# Rust C ABI: the same static library as build/lmp_dpdnl (position-independent on Linux),
+# always under the repository's build/cargo, also when BUILD puts the plugin elsewhere.
+# CAPI=path links an existing libdpdnl_capi.a instead (no cargo run).
+if [ -z "${CAPI:-}" ]; then
+  cargo build --release -p dpdnl-capi --target-dir "$ROOT/build/cargo"
+  CAPI="$ROOT/build/cargo/release/libdpdnl_capi.a"
+fi
+[ -f "$CAPI" ] || die "$CAPI not found"
 
 # Objects compiled with other flags (another LAMMPS, another MPI) must not be reused.
 flags="$LAMMPS_INC|$MPI_INC|$DEFS|$VERSION|${PLUGIN_CXX:-g++}"
@@ -67,6 +73,7 @@ if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$flags" ]; then
 fi
 
 make -C "$ROOT/lammps-plugin" -j"${JOBS:-2}" plugin BUILD="$BUILD" \
+  CAPI="$CAPI" \
   PLUGIN_CXX="${PLUGIN_CXX:-g++}" PLUGIN_LAMMPS_INC="$LAMMPS_INC" PLUGIN_MPI_INC="$MPI_INC" \
   PLUGIN_DEFS="$DEFS" PLUGIN_VERSION="$VERSION"
 echo "built $BUILD/dpdnlplugin.so (LAMMPS headers: $LAMMPS_INC${VERSION:+, version $VERSION}; mpi.h: ${MPI_INC:-compiler default})"
