@@ -103,3 +103,182 @@ impl SimBox {
         ]
     }
 }
+
+/// Lees–Edwards "sliding brick" boundaries for planar Couette flow (MODELS §6; weighting-function
+/// paper §5): flow along x, gradient along y. The periodic image at +L_y is displaced by
+/// `offset` along x and moves with velocity +γ̇ L_y along x (the image at −L_y by −offset and
+/// −γ̇ L_y). Equivalent to LAMMPS's `fix deform … xy erate γ̇ remap v` on a tilted box, in the
+/// orthogonal-box form. Geometry only: the pair loop does not use it yet.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LeesEdwards {
+    /// Shear rate γ̇ = ∂v_x/∂y.
+    pub rate: f64,
+    /// Current x displacement of the +L_y image, in [0, L_x).
+    pub offset: f64,
+}
+
+impl LeesEdwards {
+    /// No displacement yet (t = 0).
+    pub fn new(rate: f64) -> LeesEdwards {
+        LeesEdwards { rate, offset: 0.0 }
+    }
+
+    /// The velocity jump γ̇ L_y of the +L_y image.
+    pub fn jump(&self, bx: &SimBox) -> f64 {
+        self.rate * bx.len[1]
+    }
+
+    /// Advance the image displacement by γ̇ L_y δt, kept in [0, L_x).
+    pub fn advance(&mut self, bx: &SimBox, dt: f64) {
+        let lx = bx.len[0];
+        self.offset = (self.offset + self.jump(bx) * dt).rem_euclid(lx);
+        if self.offset >= lx {
+            self.offset = 0.0;
+        }
+    }
+}
+
+impl SimBox {
+    /// The minimum image of r_ij = r_i − r_j under Lees–Edwards boundaries, and the velocity
+    /// correction Δv_x to add to v_ij = v_i − v_j (MODELS notation: "under Lees–Edwards include
+    /// the boundary velocity jump"). When the nearest image of j lies n_y boxes away along y,
+    /// r_ij.x also shifts by −n_y·offset and Δv_x = −n_y γ̇ L_y. Exactly antisymmetric, like
+    /// [`SimBox::min_image`]: the pair (j, i) gets −r_ij and −Δv_x. In 2-D z is left alone.
+    #[inline]
+    pub fn min_image_le(&self, mut d: [f64; 3], le: &LeesEdwards) -> ([f64; 3], f64) {
+        let round = |y: f64| (y + 0.5f64.copysign(y)) as i64 as f64;
+        let ny = round(d[1] * self.inv_len[1]);
+        d[1] -= self.len[1] * ny;
+        d[0] -= le.offset * ny;
+        d[0] -= self.len[0] * round(d[0] * self.inv_len[0]);
+        if self.dim == 3 {
+            d[2] -= self.len[2] * round(d[2] * self.inv_len[2]);
+        }
+        (d, -ny * le.jump(self))
+    }
+
+    /// Map a position back into the box under Lees–Edwards boundaries: crossing y_hi (y_lo)
+    /// moves the atom by −offset (+offset) along x and changes v_x by −γ̇ L_y (+γ̇ L_y), so it
+    /// re-enters with the velocity of the image it becomes; then x and z wrap periodically.
+    /// `image` counts the y and z crossings; x crossings are not counted (an unwrapped x has no
+    /// meaning in the sheared frame).
+    pub fn wrap_le(
+        &self,
+        x: &mut [f64; 3],
+        v: &mut [f64; 3],
+        image: &mut [i32; 3],
+        le: &LeesEdwards,
+    ) {
+        let ny = ((x[1] - self.lo[1]) * self.inv_len[1]).floor();
+        if ny != 0.0 {
+            x[1] -= ny * self.len[1];
+            x[0] -= ny * le.offset;
+            v[0] -= ny * le.jump(self);
+            image[1] += ny as i32;
+            // Round-off can leave y == hi: that point is the image of lo, one more crossing.
+            if x[1] >= self.hi[1] {
+                x[1] = self.lo[1];
+                x[0] -= le.offset;
+                v[0] -= le.jump(self);
+                image[1] += 1;
+            }
+        }
+        let mut im = [0; 3];
+        let mut y = *x;
+        self.wrap(&mut y, &mut im);
+        x[0] = y[0];
+        if self.dim == 3 {
+            x[2] = y[2];
+            image[2] += im[2];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bx() -> SimBox {
+        SimBox::new(3, [0.0, -2.0, 0.0], [6.0, 2.0, 5.0]).unwrap()
+    }
+
+    #[test]
+    fn zero_shear_is_the_periodic_minimum_image() {
+        let b = bx();
+        let le = LeesEdwards::new(0.0);
+        for d in [[2.9, 1.9, -2.4], [-5.5, 3.1, 4.9], [0.1, -3.9, 0.2]] {
+            let (m, dv) = b.min_image_le(d, &le);
+            assert_eq!(m, b.min_image(d));
+            assert_eq!(dv, 0.0);
+        }
+    }
+
+    #[test]
+    fn sliding_image_offset_and_velocity_jump() {
+        let b = bx();
+        let mut le = LeesEdwards::new(0.5);
+        le.advance(&b, 1.5); // offset = γ̇ L_y t = 0.5 · 4 · 1.5 = 3
+        assert_eq!(le.offset, 3.0);
+        assert_eq!(le.jump(&b), 2.0);
+        // i near the top, j near the bottom: j's nearest image is the one at +L_y, displaced
+        // by +3 in x and moving with +2 in x.
+        let ri = [1.0, 1.8, 1.0];
+        let rj = [4.2, -1.9, 1.0];
+        let d = [ri[0] - rj[0], ri[1] - rj[1], ri[2] - rj[2]];
+        let (m, dv) = b.min_image_le(d, &le);
+        let image_j = [rj[0] + 3.0, rj[1] + 4.0, rj[2]];
+        let want = b.min_image([ri[0] - image_j[0], ri[1] - image_j[1], 0.0]);
+        assert!(
+            (m[0] - want[0]).abs() < 1e-12 && (m[1] - want[1]).abs() < 1e-12,
+            "{m:?}"
+        );
+        assert!((m[1] - -0.3).abs() < 1e-12);
+        assert_eq!(dv, -2.0, "v_ij = v_i - (v_j + 2)");
+    }
+
+    #[test]
+    fn antisymmetric_to_the_last_bit() {
+        let b = bx();
+        let mut le = LeesEdwards::new(0.37);
+        le.advance(&b, 2.71);
+        let mut s: u64 = 0x9e37_79b9_7f4a_7c15;
+        for _ in 0..10_000 {
+            let mut d = [0.0; 3];
+            for c in d.iter_mut() {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                *c = (s % 2_000_000) as f64 / 100_000.0 - 10.0;
+            }
+            let (a, dva) = b.min_image_le(d, &le);
+            let (m, dvm) = b.min_image_le([-d[0], -d[1], -d[2]], &le);
+            assert_eq!([-a[0], -a[1], -a[2]], m, "{d:?}");
+            assert_eq!(-dva, dvm);
+            assert!(a[0].abs() <= 3.0 + 1e-12 && a[1].abs() <= 2.0 + 1e-12);
+        }
+    }
+
+    #[test]
+    fn wrapping_keeps_pair_geometry_and_relative_velocity() {
+        // An atom leaving through the top re-enters at the bottom shifted by −offset, with
+        // v_x − γ̇L_y: its separation and relative velocity to any other atom are unchanged.
+        let b = bx();
+        let mut le = LeesEdwards::new(0.8);
+        le.advance(&b, 0.9);
+        let (mut x, mut v, mut im) = ([5.5, 2.3, 4.9], [0.2, 0.1, -0.3], [0; 3]);
+        let (xj, vj) = ([1.0, 1.5, 0.5], [0.0, 0.0, 0.0]);
+        let sep = |x: [f64; 3], v: [f64; 3]| {
+            let (d, dv) = b.min_image_le([x[0] - xj[0], x[1] - xj[1], x[2] - xj[2]], &le);
+            (d, v[0] - vj[0] + dv)
+        };
+        let (d0, w0) = sep(x, v);
+        b.wrap_le(&mut x, &mut v, &mut im, &le);
+        assert!((b.lo[1]..b.hi[1]).contains(&x[1]) && (0.0..6.0).contains(&x[0]));
+        assert_eq!(im[1], 1);
+        let (d1, w1) = sep(x, v);
+        for k in 0..3 {
+            assert!((d0[k] - d1[k]).abs() < 1e-12, "{d0:?} vs {d1:?}");
+        }
+        assert!((w0 - w1).abs() < 1e-12, "{w0} vs {w1}");
+    }
+}
