@@ -22,6 +22,7 @@
 
 #include <cstring>
 #include <string>
+#include <vector>
 
 using namespace LAMMPS_NS;
 
@@ -68,16 +69,20 @@ std::string incompatibility(LAMMPS *lmp)
   if (!compiled.empty() && utils::date2num(compiled) != lmp->num_ver)
     return "it was compiled against the headers of LAMMPS " + compiled + " but this is LAMMPS " +
         lmp->version + ": rebuild it against this LAMMPS (docs/plugin.md)";
-  char library[MPI_MAX_LIBRARY_VERSION_STRING] = {0};
+  // Larger than any MPI's MPI_MAX_LIBRARY_VERSION_STRING (MPICH 8192, Open MPI 256): with a
+  // mismatched mpi.h, this header's constant is not the running library's. Only members that
+  // precede LAMMPS::world (whose size depends on the MPI ABI) are read before this check.
+  std::vector<char> library(1 << 16, '\0');
   int len = 0;
-  MPI_Get_library_version(library, &len);
-  const bool host_openmpi = std::strstr(library, "Open MPI") != nullptr;
+  MPI_Get_library_version(library.data(), &len);
+  library.back() = '\0';
+  const bool host_openmpi = std::strstr(library.data(), "Open MPI") != nullptr;
   const std::string mpi = COMPILED_MPI;
   // Intel MPI, MVAPICH, Cray MPICH share the MPICH ABI without saying "MPICH": only the
   // Open MPI / MPICH-ABI split is checked.
   if ((mpi == "MPICH" && host_openmpi) || (mpi == "Open MPI" && !host_openmpi))
     return "it was compiled with " + mpi + "'s mpi.h but LAMMPS runs on " +
-        std::string(library, strnlen(library, sizeof(library))).substr(0, 60) +
+        std::string(library.data()).substr(0, 60) +
         ": rebuild it with the MPI this LAMMPS was built with (docs/plugin.md)";
   return "";
 }
