@@ -110,8 +110,9 @@ impl SpeedHistogram {
     /// with `ave one` are independent blocks and are summed; `ave running` (recognised by
     /// counts that never decrease from one output to the next) is cumulative, so the last
     /// output is the pooled histogram and the differences between outputs are the blocks.
-    /// `beyond end` cannot be recognised from the file and must not be used.
-    pub fn from_ave_histo(h: &AveHisto) -> Result<Self, String> {
+    /// `beyond end` cannot be recognised from the file and must not be used. Blocks of outputs
+    /// before `from_step` are left out (for `ave running`, after taking the differences).
+    pub fn from_ave_histo(h: &AveHisto, from_step: u64) -> Result<Self, String> {
         let first = h.blocks.first().ok_or("fix ave/histo file has no output")?;
         let c = &first.coord;
         let n = c.len();
@@ -196,6 +197,16 @@ impl SpeedHistogram {
                 format!("{} independent outputs (ave one)", outputs.len()),
             )
         };
+        let steps: Vec<u64> = h.blocks.iter().map(|b| b.step).collect();
+        let blocks: Vec<(Vec<f64>, f64)> = blocks
+            .into_iter()
+            .zip(&steps)
+            .filter(|(_, s)| **s >= from_step)
+            .map(|(b, _)| b)
+            .collect();
+        if blocks.is_empty() {
+            return Err(format!("fix ave/histo: no output at step >= {from_step}"));
+        }
         let nb = edges.len() - 1;
         let mut counts = vec![0.0; nb];
         let mut outside = 0.0;

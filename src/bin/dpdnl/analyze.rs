@@ -67,7 +67,7 @@ pub struct MbArgs {
     /// Dumps: upper end of the histogram (default 2·sqrt(10 kT/m), i.e. the paper's 2 at kT = 0.1).
     #[arg(long)]
     pub vmax: Option<f64>,
-    /// Dumps: skip frames before this step.
+    /// Skip dump frames and histogram outputs before this step.
     #[arg(long, default_value_t = 0)]
     pub from: u64,
     #[command(flatten)]
@@ -411,7 +411,7 @@ fn run_mb(a: MbArgs) -> Result<(), String> {
         match detect(&text) {
             FileKind::AveHisto => {
                 let h = in_file(f, parse_ave_histo(&text))?;
-                let h = in_file(f, mb::SpeedHistogram::from_ave_histo(&h))?;
+                let h = in_file(f, mb::SpeedHistogram::from_ave_histo(&h, a.from))?;
                 hist = Some(match hist {
                     None => h,
                     Some(mut acc) => {
@@ -586,7 +586,13 @@ fn run_mb(a: MbArgs) -> Result<(), String> {
             curve(r.kt_fit),
         ));
     let p2 = Panel::new(
-        &format!("χ² = {:.1} / {} dof, p = {:.2e}", r.chi2, r.dof, r.p_value),
+        &match r.p_value_corrected {
+            Some(pc) => format!(
+                "χ² = {:.1} / {} dof, p = {:.2e} (corrected for correlation: {:.2e})",
+                r.chi2, r.dof, r.p_value, pc
+            ),
+            None => format!("χ² = {:.1} / {} dof, p = {:.2e}", r.chi2, r.dof, r.p_value),
+        },
         "speed v",
         "(measured − MB) / error",
     )
