@@ -146,6 +146,30 @@ fn ave_histo_one_and_running_extra_agree() {
 }
 
 #[test]
+fn ave_histo_limits_come_back_from_six_digit_centres() {
+    // 150 bins on [0, 2] (the paper's histogram): LAMMPS prints the centres with %g (six
+    // significant digits), e.g. 0.00666667 and 1.99333; the limits must come back as 0 and 2.
+    let g6 = |v: f64| format!("{}", format!("{v:.5e}").parse::<f64>().expect("number"));
+    let mut s = String::from(
+        "# Histogrammed data for fix h\n# TimeStep Number-of-bins Total-counts Missing-counts \
+         Min-value Max-value\n# Bin Coord Count Count/Total\n100 150 150 0 0.01 1.99\n",
+    );
+    for i in 0..150 {
+        let _ = writeln!(
+            s,
+            "{} {} 1 {}",
+            i + 1,
+            g6((i as f64 + 0.5) * 2.0 / 150.0),
+            g6(1.0 / 150.0)
+        );
+    }
+    let h = mb::SpeedHistogram::from_ave_histo(&parse_ave_histo(&s).expect("parse"), 0)
+        .expect("histogram");
+    assert_eq!((h.edges[0], h.edges[150]), (0.0, 2.0));
+    assert!((h.edges[75] - 1.0).abs() < 1e-15);
+}
+
+#[test]
 fn format_errors_name_line_and_token() {
     let bad = data("prof.ave_chunk").replacen("0.327718", "0.32x7718", 1);
     let e = parse_ave_chunk(&bad).expect_err("bad number");

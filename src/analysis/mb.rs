@@ -144,21 +144,26 @@ impl SpeedHistogram {
                 close(c[1] - c[0], 0.5 * d, d) && close(c[n - 1] - c[n - 2], 0.5 * d, d)
             });
         let (inner, edges) = if extra {
-            let d = uniform(1, n - 2).unwrap_or(1.0);
+            let scale = c[0].abs().max(c[n - 1].abs());
             (
                 1..n - 1,
-                uniform_edges(c[0], c[n - 1], n - 2)
-                    .into_iter()
-                    .map(|e| snap(e, d))
-                    .collect(),
+                uniform_edges(
+                    round_printed(c[0], scale),
+                    round_printed(c[n - 1], scale),
+                    n - 2,
+                ),
             )
         } else {
             let d = uniform(0, n - 1).ok_or(
                 "fix ave/histo: bin centres are not uniformly spaced (only linear bins are \
                  supported)",
             )?;
-            let lo = snap(c[0] - 0.5 * d, d);
-            (0..n, uniform_edges(lo, lo + n as f64 * d, n))
+            let (lo, hi) = (c[0] - 0.5 * d, c[n - 1] + 0.5 * d);
+            let scale = lo.abs().max(hi.abs());
+            (
+                0..n,
+                uniform_edges(round_printed(lo, scale), round_printed(hi, scale), n),
+            )
         };
         let split = |b: &super::formats::HistoBlock| -> (Vec<f64>, f64) {
             let counts: Vec<f64> = b.count[inner.clone()].to_vec();
@@ -235,15 +240,15 @@ impl SpeedHistogram {
     }
 }
 
-/// Rounds an edge printed with six significant digits back to a multiple of the bin width
-/// when it is within 1e-4 bin widths of one (so 0.0 stays 0.0).
-fn snap(e: f64, d: f64) -> f64 {
-    let k = (e / d).round();
-    if (e - k * d).abs() <= 1e-4 * d {
-        k * d
-    } else {
-        e
+/// Rounds a histogram limit rebuilt from bin centres that LAMMPS prints with six significant
+/// digits (`%g`) to six significant digits of the histogram's scale, so the limits given in
+/// the script (0 and 2, not -1e-8 and 1.9999966) come back.
+fn round_printed(v: f64, scale: f64) -> f64 {
+    if !is_pos(scale) || !scale.is_finite() {
+        return v;
     }
+    let q = 10f64.powi(scale.log10().floor() as i32 - 5);
+    (v / q).round() * q
 }
 
 /// Parameters of the comparison.
