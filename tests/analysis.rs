@@ -480,7 +480,7 @@ fn einstein_helfand_recovers_the_ou_integral() {
     let (dt, tau) = (0.01, 0.05);
     let n = 1 << 18;
     let comps: Vec<Vec<f64>> = (0..3).map(|c| ou(100 + c, n, dt, tau, 1.0)).collect();
-    let rho = (-dt / tau as f64).exp();
+    let rho = (-dt / tau).exp();
     let exact = dt * (1.0 + rho) / (1.0 - rho);
     let (volume, kt) = (2.0, 1.0);
     // τ_L = L² ρ_m / (4π² μ) = 10 → L² ρ_m = 40 π² μ.

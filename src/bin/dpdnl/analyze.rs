@@ -630,10 +630,10 @@ fn frame_speeds(f: &DumpFrame, dim: Option<usize>) -> Result<(Vec<f64>, usize), 
             .iter()
             .map(|r| {
                 let mut s = r[jx] * r[jx] + r[jy] * r[jy];
-                if d == 3 {
-                    if let Some(j) = jz {
-                        s += r[j] * r[j];
-                    }
+                if d == 3
+                    && let Some(j) = jz
+                {
+                    s += r[j] * r[j];
                 }
                 s.sqrt()
             })
@@ -1291,9 +1291,11 @@ fn run_couette(a: CouetteArgs) -> Result<(), String> {
 
 // ---------------------------------------------------------------- flow curve
 
+/// (shear rate, viscosity, its error).
+type FlowPoint = (f64, f64, f64);
+
 fn run_flow(a: FlowArgs) -> Result<(), String> {
-    // label -> (rate, eta, eta_err)
-    let mut groups: Vec<(String, Vec<(f64, f64, f64)>)> = Vec::new();
+    let mut groups: Vec<(String, Vec<FlowPoint>)> = Vec::new();
     let mut add = |label: String, p: (f64, f64, f64)| match groups.iter_mut().find(|g| g.0 == label)
     {
         Some(g) => g.1.push(p),
