@@ -1,0 +1,97 @@
+#!/usr/bin/env bash
+# Validation against the non-linear paper (3-D ideal DPD, n = 16, kT = 0.1, gamma0 = 5, gamma1 = 1).
+#
+#   validation/nonlinear/run.sh eq      # MB check + Einstein-Helfand viscosity, five schemes
+#   validation/nonlinear/run.sh nemd    # reverse-NEMD shear-thinning points (modified PeX)
+#   validation/nonlinear/run.sh engines # the same eq script in LAMMPS (build/lmp_dpdnl) and dpdnl run
+#
+# Environment (defaults in brackets):
+#   DPDNL [${CARGO_TARGET_DIR:-target}/release/dpdnl]   LMP [build/lmp_dpdnl]   THREADS [1]
+#   eq:      SCHEMES ["ref cross dot_plain dot_corrected twostep_dot"]  N [2000]  STEPS [40000]  EQ [2000]
+#   nemd:    POINTS ["ref:0.05 ref:0.2 cross:0.05 cross:0.1 cross:0.2 dot_corrected:0.05 dot_corrected:0.2"]
+#            (scheme:dp of the paper's Tables 3-4, i.e. at L = 8.55, dt = 1e-4; the push is rescaled
+#            to the same stress Pi_xz in this box: dp = dp_paper (L/8.55)^2 (dt/1e-4))
+#            L [3.5]  STEPS [40000]  FROM [20000] (steps discarded as the start-up of the profile)
+#   engines: N [1000]  STEPS [10000]  SCHEME [ref]
+# Raw outputs go to validation/nonlinear/work/ (ignored by git); summaries, CSV and figures to
+# validation/nonlinear/results/, with the wall time of every run in results/runtimes.csv.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+cd "$root"
+DPDNL="${DPDNL:-${CARGO_TARGET_DIR:-$root/target}/release/dpdnl}"
+DPDNL="$(realpath "$DPDNL")"
+LMP="$(realpath "${LMP:-build/lmp_dpdnl}")"
+THREADS="${THREADS:-1}"
+work="$here/work"; res="$here/results"
+mkdir -p "$work" "$res"
+# Keeps the committed EH curve small: the first 200 lags, then every 20th (the JSON has the fit).
+thin_csv() { awk 'NR <= 201 || (NR - 1) % 20 == 0' "$1" > "$1.tmp" && mv "$1.tmp" "$1"; }
+
+[ -f "$res/runtimes.csv" ] || echo "run,engine,atoms,steps,seconds" > "$res/runtimes.csv"
+
+scheme_vars() { # friction noise gamma1
+    case "$1" in
+        ref) echo "none plain 0.0" ;;
+        cross) echo "cross plain 1.0" ;;
+        dot_plain) echo "dot plain 1.0" ;;
+        dot_corrected) echo "dot corrected 1.0" ;;
+        twostep_dot) echo "dot twostep 1.0" ;;
+        *) echo "unknown scheme $1" >&2; exit 2 ;;
+    esac
+}
+
+# run_eq NAME SCHEME ENGINE N STEPS EQ
+run_eq() {
+    local name=$1 scheme=$2 engine=$3 n=$4 steps=$5 eq=$6
+    read -r fr no g1 <<<"$(scheme_vars "$scheme")"
+    local d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.eq" "$d/"
+    local t0=$SECONDS
+    ( cd "$d"
+      if [ "$engine" = lammps ]; then
+          "$LMP" -in in.eq -log log.lammps -var friction "$fr" -var noise "$no" -var gamma1 "$g1" \
+              -var N "$n" -var steps "$steps" -var eq "$eq" > screen.txt
+      else
+          "$DPDNL" run in.eq --threads "$THREADS" --log log.dpdnl -var friction "$fr" -var noise "$no" \
+              -var gamma1 "$g1" -var N "$n" -var steps "$steps" -var eq "$eq" > screen.txt
+      fi )
+    echo "$name,$engine,$n,$((steps + eq)),$((SECONDS - t0))" >> "$res/runtimes.csv"
+    local L; L=$(awk -v N="$n" 'BEGIN{printf "%.15g", (N/16)^(1/3)}')
+    "$DPDNL" analyze mb "$d/speed.histo" --temp 0.1 --out "$res/$name.mb" > "$res/$name.mb.txt"
+    "$DPDNL" analyze eh "$d/press.ave" --dt 0.001 --box "$L" "$L" "$L" --temp 0.1 --density 16 \
+        --out "$res/$name.eh" > "$res/$name.eh.txt"
+        thin_csv "$res/$name.eh.csv"
+}
+
+case "${1:-}" in
+eq)
+    for s in ${SCHEMES:-ref cross dot_plain dot_corrected twostep_dot}; do
+        run_eq "eq_$s" "$s" standalone "${N:-2000}" "${STEPS:-40000}" "${EQ:-2000}"
+    done ;;
+engines)
+    s="${SCHEME:-ref}"
+    run_eq "engines_${s}_lammps" "$s" lammps "${N:-1000}" "${STEPS:-10000}" 1000
+    run_eq "engines_${s}_standalone" "$s" standalone "${N:-1000}" "${STEPS:-10000}" 1000 ;;
+nemd)
+    L="${L:-3.5}"; steps="${STEPS:-40000}"; from="${FROM:-20000}"
+    results=()
+    for p in ${POINTS:-ref:0.05 ref:0.2 cross:0.05 cross:0.1 cross:0.2 dot_corrected:0.05 dot_corrected:0.2}; do
+        s="${p%%:*}"; dpp="${p#*:}"
+        read -r fr no g1 <<<"$(scheme_vars "$s")"
+        dp=$(awk -v d="$dpp" -v L="$L" 'BEGIN{printf "%.10g", d*(L/8.55)^2*(1e-3/1e-4)}')
+        name="nemd_${s}_dp${dpp}"
+        d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.nemd" "$d/"
+        t0=$SECONDS
+        ( cd "$d" && "$DPDNL" run in.nemd --threads "$THREADS" --log log.dpdnl -var friction "$fr" \
+            -var noise "$no" -var gamma1 "$g1" -var L "$L" -var dp "$dp" -var steps "$steps" > screen.txt )
+        natoms=$(awk -v L="$L" 'BEGIN{printf "%d", 16*2*L^3+0.5}')
+        echo "$name,standalone,$natoms,$steps,$((SECONDS - t0))" >> "$res/runtimes.csv"
+        "$DPDNL" analyze nemd "$d/prof.chunk" --box "$(awk -v L="$L" 'BEGIN{print 2*L}')" "$L" "$L" \
+            --dt 0.001 --dp "$dp" --push "$d/push.ave" --from "$from" --label "$s" \
+            --out "$res/$name" > "$res/$name.txt"
+        results+=("$res/$name.json")
+    done
+    "$DPDNL" analyze flowcurve "$res"/nemd_*.json --out "$res/flowcurve" > "$res/flowcurve.txt" ;;
+*)
+    sed -n '2,20p' "$0"; exit 2 ;;
+esac

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Builds results/summary.md (tables of this project's numbers beside the paper's) from the JSON
+# results that run.sh wrote and the paper's tables in ../reference/. Needs jq and awk.
+#   validation/nonlinear/summary.sh
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+res="$here/results"; ref="$here/../reference"
+paper_case() { case "$1" in ref) echo Ref;; cross) echo Cross;; dot_corrected) echo Dot;; twostep_dot) echo Two-step-dot;; *) echo "";; esac; }
+rt() { awk -F, -v r="$1" '$1 == r {print $5}' "$res/runtimes.csv" | tail -1; }
+{
+echo "## MB check (n = 16, kT = 0.1; speed histogram, 150 bins on [0, 2])"
+echo
+echo "| scheme | kT fitted | (kT_fit − 0.1)/error | χ² p (corrected for correlation) | KS p | samples | wall s |"
+echo "|---|---|---|---|---|---|---|"
+for s in ref cross dot_plain dot_corrected twostep_dot; do
+    f="$res/eq_$s.mb.json"; [ -f "$f" ] || continue
+    jq -r --arg s "$s" --arg rt "$(rt "eq_$s")" '"| \($s) | \(.kt_fit*1e5|round/1e5) ± \(.kt_fit_err_blocks*1e5|round/1e5) | \(((.kt_fit-.kt_set)/.kt_fit_err_blocks)*10|round/10) | \(.p_value_corrected|tostring|.[0:6]) | \(.ks_p|tostring|.[0:6]) | \(.n_samples) | \($rt) |"' "$f"
+done
+echo
+echo "## Zero-shear viscosity by Einstein–Helfand (eq. 59), Table 2 (n = 16)"
+echo
+echo "| scheme | μ_EH this project | fit window [t_min, t_max] | paper μ_EH | paper μ_NEQ | (this − paper EH)/σ |"
+echo "|---|---|---|---|---|---|"
+for s in ref cross dot_plain dot_corrected twostep_dot; do
+    f="$res/eq_$s.eh.json"; [ -f "$f" ] || continue
+    pc=$(paper_case "$s")
+    read -r pe pee pn pne <<<"$(awk -F, -v c="$pc" '$1 == c && $2 == 16 {print $3, $4, $5, $6}' "$ref/nonlinear_table2_zero_shear.csv")"
+    jq -r --arg s "$s" --arg pe "${pe:-—}" --arg pee "${pee:-}" --arg pn "${pn:-—}" --arg pne "${pne:-}" '
+      def r3: (.*1000|round/1000);
+      "| \($s) | \(.viscosity|r3) ± \(if .viscosity_err == null then "n/a" else (.viscosity_err|r3) end) | [\(.t_min|r3), \(.t_max|r3)] | \($pe)\(if $pee != "" then " ± " + $pee else "" end) | \($pn)\(if $pne != "" then " ± " + $pne else "" end) | \(if $pe != "—" then (((.viscosity - ($pe|tonumber))/ ((pow(.viscosity_err;2) + pow($pee|tonumber;2))|sqrt))*10|round/10|tostring) else "—" end) |"' "$f"
+done
+echo
+echo "## Reverse NEMD (modified PeX), Tables 3–4 (n = 16)"
+echo
+echo "| scheme | paper Δp (its box) | Π_xz | shear rate this | shear rate paper | μ this | μ paper | centre n this | centre n paper | μ (16/n)² this (diagnostic) | T_d this | T_d paper | wall s |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+for f in "$res"/nemd_*.json; do
+    [ -f "$f" ] || continue
+    b=$(basename "$f" .json); s=${b#nemd_}; dpp=${s##*_dp}; s=${s%_dp*}
+    pc=$(paper_case "$s")
+    line=$(awk -F, -v c="$pc" -v d="$dpp" '$1 == c && $2 == 16 && $3+0 == d+0 {print $5"±"$6, $11"±"$12, $7"±"$8, $9"±"$10}' "$ref/nonlinear_tables3to7_nemd.csv")
+    if [ -z "$line" ] && [ "$pc" = Dot ]; then # Dot16 is not in Tables 3-4; Table 8 has its Pi = 13.68 point
+        line=$(awk -F, -v d="$dpp" 'd+0 == 0.2 && $1+0 == 0.0001 {print $4"(T8)", $6"(T8)", "—", "—"}' "$ref/nonlinear_table8_dt.csv")
+    fi
+    read -r prate pmu ptd pn <<<"${line:-— — — —}"
+    jq -r --arg s "$s" --arg d "$dpp" --arg pr "$prate" --arg pm "$pmu" --arg pt "$ptd" --arg pn "$pn" --arg rt "$(rt "$b")" '
+      def r(n): (.*n|round/n);
+      "| \($s) | \($d) | \(.stress|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \($pr) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pm) | \(.density_centre|r(100)) ± \((.density_centre_err // 0)|r(100)) | \($pn) | \((.viscosity*256/(.density_centre*.density_centre))|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($pt) | \($rt) |"' "$f"
+done
+echo
+echo "## Same script, two engines (Ref, N = 1000, 10⁴ steps)"
+echo
+echo "| quantity | LAMMPS (build/lmp_dpdnl) | standalone (dpdnl run) | difference/σ |"
+echo "|---|---|---|---|"
+a="$res/engines_ref_lammps"; b="$res/engines_ref_standalone"
+if [ -f "$a.mb.json" ] && [ -f "$b.mb.json" ]; then
+    jq -rn --slurpfile a "$a.mb.json" --slurpfile b "$b.mb.json" '
+      def r: (.*1e5|round/1e5);
+      "| MB kT fitted | \($a[0].kt_fit|r) ± \($a[0].kt_fit_err_blocks|r) | \($b[0].kt_fit|r) ± \($b[0].kt_fit_err_blocks|r) | \((($a[0].kt_fit-$b[0].kt_fit)/((pow($a[0].kt_fit_err_blocks;2)+pow($b[0].kt_fit_err_blocks;2))|sqrt))*10|round/10) |"'
+    jq -rn --slurpfile a "$a.eh.json" --slurpfile b "$b.eh.json" '
+      def r: (.*1000|round/1000);
+      "| EH μ (window [\($a[0].t_min|r), \($a[0].t_max|r)] / [\($b[0].t_min|r), \($b[0].t_max|r)]) | \($a[0].viscosity|r) ± \($a[0].viscosity_err|r) | \($b[0].viscosity|r) ± \($b[0].viscosity_err|r) | \((($a[0].viscosity-$b[0].viscosity)/((pow($a[0].viscosity_err;2)+pow($b[0].viscosity_err;2))|sqrt))*10|round/10) |"'
+fi
+} > "$res/summary.md"
+cat "$res/summary.md"

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Validation against the weighting-function paper (Mai-Duy et al. 2017; 2-D, m = kT = 1, n = 4).
+#
+#   validation/weighting/run.sh diffusion   # Fig. 4: self-diffusion, Sc0 = 400, eta0 = 49 (s = 0.0700), rc = 2.5, dt = 1e-3
+#   validation/weighting/run.sh viscosity   # Tables 3 and 5 (first rows): eta by Einstein-Helfand, dt = 0.005
+#
+# The paper's eta* comes from Couette flow under Lees-Edwards boundaries, which the standalone
+# engine does not have yet; the viscosity here is the zero-shear (equilibrium, Einstein-Helfand)
+# value of the same fluids.
+# Environment (defaults in brackets):
+#   DPDNL [${CARGO_TARGET_DIR:-target}/release/dpdnl]   THREADS [1]
+#   diffusion: SIZES ["1600"] (atoms; n = 4 fixes the box)  STEPS [30000]  EQ [2000]
+#   viscosity: CASES ["t3:1.0:10:0.5 t5a:2.5:49:0.0700 t5b:2.5:47:0.2190"] (name:rc:eta0:s)
+#              N [1600]  STEPS [20000]  EQ [1000]  DT [0.005] (the paper's; other values add _dtDT to the names)
+# Raw outputs go to validation/weighting/work/ (ignored by git); summaries, CSV and figures to
+# validation/weighting/results/, with the wall time of every run in results/runtimes.csv.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+cd "$root"
+DPDNL="$(realpath "${DPDNL:-${CARGO_TARGET_DIR:-$root/target}/release/dpdnl}")"
+THREADS="${THREADS:-1}"
+work="$here/work"; res="$here/results"
+mkdir -p "$work" "$res"
+# Keeps the committed EH curve small: the first 200 lags, then every 20th (the JSON has the fit).
+thin_csv() { awk 'NR <= 201 || (NR - 1) % 20 == 0' "$1" > "$1.tmp" && mv "$1.tmp" "$1"; }
+
+[ -f "$res/runtimes.csv" ] || echo "run,engine,atoms,steps,seconds" > "$res/runtimes.csv"
+
+# run2d NAME N RC ETA0 S DT STEPS EQ DUMPEVERY
+run2d() {
+    local name=$1 n=$2 rc=$3 eta0=$4 s=$5 dt=$6 steps=$7 eq=$8 dumpevery=$9
+    local d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.2d" "$d/"
+    local t0=$SECONDS
+    ( cd "$d" && "$DPDNL" run in.2d --threads "$THREADS" --log log.dpdnl -var N "$n" -var rc "$rc" \
+        -var eta0 "$eta0" -var s "$s" -var dt "$dt" -var steps "$steps" -var eq "$eq" \
+        -var dumpevery "$dumpevery" > screen.txt )
+    echo "$name,standalone,$n,$((steps + eq)),$((SECONDS - t0))" >> "$res/runtimes.csv"
+    grep '^design' "$d/screen.txt" > "$res/$name.design.txt" || true
+    awk '!/^#/ {s += $2; k++} END {printf "mean kinetic temperature %.5f over %d outputs (set 1)\n", s/k, k}' \
+        "$d/temp.ave" > "$res/$name.temp.txt"
+}
+
+case "${1:-}" in
+diffusion)
+    for n in ${SIZES:-1600}; do
+        name="diff_N$n"
+        run2d "$name" "$n" 2.5 49 0.0700 0.001 "${STEPS:-30000}" "${EQ:-2000}" 500
+        "$DPDNL" analyze msd "$work/$name/traj.dump" --dt 0.001 --dim 2 --out "$res/$name.msd" > "$res/$name.msd.txt"
+        "$DPDNL" analyze msd "$work/$name/msd.ave" --dt 0.001 --dim 2 --atoms "$n" \
+            --out "$res/$name.msd1" --no-plot > "$res/$name.msd1.txt"
+    done ;;
+viscosity)
+    n="${N:-1600}"; dt="${DT:-0.005}"; sfx=""; [ "$dt" = 0.005 ] || sfx="_dt$dt"
+    L=$(awk -v N="$n" 'BEGIN{printf "%.15g", sqrt(N/4)}')
+    for c in ${CASES:-t3:1.0:10:0.5 t5a:2.5:49:0.0700 t5b:2.5:47:0.2190}; do
+        IFS=: read -r tag rc eta0 s <<<"$c"
+        name="visc_${tag}_N$n$sfx"
+        run2d "$name" "$n" "$rc" "$eta0" "$s" "$dt" "${STEPS:-20000}" "${EQ:-1000}" 1000
+        "$DPDNL" analyze eh "$work/$name/press.ave" --dt "$dt" --box "$L" "$L" --temp 1 --density 4 \
+            --out "$res/$name.eh" > "$res/$name.eh.txt"
+        thin_csv "$res/$name.eh.csv"
+        "$DPDNL" analyze msd "$work/$name/traj.dump" --dt "$dt" --dim 2 --out "$res/$name.msd" \
+            --no-plot > "$res/$name.msd.txt"
+    done ;;
+*)
+    sed -n '2,17p' "$0"; exit 2 ;;
+esac

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Builds results/summary.md (this project's numbers beside the weighting-function paper's) from
+# the JSON results of run.sh and ../reference/weighting_tables_2d.csv. Needs jq and awk.
+#   validation/weighting/summary.sh
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+res="$here/results"; ref="$here/../reference/weighting_tables_2d.csv"
+rt() { awk -F, -v r="$1" '$1 == r {print $5}' "$res/runtimes.csv" | tail -1; }
+temp() { sed -n 's/mean kinetic temperature \([0-9.]*\).*/\1/p' "$res/$1.temp.txt" 2>/dev/null; }
+{
+echo "## Self-diffusion, Fig. 4 (Sc0 = 400, η0 = 49, s = 0.0700, r_c = 2.5, δt = 10⁻³, 3·10⁴ steps)"
+echo
+echo "| N (box side) | D all origins (dump) | D single origin (compute msd) | kinetic T | paper DPD | kinetic theory | wall s |"
+echo "|---|---|---|---|---|---|---|"
+for f in "$res"/diff_N*.msd.json; do
+    [ -f "$f" ] || continue
+    name=$(basename "$f" .msd.json); n=${name#diff_N}
+    one="$res/$name.msd1.json"
+    jq -rn --slurpfile a "$f" --slurpfile b "$one" --arg n "$n" --arg t "$(temp "$name")" --arg rt "$(rt "$name")" '
+      def r: (.*10000|round/10000);
+      "| \($n) (\(($n|tonumber/4)|sqrt*100|round/100)) | \($a[0].diffusion|r) ± \($a[0].diffusion_err|r) | \($b[0].diffusion|r) ± \(($b[0].diffusion_err // 0)|r) | \($t) | 0.0319 | 0.0306 | \($rt) |"'
+done
+echo
+echo "## Zero-shear viscosity (Einstein–Helfand) beside the paper's Couette η* (δt = 0.005 unless noted)"
+echo
+echo "| fluid | η̄ kinetic theory (paper) | η EH this project | paper η* mean ± std over 5 shear rates | (EH − η*)/η* | kinetic T | D (all origins) | wall s |"
+echo "|---|---|---|---|---|---|---|---|"
+for f in "$res"/visc_*.eh.json; do
+    [ -f "$f" ] || continue
+    name=$(basename "$f" .eh.json); tag=${name#visc_}; tag=${tag%%_N*}
+    case "$tag" in
+        t3) sel='$1==3 && $2==1.0'; label="Table 3: r_c = 1, η0 = 10, s = ½" ;;
+        t5a) sel='$1==5 && $3==400 && $4==49'; label="Table 5: r_c = 2.5, Sc0 = 400, η0 = 49, s = 0.0700" ;;
+        t5b) sel='$1==5 && $3==400 && $4==47'; label="Table 5: r_c = 2.5, Sc0 = 400, η0 = 47, s = 0.2190" ;;
+        *) continue ;;
+    esac
+    case "$name" in *_dt*) label="$label, δt = ${name##*_dt}" ;; esac
+    read -r etabar mean std <<<"$(awk -F, "!/^#/ && $sel {print \$6, \$12, \$13}" "$ref")"
+    jq -rn --slurpfile a "$f" --slurpfile m "$res/$name.msd.json" --arg l "$label" --arg eb "$etabar" \
+        --arg mean "$mean" --arg std "$std" --arg t "$(temp "$name")" --arg rt "$(rt "$name")" '
+      def r(k): (.*k|round/k);
+      "| \($l) | \($eb) | \($a[0].viscosity|r(1000)) ± \(($a[0].viscosity_err // 0)|r(1000)) | \($mean) ± \($std) | \((($a[0].viscosity - ($mean|tonumber))/($mean|tonumber))*1000|round/10)% | \($t) | \($m[0].diffusion|r(10000)) ± \($m[0].diffusion_err|r(10000)) | \($rt) |"'
+done
+} > "$res/summary.md"
+cat "$res/summary.md"
