@@ -762,9 +762,15 @@ fn cli_bad_arguments_fail_clearly() {
         "1",
     ]);
     assert!(!ok && err.contains("density n = NaN is invalid"), "{err}");
-    let (ok, _, err) = dpdnl(&["theory", "in.script"]);
+    // Script mode: a missing script and a bad line are errors naming the file (and line).
+    let (ok, _, err) = dpdnl(&["theory", "no_such.in"]);
     assert!(
-        !ok && err.contains("reading parameters from a script is not available yet"),
+        !ok && err.contains("no_such.in") && err.contains("cannot read input file"),
         "{err}"
     );
+    let bad = std::env::temp_dir().join(format!("dpdnl-theory-bad-{}.in", std::process::id()));
+    std::fs::write(&bad, "units lj\nbogus 1\n").unwrap();
+    let (ok, _, err) = dpdnl(&["theory", bad.to_str().unwrap()]);
+    let _ = std::fs::remove_file(&bad);
+    assert!(!ok && err.contains(":2: bogus: unknown command"), "{err}");
 }
