@@ -37,7 +37,26 @@ enum Command {
     Analyze(analyze::AnalyzeArgs),
 }
 
+/// `dpdnl … | head` closes the pipe early; Rust's `println!` then panics on EPIPE. Leave quietly
+/// with the shell's status for SIGPIPE (128 + 13) instead of printing a panic.
+fn quiet_on_broken_pipe() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let text = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if text.contains("Broken pipe") {
+            std::process::exit(141);
+        }
+        default(info);
+    }));
+}
+
 fn main() -> ExitCode {
+    quiet_on_broken_pipe();
     // Accept LAMMPS's single-dash spelling `-var NAME VALUE` (and `-log`, `-in`-free forms).
     let args = std::env::args_os().map(|a| match a.to_str() {
         Some("-var") => "--var".into(),
