@@ -97,12 +97,13 @@ impl Friction {
         }
     }
 
-    /// γ(S) = γ0 exp(−γ1 S) (eq. 30); γ0 for `None`.
+    /// γ(S) = γ0 exp(−γ1 S) (eq. 30); γ0 for `None`. The exponential is [`exp`] (fdlibm's,
+    /// evaluated here, so both engines and every machine get the same bits).
     #[inline(always)]
     pub fn gamma(self, c: &PairCoeff, s: f64) -> f64 {
         match self {
             Friction::None => c.gamma0,
-            Friction::Cross | Friction::Dot => c.gamma0 * (-c.gamma1 * s).exp(),
+            Friction::Cross | Friction::Dot => c.gamma0 * exp(-c.gamma1 * s),
         }
     }
 
@@ -310,6 +311,12 @@ pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     ]
 }
 
+/// True when a pair at squared distance `rsq` interacts: `MIN_PAIR_DISTANCE² ≤ rsq < rc²`.
+#[inline(always)]
+pub fn in_range(rsq: f64, rc: f64) -> bool {
+    rsq < rc * rc && rsq >= MIN_PAIR_DISTANCE * MIN_PAIR_DISTANCE
+}
+
 /// All force parts of one pair (MODELS §1–2). Zero for r ≥ r_c or r < [`MIN_PAIR_DISTANCE`].
 ///
 /// - conservative F^C = a (1 − r/r_c) e (§1);
@@ -319,25 +326,50 @@ pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 ///   (eq. 35), S'' = S(r, v'') (eq. 36) and uses sqrt(2 kT γ(S'') w_D) ξ δt^(−1/2) (eq. 37);
 /// - correction (`corrected`, eq. 32): F^A = kT (1/m_i + 1/m_j) w_D (e · ∂γ/∂v) ξ², with
 ///   e · ∂γ/∂v = γ'(S) (e · ∂S/∂v); nonzero only for `dot`.
+///
+/// [`pair_forces_batch`] evaluates the same function on many pairs at once, bit for bit.
 #[inline(always)]
 pub fn pair_force(model: &PairModel, c: &PairCoeff, p: &PairInput) -> PairForce {
     let rsq = dot(p.dr, p.dr);
-    if rsq >= c.rc * c.rc || rsq < MIN_PAIR_DISTANCE * MIN_PAIR_DISTANCE {
+    if !in_range(rsq, c.rc) {
         return PairForce::default();
     }
+    pair_parts(
+        model.friction,
+        model.noise,
+        |q| model.weight.wd_wr(q),
+        model,
+        c,
+        p,
+        rsq,
+    )
+}
+
+/// The body of [`pair_force`] for a pair in range, with the model's three choices passed
+/// separately so that [`pair_forces_batch`] can fix them at compile time (the arithmetic, and so
+/// every bit of the result, is the same either way).
+#[inline(always)]
+fn pair_parts(
+    friction: Friction,
+    noise: Noise,
+    weight: impl Fn(f64) -> (f64, f64),
+    model: &PairModel,
+    c: &PairCoeff,
+    p: &PairInput,
+    rsq: f64,
+) -> PairForce {
     let r = rsq.sqrt();
     let inv_r = 1.0 / r;
     let q = 1.0 - r / c.rc;
-    let (wd, wr) = model.weight.wd_wr(q);
+    let (wd, wr) = weight(q);
     let rdotv = dot(p.dr, p.dv);
     let ev = rdotv * inv_r;
-    let friction = model.friction;
     let s = friction.rate(p.dr, p.dv);
     let gamma = friction.gamma(c, s);
 
     let fc = c.a * q;
     let fd = -gamma * wd * ev;
-    let (fr, fa) = match model.noise {
+    let (fr, fa) = match noise {
         Noise::Plain => (
             (2.0 * model.kt * gamma).sqrt() * wr * p.xi * model.inv_sqrt_dt,
             0.0,
@@ -369,5 +401,463 @@ pub fn pair_force(model: &PairModel, c: &PairCoeff, p: &PairInput) -> PairForce 
         fa,
         energy: 0.5 * c.a * c.rc * q * q,
         inv_r,
+    }
+}
+
+/// e^x: fdlibm's `__ieee754_exp` (error < 1 ulp) written as straight-line code, so that a batch
+/// of pairs vectorises and every machine gets the same bits (no libm call). Overflows to +∞
+/// above 709.78, underflows to 0 below −745.13 (results below 2⁻¹⁰²² are rounded twice), NaN
+/// stays NaN.
+// The constants are fdlibm's, digit for digit.
+#[allow(clippy::excessive_precision)]
+#[inline(always)]
+pub fn exp(x: f64) -> f64 {
+    const INV_LN2: f64 = std::f64::consts::LOG2_E;
+    const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
+    const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
+    const P1: f64 = 1.666_666_666_666_660_190_37e-1;
+    const P2: f64 = -2.777_777_777_701_559_338_42e-3;
+    const P3: f64 = 6.613_756_321_437_934_361_17e-5;
+    const P4: f64 = -1.653_390_220_546_525_153_90e-6;
+    const P5: f64 = 4.138_136_797_057_238_460_39e-8;
+    // 1.5 · 2⁵²: adding it rounds to an integer, whose value sits in the low mantissa bits.
+    const BIAS: f64 = 6_755_399_441_055_744.0;
+    let xc = x.clamp(-746.0, 710.0);
+    // k = round(x / ln 2) (ties to even; fdlibm rounds them away from 0, which changes only
+    // which of two equally good reductions is used). |k| ≤ 1077.
+    let kb = xc * INV_LN2 + BIAS;
+    let kf = kb - BIAS;
+    let k = kb.to_bits() as i64 - BIAS.to_bits() as i64;
+    let hi = xc - kf * LN2_HI;
+    let lo = kf * LN2_LO;
+    let r = hi - lo;
+    let t = r * r;
+    let c = r - t * (P1 + t * (P2 + t * (P3 + t * (P4 + t * P5))));
+    let y = 1.0 - ((lo - (r * c) / (2.0 - c)) - hi);
+    // y · 2^k as y · 2^k1 · 2^k2 (both factors normal; exact unless the result is subnormal).
+    let k1 = k >> 1;
+    let k2 = k - k1;
+    let two = |e: i64| f64::from_bits(((e + 1023) as u64) << 52);
+    y * two(k1) * two(k2)
+}
+
+/// Pairs per [`PairBatch`].
+pub const BATCH: usize = 64;
+
+/// Up to [`BATCH`] pairs in structure-of-arrays form, for [`pair_forces_batch`]: the inputs of
+/// [`pair_force`] for each pair, with the pair's tags in place of its Gaussian (the batch draws
+/// ξ_ij itself, [`crate::rng::pair_gaussian`]) and an index into the caller's coefficient table.
+#[derive(Clone, Debug)]
+pub struct PairBatch {
+    /// Number of pairs filled (≤ [`BATCH`]).
+    pub len: usize,
+    /// r_ij by component: `dr[k][l]` is component k of pair l.
+    pub dr: [[f64; BATCH]; 3],
+    /// v_ij by component (with any Lees–Edwards velocity offset already added).
+    pub dv: [[f64; BATCH]; 3],
+    /// 1/m_i + 1/m_j.
+    pub inv_mass_sum: [f64; BATCH],
+    /// Index of the pair's coefficients in the table passed to [`pair_forces_batch`].
+    pub coeff: [u32; BATCH],
+    /// Tag of i.
+    pub tag_i: [u32; BATCH],
+    /// Tag of j.
+    pub tag_j: [u32; BATCH],
+    /// Result: the total pair force divided by r, so the force on i is `fpair · r_ij`
+    /// (0 for a pair out of range).
+    pub fpair: [f64; BATCH],
+    /// Result: the conservative pair energy (0 for a pair out of range).
+    pub energy: [f64; BATCH],
+}
+
+impl Default for PairBatch {
+    fn default() -> Self {
+        PairBatch {
+            len: 0,
+            dr: [[0.0; BATCH]; 3],
+            dv: [[0.0; BATCH]; 3],
+            inv_mass_sum: [0.0; BATCH],
+            coeff: [0; BATCH],
+            tag_i: [0; BATCH],
+            tag_j: [0; BATCH],
+            fpair: [0.0; BATCH],
+            energy: [0.0; BATCH],
+        }
+    }
+}
+
+/// Instruction sets [`pair_forces_batch`] can use (chosen at run time; the results are the same
+/// bits with each, since the arithmetic is IEEE and never fused).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Isa {
+    /// Baseline x86-64 / any target: SSE2 vectors (2 lanes) or scalar code.
+    Baseline,
+    /// AVX2 + FMA (4 lanes; FMA instructions are available but never used for a·b + c).
+    Avx2,
+    /// AVX-512 F/DQ/VL/BW (8 lanes).
+    Avx512,
+}
+
+impl Isa {
+    /// The best instruction set this CPU has, capped by the environment variable `DPDNL_SIMD`
+    /// (`baseline`, `avx2` or `avx512`; for benchmarks and tests), read once.
+    pub fn detect() -> Isa {
+        static ISA: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *ISA.get_or_init(|| {
+            let best = Isa::best_supported();
+            let cap = match std::env::var("DPDNL_SIMD").as_deref() {
+                Ok("baseline") => Isa::Baseline,
+                Ok("avx2") => Isa::Avx2,
+                _ => Isa::Avx512,
+            };
+            if (cap as u8) < (best as u8) {
+                cap
+            } else {
+                best
+            }
+        })
+    }
+
+    /// The best instruction set the CPU supports.
+    pub fn best_supported() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512dq")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+                && std::arch::is_x86_feature_detected!("avx512bw")
+                && std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+                && std::arch::is_x86_feature_detected!("popcnt")
+                && std::arch::is_x86_feature_detected!("bmi1")
+                && std::arch::is_x86_feature_detected!("bmi2")
+                && std::arch::is_x86_feature_detected!("lzcnt")
+            {
+                return Isa::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+                && std::arch::is_x86_feature_detected!("popcnt")
+                && std::arch::is_x86_feature_detected!("bmi1")
+                && std::arch::is_x86_feature_detected!("bmi2")
+                && std::arch::is_x86_feature_detected!("lzcnt")
+            {
+                return Isa::Avx2;
+            }
+        }
+        Isa::Baseline
+    }
+}
+
+/// The coefficients of each pair of a batch, gathered from the table.
+struct LaneCoeff {
+    a: [f64; BATCH],
+    gamma0: [f64; BATCH],
+    gamma1: [f64; BATCH],
+    rc: [f64; BATCH],
+}
+
+/// Evaluate every pair of `b` at `step`: `b.fpair[l]` and `b.energy[l]` become exactly
+/// `pair_force(model, &table[b.coeff[l]], input_l)` with `input_l.xi = pair_gaussian(seed, step,
+/// b.tag_i[l], b.tag_j[l])` (total force / r and energy; 0 out of range). The loop has no calls
+/// and no branches, so it runs in SIMD lanes ([`Isa::detect`]).
+///
+/// Panics if a `coeff` index is outside `table` (a caller bug).
+pub fn pair_forces_batch(
+    model: &PairModel,
+    table: &[PairCoeff],
+    seed: u32,
+    step: u64,
+    b: &mut PairBatch,
+) {
+    pair_forces_batch_isa(Isa::detect(), model, table, seed, step, b);
+}
+
+/// [`pair_forces_batch`] with a given instruction set (a lower one than the CPU's best is fine;
+/// an unsupported one falls back to [`Isa::Baseline`]). For tests and benchmarks.
+pub fn pair_forces_batch_isa(
+    isa: Isa,
+    model: &PairModel,
+    table: &[PairCoeff],
+    seed: u32,
+    step: u64,
+    b: &mut PairBatch,
+) {
+    let n = b.len.min(BATCH);
+    b.len = n;
+    let mut co = LaneCoeff {
+        a: [0.0; BATCH],
+        gamma0: [0.0; BATCH],
+        gamma1: [0.0; BATCH],
+        rc: [0.0; BATCH],
+    };
+    for l in 0..n {
+        let c = &table[b.coeff[l] as usize];
+        co.a[l] = c.a;
+        co.gamma0[l] = c.gamma0;
+        co.gamma1[l] = c.gamma1;
+        co.rc[l] = c.rc;
+    }
+    let isa = if (isa as u8) > (Isa::best_supported() as u8) {
+        Isa::Baseline
+    } else {
+        isa
+    };
+    let standard = model.weight == Weight::STANDARD;
+    macro_rules! arms {
+        ($(($f:ident, $n:ident)),*) => {
+            match (model.friction, model.noise, standard) {
+                $(
+                    (Friction::$f, Noise::$n, true) => {
+                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, true>(isa, model, seed, step, &co, b)
+                    }
+                    (Friction::$f, Noise::$n, false) => {
+                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, false>(isa, model, seed, step, &co, b)
+                    }
+                )*
+            }
+        };
+    }
+    arms!(
+        (None, Plain),
+        (None, Corrected),
+        (None, TwoStep),
+        (Cross, Plain),
+        (Cross, Corrected),
+        (Cross, TwoStep),
+        (Dot, Plain),
+        (Dot, Corrected),
+        (Dot, TwoStep)
+    );
+}
+
+fn lanes_isa<const F: u8, const N: u8, const STD: bool>(
+    isa: Isa,
+    model: &PairModel,
+    seed: u32,
+    step: u64,
+    co: &LaneCoeff,
+    b: &mut PairBatch,
+) {
+    match isa {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `isa` is at most `Isa::best_supported()` (checked by the caller), so the CPU has
+        // every feature these functions are compiled for.
+        Isa::Avx512 => unsafe { lanes_avx512::<F, N, STD>(model, seed, step, co, b) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        Isa::Avx2 => unsafe { lanes_avx2::<F, N, STD>(model, seed, step, co, b) },
+        _ => lanes::<F, N, STD>(model, seed, step, co, b),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+fn lanes_avx512<const F: u8, const N: u8, const STD: bool>(
+    model: &PairModel,
+    seed: u32,
+    step: u64,
+    co: &LaneCoeff,
+    b: &mut PairBatch,
+) {
+    lanes::<F, N, STD>(model, seed, step, co, b)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+fn lanes_avx2<const F: u8, const N: u8, const STD: bool>(
+    model: &PairModel,
+    seed: u32,
+    step: u64,
+    co: &LaneCoeff,
+    b: &mut PairBatch,
+) {
+    lanes::<F, N, STD>(model, seed, step, co, b)
+}
+
+const fn friction_of(f: u8) -> Friction {
+    match f {
+        1 => Friction::Cross,
+        2 => Friction::Dot,
+        _ => Friction::None,
+    }
+}
+
+const fn noise_of(n: u8) -> Noise {
+    match n {
+        1 => Noise::Corrected,
+        2 => Noise::TwoStep,
+        _ => Noise::Plain,
+    }
+}
+
+/// The per-pair loop of [`pair_forces_batch`], with friction, noise and weight fixed.
+#[inline(always)]
+fn lanes<const F: u8, const N: u8, const STD: bool>(
+    model: &PairModel,
+    seed: u32,
+    step: u64,
+    co: &LaneCoeff,
+    b: &mut PairBatch,
+) {
+    let friction = friction_of(F);
+    let noise = noise_of(N);
+    let weight = model.weight;
+    let n = b.len.min(BATCH);
+    // Three loops (random bits, Gaussians, forces) rather than one: each body is short enough
+    // for the processor to overlap several iterations, which hides the long latency chains of
+    // Philox, ln and the divisions. The arithmetic of each pair is unchanged.
+    let mut bits = [[0u32; BATCH]; 4];
+    for l in 0..n {
+        let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
+        let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
+        bits[0][l] = o[0];
+        bits[1][l] = o[1];
+        bits[2][l] = o[2];
+        bits[3][l] = o[3];
+    }
+    let mut xi = [0.0f64; BATCH];
+    for l in 0..n {
+        xi[l] = crate::rng::gaussian_from_bits([bits[0][l], bits[1][l], bits[2][l], bits[3][l]]);
+    }
+    for l in 0..n {
+        let c = PairCoeff {
+            a: co.a[l],
+            gamma0: co.gamma0[l],
+            gamma1: co.gamma1[l],
+            rc: co.rc[l],
+        };
+        let p = PairInput {
+            dr: [b.dr[0][l], b.dr[1][l], b.dr[2][l]],
+            dv: [b.dv[0][l], b.dv[1][l], b.dv[2][l]],
+            inv_mass_sum: b.inv_mass_sum[l],
+            xi: xi[l],
+        };
+        let rsq = dot(p.dr, p.dr);
+        let ok = in_range(rsq, c.rc);
+        let pf = if STD {
+            pair_parts(friction, noise, |q| (q * q, q), model, &c, &p, rsq)
+        } else {
+            pair_parts(friction, noise, |q| weight.wd_wr(q), model, &c, &p, rsq)
+        };
+        b.fpair[l] = if ok { pf.total() * pf.inv_r } else { 0.0 };
+        b.energy[l] = if ok { pf.energy } else { 0.0 };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::{keyed_uniform, pair_gaussian};
+
+    fn ulps(a: f64, b: f64) -> u64 {
+        (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs()
+    }
+
+    /// [`exp`] against libm on [−745, 709.7] (normal results) and on the friction range
+    /// [−50, 0]: both are fdlibm-grade (< 1 ulp from the exact value), so they may differ by
+    /// 1 ulp where the exact value falls between two doubles.
+    #[test]
+    fn exp_matches_libm() {
+        let mut worst = 0;
+        for k in 0..300_000u32 {
+            let u = keyed_uniform(1, 2, u64::from(k), 3, 4);
+            for x in [-745.0 + 1454.7 * u, -50.0 * u, -1e-3 * u, 1e-9 * (u - 0.5)] {
+                let (a, b) = (exp(x), x.exp());
+                if b < f64::MIN_POSITIVE {
+                    // Subnormal results: both round twice or once; only closeness matters.
+                    assert!(
+                        (a - b).abs() <= 2.0 * f64::from_bits(1),
+                        "exp({x}) = {a} vs {b}"
+                    );
+                    continue;
+                }
+                worst = worst.max(ulps(a, b));
+            }
+        }
+        assert!(worst <= 1, "exp differs from libm by {worst} ulp");
+        assert_eq!(exp(0.0), 1.0);
+        assert_eq!(exp(-800.0), 0.0);
+        assert_eq!(exp(f64::NEG_INFINITY), 0.0);
+        assert_eq!(exp(710.0), f64::INFINITY);
+        assert!(exp(f64::NAN).is_nan());
+    }
+
+    /// The batch gives exactly `pair_force`'s bits for every friction, noise and weight, with
+    /// each instruction set this CPU has; pairs out of range give 0.
+    #[test]
+    fn batch_is_bit_identical_to_pair_force() {
+        let table = [
+            PairCoeff {
+                a: 25.0,
+                gamma0: 4.5,
+                gamma1: 0.7,
+                rc: 1.0,
+            },
+            PairCoeff {
+                a: 0.0,
+                gamma0: 5.0,
+                gamma1: 1.3,
+                rc: 0.8,
+            },
+        ];
+        let isas: Vec<Isa> = [Isa::Baseline, Isa::Avx2, Isa::Avx512]
+            .into_iter()
+            .filter(|&i| (i as u8) <= (Isa::best_supported() as u8))
+            .collect();
+        let u = |k: u32, c: u32| keyed_uniform(77, c, u64::from(k), 1, 2);
+        let mut compared = 0;
+        for friction in [Friction::None, Friction::Cross, Friction::Dot] {
+            for noise in [Noise::Plain, Noise::Corrected, Noise::TwoStep] {
+                for s in [2.0, 1.0, 1.5] {
+                    let model =
+                        PairModel::new(0.7, friction, noise, Weight::new(s).expect("s > 0"), 0.01);
+                    for &isa in &isas {
+                        let mut b = PairBatch {
+                            len: BATCH - 3,
+                            ..Default::default()
+                        };
+                        let mut want = Vec::new();
+                        for l in 0..b.len {
+                            let k = l as u32 + 1000 * (s as u32);
+                            let dr = [0, 1, 2].map(|c| 2.4 * u(k, c) - 1.2);
+                            let dv = [0, 1, 2].map(|c| 6.0 * u(k, c + 3) - 3.0);
+                            let ims = 0.5 + u(k, 6);
+                            let coeff = (k % 2) as usize;
+                            let (ti, tj) = (k + 1, 7 * k + 3);
+                            for c in 0..3 {
+                                b.dr[c][l] = dr[c];
+                                b.dv[c][l] = dv[c];
+                            }
+                            b.inv_mass_sum[l] = ims;
+                            b.coeff[l] = coeff as u32;
+                            b.tag_i[l] = ti;
+                            b.tag_j[l] = tj;
+                            let input = PairInput {
+                                dr,
+                                dv,
+                                inv_mass_sum: ims,
+                                xi: pair_gaussian(99, 12345, ti, tj),
+                            };
+                            let pf = pair_force(&model, &table[coeff], &input);
+                            want.push((pf.total() * pf.inv_r, pf.energy));
+                        }
+                        pair_forces_batch_isa(isa, &model, &table, 99, 12345, &mut b);
+                        let mut inside = 0;
+                        for (l, &(fp, e)) in want.iter().enumerate() {
+                            assert_eq!(
+                                (b.fpair[l].to_bits(), b.energy[l].to_bits()),
+                                (fp.to_bits(), e.to_bits()),
+                                "{friction:?}/{noise:?}/s={s}/{isa:?}, pair {l}"
+                            );
+                            inside += usize::from(fp != 0.0);
+                            compared += 1;
+                        }
+                        assert!(inside > 5 && inside < want.len(), "mixed in/out of range");
+                    }
+                }
+            }
+        }
+        assert!(compared > 0);
     }
 }

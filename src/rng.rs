@@ -4,7 +4,7 @@
 //! stream. That is what lets the standalone engine and LAMMPS (any MPI decomposition, newton on
 //! or off, any thread count) draw the same ξ_ij for the same pair at the same step.
 //!
-//! # Algorithm and bit layout (version 1)
+//! # Algorithm and bit layout (generator version 1, Gaussian mapping version 2)
 //! The generator is Philox4x32-10 (Salmon, Moraes, Dror & Shaw, "Parallel random numbers: as easy
 //! as 1, 2, 3", SC'11), 10 rounds, multipliers `0xD2511F53`, `0xCD9E8D57`, Weyl key increments
 //! `0x9E3779B9`, `0xBB67AE85`. One call maps a 128-bit counter and a 64-bit key to 128 bits:
@@ -18,11 +18,22 @@
 //! | counter c2 | `min(tag_i, tag_j)` (u32) |
 //! | counter c3 | `max(tag_i, tag_j)` (u32) |
 //!
-//! The four output words o0..o3 become one standard Gaussian by Box–Muller:
-//! `a = ((o0 << 32) | o1) >> 11`, `b = ((o2 << 32) | o3) >> 11` (53-bit integers),
-//! `u1 = (a + 0.5) · 2⁻⁵³ ∈ (0, 1)`, `u2 = b · 2⁻⁵³ ∈ [0, 1)`,
-//! `ξ = sqrt(−2 ln u1) · cos(2π u2)`.
+//! The four output words o0..o3 become one standard Gaussian by Box–Muller (version 2 of the
+//! mapping; version 1 used 53-bit uniforms and libm's `ln`/`cos`):
+//! `a = ((o0 << 32) | o1) >> 12`, `b = ((o2 << 32) | o3) >> 12` (52-bit integers),
+//! `u1 = 1 − a · 2⁻⁵² ∈ [2⁻⁵², 1]`, `ξ = sqrt(−2 ln u1) · cos(2π b · 2⁻⁵²)`.
 //! The tag order is applied inside [`pair_gaussian`], so ξ_ij = ξ_ji by construction.
+//!
+//! Both functions are evaluated here, in plain IEEE arithmetic, not by the platform's libm: `ln`
+//! is fdlibm's `__ieee754_log` (error < 1 ulp) written without branches, and the cosine reduces
+//! the angle exactly in integers (the octant is `round(b / 2⁵⁰)`, the remainder `d = b − 2⁵⁰ ·
+//! octant` is converted exactly) before fdlibm's `__kernel_sin`/`__kernel_cos` on
+//! [−π/4, π/4]. So ξ has the same bits on every machine and in every engine, and a batch of
+//! pairs vectorises (no calls, no branches): see [`crate::kernel::PairBatch`]. Largest |ξ|:
+//! sqrt(−2 ln 2⁻⁵²) = 8.49 (P(|ξ| > 8.49) = 2·10⁻¹⁷).
+//!
+//! [`keyed_uniform`] (used by `create_atoms … random` and `velocity … dist uniform`) is unchanged
+//! from version 1: `b' = ((o2 << 32) | o3) >> 11`, `u = b' · 2⁻⁵³ ∈ [0, 1)`.
 //! Known-answer vectors (Random123's) and the Gaussian's test vectors live in `tests/rng.rs`.
 
 /// Stream id of the pair random force ξ_ij (MODELS §1).
@@ -78,7 +89,8 @@ pub fn keyed_bits(seed: u32, stream: u32, step: u64, lo: u32, hi: u32) -> [u32; 
 
 const TWO_POW_M53: f64 = 1.0 / 9_007_199_254_740_992.0;
 
-/// Two uniforms from 128 bits: `u1 ∈ (0, 1)`, `u2 ∈ [0, 1)`, 53 bits each.
+/// Two uniforms from 128 bits: `u1 ∈ (0, 1)`, `u2 ∈ [0, 1)`, 53 bits each (the version-1
+/// mapping; [`keyed_uniform`] returns `u2`).
 #[inline(always)]
 pub fn uniforms_from_bits(o: [u32; 4]) -> (f64, f64) {
     let a = ((u64::from(o[0]) << 32) | u64::from(o[1])) >> 11;
@@ -86,11 +98,121 @@ pub fn uniforms_from_bits(o: [u32; 4]) -> (f64, f64) {
     ((a as f64 + 0.5) * TWO_POW_M53, b as f64 * TWO_POW_M53)
 }
 
-/// One standard Gaussian from 128 bits (Box–Muller, cosine branch).
+/// One standard Gaussian from 128 bits (Box–Muller, cosine branch; mapping version 2 in the
+/// module documentation).
 #[inline(always)]
 pub fn gaussian_from_bits(o: [u32; 4]) -> f64 {
-    let (u1, u2) = uniforms_from_bits(o);
-    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    let a = ((u64::from(o[0]) << 32) | u64::from(o[1])) >> 12;
+    let b = ((u64::from(o[2]) << 32) | u64::from(o[3])) >> 12;
+    // u1 = 1 − a 2⁻⁵² ∈ [2⁻⁵², 1], exactly: (1 + a 2⁻⁵²) − 1 is exact, and so is 1 − that.
+    let u1 = 1.0 - (f64::from_bits(0x3FF0_0000_0000_0000 | a) - 1.0);
+    let radius = (-2.0 * ln_normal(u1)).sqrt();
+    radius * cos_turns52(b)
+}
+
+// fdlibm's constants, digit for digit (here and in the kernels below).
+#[allow(clippy::excessive_precision)]
+const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
+#[allow(clippy::excessive_precision)]
+const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
+
+/// ln x for a normal, finite x > 0 (fdlibm `__ieee754_log`, both of its branches evaluated and
+/// selected, so the function is straight-line code; error < 1 ulp). Zero, subnormal, negative,
+/// infinite and NaN arguments are outside its domain (the Box–Muller u1 ≥ 2⁻⁵² never is).
+#[allow(clippy::excessive_precision)]
+#[inline(always)]
+pub fn ln_normal(x: f64) -> f64 {
+    const LG1: f64 = 6.666_666_666_666_735_130e-1;
+    const LG2: f64 = 3.999_999_999_940_941_908e-1;
+    const LG3: f64 = 2.857_142_874_366_239_149e-1;
+    const LG4: f64 = 2.222_219_843_214_978_396e-1;
+    const LG5: f64 = 1.818_357_216_161_805_012e-1;
+    const LG6: f64 = 1.531_383_769_920_937_332e-1;
+    const LG7: f64 = 1.479_819_860_511_658_591e-1;
+    let bits = x.to_bits();
+    let hx = (bits >> 32) as i64;
+    // Exponent, and the mantissa scaled into [sqrt(2)/2, sqrt(2)).
+    let mut k = (hx >> 20) - 1023;
+    let m = hx & 0x000f_ffff;
+    let i = (m + 0x95f64) & 0x0010_0000;
+    let hi = (m | (i ^ 0x3ff0_0000)) as u64;
+    k += i >> 20;
+    let f = f64::from_bits((hi << 32) | (bits & 0xffff_ffff)) - 1.0;
+    let s = f / (2.0 + f);
+    let dk = k as f64;
+    let z = s * s;
+    let w = z * z;
+    let t1 = w * (LG2 + w * (LG4 + w * LG6));
+    let t2 = z * (LG1 + w * (LG3 + w * (LG5 + w * LG7)));
+    let r = t2 + t1;
+    let hfsq = 0.5 * f * f;
+    // fdlibm's `i > 0` test: the mantissa is far enough from 1 that the hfsq form is the
+    // accurate one. Both forms reduce exactly to fdlibm's k = 0 expressions when k = 0.
+    let far = ((m - 0x6147a) | (0x6b851 - m)) > 0;
+    let with_hfsq = dk * LN2_HI - ((hfsq - (s * (hfsq + r) + dk * LN2_LO)) - f);
+    let without = dk * LN2_HI - ((s * (f - r) - dk * LN2_LO) - f);
+    if far { with_hfsq } else { without }
+}
+
+/// fdlibm `__kernel_sin(x, 0, 0)` for |x| ≤ π/4.
+#[allow(clippy::excessive_precision)]
+#[inline(always)]
+fn kernel_sin(x: f64) -> f64 {
+    const S1: f64 = -1.666_666_666_666_663_243_48e-1;
+    const S2: f64 = 8.333_333_333_322_489_461_24e-3;
+    const S3: f64 = -1.984_126_982_985_794_931_34e-4;
+    const S4: f64 = 2.755_731_370_707_006_767_89e-6;
+    const S5: f64 = -2.505_076_025_340_686_341_95e-8;
+    const S6: f64 = 1.589_690_995_211_550_102_21e-10;
+    let z = x * x;
+    let v = z * x;
+    let r = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
+    x + v * (S1 + z * r)
+}
+
+/// fdlibm `__kernel_cos(x, 0)` for |x| ≤ π/4, both branches evaluated and selected.
+#[allow(clippy::excessive_precision)]
+#[inline(always)]
+fn kernel_cos(x: f64) -> f64 {
+    const C1: f64 = 4.166_666_666_666_660_190_37e-2;
+    const C2: f64 = -1.388_888_888_887_410_957_49e-3;
+    const C3: f64 = 2.480_158_728_947_672_941_78e-5;
+    const C4: f64 = -2.755_731_435_139_066_330_35e-7;
+    const C5: f64 = 2.087_572_321_298_174_827_90e-9;
+    const C6: f64 = -1.135_964_755_778_819_482_65e-11;
+    let z = x * x;
+    let r = z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
+    let small = 1.0 - (0.5 * z - z * r);
+    // |x| ≥ 0.3: subtract qx = x/4 rounded down to 21 mantissa bits (fdlibm), or 0.28125 when
+    // |x| > 0.78125 (never reached for |x| ≤ π/4 but kept for fidelity).
+    let ax = x.abs();
+    let qx = if ax > 0.78125 {
+        0.28125
+    } else {
+        f64::from_bits(ax.to_bits().wrapping_sub(0x0020_0000_0000_0000) & 0xffff_ffff_0000_0000)
+    };
+    let hz = 0.5 * z - qx;
+    let large = (1.0 - qx) - (hz - z * r);
+    if ax < 0.3 { small } else { large }
+}
+
+/// cos(2π b 2⁻⁵²) for a 52-bit integer b, with the angle reduced exactly in integers.
+#[inline(always)]
+fn cos_turns52(b: u64) -> f64 {
+    // 2π · 2⁻⁵², rounded to nearest.
+    const TWO_PI_2M52: f64 = std::f64::consts::TAU / 4_503_599_627_370_496.0;
+    // Octant boundaries: q = round(4 b 2⁻⁵²) mod 4, d = b − q 2⁵⁰ ∈ [−2⁴⁹, 2⁴⁹].
+    let qr = (b + (1 << 49)) >> 50;
+    let d = b as i64 - (qr << 50) as i64;
+    let q = qr & 3;
+    // d → f64 exactly (|d| < 2⁵¹) through the 1.5·2⁵² bias, then φ = 2π d 2⁻⁵² ∈ [−π/4, π/4].
+    const BIAS: f64 = 6_755_399_441_055_744.0;
+    let df = f64::from_bits(BIAS.to_bits().wrapping_add(d as u64)) - BIAS;
+    let phi = df * TWO_PI_2M52;
+    let (s, c) = (kernel_sin(phi), kernel_cos(phi));
+    // cos(q π/2 + φ) = cos φ, −sin φ, −cos φ, sin φ.
+    let v = if q & 1 == 0 { c } else { s };
+    if q == 1 || q == 2 { -v } else { v }
 }
 
 /// ξ_ij: the standard Gaussian of pair (i, j) at `step`, symmetric in the two tags.
