@@ -1,6 +1,7 @@
 //! `dpdnl`: the command-line front end of the standalone DPD engine and its tools.
 
 mod analyze;
+mod bench;
 mod crosscheck;
 mod design;
 mod diff;
@@ -35,6 +36,8 @@ enum Command {
     Crosscheck(crosscheck::CrosscheckArgs),
     /// Turn run outputs into the papers' numbers (MB, NEMD, Einstein–Helfand, MSD, Couette).
     Analyze(analyze::AnalyzeArgs),
+    /// Measure atom-steps per second on the reference systems, against LAMMPS (`--lmp`).
+    Bench(bench::BenchArgs),
 }
 
 /// `dpdnl … | head` closes the pipe early; Rust's `println!` then panics on EPIPE. Leave quietly
@@ -71,6 +74,7 @@ fn main() -> ExitCode {
         Command::Diff(a) => diff::main(a),
         Command::Crosscheck(a) => crosscheck::main(a),
         Command::Analyze(a) => analyze::main(a),
+        Command::Bench(a) => bench::main(a),
     };
     match result {
         Ok(code) => code,
