@@ -334,33 +334,97 @@ pub fn pair_force(model: &PairModel, c: &PairCoeff, p: &PairInput) -> PairForce 
     if !in_range(rsq, c.rc) {
         return PairForce::default();
     }
+    let d = Derived::new(model, c);
     pair_parts(
         model.friction,
         model.noise,
         |q| model.weight.wd_wr(q),
         model,
         c,
+        &d,
         p,
         rsq,
     )
+}
+
+/// Per type-pair constants of [`pair_parts`], computed once per type pair by the batch
+/// ([`PairTable`]) and once per call by [`pair_force`], with the same operations, so both give
+/// the same bits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Derived {
+    /// 1 / r_c (so that q = 1 − r · (1/r_c)).
+    inv_rc: f64,
+    /// sqrt(2 kT γ0): σ of constant friction (eq. 31 with γ = γ0).
+    sigma0: f64,
+    /// a r_c / 2, the prefactor of the conservative energy.
+    half_a_rc: f64,
+}
+
+impl Derived {
+    #[inline(always)]
+    fn new(model: &PairModel, c: &PairCoeff) -> Derived {
+        Derived {
+            inv_rc: 1.0 / c.rc,
+            sigma0: (2.0 * model.kt * c.gamma0).sqrt(),
+            half_a_rc: 0.5 * c.a * c.rc,
+        }
+    }
+}
+
+/// The coefficient table of [`pair_forces_batch`]: the caller's [`PairCoeff`]s with their
+/// per type-pair constants, prepared once (per force evaluation) for a model.
+#[derive(Clone, Debug, Default)]
+pub struct PairTable {
+    kt: f64,
+    coeff: Vec<PairCoeff>,
+    derived: Vec<Derived>,
+}
+
+impl PairTable {
+    /// The table for `model` (its kT enters the constants); index as the caller's `table`.
+    pub fn new(model: &PairModel, table: &[PairCoeff]) -> PairTable {
+        PairTable {
+            kt: model.kt,
+            coeff: table.to_vec(),
+            derived: table.iter().map(|c| Derived::new(model, c)).collect(),
+        }
+    }
+
+    /// Number of entries.
+    pub fn len(&self) -> usize {
+        self.coeff.len()
+    }
+
+    /// True when there are no entries.
+    pub fn is_empty(&self) -> bool {
+        self.coeff.is_empty()
+    }
 }
 
 /// The body of [`pair_force`] for a pair in range, with the model's three choices passed
 /// separately so that [`pair_forces_batch`] can fix them at compile time (the arithmetic, and so
 /// every bit of the result, is the same either way).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn pair_parts(
     friction: Friction,
     noise: Noise,
     weight: impl Fn(f64) -> (f64, f64),
     model: &PairModel,
     c: &PairCoeff,
+    d: &Derived,
     p: &PairInput,
     rsq: f64,
 ) -> PairForce {
+    // σ(S) = sqrt(2 kT γ(S)) (eq. 31); for constant friction γ(S) = γ0 and σ is the type
+    // pair's constant, the same bits as computing it here.
+    let sigma = |gamma: f64| match friction {
+        Friction::None => d.sigma0,
+        Friction::Cross | Friction::Dot => (2.0 * model.kt * gamma).sqrt(),
+    };
     let r = rsq.sqrt();
     let inv_r = 1.0 / r;
-    let q = 1.0 - r / c.rc;
+    let q = 1.0 - r * d.inv_rc;
     let (wd, wr) = weight(q);
     let rdotv = dot(p.dr, p.dv);
     let ev = rdotv * inv_r;
@@ -370,17 +434,14 @@ fn pair_parts(
     let fc = c.a * q;
     let fd = -gamma * wd * ev;
     let (fr, fa) = match noise {
-        Noise::Plain => (
-            (2.0 * model.kt * gamma).sqrt() * wr * p.xi * model.inv_sqrt_dt,
-            0.0,
-        ),
+        Noise::Plain => (sigma(gamma) * wr * p.xi * model.inv_sqrt_dt, 0.0),
         Noise::Corrected => {
-            let fr = (2.0 * model.kt * gamma).sqrt() * wr * p.xi * model.inv_sqrt_dt;
+            let fr = sigma(gamma) * wr * p.xi * model.inv_sqrt_dt;
             let de_gamma = friction.dgamma_ds(c, gamma) * friction.rate_gradient_along_e(r, rdotv);
             (fr, model.kt * p.inv_mass_sum * wd * de_gamma * p.xi * p.xi)
         }
         Noise::TwoStep => {
-            let dp1 = (2.0 * model.kt * gamma).sqrt() * wr * p.xi * model.sqrt_dt;
+            let dp1 = sigma(gamma) * wr * p.xi * model.sqrt_dt;
             let kick = p.inv_mass_sum * dp1 * inv_r;
             let dv2 = [
                 p.dv[0] + kick * p.dr[0],
@@ -388,10 +449,7 @@ fn pair_parts(
                 p.dv[2] + kick * p.dr[2],
             ];
             let gamma2 = friction.gamma(c, friction.rate(p.dr, dv2));
-            (
-                (2.0 * model.kt * gamma2).sqrt() * wr * p.xi * model.inv_sqrt_dt,
-                0.0,
-            )
+            (sigma(gamma2) * wr * p.xi * model.inv_sqrt_dt, 0.0)
         }
     };
     PairForce {
@@ -399,7 +457,7 @@ fn pair_parts(
         fd,
         fr,
         fa,
-        energy: 0.5 * c.a * c.rc * q * q,
+        energy: d.half_a_rc * q * q,
         inv_r,
     }
 }
@@ -468,6 +526,16 @@ pub struct PairBatch {
     pub fpair: [f64; BATCH],
     /// Result: the conservative pair energy (0 for a pair out of range).
     pub energy: [f64; BATCH],
+    /// Working arrays of [`pair_forces_batch`] (kept here so that no call zeroes them).
+    scratch: BatchScratch,
+}
+
+/// The per-lane coefficients, random bits and Gaussians of one batch evaluation.
+#[derive(Clone, Debug)]
+struct BatchScratch {
+    co: LaneCoeff,
+    bits: [[u32; BATCH]; 4],
+    xi: [f64; BATCH],
 }
 
 impl Default for PairBatch {
@@ -482,6 +550,19 @@ impl Default for PairBatch {
             tag_j: [0; BATCH],
             fpair: [0.0; BATCH],
             energy: [0.0; BATCH],
+            scratch: BatchScratch {
+                co: LaneCoeff {
+                    a: [0.0; BATCH],
+                    gamma0: [0.0; BATCH],
+                    gamma1: [0.0; BATCH],
+                    rc: [0.0; BATCH],
+                    inv_rc: [0.0; BATCH],
+                    sigma0: [0.0; BATCH],
+                    half_a_rc: [0.0; BATCH],
+                },
+                bits: [[0; BATCH]; 4],
+                xi: [0.0; BATCH],
+            },
         }
     }
 }
@@ -550,22 +631,27 @@ impl Isa {
 }
 
 /// The coefficients of each pair of a batch, gathered from the table.
+#[derive(Clone, Debug)]
 struct LaneCoeff {
     a: [f64; BATCH],
     gamma0: [f64; BATCH],
     gamma1: [f64; BATCH],
     rc: [f64; BATCH],
+    inv_rc: [f64; BATCH],
+    sigma0: [f64; BATCH],
+    half_a_rc: [f64; BATCH],
 }
 
 /// Evaluate every pair of `b` at `step`: `b.fpair[l]` and `b.energy[l]` become exactly
-/// `pair_force(model, &table[b.coeff[l]], input_l)` with `input_l.xi = pair_gaussian(seed, step,
+/// `pair_force(model, &coeff[b.coeff[l]], input_l)` (`table` = `PairTable::new(model, coeff)`) with `input_l.xi = pair_gaussian(seed, step,
 /// b.tag_i[l], b.tag_j[l])` (total force / r and energy; 0 out of range). The loop has no calls
 /// and no branches, so it runs in SIMD lanes ([`Isa::detect`]).
 ///
-/// Panics if a `coeff` index is outside `table` (a caller bug).
+/// Panics if a `coeff` index is outside `table` (a caller bug), or if `table` was prepared for a
+/// model with another kT (checked in debug builds).
 pub fn pair_forces_batch(
     model: &PairModel,
-    table: &[PairCoeff],
+    table: &PairTable,
     seed: u32,
     step: u64,
     b: &mut PairBatch,
@@ -578,25 +664,49 @@ pub fn pair_forces_batch(
 pub fn pair_forces_batch_isa(
     isa: Isa,
     model: &PairModel,
-    table: &[PairCoeff],
+    table: &PairTable,
     seed: u32,
     step: u64,
     b: &mut PairBatch,
 ) {
     let n = b.len.min(BATCH);
     b.len = n;
-    let mut co = LaneCoeff {
-        a: [0.0; BATCH],
-        gamma0: [0.0; BATCH],
-        gamma1: [0.0; BATCH],
-        rc: [0.0; BATCH],
-    };
-    for l in 0..n {
-        let c = &table[b.coeff[l] as usize];
+    if n == 0 {
+        return;
+    }
+    debug_assert_eq!(
+        table.kt.to_bits(),
+        model.kt.to_bits(),
+        "PairTable of another model"
+    );
+    let fill = |co: &mut LaneCoeff, l: usize, k: usize| {
+        let (c, d) = (&table.coeff[k], &table.derived[k]);
         co.a[l] = c.a;
         co.gamma0[l] = c.gamma0;
         co.gamma1[l] = c.gamma1;
         co.rc[l] = c.rc;
+        co.inv_rc[l] = d.inv_rc;
+        co.sigma0[l] = d.sigma0;
+        co.half_a_rc[l] = d.half_a_rc;
+    };
+    let first = b.coeff[0];
+    let co = &mut b.scratch.co;
+    if b.coeff[..n].iter().all(|&k| k == first) {
+        // One type pair (e.g. one atom type): broadcast.
+        fill(co, 0, first as usize);
+        for l in 1..n {
+            co.a[l] = co.a[0];
+            co.gamma0[l] = co.gamma0[0];
+            co.gamma1[l] = co.gamma1[0];
+            co.rc[l] = co.rc[0];
+            co.inv_rc[l] = co.inv_rc[0];
+            co.sigma0[l] = co.sigma0[0];
+            co.half_a_rc[l] = co.half_a_rc[0];
+        }
+    } else {
+        for l in 0..n {
+            fill(co, l, b.coeff[l] as usize);
+        }
     }
     let isa = if (isa as u8) > (Isa::best_supported() as u8) {
         Isa::Baseline
@@ -609,10 +719,10 @@ pub fn pair_forces_batch_isa(
             match (model.friction, model.noise, standard) {
                 $(
                     (Friction::$f, Noise::$n, true) => {
-                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, true>(isa, model, seed, step, &co, b)
+                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, true>(isa, model, seed, step, b)
                     }
                     (Friction::$f, Noise::$n, false) => {
-                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, false>(isa, model, seed, step, &co, b)
+                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, false>(isa, model, seed, step, b)
                     }
                 )*
             }
@@ -636,18 +746,17 @@ fn lanes_isa<const F: u8, const N: u8, const STD: bool>(
     model: &PairModel,
     seed: u32,
     step: u64,
-    co: &LaneCoeff,
     b: &mut PairBatch,
 ) {
     match isa {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `isa` is at most `Isa::best_supported()` (checked by the caller), so the CPU has
         // every feature these functions are compiled for.
-        Isa::Avx512 => unsafe { lanes_avx512::<F, N, STD>(model, seed, step, co, b) },
+        Isa::Avx512 => unsafe { lanes_avx512::<F, N, STD>(model, seed, step, b) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        Isa::Avx2 => unsafe { lanes_avx2::<F, N, STD>(model, seed, step, co, b) },
-        _ => lanes::<F, N, STD>(model, seed, step, co, b),
+        Isa::Avx2 => unsafe { lanes_avx2::<F, N, STD>(model, seed, step, b) },
+        _ => lanes::<F, N, STD>(model, seed, step, b),
     }
 }
 
@@ -657,10 +766,9 @@ fn lanes_avx512<const F: u8, const N: u8, const STD: bool>(
     model: &PairModel,
     seed: u32,
     step: u64,
-    co: &LaneCoeff,
     b: &mut PairBatch,
 ) {
-    lanes::<F, N, STD>(model, seed, step, co, b)
+    lanes::<F, N, STD>(model, seed, step, b)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -669,10 +777,9 @@ fn lanes_avx2<const F: u8, const N: u8, const STD: bool>(
     model: &PairModel,
     seed: u32,
     step: u64,
-    co: &LaneCoeff,
     b: &mut PairBatch,
 ) {
-    lanes::<F, N, STD>(model, seed, step, co, b)
+    lanes::<F, N, STD>(model, seed, step, b)
 }
 
 const fn friction_of(f: u8) -> Friction {
@@ -697,7 +804,6 @@ fn lanes<const F: u8, const N: u8, const STD: bool>(
     model: &PairModel,
     seed: u32,
     step: u64,
-    co: &LaneCoeff,
     b: &mut PairBatch,
 ) {
     let friction = friction_of(F);
@@ -707,7 +813,7 @@ fn lanes<const F: u8, const N: u8, const STD: bool>(
     // Three loops (random bits, Gaussians, forces) rather than one: each body is short enough
     // for the processor to overlap several iterations, which hides the long latency chains of
     // Philox, ln and the divisions. The arithmetic of each pair is unchanged.
-    let mut bits = [[0u32; BATCH]; 4];
+    let bits = &mut b.scratch.bits;
     for l in 0..n {
         let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
         let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
@@ -716,16 +822,22 @@ fn lanes<const F: u8, const N: u8, const STD: bool>(
         bits[2][l] = o[2];
         bits[3][l] = o[3];
     }
-    let mut xi = [0.0f64; BATCH];
+    let xi = &mut b.scratch.xi;
     for l in 0..n {
         xi[l] = crate::rng::gaussian_from_bits([bits[0][l], bits[1][l], bits[2][l], bits[3][l]]);
     }
+    let (co, xi) = (&b.scratch.co, &b.scratch.xi);
     for l in 0..n {
         let c = PairCoeff {
             a: co.a[l],
             gamma0: co.gamma0[l],
             gamma1: co.gamma1[l],
             rc: co.rc[l],
+        };
+        let d = Derived {
+            inv_rc: co.inv_rc[l],
+            sigma0: co.sigma0[l],
+            half_a_rc: co.half_a_rc[l],
         };
         let p = PairInput {
             dr: [b.dr[0][l], b.dr[1][l], b.dr[2][l]],
@@ -736,9 +848,9 @@ fn lanes<const F: u8, const N: u8, const STD: bool>(
         let rsq = dot(p.dr, p.dr);
         let ok = in_range(rsq, c.rc);
         let pf = if STD {
-            pair_parts(friction, noise, |q| (q * q, q), model, &c, &p, rsq)
+            pair_parts(friction, noise, |q| (q * q, q), model, &c, &d, &p, rsq)
         } else {
-            pair_parts(friction, noise, |q| weight.wd_wr(q), model, &c, &p, rsq)
+            pair_parts(friction, noise, |q| weight.wd_wr(q), model, &c, &d, &p, rsq)
         };
         b.fpair[l] = if ok { pf.total() * pf.inv_r } else { 0.0 };
         b.energy[l] = if ok { pf.energy } else { 0.0 };
@@ -842,7 +954,14 @@ mod tests {
                             let pf = pair_force(&model, &table[coeff], &input);
                             want.push((pf.total() * pf.inv_r, pf.energy));
                         }
-                        pair_forces_batch_isa(isa, &model, &table, 99, 12345, &mut b);
+                        pair_forces_batch_isa(
+                            isa,
+                            &model,
+                            &PairTable::new(&model, &table),
+                            99,
+                            12345,
+                            &mut b,
+                        );
                         let mut inside = 0;
                         for (l, &(fp, e)) in want.iter().enumerate() {
                             assert_eq!(

@@ -23,7 +23,7 @@ use super::atoms::Atoms;
 use super::domain::SimBox;
 use super::forcefield::ForceField;
 use crate::kernel::{
-    BATCH, Isa, MIN_PAIR_DISTANCE, PairBatch, PairCoeff, pair_forces_batch_isa,
+    BATCH, Isa, MIN_PAIR_DISTANCE, PairBatch, PairCoeff, PairTable, pair_forces_batch_isa,
 };
 use rayon::prelude::*;
 
@@ -218,6 +218,7 @@ impl NeighborList {
 
         // Rows, slab by slab (each slab independent: parallel and deterministic).
         let cutsq = cutoff * cutoff;
+        let quarter = [0.25 * len[0], 0.25 * len[1], 0.25 * len[2]];
         let x = &atoms.x;
         let cell_start = &self.cell_start;
         let axes = &self.stencil_axes;
@@ -237,10 +238,19 @@ impl NeighborList {
                         return;
                     }
                     // Branch-free append: write every candidate, keep those within the cut-off.
+                    // A raw separation below a quarter box length in every component is its
+                    // own minimum image; only the others (whole cells across a boundary, so the
+                    // branch is well predicted) go through `SimBox::min_image`.
                     s.nbr.resize(len + (hi - lo), 0);
                     for j in lo..hi {
                         let xj = x[j];
-                        let d = bx.min_image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
+                        let mut d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
+                        if (d[0].abs() >= quarter[0])
+                            | (d[1].abs() >= quarter[1])
+                            | (d[2].abs() >= quarter[2])
+                        {
+                            d = bx.min_image(d);
+                        }
                         s.nbr[len] = j as u32;
                         len += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cutsq);
                     }
@@ -302,6 +312,7 @@ impl NeighborList {
         );
         self.rcsq.clear();
         self.rcsq.extend(table.iter().map(|c| c.rc * c.rc));
+        let pair_table = PairTable::new(&ff.model, table);
         let isa = match self.isa {
             Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
             Some(_) => Isa::Baseline,
@@ -311,7 +322,7 @@ impl NeighborList {
             isa,
             bx,
             ff,
-            table,
+            table: &pair_table,
             rcsq: &self.rcsq,
             inv_mass,
             nt,
@@ -370,7 +381,7 @@ struct Ctx<'a> {
     isa: Isa,
     bx: &'a SimBox,
     ff: &'a ForceField,
-    table: &'a [PairCoeff],
+    table: &'a PairTable,
     rcsq: &'a [f64],
     inv_mass: &'a [f64],
     nt: usize,
@@ -395,6 +406,9 @@ struct RowScratch {
     keep: Vec<u32>,
     /// Row positions of the entries through a periodic boundary.
     far: Vec<u32>,
+    /// Their minimum-image separations and in-range flags.
+    far_dr: [Vec<f64>; 3],
+    far_keep: Vec<u32>,
 }
 
 impl Slab {
@@ -569,26 +583,57 @@ fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: bool>(
         }
         #[cfg(not(target_arch = "x86_64"))]
         near_row::<ONE_TYPE>(&r, &pc, sc, &mut p, &mut len, &mut sink);
-        // Pairs through a periodic boundary.
-        for &k in &sc.far {
-            let j = r.row[k as usize];
-            let xj = x[j as usize];
+        // Pairs through a periodic boundary: minimum images in a branch-free pass (it
+        // vectorises), then the in-range ones appended in row order.
+        let nf = sc.far.len();
+        if nf > 0 {
+            for v in sc.far_dr.iter_mut() {
+                if v.len() < nf {
+                    v.resize(nf, 0.0);
+                }
+            }
+            if sc.far_keep.len() < nf {
+                sc.far_keep.resize(nf, 0);
+            }
+            let (m, last) = (r.row.len(), x.len() - 1);
+            let [fx, fy, fz] = &mut sc.far_dr;
+            let (fx, fy, fz, fkeep) = (
+                &mut fx[..nf],
+                &mut fy[..nf],
+                &mut fz[..nf],
+                &mut sc.far_keep[..nf],
+            );
             let xi = r.xi;
-            let d = bx.min_image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
-            let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            let coeff = if ONE_TYPE {
-                one_coeff
-            } else {
-                r.row_t + typ[j as usize] as usize
-            };
-            if (rsq < ctx.rcsq[coeff]) & (rsq >= pc.min_sq) {
-                p.batch.dr[0][len] = d[0];
-                p.batch.dr[1][len] = d[1];
-                p.batch.dr[2][len] = d[2];
-                p.batch.coeff[len] = coeff as u32;
+            for q in 0..nf {
+                // Clamped indices (no-ops for a valid list): no exits, so the loop vectorises.
+                let j = (r.row[(sc.far[q] as usize).min(m - 1)] as usize).min(last);
+                let xj = x[j];
+                let d = bx.min_image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
+                let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                let rcsq = if ONE_TYPE {
+                    pc.one_rcsq
+                } else {
+                    ctx.rcsq[(r.row_t + typ[j] as usize).min(ctx.rcsq.len() - 1)]
+                };
+                fx[q] = d[0];
+                fy[q] = d[1];
+                fz[q] = d[2];
+                fkeep[q] = u32::from((rsq < rcsq) & (rsq >= pc.min_sq));
+            }
+            for q in 0..nf {
+                let j = r.row[sc.far[q] as usize];
+                let b = &mut p.batch;
+                b.dr[0][len] = fx[q];
+                b.dr[1][len] = fy[q];
+                b.dr[2][len] = fz[q];
+                b.coeff[len] = if ONE_TYPE {
+                    one_coeff as u32
+                } else {
+                    (r.row_t + typ[j as usize] as usize) as u32
+                };
                 p.i[len] = i as u32;
                 p.j[len] = j;
-                len += 1;
+                len += fkeep[q] as usize;
                 if len == BATCH {
                     sink.evaluate::<ONE_TYPE>(&mut p, &mut len);
                 }
@@ -815,8 +860,10 @@ mod avx512 {
 }
 
 /// Evaluate the pending pairs and add their forces, energy and virial, in batch order. `own`
-/// starts at atom `at.0`, `next` at atom `at.1`.
-#[inline(always)]
+/// starts at atom `at.0`, `next` at atom `at.1`. Kept out of line: its gathers and scatters are
+/// faster as scalar loads and stores than as the SIMD gathers the AVX-512 context would make of
+/// them.
+#[inline(never)]
 fn flush<const ONE_TYPE: bool>(
     ctx: &Ctx,
     p: &mut Pending,
