@@ -40,6 +40,6 @@ echo "== LAMMPS shim tests (newton on/off, 1 vs 2 ranks, restart, errors)"
 bash lammps-plugin/tests/run.sh
 echo "== plugin tests in LAMMPS 22Jul2025 (the same, plus plugin load/unload, Python, examples)"
 bash lammps-plugin/tests/run-plugin.sh
-echo "== plugin vs LAMMPS's pair dpd and dpd/ext, head to head (about 2 minutes)"
+echo "== plugin vs LAMMPS's pair dpd and dpd/ext, head to head (about 3 minutes)"
 DPDNL_REQUIRE_PLUGIN=1 cargo test --test plugin_head_to_head -- --ignored --nocapture
 echo "== all tests passed"

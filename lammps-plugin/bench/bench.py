@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""Speed of pair_style dpd/nonlinear (build/dpdnlplugin.so) beside LAMMPS's own pair_style dpd
+and dpd/omp in the same LAMMPS binary, on the same inputs (in.ideal, in.gw). Stdlib only.
+
+    python3 lammps-plugin/bench/bench.py [--lmp .venv-lammps/bin/lmp] [--reps 5]
+
+Runs are interleaved (every repetition runs every style of every system, in a rotating order)
+so that a change of machine load hits all styles alike; the table gives medians over the
+repetitions. Atom-steps/s = N × steps / loop time of the timed run (the second `run`, after a
+warm-up run); the pair time per step comes from LAMMPS's timing breakdown. Each run uses one
+core (one MPI rank, OMP_NUM_THREADS=1) unless --threads is given for dpd/omp. Results go to
+stdout as a Markdown table, with the load average before each repetition.
+"""
+import argparse
+import os
+import platform
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
+
+SYSTEMS = {"ideal": "ideal DPD, n = 16, N = 20000, δt = 1e-3",
+           "gw": "Groot–Warren, n = 3, a = 25, N = 20000, δt = 0.04"}
+LABELS = {"plugin": "dpd/nonlinear (plugin)", "dpd": "dpd", "omp": "dpd/omp"}
+
+
+def run(lmp, plugin_dir, system, style, steps, threads, workdir):
+    log = os.path.join(workdir, f"log.{system}.{style}")
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads if style == "omp" else 1),
+               LAMMPS_PLUGIN_PATH=plugin_dir)
+    cmd = [lmp, "-in", f"in.{system}", "-var", "style", style, "-var", "steps", str(steps),
+           "-log", log, "-screen", "none", "-nocite"]
+    if style == "omp":
+        cmd += ["-pk", "omp", str(threads)]
+    p = subprocess.run(cmd, cwd=HERE, env=env, capture_output=True, text=True)
+    text = open(log).read() if os.path.exists(log) else ""
+    if p.returncode != 0:
+        sys.exit(f"{' '.join(cmd)} failed:\n{p.stdout[-1500:]}{p.stderr[-1500:]}")
+    loops = re.findall(r"Loop time of ([\d.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms",
+                       text)
+    pairs = re.findall(r"^Pair\s+\|\s+([\d.eE+-]+)", text, re.M)
+    cpu = re.findall(r"([\d.]+)% CPU use with", text)
+    loop, _, nsteps, natoms = loops[-1]
+    work = int(natoms) * int(nsteps)
+    return {"atom_steps": work / float(loop),
+            # per CPU-second of the loop (LAMMPS's "% CPU use"): less sensitive to other load
+            "atom_steps_cpu": work / (float(loop) * float(cpu[-1]) / 100.0),
+            "pair_per_step": float(pairs[-1]) / int(nsteps)}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--lmp", default=os.path.join(ROOT, ".venv-lammps", "bin", "lmp"))
+    ap.add_argument("--plugin-dir", default=os.path.join(ROOT, "build"),
+                    help="directory holding dpdnlplugin.so (LAMMPS_PLUGIN_PATH)")
+    ap.add_argument("--reps", type=int, default=5)
+    ap.add_argument("--steps-ideal", type=int, default=500)
+    ap.add_argument("--steps-gw", type=int, default=500)
+    ap.add_argument("--styles", default="plugin,dpd,omp")
+    ap.add_argument("--systems", default="ideal,gw")
+    ap.add_argument("--threads", type=int, default=1, help="OpenMP threads of dpd/omp")
+    args = ap.parse_args()
+    styles = args.styles.split(",")
+    systems = args.systems.split(",")
+    steps = {"ideal": args.steps_ideal, "gw": args.steps_gw}
+    results = {(s, st): [] for s in systems for st in styles}
+    loads = []
+    with tempfile.TemporaryDirectory(prefix="dpdnl-bench-") as tmp:
+        for rep in range(args.reps):
+            loads.append(os.getloadavg()[0])
+            order = styles[rep % len(styles):] + styles[:rep % len(styles)]
+            for system in systems:
+                for style in order:
+                    r = run(args.lmp, args.plugin_dir, system, style, steps[system],
+                            args.threads, tmp)
+                    results[(system, style)].append(r)
+                    print(f"# rep {rep} {system:5} {style:6} {r['atom_steps'] / 1e6:8.3f} "
+                          f"M atom-steps/s ({r['atom_steps_cpu'] / 1e6:.3f} per CPU-s)  "
+                          f"pair {r['pair_per_step'] * 1e3:8.3f} ms/step",
+                          file=sys.stderr, flush=True)
+        loads.append(os.getloadavg()[0])
+
+    cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo")
+                if l.startswith("model name")), platform.processor())
+    print(f"Machine: {cpu}, {os.cpu_count()} logical CPUs; {platform.platform()}")
+    print(f"1-minute load average before each repetition and at the end: "
+          f"{', '.join(f'{x:.1f}' for x in loads)}")
+    print(f"{args.reps} interleaved repetitions; medians (min–max); one core per run "
+          f"(dpd/omp: {args.threads} OpenMP thread(s))\n")
+    print("| system | pair style | M atom-steps/s (wall) | M atom-steps per CPU-s | "
+          "pair ms/step (wall) | plugin ÷ this (per CPU-s) |")
+    print("|---|---|---|---|---|---|")
+
+    def span(xs, fmt):
+        return f"{statistics.median(xs):{fmt}} ({min(xs):{fmt}}–{max(xs):{fmt}})"
+
+    for system in systems:
+        base = statistics.median(r["atom_steps_cpu"] for r in results[(system, "plugin")]) \
+            if "plugin" in styles else None
+        for style in styles:
+            rs = results[(system, style)]
+            wall = [r["atom_steps"] / 1e6 for r in rs]
+            cpu = [r["atom_steps_cpu"] / 1e6 for r in rs]
+            pair = [r["pair_per_step"] * 1e3 for r in rs]
+            ratio = (f"{base / 1e6 / statistics.median(cpu):.2f}"
+                     if base and style != "plugin" else "—")
+            print(f"| {SYSTEMS[system]} | {LABELS[style]} | {span(wall, '.3f')} | "
+                  f"{span(cpu, '.3f')} | {span(pair, '.1f')} | {ratio} |")
+
+
+if __name__ == "__main__":
+    main()
