@@ -4,9 +4,7 @@
 //! mode, one and two atom types).
 
 use dpdnl::engine::{ForceField, Integrator, NeighborList, SimBox, System};
-use dpdnl::kernel::{
-    Friction, Isa, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force,
-};
+use dpdnl::kernel::{Friction, Isa, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force};
 use dpdnl::rng::{keyed_gaussian, keyed_uniform, pair_gaussian};
 
 const SEED: u32 = 9898;
