@@ -327,6 +327,10 @@ pub fn in_range(rsq: f64, rc: f64) -> bool {
 /// - correction (`corrected`, eq. 32): F^A = kT (1/m_i + 1/m_j) w_D (e · ∂γ/∂v) ξ², with
 ///   e · ∂γ/∂v = γ'(S) (e · ∂S/∂v); nonzero only for `dot`.
 ///
+/// Evaluation (exact in arithmetic, rounded differently from the literal formulas): γ and σ
+/// come from one exponential e = exp(−γ1 S/2) as γ0 e² and sqrt(2 kT γ0) e; q = 1 − r · (1/r_c);
+/// in `twostep`, S'' = S for `cross` (the kick is along r_ij) and (r · v + κ r²)² for `dot`.
+///
 /// [`pair_forces_batch`] evaluates the same function on many pairs at once, bit for bit.
 #[inline(always)]
 pub fn pair_force(model: &PairModel, c: &PairCoeff, p: &PairInput) -> PairForce {
@@ -402,8 +406,9 @@ impl PairTable {
 }
 
 /// The body of [`pair_force`] for a pair in range, with the model's three choices passed
-/// separately so that [`pair_forces_batch`] can fix them at compile time (the arithmetic, and so
-/// every bit of the result, is the same either way).
+/// separately so that [`pair_forces_batch`] can fix them at compile time. It runs the stages
+/// [`geom`], [`friction_at`], [`twostep_rate`] and [`assemble`]; the batch runs the same stages
+/// as separate loops over its pairs (same operations, so every bit of the result is the same).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn pair_parts(
@@ -416,49 +421,134 @@ fn pair_parts(
     p: &PairInput,
     rsq: f64,
 ) -> PairForce {
-    // σ(S) = sqrt(2 kT γ(S)) (eq. 31); for constant friction γ(S) = γ0 and σ is the type
-    // pair's constant, the same bits as computing it here.
-    let sigma = |gamma: f64| match friction {
-        Friction::None => d.sigma0,
-        Friction::Cross | Friction::Dot => (2.0 * model.kt * gamma).sqrt(),
+    let g = geom(friction, weight, d, p, rsq);
+    let (gamma, sigma) = friction_at(friction, c, d, g.s);
+    let sigma2 = if noise == Noise::TwoStep {
+        friction_at(
+            friction,
+            c,
+            d,
+            twostep_rate(friction, model, &g, sigma, p, rsq),
+        )
+        .1
+    } else {
+        sigma
     };
+    assemble(friction, noise, model, c, d, p, &g, gamma, sigma, sigma2)
+}
+
+/// Stage 1: the pair's geometry and strain-rate estimator at t.
+#[derive(Clone, Copy, Debug)]
+struct Geom {
+    r: f64,
+    inv_r: f64,
+    /// q = 1 − r/r_c, evaluated as 1 − r · (1/r_c).
+    q: f64,
+    wd: f64,
+    wr: f64,
+    rdotv: f64,
+    /// S(r_ij, v_ij) (eq. 28 or 29).
+    s: f64,
+}
+
+#[inline(always)]
+fn geom(
+    friction: Friction,
+    weight: impl Fn(f64) -> (f64, f64),
+    d: &Derived,
+    p: &PairInput,
+    rsq: f64,
+) -> Geom {
     let r = rsq.sqrt();
     let inv_r = 1.0 / r;
     let q = 1.0 - r * d.inv_rc;
     let (wd, wr) = weight(q);
-    let rdotv = dot(p.dr, p.dv);
-    let ev = rdotv * inv_r;
-    let s = friction.rate(p.dr, p.dv);
-    let gamma = friction.gamma(c, s);
+    Geom {
+        r,
+        inv_r,
+        q,
+        wd,
+        wr,
+        rdotv: dot(p.dr, p.dv),
+        s: friction.rate(p.dr, p.dv),
+    }
+}
 
-    let fc = c.a * q;
-    let fd = -gamma * wd * ev;
+/// Stage 2: γ(S) = γ0 exp(−γ1 S) (eq. 30) and σ(S) = sqrt(2 kT γ(S)) (eq. 31) from one
+/// exponential: with e = exp(−γ1 S / 2), γ = γ0 e² and σ = σ0 e, σ0 = sqrt(2 kT γ0) (the type
+/// pair's constant). No square root per pair, and σ² = 2 kT γ to rounding.
+#[inline(always)]
+fn friction_at(friction: Friction, c: &PairCoeff, d: &Derived, s: f64) -> (f64, f64) {
+    match friction {
+        Friction::None => (c.gamma0, d.sigma0),
+        Friction::Cross | Friction::Dot => {
+            let e = exp(-0.5 * c.gamma1 * s);
+            (c.gamma0 * (e * e), d.sigma0 * e)
+        }
+    }
+}
+
+/// Stage 3 (`twostep`): S'' (eq. 36) after the pair-local kick v'' = v + κ r_ij with
+/// κ = (1/m_i + 1/m_j) δp1 / r and δp1 = σ(S) w_R ξ δt^(1/2) (eqs. 34–35). The kick is along
+/// r_ij, so S''× = |r × v''|² = S× exactly, and S''· = (r · v + κ r²)².
+#[inline(always)]
+fn twostep_rate(
+    friction: Friction,
+    model: &PairModel,
+    g: &Geom,
+    sigma: f64,
+    p: &PairInput,
+    rsq: f64,
+) -> f64 {
+    let dp1 = sigma * g.wr * p.xi * model.sqrt_dt;
+    let kick = p.inv_mass_sum * dp1 * g.inv_r;
+    match friction {
+        Friction::None | Friction::Cross => g.s,
+        Friction::Dot => {
+            let rdv2 = g.rdotv + kick * rsq;
+            rdv2 * rdv2
+        }
+    }
+}
+
+/// Stage 4: the force parts. `sigma2` is σ(S'') for `twostep` (eq. 37), unused otherwise.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn assemble(
+    friction: Friction,
+    noise: Noise,
+    model: &PairModel,
+    c: &PairCoeff,
+    d: &Derived,
+    p: &PairInput,
+    g: &Geom,
+    gamma: f64,
+    sigma: f64,
+    sigma2: f64,
+) -> PairForce {
+    let ev = g.rdotv * g.inv_r;
+    let fc = c.a * g.q;
+    let fd = -gamma * g.wd * ev;
     let (fr, fa) = match noise {
-        Noise::Plain => (sigma(gamma) * wr * p.xi * model.inv_sqrt_dt, 0.0),
+        Noise::Plain => (sigma * g.wr * p.xi * model.inv_sqrt_dt, 0.0),
         Noise::Corrected => {
-            let fr = sigma(gamma) * wr * p.xi * model.inv_sqrt_dt;
-            let de_gamma = friction.dgamma_ds(c, gamma) * friction.rate_gradient_along_e(r, rdotv);
-            (fr, model.kt * p.inv_mass_sum * wd * de_gamma * p.xi * p.xi)
+            let fr = sigma * g.wr * p.xi * model.inv_sqrt_dt;
+            let de_gamma =
+                friction.dgamma_ds(c, gamma) * friction.rate_gradient_along_e(g.r, g.rdotv);
+            (
+                fr,
+                model.kt * p.inv_mass_sum * g.wd * de_gamma * p.xi * p.xi,
+            )
         }
-        Noise::TwoStep => {
-            let dp1 = sigma(gamma) * wr * p.xi * model.sqrt_dt;
-            let kick = p.inv_mass_sum * dp1 * inv_r;
-            let dv2 = [
-                p.dv[0] + kick * p.dr[0],
-                p.dv[1] + kick * p.dr[1],
-                p.dv[2] + kick * p.dr[2],
-            ];
-            let gamma2 = friction.gamma(c, friction.rate(p.dr, dv2));
-            (sigma(gamma2) * wr * p.xi * model.inv_sqrt_dt, 0.0)
-        }
+        Noise::TwoStep => (sigma2 * g.wr * p.xi * model.inv_sqrt_dt, 0.0),
     };
     PairForce {
         fc,
         fd,
         fr,
         fa,
-        energy: d.half_a_rc * q * q,
-        inv_r,
+        energy: d.half_a_rc * g.q * g.q,
+        inv_r: g.inv_r,
     }
 }
 
@@ -536,6 +626,15 @@ struct BatchScratch {
     co: LaneCoeff,
     bits: [[u32; BATCH]; 4],
     xi: [f64; BATCH],
+    st: StageArrays,
+}
+
+/// The results of the kernel's stages for each lane: `g` = the fields of [`Geom`] (r, 1/r, q,
+/// w_D, w_R, r·v, S), `gs` = γ(S), σ(S), σ(S'').
+#[derive(Clone, Debug)]
+struct StageArrays {
+    g: [[f64; BATCH]; 7],
+    gs: [[f64; BATCH]; 3],
 }
 
 impl Default for PairBatch {
@@ -562,6 +661,10 @@ impl Default for PairBatch {
                 },
                 bits: [[0; BATCH]; 4],
                 xi: [0.0; BATCH],
+                st: StageArrays {
+                    g: [[0.0; BATCH]; 7],
+                    gs: [[0.0; BATCH]; 3],
+                },
             },
         }
     }
@@ -679,35 +782,6 @@ pub fn pair_forces_batch_isa(
         model.kt.to_bits(),
         "PairTable of another model"
     );
-    let fill = |co: &mut LaneCoeff, l: usize, k: usize| {
-        let (c, d) = (&table.coeff[k], &table.derived[k]);
-        co.a[l] = c.a;
-        co.gamma0[l] = c.gamma0;
-        co.gamma1[l] = c.gamma1;
-        co.rc[l] = c.rc;
-        co.inv_rc[l] = d.inv_rc;
-        co.sigma0[l] = d.sigma0;
-        co.half_a_rc[l] = d.half_a_rc;
-    };
-    let first = b.coeff[0];
-    let co = &mut b.scratch.co;
-    if b.coeff[..n].iter().all(|&k| k == first) {
-        // One type pair (e.g. one atom type): broadcast.
-        fill(co, 0, first as usize);
-        for l in 1..n {
-            co.a[l] = co.a[0];
-            co.gamma0[l] = co.gamma0[0];
-            co.gamma1[l] = co.gamma1[0];
-            co.rc[l] = co.rc[0];
-            co.inv_rc[l] = co.inv_rc[0];
-            co.sigma0[l] = co.sigma0[0];
-            co.half_a_rc[l] = co.half_a_rc[0];
-        }
-    } else {
-        for l in 0..n {
-            fill(co, l, b.coeff[l] as usize);
-        }
-    }
     let isa = if (isa as u8) > (Isa::best_supported() as u8) {
         Isa::Baseline
     } else {
@@ -719,10 +793,10 @@ pub fn pair_forces_batch_isa(
             match (model.friction, model.noise, standard) {
                 $(
                     (Friction::$f, Noise::$n, true) => {
-                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, true>(isa, model, seed, step, b)
+                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, true>(isa, model, table, seed, step, b)
                     }
                     (Friction::$f, Noise::$n, false) => {
-                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, false>(isa, model, seed, step, b)
+                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, false>(isa, model, table, seed, step, b)
                     }
                 )*
             }
@@ -744,6 +818,7 @@ pub fn pair_forces_batch_isa(
 fn lanes_isa<const F: u8, const N: u8, const STD: bool>(
     isa: Isa,
     model: &PairModel,
+    table: &PairTable,
     seed: u32,
     step: u64,
     b: &mut PairBatch,
@@ -752,11 +827,11 @@ fn lanes_isa<const F: u8, const N: u8, const STD: bool>(
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `isa` is at most `Isa::best_supported()` (checked by the caller), so the CPU has
         // every feature these functions are compiled for.
-        Isa::Avx512 => unsafe { lanes_avx512::<F, N, STD>(model, seed, step, b) },
+        Isa::Avx512 => unsafe { lanes_avx512::<F, N, STD>(model, table, seed, step, b) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        Isa::Avx2 => unsafe { lanes_avx2::<F, N, STD>(model, seed, step, b) },
-        _ => lanes::<F, N, STD>(model, seed, step, b),
+        Isa::Avx2 => unsafe { lanes_avx2::<F, N, STD>(model, table, seed, step, b) },
+        _ => lanes::<F, N, STD>(model, table, seed, step, b),
     }
 }
 
@@ -764,22 +839,24 @@ fn lanes_isa<const F: u8, const N: u8, const STD: bool>(
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
 fn lanes_avx512<const F: u8, const N: u8, const STD: bool>(
     model: &PairModel,
+    table: &PairTable,
     seed: u32,
     step: u64,
     b: &mut PairBatch,
 ) {
-    lanes::<F, N, STD>(model, seed, step, b)
+    lanes::<F, N, STD>(model, table, seed, step, b)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
 fn lanes_avx2<const F: u8, const N: u8, const STD: bool>(
     model: &PairModel,
+    table: &PairTable,
     seed: u32,
     step: u64,
     b: &mut PairBatch,
 ) {
-    lanes::<F, N, STD>(model, seed, step, b)
+    lanes::<F, N, STD>(model, table, seed, step, b)
 }
 
 const fn friction_of(f: u8) -> Friction {
@@ -798,10 +875,41 @@ const fn noise_of(n: u8) -> Noise {
     }
 }
 
+/// Gather each pair's coefficients and constants into the lane arrays (a broadcast when the
+/// whole batch has one type pair, e.g. one atom type).
+#[inline(always)]
+fn fill_coeff(table: &PairTable, b: &mut PairBatch, n: usize) {
+    let first = b.coeff[0];
+    let co = &mut b.scratch.co;
+    if b.coeff[..n].iter().all(|&k| k == first) {
+        let (c, d) = (&table.coeff[first as usize], &table.derived[first as usize]);
+        co.a.fill(c.a);
+        co.gamma0.fill(c.gamma0);
+        co.gamma1.fill(c.gamma1);
+        co.rc.fill(c.rc);
+        co.inv_rc.fill(d.inv_rc);
+        co.sigma0.fill(d.sigma0);
+        co.half_a_rc.fill(d.half_a_rc);
+    } else {
+        for l in 0..n {
+            let k = b.coeff[l] as usize;
+            let (c, d) = (&table.coeff[k], &table.derived[k]);
+            co.a[l] = c.a;
+            co.gamma0[l] = c.gamma0;
+            co.gamma1[l] = c.gamma1;
+            co.rc[l] = c.rc;
+            co.inv_rc[l] = d.inv_rc;
+            co.sigma0[l] = d.sigma0;
+            co.half_a_rc[l] = d.half_a_rc;
+        }
+    }
+}
+
 /// The per-pair loop of [`pair_forces_batch`], with friction, noise and weight fixed.
 #[inline(always)]
 fn lanes<const F: u8, const N: u8, const STD: bool>(
     model: &PairModel,
+    table: &PairTable,
     seed: u32,
     step: u64,
     b: &mut PairBatch,
@@ -810,6 +918,7 @@ fn lanes<const F: u8, const N: u8, const STD: bool>(
     let noise = noise_of(N);
     let weight = model.weight;
     let n = b.len.min(BATCH);
+    fill_coeff(table, b, n);
     // Three loops (random bits, Gaussians, forces) rather than one: each body is short enough
     // for the processor to overlap several iterations, which hides the long latency chains of
     // Philox, ln and the divisions. The arithmetic of each pair is unchanged.
@@ -826,32 +935,108 @@ fn lanes<const F: u8, const N: u8, const STD: bool>(
     for l in 0..n {
         xi[l] = crate::rng::gaussian_from_bits([bits[0][l], bits[1][l], bits[2][l], bits[3][l]]);
     }
-    let (co, xi) = (&b.scratch.co, &b.scratch.xi);
-    for l in 0..n {
-        let c = PairCoeff {
-            a: co.a[l],
-            gamma0: co.gamma0[l],
-            gamma1: co.gamma1[l],
-            rc: co.rc[l],
-        };
-        let d = Derived {
-            inv_rc: co.inv_rc[l],
-            sigma0: co.sigma0[l],
-            half_a_rc: co.half_a_rc[l],
-        };
-        let p = PairInput {
-            dr: [b.dr[0][l], b.dr[1][l], b.dr[2][l]],
-            dv: [b.dv[0][l], b.dv[1][l], b.dv[2][l]],
-            inv_mass_sum: b.inv_mass_sum[l],
+    // The stages of `pair_parts`, one loop each (see there); lane arrays in between.
+    let coeff_at = |co: &LaneCoeff, l: usize| {
+        (
+            PairCoeff {
+                a: co.a[l],
+                gamma0: co.gamma0[l],
+                gamma1: co.gamma1[l],
+                rc: co.rc[l],
+            },
+            Derived {
+                inv_rc: co.inv_rc[l],
+                sigma0: co.sigma0[l],
+                half_a_rc: co.half_a_rc[l],
+            },
+        )
+    };
+    let input_at = |b: &PairBatch, xi: &[f64; BATCH], l: usize| PairInput {
+        dr: [b.dr[0][l], b.dr[1][l], b.dr[2][l]],
+        dv: [b.dv[0][l], b.dv[1][l], b.dv[2][l]],
+        inv_mass_sum: b.inv_mass_sum[l],
+        xi: xi[l],
+    };
+    // Geometry and σ's between the stages, as lane arrays in the batch's scratch.
+    let geom_at = |st: &StageArrays, l: usize| Geom {
+        r: st.g[0][l],
+        inv_r: st.g[1][l],
+        q: st.g[2][l],
+        wd: st.g[3][l],
+        wr: st.g[4][l],
+        rdotv: st.g[5][l],
+        s: st.g[6][l],
+    };
+    {
+        let BatchScratch { co, xi, st, .. } = &mut b.scratch;
+        let io = (&b.dr, &b.dv, &b.inv_mass_sum);
+        let input = |l: usize| PairInput {
+            dr: [io.0[0][l], io.0[1][l], io.0[2][l]],
+            dv: [io.1[0][l], io.1[1][l], io.1[2][l]],
+            inv_mass_sum: io.2[l],
             xi: xi[l],
         };
+        for l in 0..n {
+            let (_, d) = coeff_at(co, l);
+            let p = input(l);
+            let rsq = dot(p.dr, p.dr);
+            let g = if STD {
+                geom(friction, |q| (q * q, q), &d, &p, rsq)
+            } else {
+                geom(friction, |q| weight.wd_wr(q), &d, &p, rsq)
+            };
+            st.g[0][l] = g.r;
+            st.g[1][l] = g.inv_r;
+            st.g[2][l] = g.q;
+            st.g[3][l] = g.wd;
+            st.g[4][l] = g.wr;
+            st.g[5][l] = g.rdotv;
+            st.g[6][l] = g.s;
+        }
+        if friction != Friction::None {
+            for l in 0..n {
+                let (c, d) = coeff_at(co, l);
+                let (gamma, sigma) = friction_at(friction, &c, &d, st.g[6][l]);
+                st.gs[0][l] = gamma;
+                st.gs[1][l] = sigma;
+            }
+            if noise == Noise::TwoStep {
+                for l in 0..n {
+                    let (c, d) = coeff_at(co, l);
+                    let p = input(l);
+                    let rsq = dot(p.dr, p.dr);
+                    let s2 = twostep_rate(friction, model, &geom_at(st, l), st.gs[1][l], &p, rsq);
+                    st.gs[2][l] = friction_at(friction, &c, &d, s2).1;
+                }
+            }
+        }
+    }
+    let (co, xi, st) = (&b.scratch.co, &b.scratch.xi, &b.scratch.st);
+    for l in 0..n {
+        let (c, d) = coeff_at(co, l);
+        let p = input_at(b, xi, l);
         let rsq = dot(p.dr, p.dr);
         let ok = in_range(rsq, c.rc);
-        let pf = if STD {
-            pair_parts(friction, noise, |q| (q * q, q), model, &c, &d, &p, rsq)
+        // Constant friction: γ and σ are the type pair's (what `friction_at` returns).
+        let (gamma, sigma, sigma2) = if friction == Friction::None {
+            (c.gamma0, d.sigma0, d.sigma0)
+        } else if noise == Noise::TwoStep {
+            (st.gs[0][l], st.gs[1][l], st.gs[2][l])
         } else {
-            pair_parts(friction, noise, |q| weight.wd_wr(q), model, &c, &d, &p, rsq)
+            (st.gs[0][l], st.gs[1][l], st.gs[1][l])
         };
+        let pf = assemble(
+            friction,
+            noise,
+            model,
+            &c,
+            &d,
+            &p,
+            &geom_at(st, l),
+            gamma,
+            sigma,
+            sigma2,
+        );
         b.fpair[l] = if ok { pf.total() * pf.inv_r } else { 0.0 };
         b.energy[l] = if ok { pf.energy } else { 0.0 };
     }

@@ -48,27 +48,33 @@ const PHILOX_M1: u32 = 0xCD9E_8D57;
 const PHILOX_W0: u32 = 0x9E37_79B9;
 const PHILOX_W1: u32 = 0xBB67_AE85;
 
-#[inline(always)]
-fn mulhilo(a: u32, b: u32) -> (u32, u32) {
-    let p = u64::from(a) * u64::from(b);
-    ((p >> 32) as u32, p as u32)
-}
-
 /// Philox4x32 with 10 rounds: the bijection of counter `ctr` under key `key`.
+///
+/// Written on 64-bit words holding 32-bit values, so that a loop over many counters vectorises
+/// into 32×32→64-bit multiplies (`pmuludq`) without packing and unpacking 32-bit lanes: the
+/// words c1 and c3 carry the high half of the product above bit 31 between rounds, which only
+/// ever reaches a multiply (that reads the low 32 bits) or the final mask. Same function as the
+/// textbook 32-bit form (Random123's known answers are in `tests/rng.rs`).
 #[inline(always)]
 pub fn philox4x32_10(ctr: [u32; 4], key: [u32; 2]) -> [u32; 4] {
-    let mut c = ctr;
-    let mut k = key;
+    const LOW: u64 = 0xffff_ffff;
+    let [mut c0, mut c1, mut c2, mut c3] = ctr.map(u64::from);
+    let (mut k0, mut k1) = (key[0], key[1]);
     for round in 0..10 {
         if round > 0 {
-            k[0] = k[0].wrapping_add(PHILOX_W0);
-            k[1] = k[1].wrapping_add(PHILOX_W1);
+            k0 = k0.wrapping_add(PHILOX_W0);
+            k1 = k1.wrapping_add(PHILOX_W1);
         }
-        let (hi0, lo0) = mulhilo(PHILOX_M0, c[0]);
-        let (hi1, lo1) = mulhilo(PHILOX_M1, c[2]);
-        c = [hi1 ^ c[1] ^ k[0], lo1, hi0 ^ c[3] ^ k[1], lo0];
+        let p0 = u64::from(PHILOX_M0) * (c0 & LOW);
+        let p1 = u64::from(PHILOX_M1) * (c2 & LOW);
+        // New c0 = hi(p1) ^ c1 ^ k0 and c2 = hi(p0) ^ c3 ^ k1 (low 32 bits are what count;
+        // the upper bits of c1, c3 are cleared by the `& LOW` before the next use).
+        c0 = ((p1 >> 32) ^ c1 ^ u64::from(k0)) & LOW;
+        c2 = ((p0 >> 32) ^ c3 ^ u64::from(k1)) & LOW;
+        c1 = p1;
+        c3 = p0;
     }
-    c
+    [c0 as u32, c1 as u32, c2 as u32, c3 as u32]
 }
 
 /// The ordered tag pair `(min, max)`: the one place the pair order is decided.

@@ -60,6 +60,11 @@ pub struct BenchArgs {
     /// Only the scaling series (no reference systems, no LAMMPS).
     #[arg(long)]
     pub scaling_only: bool,
+    /// Only the pair kernel: ns per pair of `kernel::pair_forces_batch` for every friction and
+    /// noise, with each instruction set (one thread; the minimum over many repeats, so the
+    /// load of the machine hardly matters).
+    #[arg(long)]
+    pub kernel_only: bool,
     /// Keep the generated data files and inputs in this directory (default: a temporary
     /// directory, removed at the end).
     #[arg(long)]
@@ -232,6 +237,10 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     }
     println!("{out}");
 
+    if a.kernel_only {
+        print!("{}", kernel_micro()?);
+        return Ok(ExitCode::SUCCESS);
+    }
     let mut cases = Vec::new();
     if !a.scaling_only {
         for key in &a.systems {
@@ -713,4 +722,84 @@ fn loop_time<'a>(lines: impl Iterator<Item = &'a str>) -> Option<f64> {
         .filter_map(|l| l.trim().strip_prefix("Loop time of "))
         .filter_map(|r| r.split_whitespace().next()?.parse().ok())
         .last()
+}
+
+/// ns per pair of the batch kernel, for each friction/noise and instruction set: a fixed batch
+/// of 64 in-range pairs (n = 16-like separations and velocities), evaluated 2000 times per
+/// repeat; the minimum over 30 repeats.
+fn kernel_micro() -> Result<String, Box<dyn std::error::Error>> {
+    use dpdnl::kernel::{
+        BATCH, Friction, Isa, Noise, PairBatch, PairCoeff, PairModel, PairTable, Weight,
+        pair_forces_batch_isa,
+    };
+    let coeff = [PairCoeff {
+        a: 0.0,
+        gamma0: 5.0,
+        gamma1: 1.0,
+        rc: 1.0,
+    }];
+    let mut b = PairBatch::default();
+    b.len = BATCH;
+    for l in 0..BATCH {
+        let u = |c: u32| keyed_uniform(5, 6, l as u64, c, 0);
+        // A separation of length 0.2–0.95 and a thermal relative velocity (kT = 0.1).
+        let dir = [u(0) - 0.5, u(1) - 0.5, u(2) - 0.5];
+        let norm = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2])
+            .sqrt()
+            .max(1e-3);
+        let r = 0.2 + 0.75 * u(3);
+        for c in 0..3 {
+            b.dr[c][l] = r * dir[c] / norm;
+            b.dv[c][l] = 0.45 * keyed_gaussian(5, 7, l as u64, c as u32, 0);
+        }
+        b.inv_mass_sum[l] = 2.0;
+        b.coeff[l] = 0;
+        b.tag_i[l] = l as u32 + 1;
+        b.tag_j[l] = 1000 + 3 * l as u32;
+    }
+    // DPDNL_SIMD (see kernel::Isa::detect) narrows the table to one instruction set.
+    let only = std::env::var_os("DPDNL_SIMD").map(|_| Isa::detect());
+    let isas: Vec<Isa> = [Isa::Baseline, Isa::Avx2, Isa::Avx512]
+        .into_iter()
+        .filter(|&i| (i as u8) <= (Isa::best_supported() as u8) && only.is_none_or(|o| o == i))
+        .collect();
+    let mut out = String::new();
+    writeln!(
+        out,
+        "{}\nload average: {}\n",
+        machine_line(1),
+        load_average()
+    )?;
+    write!(out, "| friction/noise |")?;
+    for isa in &isas {
+        write!(out, " {isa:?} (ns/pair) |")?;
+    }
+    writeln!(out)?;
+    writeln!(out, "|---|{}", "---:|".repeat(isas.len()))?;
+    for (f, n) in [
+        (Friction::None, Noise::Plain),
+        (Friction::Cross, Noise::Plain),
+        (Friction::Dot, Noise::Plain),
+        (Friction::Dot, Noise::Corrected),
+        (Friction::Dot, Noise::TwoStep),
+        (Friction::Cross, Noise::TwoStep),
+    ] {
+        let model = PairModel::new(0.1, f, n, Weight::STANDARD, 1e-3);
+        let table = PairTable::new(&model, &coeff);
+        write!(out, "| {}/{} |", f.keyword(), n.keyword())?;
+        for &isa in &isas {
+            let mut best = f64::INFINITY;
+            for rep in 0..30u64 {
+                let t = Instant::now();
+                for k in 0..2000u64 {
+                    pair_forces_batch_isa(isa, &model, &table, 77, rep * 2000 + k, &mut b);
+                }
+                best = best.min(t.elapsed().as_secs_f64());
+            }
+            std::hint::black_box(&b.fpair);
+            write!(out, " {:.2} |", best * 1e9 / (2000.0 * BATCH as f64))?;
+        }
+        writeln!(out)?;
+    }
+    Ok(out)
 }
