@@ -20,7 +20,7 @@ struct Spec {
     weight: f64,
 }
 
-fn fluid(s: &Spec, isa: Option<Isa>) -> System {
+fn fluid(s: &Spec, isa: Option<Isa>, working: Option<bool>) -> System {
     let (lo, hi) = if s.dim == 3 {
         ([0.0; 3], [s.l; 3])
     } else {
@@ -64,6 +64,7 @@ fn fluid(s: &Spec, isa: Option<Isa>) -> System {
     sys.integrator = Some(Integrator::VelocityVerlet);
     sys.neighbor = NeighborList::new(0.3);
     sys.neighbor.set_isa(isa);
+    sys.neighbor.set_working_list(working);
     sys
 }
 
@@ -123,7 +124,7 @@ fn specs() -> Vec<(&'static str, Spec)> {
 #[test]
 fn forces_match_brute_force() {
     for (name, spec) in specs() {
-        let mut sys = fluid(&spec, None);
+        let mut sys = fluid(&spec, None, None);
         sys.setup().expect("setup");
         let a = &sys.atoms;
         let n = a.len();
@@ -217,35 +218,41 @@ fn state_by_tag(sys: &System) -> Vec<(u32, [u64; 3], [u64; 3])> {
     v
 }
 
-/// 100 steps give the same bits with 1, 2 and 3 threads and with each instruction set of the
-/// pair loop (the AVX-512 path gathers and compresses in registers, the others do not); the
-/// list is rebuilt during the run.
+/// 100 steps give the same bits with 1, 2 and 3 threads, with each instruction set of the
+/// pair loop (the AVX-512 path gathers and compresses in registers, the others do not), and
+/// with the working list on or off; the list is rebuilt during the run.
 #[test]
-fn same_bits_for_threads_and_instruction_sets() {
+fn same_bits_for_threads_instruction_sets_and_working_list() {
     for (name, spec) in specs() {
         let mut reference = None;
+        let mut configs = Vec::new();
         for isa in [Isa::Baseline, Isa::Avx2, Isa::Avx512] {
             for threads in [1, 2, 3] {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .expect("pool");
-                let (state, builds) = pool.install(|| {
-                    let mut sys = fluid(&spec, Some(isa));
-                    sys.setup().expect("setup");
-                    for _ in 0..100 {
-                        sys.step_once();
-                    }
-                    (state_by_tag(&sys), sys.neighbor.builds)
-                });
-                assert!(builds > 1, "{name}: the list was never rebuilt");
-                match &reference {
-                    None => reference = Some(state),
-                    Some(r) => assert!(
-                        *r == state,
-                        "{name}: {isa:?} with {threads} threads differs from the first run"
-                    ),
+                configs.push((isa, threads, Some(false)));
+            }
+        }
+        configs.push((Isa::Avx512, 2, Some(true)));
+        configs.push((Isa::Baseline, 1, Some(true)));
+        for (isa, threads, working) in configs {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("pool");
+            let (state, builds) = pool.install(|| {
+                let mut sys = fluid(&spec, Some(isa), working);
+                sys.setup().expect("setup");
+                for _ in 0..100 {
+                    sys.step_once();
                 }
+                (state_by_tag(&sys), sys.neighbor.builds)
+            });
+            assert!(builds > 1, "{name}: the list was never rebuilt");
+            match &reference {
+                None => reference = Some(state),
+                Some(r) => assert!(
+                    *r == state,
+                    "{name}: {isa:?}, {threads} threads, working list {working:?} differs from the first run"
+                ),
             }
         }
     }

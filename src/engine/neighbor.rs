@@ -42,6 +42,9 @@ struct Slab {
     next_start: usize,
     row_start: Vec<u32>,
     nbr: Vec<u32>,
+    /// The working list: each row's entries within `rc_max + margin` at its build, in row order.
+    in_row_start: Vec<u32>,
+    in_nbr: Vec<u32>,
     scratch: RowScratch,
     virial: [f64; 6],
     energy: f64,
@@ -77,7 +80,26 @@ pub struct NeighborList {
     ncell: [usize; 3],
     stencil_axes: [Vec<Vec<usize>>; 3],
     isa: Option<Isa>,
+    /// Working list: on/off override (None: decided from the list's lifetime).
+    inner_override: Option<bool>,
+    /// Whether the working list is in use for the current list.
+    inner_on: bool,
+    /// Its rows need rebuilding (new list, or atoms moved more than margin/2).
+    inner_stale: bool,
+    /// Force evaluations since the last build, and over the whole previous list.
+    evals_since_build: u64,
+    last_life: u64,
+    /// Cut-off of the list (rc_max + skin) and of the working list (rc_max + margin).
+    cutoff: f64,
+    rc_max: f64,
+    x_at_inner: Vec<[f64; 3]>,
 }
+
+/// The working list's margin as a fraction of the skin, and the list lifetime (force
+/// evaluations) from which it pays: it is rebuilt, by a filter pass over the list, whenever an
+/// atom has moved margin/2, so it needs lists that live long (slow atoms, small steps).
+const INNER_MARGIN: f64 = 1.0 / 3.0;
+const INNER_MIN_LIFE: u64 = 12;
 
 impl NeighborList {
     /// Use this instruction set for the pair loop instead of the best one ([`Isa::detect`]);
@@ -85,6 +107,19 @@ impl NeighborList {
     /// are the same bits with every instruction set.
     pub fn set_isa(&mut self, isa: Option<Isa>) {
         self.isa = isa;
+    }
+
+    /// Force the working list (a subsequence of the list with margin skin/3, rebuilt from it
+    /// when an atom has moved skin/6) on or off; `None` (the default) uses it when lists last
+    /// at least 12 force evaluations. For tests and benchmarks: the results are the same bits
+    /// either way, because a pair enters the kernel batch in the same order.
+    pub fn set_working_list(&mut self, on: Option<bool>) {
+        self.inner_override = on;
+    }
+
+    /// True when the working list is in use.
+    pub fn working_list(&self) -> bool {
+        self.inner_on
     }
 
     /// An empty list with the given skin.
@@ -116,15 +151,28 @@ impl NeighborList {
         self.slabs.iter().map(|b| b.nbr.len()).sum()
     }
 
+    /// Number of pairs held in the working list (0 when it is off).
+    pub fn working_pairs(&self) -> usize {
+        if self.inner_on {
+            self.slabs.iter().map(|b| b.in_nbr.len()).sum()
+        } else {
+            0
+        }
+    }
+
     /// Bytes held by the list and its buffers (for the memory report).
     pub fn bytes(&self) -> usize {
         let rows: usize = self
             .slabs
             .iter()
-            .map(|b| b.row_start.capacity() * 4 + b.nbr.capacity() * 4)
+            .map(|b| {
+                (b.row_start.capacity() + b.nbr.capacity()) * 4
+                    + (b.in_row_start.capacity() + b.in_nbr.capacity()) * 4
+            })
             .sum();
         rows + self.next_f.capacity() * 24
             + self.x_at_build.capacity() * 24
+            + self.x_at_inner.capacity() * 24
             + (self.cell_of.capacity() + self.perm.capacity()) * 4
             + (self.cell_count.capacity() + self.cell_start.capacity()) * 4
             + self.visited.capacity() * 8
@@ -285,6 +333,87 @@ impl NeighborList {
         self.x_at_build.clear();
         self.x_at_build.extend_from_slice(&atoms.x);
         self.builds += 1;
+        self.last_life = self.evals_since_build;
+        self.evals_since_build = 0;
+        self.cutoff = cutoff;
+        self.rc_max = rc_max;
+        self.inner_on = self.skin > 0.0
+            && self
+                .inner_override
+                .unwrap_or(self.last_life >= INNER_MIN_LIFE);
+        self.inner_stale = true;
+        if !self.inner_on {
+            for s in self.slabs.iter_mut() {
+                s.in_row_start = Vec::new();
+                s.in_nbr = Vec::new();
+            }
+            self.x_at_inner = Vec::new();
+        }
+    }
+
+    /// Rebuild the working list if it is in use and stale or an atom moved margin/2 since.
+    fn refresh_inner(&mut self, atoms: &Atoms, bx: &SimBox) {
+        if !self.inner_on
+            && self.inner_override.is_none()
+            && self.skin > 0.0
+            && self.evals_since_build >= INNER_MIN_LIFE
+        {
+            // This list lives long: switch the working list on.
+            self.inner_on = true;
+            self.inner_stale = true;
+        }
+        if !self.inner_on {
+            return;
+        }
+        let margin = INNER_MARGIN * self.skin;
+        if !self.inner_stale {
+            let limit = 0.25 * margin * margin;
+            let moved = atoms
+                .x
+                .par_iter()
+                .zip(self.x_at_inner.par_iter())
+                .any(|(x, x0)| {
+                    let d = [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]];
+                    d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > limit
+                });
+            if !moved {
+                return;
+            }
+        }
+        let cut = self.rc_max + margin;
+        let cutsq = cut * cut;
+        let len = bx.len();
+        let quarter = [0.25 * len[0], 0.25 * len[1], 0.25 * len[2]];
+        let x = &atoms.x;
+        self.slabs.par_iter_mut().for_each(|s| {
+            s.in_row_start.clear();
+            s.in_nbr.clear();
+            s.in_row_start.push(0);
+            let mut len = 0usize;
+            for (r, i) in (s.start..s.end).enumerate() {
+                let row = &s.nbr[s.row_start[r] as usize..s.row_start[r + 1] as usize];
+                let xi = x[i];
+                // Branch-free append of the entries within the cut (a subsequence of the row).
+                s.in_nbr.resize(len + row.len(), 0);
+                for &j in row {
+                    let xj = x[j as usize];
+                    let mut d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
+                    if (d[0].abs() >= quarter[0])
+                        | (d[1].abs() >= quarter[1])
+                        | (d[2].abs() >= quarter[2])
+                    {
+                        d = bx.min_image(d);
+                    }
+                    s.in_nbr[len] = j;
+                    len += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cutsq);
+                }
+                s.in_nbr.truncate(len);
+                s.in_row_start.push(len as u32);
+            }
+        });
+        self.x_at_inner.clear();
+        self.x_at_inner.extend_from_slice(x);
+        self.inner_stale = false;
     }
 
     /// Evaluate all pair forces at `step` (the noise key), overwrite `atoms.f`, and return the
@@ -310,6 +439,8 @@ impl NeighborList {
             table.len() == nt * nt && atoms.typ.par_iter().all(|&t| (t as usize) < nt),
             "atom type outside the coefficient table"
         );
+        self.evals_since_build += 1;
+        self.refresh_inner(atoms, bx);
         self.rcsq.clear();
         self.rcsq.extend(table.iter().map(|c| c.rc * c.rc));
         let pair_table = PairTable::new(&ff.model, table);
@@ -319,6 +450,7 @@ impl NeighborList {
             None => Isa::detect(),
         };
         let ctx = Ctx {
+            inner: self.inner_on,
             isa,
             bx,
             ff,
@@ -377,6 +509,8 @@ impl NeighborList {
 
 /// Everything a slab task reads.
 struct Ctx<'a> {
+    /// Iterate the working list instead of the list.
+    inner: bool,
     /// The instruction set of the pair loop (supported by this CPU).
     isa: Isa,
     bx: &'a SimBox,
@@ -421,8 +555,12 @@ impl Slab {
             start: self.start,
             end: self.end,
             next_start: self.next_start,
-            row_start: &self.row_start,
-            nbr: &self.nbr,
+            row_start: if ctx.inner {
+                &self.in_row_start
+            } else {
+                &self.row_start
+            },
+            nbr: if ctx.inner { &self.in_nbr } else { &self.nbr },
             scratch: &mut self.scratch,
         };
         // A local copy of the box: the optimiser then sees its dimension as a constant.

@@ -400,19 +400,20 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         }
         writeln!(out)?;
         for c in &rows {
-            if let (Some((atom, nbr, pairs, builds)), Engine::Standalone(t)) = (c.memory, &c.engine)
+            if let (Some(m), Engine::Standalone(t)) = (c.memory, &c.engine)
                 && *t == threads
                 && c.variant == Variant::Plain
             {
                 let n = c.natoms as f64;
+                let lists = 4.0 * (m.pairs + m.working_pairs) as f64 / n;
                 writeln!(
                     out,
-                    "memory (standalone): {:.0} B/atom atom data + {:.0} B/atom neighbour structures ({:.1} listed pairs/atom, {:.0} B/atom of them the list itself); {} list builds in {} steps\n",
-                    atom as f64 / n,
-                    nbr as f64 / n,
-                    pairs as f64 / n,
-                    4.0 * pairs as f64 / n,
-                    builds,
+                    "memory (standalone): {:.0} B/atom atom data + {:.0} B/atom neighbour structures, of which {lists:.0} B/atom the lists ({:.1} listed pairs/atom, {:.1} in the working list); {} list builds in {} steps\n",
+                    m.atom as f64 / n,
+                    m.neighbor as f64 / n,
+                    m.pairs as f64 / n,
+                    m.working_pairs as f64 / n,
+                    m.builds,
                     c.steps
                 )?;
             }
@@ -433,8 +434,12 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             let (n, steps) = (pt.n, pt.steps);
             let m = median(&pt.rates);
             let (lo, hi) = range(&pt.rates);
-            let bytes = pt.memory.map_or("–".to_string(), |(a, b, _, _)| {
-                format!("{:.0} + {:.0}", a as f64 / n as f64, b as f64 / n as f64)
+            let bytes = pt.memory.map_or("–".to_string(), |m| {
+                format!(
+                    "{:.0} + {:.0}",
+                    m.atom as f64 / n as f64,
+                    m.neighbor as f64 / n as f64
+                )
             });
             writeln!(
                 out,
@@ -611,7 +616,21 @@ fn script_path(p: &Path) -> String {
     }
 }
 
-type Memory = Option<(usize, usize, usize, u64)>;
+/// Memory and list figures of a standalone run.
+#[derive(Clone, Copy, Debug)]
+struct MemoryUse {
+    /// Bytes of the atom arrays (`System::bytes`).
+    atom: usize,
+    /// Bytes of the neighbour structures (lists included).
+    neighbor: usize,
+    /// Pairs in the list and in the working list (0 when off).
+    pairs: usize,
+    working_pairs: usize,
+    /// List builds during the run (set-up included).
+    builds: u64,
+}
+
+type Memory = Option<MemoryUse>;
 
 /// Run one repeat of a case; returns the loop time in seconds (and memory for standalone runs).
 fn run_case(dir: &Path, case: &Case) -> Result<(f64, Memory), String> {
@@ -692,7 +711,13 @@ fn run_standalone(text: &str, threads: usize) -> Result<(f64, Memory), String> {
             .ok_or("standalone engine printed no 'Loop time'")?;
         let mem = sys.map(|s| {
             let (atom, nbr) = s.bytes();
-            (atom, nbr, s.neighbor.pairs(), s.neighbor.builds)
+            MemoryUse {
+                atom,
+                neighbor: nbr,
+                pairs: s.neighbor.pairs(),
+                working_pairs: s.neighbor.working_pairs(),
+                builds: s.neighbor.builds,
+            }
         });
         Ok((secs, mem))
     })
@@ -748,8 +773,8 @@ fn kernel_micro() -> Result<String, Box<dyn std::error::Error>> {
             .sqrt()
             .max(1e-3);
         let r = 0.2 + 0.75 * u(3);
-        for c in 0..3 {
-            b.dr[c][l] = r * dir[c] / norm;
+        for (c, dc) in dir.iter().enumerate() {
+            b.dr[c][l] = r * dc / norm;
             b.dv[c][l] = 0.45 * keyed_gaussian(5, 7, l as u64, c as u32, 0);
         }
         b.inv_mass_sum[l] = 2.0;
