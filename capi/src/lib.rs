@@ -10,8 +10,11 @@
 //!   ([`PairCoeff::validate`], [`Weight::new`], [`Friction::from_keyword`], [`Noise::from_keyword`]);
 //!   the kernels then trust them.
 //! - [`dpdnl_compute`] walks a whole LAMMPS neighbour list in Rust: the hot loop never crosses the
-//!   boundary per pair. Forces, energy and virial follow LAMMPS's `ev_tally` (half list, newton
-//!   on/off) and `ev_tally_full` (full list) conventions.
+//!   boundary per pair. Pairs in range are evaluated in batches of 64 by
+//!   [`dpdnl::kernel::pair_forces_batch`] (SIMD lanes, the same bits as `pair_force`), and their
+//!   forces and tallies are added in list order, so the result is that of the pair-by-pair loop.
+//!   Forces, energy and virial follow LAMMPS's `ev_tally` (half list, newton on/off) and
+//!   `ev_tally_full` (full list) conventions.
 //! - The pair random number is [`dpdnl::rng::pair_gaussian`] keyed by (seed, step, tags), so every
 //!   decomposition (MPI ranks, newton on/off) draws the same ξ_ij for the same pair and step.
 
@@ -19,7 +22,10 @@ use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use dpdnl::kernel::{Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force};
+use dpdnl::kernel::{
+    BATCH, Friction, Noise, PairBatch, PairCoeff, PairInput, PairModel, PairTable, Weight,
+    pair_force, pair_forces_batch,
+};
 use dpdnl::rng::pair_gaussian;
 
 /// Result of every fallible call. Anything but `Ok` leaves a message for [`dpdnl_last_error`].
@@ -675,11 +681,27 @@ unsafe fn compute(
         || sinks.vatom.is_some();
 
     let table = p.dense_table();
+    let ptable = PairTable::new(&model, &table);
     let full = list.full != 0;
     let newton = st.newton_pair != 0;
     let mask = list.neighmask as u32 as usize;
     let step = st.step as u64;
 
+    // In-range pairs are gathered, in list order, into batches of BATCH evaluated by
+    // `pair_forces_batch` (the same function as `pair_force` for each pair, same bits, in SIMD
+    // lanes); `Apply` then adds the forces and tallies in list order as the pair-by-pair loop
+    // did, so every sum is formed in the same order.
+    let mut batch = Box::<PairBatch>::default();
+    let mut owner = [(0usize, 0usize); BATCH];
+    let mut apply = Apply {
+        f,
+        sinks: &mut sinks,
+        tallying,
+        full,
+        newton,
+        nlocal,
+        row: None,
+    };
     for &i in ilist {
         if i < 0 || i as usize >= nall {
             return Err(Error::invalid(format!("ilist entry {i} outside 0..{nall}")));
@@ -691,9 +713,8 @@ unsafe fn compute(
         let jlist = unsafe { slice(first, n.max(0) as usize, "firstneigh[i]")? };
         let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
         let vi = [v[3 * i], v[3 * i + 1], v[3 * i + 2]];
-        let row = &table[ty[i] as usize * (nt + 1)..][..nt + 1];
+        let row = ty[i] as usize * (nt + 1);
         let (tag_i, inv_mi) = (tag[i] as u32, inv_m(i));
-        let mut fi = [0.0; 3];
         for &jraw in jlist {
             let j = jraw as u32 as usize & mask;
             if j >= nall {
@@ -701,51 +722,95 @@ unsafe fn compute(
                     "neighbour index {j} of atom {i} outside 0..{nall}"
                 )));
             }
-            let c = &row[ty[j] as usize];
+            let k = row + ty[j] as usize;
+            let rc = table[k].rc;
             let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
             let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-            // Reject before drawing the (costly) random number; the kernel checks again.
-            if rsq >= c.rc * c.rc {
+            // Only pairs in range take a batch lane (the kernel checks again).
+            if rsq >= rc * rc {
                 continue;
             }
-            let input = PairInput {
-                dr,
-                dv: [vi[0] - v[3 * j], vi[1] - v[3 * j + 1], vi[2] - v[3 * j + 2]],
-                inv_mass_sum: inv_mi + inv_m(j),
-                xi: pair_gaussian(p.seed, step, tag_i, tag[j] as u32),
-            };
-            let pf = pair_force(&model, c, &input);
-            let fv = pf.vector(dr);
+            let l = batch.len;
+            for d in 0..3 {
+                batch.dr[d][l] = dr[d];
+                batch.dv[d][l] = vi[d] - v[3 * j + d];
+            }
+            batch.inv_mass_sum[l] = inv_mi + inv_m(j);
+            batch.coeff[l] = k as u32;
+            batch.tag_i[l] = tag_i;
+            batch.tag_j[l] = tag[j] as u32;
+            owner[l] = (i, j);
+            batch.len = l + 1;
+            if batch.len == BATCH {
+                pair_forces_batch(&model, &ptable, p.seed, step, &mut batch);
+                apply.batch(&batch, &owner);
+                batch.len = 0;
+            }
+        }
+    }
+    pair_forces_batch(&model, &ptable, p.seed, step, &mut batch);
+    apply.batch(&batch, &owner);
+    apply.finish_row();
+    Ok(())
+}
+
+/// Adds evaluated pairs to the forces and tallies, in list order. The force on i is summed over
+/// its row in `row` and added to f[i] when the next row starts (or at the end), as the
+/// pair-by-pair loop did.
+struct Apply<'a, 'b> {
+    f: &'a mut [f64],
+    sinks: &'a mut Sinks<'b>,
+    tallying: bool,
+    full: bool,
+    newton: bool,
+    nlocal: usize,
+    /// The row being summed: atom i and the force on it so far.
+    row: Option<(usize, [f64; 3])>,
+}
+
+impl Apply<'_, '_> {
+    fn batch(&mut self, b: &PairBatch, owner: &[(usize, usize); BATCH]) {
+        for (l, &(i, j)) in owner.iter().enumerate().take(b.len) {
+            if self.row.is_some_and(|(r, _)| r != i) {
+                self.finish_row();
+            }
+            let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
+            let fpair = b.fpair[l];
+            let fv = [fpair * dr[0], fpair * dr[1], fpair * dr[2]];
+            let fi = &mut self.row.get_or_insert((i, [0.0; 3])).1;
             fi[0] += fv[0];
             fi[1] += fv[1];
             fi[2] += fv[2];
-            let j_owned = j < nlocal;
-            if !full && (newton || j_owned) {
-                f[3 * j] -= fv[0];
-                f[3 * j + 1] -= fv[1];
-                f[3 * j + 2] -= fv[2];
+            let j_owned = j < self.nlocal;
+            if !self.full && (self.newton || j_owned) {
+                self.f[3 * j] -= fv[0];
+                self.f[3 * j + 1] -= fv[1];
+                self.f[3 * j + 2] -= fv[2];
             }
-            if tallying {
-                let fpair = pf.total() * pf.inv_r;
+            if self.tallying {
                 tally_pair(
-                    &mut sinks,
+                    self.sinks,
                     i,
                     j,
-                    pf.energy,
+                    b.energy[l],
                     fpair,
                     dr,
-                    full,
-                    newton,
-                    i < nlocal,
+                    self.full,
+                    self.newton,
+                    i < self.nlocal,
                     j_owned,
                 );
             }
         }
-        f[3 * i] += fi[0];
-        f[3 * i + 1] += fi[1];
-        f[3 * i + 2] += fi[2];
     }
-    Ok(())
+
+    fn finish_row(&mut self) {
+        if let Some((i, fi)) = self.row.take() {
+            self.f[3 * i] += fi[0];
+            self.f[3 * i + 1] += fi[1];
+            self.f[3 * i + 2] += fi[2];
+        }
+    }
 }
 
 /// `1/m` for each mass, checking they are finite and > 0 (`offset` shifts the reported index).
