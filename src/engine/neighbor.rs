@@ -1039,11 +1039,21 @@ fn flush<const ONE_TYPE: bool>(
     }
     pair_forces_batch_isa(ctx.isa, &ctx.ff.model, ctx.table, ctx.ff.seed, ctx.step, b);
     let (start, next_start) = at;
+    // The force on i is carried in registers over the consecutive pairs of its row and stored
+    // when i changes: the same additions in the same order as adding into memory pair by pair
+    // (j ≠ i, so no pair of the run touches own[i]), without a store-to-load chain.
+    let mut cur = p.i[0] as usize - start;
+    let mut fi = own[cur];
     for l in 0..n {
         let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
         let s = b.fpair[l];
         let fv = [s * dr[0], s * dr[1], s * dr[2]];
-        let fi = &mut own[p.i[l] as usize - start];
+        let i = p.i[l] as usize - start;
+        if i != cur {
+            own[cur] = fi;
+            cur = i;
+            fi = own[cur];
+        }
         fi[0] += fv[0];
         fi[1] += fv[1];
         fi[2] += fv[2];
@@ -1063,6 +1073,7 @@ fn flush<const ONE_TYPE: bool>(
         tally.virial[4] += dr[0] * fv[2];
         tally.virial[5] += dr[1] * fv[2];
     }
+    own[cur] = fi;
     b.len = 0;
 }
 
