@@ -75,10 +75,11 @@ pub struct NeighborList {
     cell_count: Vec<u32>,
     cell_start: Vec<u32>,
     perm: Vec<u32>,
-    visited: Vec<u64>,
+    perm_scratch: PermScratch,
     rcsq: Vec<f64>,
     ncell: [usize; 3],
-    stencil_axes: [Vec<Vec<usize>>; 3],
+    stencil_axes: [Vec<Vec<(usize, i8)>>; 3],
+    xruns: Vec<Vec<(usize, usize, i8)>>,
     isa: Option<Isa>,
     /// Working list: on/off override (None: decided from the list's lifetime).
     inner_override: Option<bool>,
@@ -175,16 +176,20 @@ impl NeighborList {
             + self.x_at_inner.capacity() * 24
             + (self.cell_of.capacity() + self.perm.capacity()) * 4
             + (self.cell_count.capacity() + self.cell_start.capacity()) * 4
-            + self.visited.capacity() * 8
+            + self.perm_scratch.vec3.capacity() * 24
+            + self.perm_scratch.u32s.capacity() * 4
+            + self.perm_scratch.int3.capacity() * 12
     }
 
     /// Wrap positions into the box, sort atoms by cell, and build the half list with cut-off
     /// `rc_max + skin`. Atom order changes; every per-atom array travels with the atoms.
     pub fn build(&mut self, atoms: &mut Atoms, bx: &SimBox, rc_max: f64) {
         let n = atoms.len();
-        for (x, im) in atoms.x.iter_mut().zip(atoms.image.iter_mut()) {
-            bx.wrap(x, im);
-        }
+        atoms
+            .x
+            .par_iter_mut()
+            .zip(atoms.image.par_iter_mut())
+            .for_each(|(x, im)| bx.wrap(x, im));
         let cutoff = rc_max + self.skin;
         let len = bx.len();
         let mut ncell = [1usize; 3];
@@ -195,33 +200,56 @@ impl NeighborList {
             self.ncell = ncell;
             for d in 0..3 {
                 let m = ncell[d];
+                // (neighbour coordinate, image): the neighbour cell is reached directly (0) or
+                // through the periodic boundary; then its atoms' nearest images are at x_j − L
+                // (+1: the cell below 0 is m − 1) or x_j + L (−1: the cell above m − 1 is 0),
+                // and x_i − image = (x_i ± L) − x_j. With fewer than 3 cells the neighbours are
+                // all cells and the image is decided per pair (AMBIGUOUS).
+                let periodic = d < bx.dim;
                 self.stencil_axes[d] = (0..m)
                     .map(|c| {
                         if m >= 3 {
-                            vec![(c + m - 1) % m, c, (c + 1) % m]
+                            vec![
+                                ((c + m - 1) % m, if c == 0 { 1 } else { 0 }),
+                                (c, 0),
+                                ((c + 1) % m, if c == m - 1 { -1 } else { 0 }),
+                            ]
                         } else {
-                            (0..m).collect()
+                            let img = if periodic { AMBIGUOUS } else { 0 };
+                            (0..m).map(|k| (k, img)).collect()
                         }
                     })
                     .collect();
             }
+            let m = ncell[0];
+            self.xruns = (0..m)
+                .map(|c| {
+                    if m < 3 {
+                        (0..m).map(|k| (k, k, AMBIGUOUS)).collect()
+                    } else if c == 0 {
+                        vec![(0, 1, 0), (m - 1, m - 1, 1)]
+                    } else if c == m - 1 {
+                        vec![(0, 0, -1), (m - 2, m - 1, 0)]
+                    } else {
+                        vec![(c - 1, c + 1, 0)]
+                    }
+                })
+                .collect();
         }
         let total_cells = ncell[0] * ncell[1] * ncell[2];
-        let cell_coords = |x: &[f64; 3]| -> [usize; 3] {
-            let mut c = [0usize; 3];
-            for d in 0..bx.dim {
-                let f = ((x[d] - bx.lo[d]) / len[d] * ncell[d] as f64).floor();
-                c[d] = (f.max(0.0) as usize).min(ncell[d] - 1);
-            }
-            c
+        let cell_coords = CellCoords {
+            lo: bx.lo,
+            len,
+            ncell,
+            dim: bx.dim,
         };
         // Counting sort by cell, stable in the current order.
         self.cell_of.clear();
-        self.cell_of.extend(
+        self.cell_of.par_extend(
             atoms
                 .x
-                .iter()
-                .map(|x| cell_id(cell_coords(x), ncell) as u32),
+                .par_iter()
+                .map(|x| cell_id(cell_coords.of(x), ncell) as u32),
         );
         self.cell_count.clear();
         self.cell_count.resize(total_cells + 1, 0);
@@ -240,7 +268,7 @@ impl NeighborList {
             self.perm[*slot as usize] = i as u32;
             *slot += 1;
         }
-        permute_in_place(atoms, &self.perm, &mut self.visited);
+        permute(atoms, &self.perm, &mut self.perm_scratch);
 
         // Slabs: layers of cells along the last periodic axis (contiguous in the cell order).
         let axis = bx.dim - 1;
@@ -265,70 +293,25 @@ impl NeighborList {
         }
 
         // Rows, slab by slab (each slab independent: parallel and deterministic).
-        let cutsq = cutoff * cutoff;
-        let quarter = [0.25 * len[0], 0.25 * len[1], 0.25 * len[2]];
-        let x = &atoms.x;
-        let cell_start = &self.cell_start;
-        let axes = &self.stencil_axes;
-        self.slabs.par_iter_mut().for_each(|s| {
-            s.row_start.clear();
-            s.nbr.clear();
-            s.row_start.push(0);
-            let mut len = 0usize;
-            for i in s.start..s.end {
-                let xi = x[i];
-                let c = cell_coords(&xi);
-                // The neighbouring cells, with the first candidate index in each.
-                let mut scan = |cell: usize, first: usize| {
-                    let lo = (cell_start[cell] as usize).max(first);
-                    let hi = cell_start[cell + 1] as usize;
-                    if hi <= lo {
-                        return;
-                    }
-                    // Branch-free append: write every candidate, keep those within the cut-off.
-                    // A raw separation below a quarter box length in every component is its
-                    // own minimum image; only the others (whole cells across a boundary, so the
-                    // branch is well predicted) go through `SimBox::min_image`.
-                    s.nbr.resize(len + (hi - lo), 0);
-                    for j in lo..hi {
-                        let xj = x[j];
-                        let mut d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
-                        if (d[0].abs() >= quarter[0])
-                            | (d[1].abs() >= quarter[1])
-                            | (d[2].abs() >= quarter[2])
-                        {
-                            d = bx.min_image(d);
-                        }
-                        s.nbr[len] = j as u32;
-                        len += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cutsq);
-                    }
-                    s.nbr.truncate(len);
-                };
-                let mut cc = c;
-                if slab_mode {
-                    // Own layer: j > i; next layer: every j.
-                    let layer_ax: [&[usize]; 2] = other_axes(axes, axis, c);
-                    for (dl, first) in [(0, i + 1), (1, 0)] {
-                        cc[axis] = (c[axis] + dl) % layers;
-                        for &ca in layer_ax[1] {
-                            for &cb in layer_ax[0] {
-                                set_other(&mut cc, axis, cb, ca);
-                                scan(cell_id(cc, ncell), first);
-                            }
-                        }
-                    }
-                } else {
-                    for &cz in &axes[2][c[2]] {
-                        for &cy in &axes[1][c[1]] {
-                            for &cx in &axes[0][c[0]] {
-                                scan(cell_id([cx, cy, cz], ncell), i + 1);
-                            }
-                        }
-                    }
-                }
-                s.row_start.push(len as u32);
-            }
-        });
+        let rows = RowBuild {
+            x: &atoms.x,
+            bx,
+            cells: cell_coords,
+            cell_start: &self.cell_start,
+            axes: &self.stencil_axes,
+            xruns: &self.xruns,
+            len,
+            cutsq: cutoff * cutoff,
+            slab_axis: if slab_mode { Some(bx.dim - 1) } else { None },
+        };
+        let isa = match self.isa {
+            Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
+            Some(_) => Isa::Baseline,
+            None => Isa::detect(),
+        };
+        self.slabs
+            .par_iter_mut()
+            .for_each(|s| build_rows_isa(isa, &rows, s));
 
         self.x_at_build.clear();
         self.x_at_build.extend_from_slice(&atoms.x);
@@ -879,8 +862,156 @@ mod avx512 {
     //! The near pass of one row with AVX-512: 8 entries at a time, positions gathered, the
     //! in-range near pairs compressed into the batch. Same pairs, same order, same bits as the
     //! portable `near_row`.
-    use super::{BATCH, PassConst, Pending, RowArgs, Sink};
+    use super::{BATCH, PairBatch, PassConst, Pending, RowArgs, Sink};
     use std::arch::x86_64::*;
+
+    // Whole 8-lane chunks fit in the batch arrays.
+    const _: () = assert!(BATCH.is_multiple_of(8));
+
+    /// Components of the positions of the atoms `row[k0..k0 + 8]` (entries past the row's end
+    /// repeat its last atom) as three vectors: eight masked 256-bit loads of (x, y, z) and a
+    /// transpose, cheaper than three 8-element gathers.
+    ///
+    /// # Safety
+    /// The CPU has AVX-512 F/VL; `base` points to 3·n doubles and every index in `row` is < n;
+    /// `k0 < row.len()`.
+    #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+    #[inline]
+    unsafe fn load_xyz(base: *const f64, row: &[u32], k0: usize) -> [__m512d; 3] {
+        let last = row.len() - 1;
+        // SAFETY: each load reads the 3 doubles of an atom < n (mask 0b111: the fourth lane
+        // is not read).
+        let at = |t: usize| unsafe {
+            _mm256_maskz_loadu_pd(0b0111, base.add(3 * row[(k0 + t).min(last)] as usize))
+        };
+        transpose8([at(0), at(1), at(2), at(3), at(4), at(5), at(6), at(7)])
+    }
+
+    /// Eight (x, y, z, ·) vectors to the three 8-lane vectors of x, y and z.
+    #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+    #[inline]
+    fn transpose8(a: [__m256d; 8]) -> [__m512d; 3] {
+        let [a0, a1, a2, a3, a4, a5, a6, a7] = a;
+        let u0 = _mm512_insertf64x4::<1>(
+            _mm512_castpd256_pd512(_mm256_unpacklo_pd(a0, a1)),
+            _mm256_unpacklo_pd(a4, a5),
+        );
+        let u1 = _mm512_insertf64x4::<1>(
+            _mm512_castpd256_pd512(_mm256_unpacklo_pd(a2, a3)),
+            _mm256_unpacklo_pd(a6, a7),
+        );
+        let v0 = _mm512_insertf64x4::<1>(
+            _mm512_castpd256_pd512(_mm256_unpackhi_pd(a0, a1)),
+            _mm256_unpackhi_pd(a4, a5),
+        );
+        let v1 = _mm512_insertf64x4::<1>(
+            _mm512_castpd256_pd512(_mm256_unpackhi_pd(a2, a3)),
+            _mm256_unpackhi_pd(a6, a7),
+        );
+        let even = _mm512_setr_epi64(0, 1, 8, 9, 4, 5, 12, 13);
+        let odd = _mm512_setr_epi64(2, 3, 10, 11, 6, 7, 14, 15);
+        [
+            _mm512_permutex2var_pd(u0, even, u1),
+            _mm512_permutex2var_pd(v0, even, v1),
+            _mm512_permutex2var_pd(u0, odd, u1),
+        ]
+    }
+
+    /// Append to `nbr` (from position `len`) the atoms j in `lo..hi` with |x_i − x_j|² <
+    /// `cutsq` (raw separations), in increasing order; returns the new length. Eight
+    /// candidates at a time: contiguous positions loaded and transposed, the kept indices
+    /// compressed.
+    ///
+    /// # Safety
+    /// The CPU has AVX-512 F/VL; `lo < hi <= x.len()`; `nbr.len() >= len + (hi − lo) + 8`.
+    #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+    pub(super) unsafe fn scan_cell(
+        xi: [f64; 3],
+        x: &[[f64; 3]],
+        lo: usize,
+        hi: usize,
+        cutsq: f64,
+        nbr: &mut [u32],
+        mut len: usize,
+    ) -> usize {
+        let base = x.as_ptr() as *const f64;
+        let (xi0, xi1, xi2) = (
+            _mm512_set1_pd(xi[0]),
+            _mm512_set1_pd(xi[1]),
+            _mm512_set1_pd(xi[2]),
+        );
+        let cut = _mm512_set1_pd(cutsq);
+        let iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+        let mut j0 = lo;
+        while j0 < hi {
+            let lanes = (hi - j0).min(8);
+            let lm: __mmask8 = ((1u32 << lanes) - 1) as u8;
+            // SAFETY: atoms j0..j0 + lanes exist (hi <= x.len()); lanes past them repeat the
+            // last; the store writes 8 entries from `len` < nbr.len() − 8.
+            unsafe {
+                let at =
+                    |t: usize| _mm256_maskz_loadu_pd(0b0111, base.add(3 * (j0 + t.min(lanes - 1))));
+                let [gx, gy, gz] =
+                    transpose8([at(0), at(1), at(2), at(3), at(4), at(5), at(6), at(7)]);
+                let dx = _mm512_sub_pd(xi0, gx);
+                let dy = _mm512_sub_pd(xi1, gy);
+                let dz = _mm512_sub_pd(xi2, gz);
+                let rsq = _mm512_add_pd(
+                    _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
+                    _mm512_mul_pd(dz, dz),
+                );
+                let keep = _mm512_mask_cmp_pd_mask::<_CMP_LT_OQ>(lm, rsq, cut);
+                let jv = _mm256_add_epi32(_mm256_set1_epi32(j0 as i32), iota);
+                _mm256_storeu_si256(
+                    nbr.as_mut_ptr().add(len) as *mut __m256i,
+                    _mm256_maskz_compress_epi32(keep, jv),
+                );
+                len += keep.count_ones() as usize;
+            }
+            j0 += 8;
+        }
+        len
+    }
+
+    /// The batch's v_i − v_j, tag_i and tag_j for its `n` pairs (atom indices `pi`, `pj`), 8
+    /// pairs at a time (lanes up to the next multiple of 8 are written with repeats).
+    ///
+    /// # Safety
+    /// The CPU has AVX-512 F/VL; `0 < n <= BATCH`; every index in `pi[..n]`, `pj[..n]` is
+    /// < `v.len()` = `tag.len()`.
+    #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+    pub(super) unsafe fn gather_velocities_tags(
+        v: &[[f64; 3]],
+        tag: &[u32],
+        pi: &[u32; BATCH],
+        pj: &[u32; BATCH],
+        n: usize,
+        b: &mut PairBatch,
+    ) {
+        let (vp, tp) = (v.as_ptr() as *const f64, tag.as_ptr() as *const i32);
+        let (ri, rj) = (&pi[..n], &pj[..n]);
+        let mut k0 = 0;
+        while k0 < n {
+            // SAFETY: indices < v.len() (caller's contract); stores stay inside the BATCH-long
+            // arrays because k0 + 8 <= BATCH (BATCH is a multiple of 8).
+            unsafe {
+                let vi = load_xyz(vp, ri, k0);
+                let vj = load_xyz(vp, rj, k0);
+                for c in 0..3 {
+                    _mm512_storeu_pd(b.dv[c].as_mut_ptr().add(k0), _mm512_sub_pd(vi[c], vj[c]));
+                }
+                let lm: __mmask8 = ((1u32 << (n - k0).min(8)) - 1) as u8;
+                let ii = _mm256_maskz_loadu_epi32(lm, ri.as_ptr().add(k0) as *const i32);
+                let jj = _mm256_maskz_loadu_epi32(lm, rj.as_ptr().add(k0) as *const i32);
+                let z = _mm256_setzero_si256();
+                let ti = _mm256_mmask_i32gather_epi32::<4>(z, lm, ii, tp);
+                let tj = _mm256_mmask_i32gather_epi32::<4>(z, lm, jj, tp);
+                _mm256_storeu_si256(b.tag_i.as_mut_ptr().add(k0) as *mut __m256i, ti);
+                _mm256_storeu_si256(b.tag_j.as_mut_ptr().add(k0) as *mut __m256i, tj);
+            }
+            k0 += 8;
+        }
+    }
 
     /// # Safety
     /// The CPU has AVX-512 F/DQ/VL/BW, and every index in `r.row` is < `pc.x.len()` (and, with
@@ -911,6 +1042,7 @@ mod avx512 {
         let rowt = _mm256_set1_epi32(r.row_t as i32);
         let xp = pc.x.as_ptr() as *const f64;
         let zero = _mm512_setzero_pd();
+        let _ = zero;
         let m = r.row.len();
         let mut k0 = 0;
         while k0 < m {
@@ -923,11 +1055,7 @@ mod avx512 {
             // `k0 + lanes <= m`; indices are valid by the caller's contract; `*len + 8 <= BATCH`.
             unsafe {
                 let jv = _mm256_maskz_loadu_epi32(lm, r.row.as_ptr().add(k0) as *const i32);
-                let j64 = _mm512_cvtepu32_epi64(jv);
-                let off = _mm512_add_epi64(_mm512_slli_epi64::<1>(j64), j64);
-                let gx = _mm512_mask_i64gather_pd::<8>(zero, lm, off, xp);
-                let gy = _mm512_mask_i64gather_pd::<8>(zero, lm, off, xp.add(1));
-                let gz = _mm512_mask_i64gather_pd::<8>(zero, lm, off, xp.add(2));
+                let [gx, gy, gz] = load_xyz(xp, r.row, k0);
                 let dx = _mm512_sub_pd(xi[0], gx);
                 let dy = _mm512_sub_pd(xi[1], gy);
                 let dz = _mm512_sub_pd(xi[2], gz);
@@ -1022,20 +1150,36 @@ fn flush<const ONE_TYPE: bool>(
     let (last, last_t) = (natoms - 1, inv_mass.len() - 1);
     let ims_one = inv_mass.get(1).map_or(0.0, |m| m + m);
     let b = &mut p.batch;
-    // Gather (clamped indices: no exits, so it vectorises).
+    #[cfg(target_arch = "x86_64")]
+    let simd = ctx.isa == Isa::Avx512;
+    #[cfg(not(target_arch = "x86_64"))]
+    let simd = false;
+    if simd {
+        // SAFETY: `ctx.isa` is Avx512 only on CPUs that have it (`compute_forces`), and the
+        // batch's atom indices are valid (list invariant, checked in `compute_forces`).
+        #[cfg(target_arch = "x86_64")]
+        unsafe {
+            avx512::gather_velocities_tags(v, tag, &p.i, &p.j, n, b)
+        };
+    } else {
+        // Clamped indices: no exits.
+        for l in 0..n {
+            let (i, j) = ((p.i[l] as usize).min(last), (p.j[l] as usize).min(last));
+            let (vi, vj) = (v[i], v[j]);
+            b.dv[0][l] = vi[0] - vj[0];
+            b.dv[1][l] = vi[1] - vj[1];
+            b.dv[2][l] = vi[2] - vj[2];
+            b.tag_i[l] = tag[i];
+            b.tag_j[l] = tag[j];
+        }
+    }
     for l in 0..n {
         let (i, j) = ((p.i[l] as usize).min(last), (p.j[l] as usize).min(last));
-        let (vi, vj) = (v[i], v[j]);
-        b.dv[0][l] = vi[0] - vj[0];
-        b.dv[1][l] = vi[1] - vj[1];
-        b.dv[2][l] = vi[2] - vj[2];
         b.inv_mass_sum[l] = if ONE_TYPE {
             ims_one
         } else {
             inv_mass[(typ[i] as usize).min(last_t)] + inv_mass[(typ[j] as usize).min(last_t)]
         };
-        b.tag_i[l] = tag[i];
-        b.tag_j[l] = tag[j];
     }
     pair_forces_batch_isa(ctx.isa, &ctx.ff.model, ctx.table, ctx.ff.seed, ctx.step, b);
     let (start, next_start) = at;
@@ -1077,33 +1221,183 @@ fn flush<const ONE_TYPE: bool>(
     b.len = 0;
 }
 
-/// The stencil lists of the two axes other than the slab axis, (faster, slower) in cell order.
-fn other_axes(axes: &[Vec<Vec<usize>>; 3], axis: usize, c: [usize; 3]) -> [&[usize]; 2] {
-    match axis {
-        2 => [&axes[0][c[0]], &axes[1][c[1]]],
-        _ => [&axes[0][c[0]], &axes[2][c[2]]],
+/// Stencil image code: the neighbour cell's periodic image is decided per pair.
+const AMBIGUOUS: i8 = 2;
+
+/// Cell coordinates of a position (the box is periodic and positions are wrapped, so the
+/// scaled coordinate is ≥ 0 and truncation is the floor).
+#[derive(Clone, Copy, Debug)]
+struct CellCoords {
+    lo: [f64; 3],
+    len: [f64; 3],
+    ncell: [usize; 3],
+    dim: usize,
+}
+
+impl CellCoords {
+    #[inline(always)]
+    fn of(&self, x: &[f64; 3]) -> [usize; 3] {
+        let mut c = [0usize; 3];
+        for d in 0..self.dim {
+            let f = (x[d] - self.lo[d]) / self.len[d] * self.ncell[d] as f64;
+            c[d] = (f.max(0.0) as usize).min(self.ncell[d] - 1);
+        }
+        c
     }
 }
 
-/// Set the coordinates of the two axes other than the slab axis.
-fn set_other(cc: &mut [usize; 3], axis: usize, fast: usize, slow: usize) {
-    match axis {
-        2 => {
-            cc[0] = fast;
-            cc[1] = slow;
-        }
-        _ => {
-            cc[0] = fast;
-            cc[2] = slow;
-        }
+/// What building the rows of a slab reads.
+struct RowBuild<'a> {
+    x: &'a [[f64; 3]],
+    bx: &'a SimBox,
+    cells: CellCoords,
+    cell_start: &'a [u32],
+    axes: &'a [Vec<Vec<(usize, i8)>>; 3],
+    /// For each x cell coordinate, its neighbour cells along x as runs (first, last, image),
+    /// in increasing order.
+    xruns: &'a [Vec<(usize, usize, i8)>],
+    /// Box lengths (for image shifts).
+    len: [f64; 3],
+    cutsq: f64,
+    /// The slab axis in slab mode; None: one task, j > i in every neighbouring cell.
+    slab_axis: Option<usize>,
+}
+
+fn build_rows_isa(isa: Isa, rb: &RowBuild, s: &mut Slab) {
+    match isa {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `isa` is one the CPU supports (checked against `Isa::best_supported`).
+        Isa::Avx512 => unsafe { build_rows_avx512(rb, s) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        Isa::Avx2 => unsafe { build_rows_avx2(rb, s) },
+        _ => build_rows::<false>(rb, s),
     }
 }
 
-/// Reorder every per-atom array in place by `perm` (new index k holds old atom `perm[k]`),
-/// following the permutation's cycles, so no second copy of the atoms is needed. The
-/// destructuring names every field of [`Atoms`]: a field added there fails to compile here
-/// until it is permuted too.
-fn permute_in_place(atoms: &mut Atoms, perm: &[u32], visited: &mut Vec<u64>) {
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+fn build_rows_avx512(rb: &RowBuild, s: &mut Slab) {
+    build_rows::<true>(rb, s)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+fn build_rows_avx2(rb: &RowBuild, s: &mut Slab) {
+    build_rows::<false>(rb, s)
+}
+
+/// The rows of one slab: for each atom, the atoms of the neighbouring cells (stencil order,
+/// increasing index within a cell) within the list cut-off. A cell reached without crossing
+/// the periodic boundary is scanned with raw separations (exact for the cut-off test: with at
+/// least 3 cells of side ≥ cut-off per axis, a pair within the cut-off has its raw separation
+/// as minimum image); the others go through `SimBox::min_image`.
+#[inline(always)]
+fn build_rows<const AVX512: bool>(rb: &RowBuild, s: &mut Slab) {
+    let x = rb.x;
+    let ncell = rb.cells.ncell;
+    s.row_start.clear();
+    s.row_start.push(0);
+    // `s.nbr` is used as a buffer longer than the row data (grown, never shrunk, while
+    // building); `len` is the data's length.
+    let mut len = 0usize;
+    for i in s.start..s.end {
+        let xi = x[i];
+        let c = rb.cells.of(&xi);
+        // Scan the cells `cells.0..=cells.1` (consecutive along x, so their atoms are one
+        // index range).
+        // Scan the cells `cells.0..=cells.1` (consecutive along x, so their atoms are one
+        // index range), whose atoms are seen through the periodic image `img` (per axis: 0,
+        // ±1 for x_i shifted by ±L, AMBIGUOUS: decided per pair by `SimBox::min_image`).
+        let mut scan = |cells: (usize, usize), first: usize, img: [i8; 3]| {
+            let lo = (rb.cell_start[cells.0] as usize).max(first);
+            let hi = rb.cell_start[cells.1 + 1] as usize;
+            if hi <= lo {
+                return;
+            }
+            let need = len + (hi - lo) + 8;
+            if s.nbr.len() < need {
+                s.nbr.resize(need.max(2 * s.nbr.len()), 0);
+            }
+            let mut l = len;
+            if img.contains(&AMBIGUOUS) {
+                for j in lo..hi {
+                    let xj = x[j];
+                    let d = rb
+                        .bx
+                        .min_image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
+                    s.nbr[l] = j as u32;
+                    l += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rb.cutsq);
+                }
+                len = l;
+                return;
+            }
+            // x_i − (x_j − image · L) = (x_i + image · L) − x_j. (A sheared boundary would add
+            // its offset here.)
+            let xs = [0, 1, 2].map(|k| xi[k] + f64::from(img[k]) * rb.len[k]);
+            #[cfg(target_arch = "x86_64")]
+            if AVX512 {
+                // SAFETY: only inside `build_rows_avx512` (AVX-512 present); lo..hi are atom
+                // indices < x.len(); s.nbr has room for len + (hi − lo) + 8 entries.
+                len = unsafe { avx512::scan_cell(xs, x, lo, hi, rb.cutsq, &mut s.nbr, l) };
+                return;
+            }
+            for j in lo..hi {
+                let xj = x[j];
+                let d = [xs[0] - xj[0], xs[1] - xj[1], xs[2] - xj[2]];
+                s.nbr[l] = j as u32;
+                l += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rb.cutsq);
+            }
+            len = l;
+        };
+        // Neighbouring cells as runs along x (cells are x-fastest): x − 1, x, x + 1 merge into
+        // one index range unless one of them is across the boundary.
+        let xruns = &rb.xruns[c[0]];
+        if let Some(axis) = rb.slab_axis {
+            // Own layer: j > i; next layer: every j.
+            let layers = ncell[axis];
+            let slow = if axis == 2 { 1 } else { 2 };
+            let mut cc = c;
+            for (dl, first) in [(0, i + 1), (1, 0)] {
+                cc[axis] = (c[axis] + dl) % layers;
+                let mut img = [0i8; 3];
+                img[axis] = if c[axis] + dl >= layers { -1 } else { 0 };
+                for &(cs, is) in &rb.axes[slow][c[slow]] {
+                    cc[slow] = cs;
+                    img[slow] = is;
+                    for &(x0, x1, ix) in xruns {
+                        cc[0] = x0;
+                        img[0] = ix;
+                        let a = cell_id(cc, ncell);
+                        scan((a, a + (x1 - x0)), first, img);
+                    }
+                }
+            }
+        } else {
+            for &(cz, iz) in &rb.axes[2][c[2]] {
+                for &(cy, iy) in &rb.axes[1][c[1]] {
+                    for &(x0, x1, ix) in xruns {
+                        let a = cell_id([x0, cy, cz], ncell);
+                        scan((a, a + (x1 - x0)), i + 1, [ix, iy, iz]);
+                    }
+                }
+            }
+        }
+        s.row_start.push(len as u32);
+    }
+    s.nbr.truncate(len);
+}
+
+/// Reorder every per-atom array by `perm` (new index k holds old atom `perm[k]`): a parallel
+/// gather into one scratch array per element type, swapped with the field (so the scratch
+/// holds the old array for the next field of that type). The destructuring names every field
+/// of [`Atoms`]: a field added there fails to compile here until it is permuted too.
+fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch) {
+    fn gather<T: Copy + Send + Sync>(a: &mut Vec<T>, perm: &[u32], tmp: &mut Vec<T>) {
+        tmp.clear();
+        tmp.par_extend(perm.par_iter().map(|&p| a[p as usize]));
+        std::mem::swap(a, tmp);
+    }
     let Atoms {
         x,
         v,
@@ -1112,36 +1406,18 @@ fn permute_in_place(atoms: &mut Atoms, perm: &[u32], visited: &mut Vec<u64>) {
         typ,
         image,
     } = atoms;
-    let n = perm.len();
-    visited.clear();
-    visited.resize(n.div_ceil(64), 0);
-    for start in 0..n {
-        if visited[start / 64] >> (start % 64) & 1 == 1 {
-            continue;
-        }
-        let saved = (
-            x[start],
-            v[start],
-            f[start],
-            tag[start],
-            typ[start],
-            image[start],
-        );
-        let mut k = start;
-        loop {
-            visited[k / 64] |= 1 << (k % 64);
-            let src = perm[k] as usize;
-            if src == start {
-                (x[k], v[k], f[k], tag[k], typ[k], image[k]) = saved;
-                break;
-            }
-            x[k] = x[src];
-            v[k] = v[src];
-            f[k] = f[src];
-            tag[k] = tag[src];
-            typ[k] = typ[src];
-            image[k] = image[src];
-            k = src;
-        }
-    }
+    gather(x, perm, &mut scratch.vec3);
+    gather(v, perm, &mut scratch.vec3);
+    gather(f, perm, &mut scratch.vec3);
+    gather(tag, perm, &mut scratch.u32s);
+    gather(typ, perm, &mut scratch.u32s);
+    gather(image, perm, &mut scratch.int3);
+}
+
+/// Scratch arrays of [`permute`], one per element type (kept between builds).
+#[derive(Clone, Debug, Default)]
+struct PermScratch {
+    vec3: Vec<[f64; 3]>,
+    u32s: Vec<u32>,
+    int3: Vec<[i32; 3]>,
 }
