@@ -5,6 +5,7 @@
 pub mod atoms;
 pub mod domain;
 pub mod forcefield;
+pub mod lees_edwards;
 pub mod measure;
 pub mod neighbor;
 
@@ -69,6 +70,10 @@ pub struct System {
     pub tally: PairTally,
     /// What the last [`System::setup`] resolved or found worth a warning (the caller logs them).
     pub setup_notes: Vec<SetupNote>,
+    /// The tilt and `fix deform` of a triclinic box (None: orthogonal). A triclinic box runs
+    /// the Lees–Edwards pair loop (`lees_edwards.rs`).
+    pub tri: Option<lees_edwards::Triclinic>,
+    le_work: lees_edwards::LeWork,
     table: Vec<PairCoeff>,
     inv_mass: Vec<f64>,
 }
@@ -120,6 +125,8 @@ impl System {
             pex: Vec::new(),
             tally: PairTally::default(),
             setup_notes: Vec::new(),
+            tri: None,
+            le_work: lees_edwards::LeWork::default(),
             table: Vec::new(),
             inv_mass: Vec::new(),
         }
@@ -197,7 +204,11 @@ impl System {
                 v[2] = 0.0;
             }
         }
-        self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
+        if self.tri.is_some() {
+            self.le_setup();
+        } else {
+            self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
+        }
         self.compute_forces();
         Ok(())
     }
@@ -240,6 +251,10 @@ impl System {
     }
 
     fn compute_forces(&mut self) {
+        if self.tri.is_some() {
+            self.le_compute_forces();
+            return;
+        }
         let Some(ff) = self.ff.as_ref() else { return };
         if self.neighbor.needs_rebuild(&self.atoms) {
             self.neighbor.build(&mut self.atoms, &self.bx, ff.rc_max());
@@ -368,7 +383,6 @@ impl System {
 
     /// The thermodynamic state with LAMMPS's definitions (MODELS §6).
     pub fn thermo(&self) -> Thermo {
-        let d = self.dim();
         let mut kt = [0.0; 6];
         for ((v, &t), _) in self.atoms.v.iter().zip(&self.atoms.typ).zip(0..) {
             let m = self.mass[t as usize].unwrap_or(0.0);
@@ -379,6 +393,13 @@ impl System {
             kt[4] += m * v[0] * v[2];
             kt[5] += m * v[1] * v[2];
         }
+        self.thermo_from_kinetic(kt)
+    }
+
+    /// The thermodynamic state from the kinetic tensor `kt` = Σ m v_a v_b (xx yy zz xy xz yz)
+    /// of some temperature compute and the last force evaluation's virial.
+    fn thermo_from_kinetic(&self, kt: [f64; 6]) -> Thermo {
+        let d = self.dim();
         let n = self.atoms.len() as f64;
         let dof = d as f64 * n - d as f64;
         let mv2 = if d == 3 {

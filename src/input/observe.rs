@@ -56,8 +56,12 @@ pub const BUILTIN_COMPUTES: [&str; 3] = ["thermo_temp", "thermo_press", "thermo_
 enum ComputeKind {
     /// `temp`: scalar T (dof = dN − d), vector Σ m v_a v_b (xx yy zz xy xz yz).
     Temp,
-    /// `pressure TEMP-ID`: scalar P, vector P_ab (kinetic + virial of all pair forces).
-    Pressure,
+    /// `temp/deform`: as `temp` with the streaming velocity of `fix deform` removed
+    /// (`System::thermo_deform`).
+    TempDeform,
+    /// `pressure TEMP-ID`: scalar P, vector P_ab (kinetic part of TEMP-ID + virial of all pair
+    /// forces).
+    Pressure(String),
     /// `pe`: total pair energy.
     Pe,
     /// `ke`: total kinetic energy.
@@ -72,7 +76,8 @@ impl ComputeKind {
     fn style(&self) -> &'static str {
         match self {
             ComputeKind::Temp => "temp",
-            ComputeKind::Pressure => "pressure",
+            ComputeKind::TempDeform => "temp/deform",
+            ComputeKind::Pressure(_) => "pressure",
             ComputeKind::Pe => "pe",
             ComputeKind::Ke => "ke",
             ComputeKind::Msd(_) => "msd",
@@ -83,13 +88,17 @@ impl ComputeKind {
     fn has_scalar(&self) -> bool {
         matches!(
             self,
-            ComputeKind::Temp | ComputeKind::Pressure | ComputeKind::Pe | ComputeKind::Ke
+            ComputeKind::Temp
+                | ComputeKind::TempDeform
+                | ComputeKind::Pressure(_)
+                | ComputeKind::Pe
+                | ComputeKind::Ke
         )
     }
 
     fn vector_len(&self) -> Option<usize> {
         match self {
-            ComputeKind::Temp | ComputeKind::Pressure => Some(6),
+            ComputeKind::Temp | ComputeKind::TempDeform | ComputeKind::Pressure(_) => Some(6),
             ComputeKind::Msd(_) => Some(4),
             _ => None,
         }
@@ -97,6 +106,10 @@ impl ComputeKind {
 
     fn extensive(&self) -> bool {
         matches!(self, ComputeKind::Pe | ComputeKind::Ke)
+    }
+
+    fn is_temperature(&self) -> bool {
+        matches!(self, ComputeKind::Temp | ComputeKind::TempDeform)
     }
 }
 
@@ -548,7 +561,7 @@ impl Observe {
                 },
                 ComputeDef {
                     id: "thermo_press".into(),
-                    kind: ComputeKind::Pressure,
+                    kind: ComputeKind::Pressure("thermo_temp".into()),
                 },
                 ComputeDef {
                     id: "thermo_pe".into(),
@@ -622,7 +635,7 @@ impl Observe {
 
     /// Parse `compute ID all STYLE ARGS…` (checked against `env`, not yet added).
     pub fn parse_compute(args: &[String], env: &dyn Env) -> Result<ComputeDef, String> {
-        let usage = "compute ID all temp | pressure TEMP-ID | pe | ke | msd [com yes|no] | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+        let usage = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | msd [com yes|no] | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
         if args.len() < 3 {
             return Err(format!("missing arguments; usage: {usage}"));
         }
@@ -659,6 +672,10 @@ impl Observe {
                 extra(3)?;
                 ComputeKind::Temp
             }
+            "temp/deform" => {
+                extra(3)?;
+                ComputeKind::TempDeform
+            }
             "pe" => {
                 extra(3)?;
                 ComputeKind::Pe
@@ -670,7 +687,7 @@ impl Observe {
             "pressure" => {
                 let t = arg(args, 3, usage)?;
                 match env.observe().compute(t) {
-                    Some(c) if matches!(c.kind, ComputeKind::Temp) => {}
+                    Some(c) if c.kind.is_temperature() => {}
                     Some(c) => {
                         return Err(format!(
                             "compute pressure: compute '{t}' is a {} compute, not a temperature",
@@ -690,7 +707,7 @@ impl Observe {
                         args[4]
                     ));
                 }
-                ComputeKind::Pressure
+                ComputeKind::Pressure(t.to_string())
             }
             "msd" => {
                 let mut com = false;
@@ -829,6 +846,60 @@ impl Observe {
         self.computes.push(c);
     }
 
+    /// The thermodynamic state (temperature, kinetic energy, and the pressure of a `compute
+    /// pressure` that uses it) with the kinetic tensor of temperature compute `id`.
+    pub fn thermo_of_temp(&self, id: &str, sys: &System) -> Result<crate::engine::Thermo, String> {
+        match self.compute(id).map(|c| &c.kind) {
+            Some(ComputeKind::Temp) => Ok(sys.thermo()),
+            Some(ComputeKind::TempDeform) => Ok(sys.thermo_deform()),
+            Some(k) => Err(format!(
+                "compute '{id}' is a {} compute, not a temperature",
+                k.style()
+            )),
+            None => Err(format!("temperature compute '{id}' does not exist")),
+        }
+    }
+
+    /// The state of pressure compute `id` (its temperature's kinetic part + the virial).
+    pub fn thermo_of_press(&self, id: &str, sys: &System) -> Result<crate::engine::Thermo, String> {
+        match self.compute(id).map(|c| &c.kind) {
+            Some(ComputeKind::Pressure(t)) => self.thermo_of_temp(t, sys),
+            Some(k) => Err(format!(
+                "compute '{id}' is a {} compute, not a pressure",
+                k.style()
+            )),
+            None => Err(format!("pressure compute '{id}' does not exist")),
+        }
+    }
+
+    /// `thermo_modify temp ID`: check `id` is a temperature and, as LAMMPS does, make the
+    /// built-in `thermo_press` use it.
+    pub fn set_thermo_temp(&mut self, id: &str) -> Result<(), String> {
+        match self.compute(id).map(|c| c.kind.is_temperature()) {
+            Some(true) => {}
+            Some(false) => {
+                return Err(format!(
+                    "thermo_modify temp: compute '{id}' is not a temperature compute"
+                ));
+            }
+            None => return Err(format!("thermo_modify temp: compute '{id}' does not exist")),
+        }
+        for c in &mut self.computes {
+            if c.id == "thermo_press" {
+                c.kind = ComputeKind::Pressure(id.to_string());
+            }
+        }
+        Ok(())
+    }
+
+    /// True if `id` is a `compute pressure`.
+    pub fn is_pressure(&self, id: &str) -> bool {
+        matches!(
+            self.compute(id).map(|c| &c.kind),
+            Some(ComputeKind::Pressure(_))
+        )
+    }
+
     /// `uncompute ID`.
     pub fn uncompute(&mut self, id: &str) -> Result<(), String> {
         if BUILTIN_COMPUTES.contains(&id) {
@@ -848,7 +919,7 @@ impl Observe {
             }
         }
         for c in &self.computes {
-            if c.id != id && matches!(c.kind, ComputeKind::Pressure) && id == "thermo_temp" {
+            if c.id != id && matches!(&c.kind, ComputeKind::Pressure(t) if t == id) {
                 return Err(format!("compute '{id}' is used by compute '{}'", c.id));
             }
         }
@@ -859,7 +930,8 @@ impl Observe {
     fn compute_scalar(&self, c: &ComputeDef, sys: &System) -> Result<f64, String> {
         Ok(match &c.kind {
             ComputeKind::Temp => sys.thermo().temp,
-            ComputeKind::Pressure => sys.thermo().press,
+            ComputeKind::TempDeform => sys.thermo_deform().temp,
+            ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.press,
             ComputeKind::Pe => sys.tally.energy,
             ComputeKind::Ke => sys.thermo().ke,
             k => {
@@ -875,7 +947,8 @@ impl Observe {
     fn compute_vector(&self, c: &ComputeDef, sys: &System) -> Result<Vec<f64>, String> {
         Ok(match &c.kind {
             ComputeKind::Temp => sys.thermo().ke_tensor.to_vec(),
-            ComputeKind::Pressure => sys.thermo().p_tensor.to_vec(),
+            ComputeKind::TempDeform => sys.thermo_deform().ke_tensor.to_vec(),
+            ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.p_tensor.to_vec(),
             ComputeKind::Msd(m) => m.compute(sys)?.to_vec(),
             k => {
                 return Err(format!(

@@ -8,6 +8,7 @@ use super::expr::{AtomBinder, ExprContext, Formula, RefKind, eval_equal};
 use super::format::{FmtArg, sprintf};
 use super::lexer::{logical_lines, split_words, strip_comment};
 use super::observe::{self, Observe, VarStyle};
+use crate::engine::lees_edwards::{Deform, Triclinic};
 use crate::engine::{ForceField, Integrator, PexPush, SetupNote, SimBox, System};
 use crate::io::data::{DataFile, format_data, parse_data};
 use crate::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
@@ -91,6 +92,9 @@ struct ThermoSettings {
     fmt_float: Option<String>,
     fmt_col: BTreeMap<usize, String>,
     norm: bool,
+    /// `thermo_modify temp ID` / `press ID` (None: thermo_temp / thermo_press).
+    temp: Option<String>,
+    press: Option<String>,
 }
 
 impl Default for ThermoSettings {
@@ -105,6 +109,8 @@ impl Default for ThermoSettings {
             fmt_float: None,
             fmt_col: BTreeMap::new(),
             norm: true,
+            temp: None,
+            press: None,
         }
     }
 }
@@ -127,6 +133,8 @@ enum FixKind {
     NveEuler,
     Enforce2d,
     Pex,
+    /// `deform … xy erate R remap v` (Lees–Edwards, `engine::lees_edwards`).
+    Deform,
     /// `ave/time`, `ave/chunk`, `ave/histo` (in `observe`).
     Observe,
 }
@@ -149,6 +157,8 @@ pub struct Interpreter<'c> {
     vars: BTreeMap<String, Var>,
     dim: usize,
     regions: BTreeMap<String, [[f64; 2]; 3]>,
+    /// Tilt factors (xy, xz, yz) of `region … prism` regions.
+    prisms: BTreeMap<String, [f64; 3]>,
     sys: Option<System>,
     skin: f64,
     dry_run: bool,
@@ -310,7 +320,7 @@ fn thermo_header(kw: &str) -> String {
         "vol" => "Volume".into(),
         "density" => "Density".into(),
         "pxx" | "pyy" | "pzz" | "pxy" | "pxz" | "pyz" | "lx" | "ly" | "lz" | "xlo" | "xhi"
-        | "ylo" | "yhi" | "zlo" | "zhi" => {
+        | "ylo" | "yhi" | "zlo" | "zhi" | "xy" | "xz" | "yz" => {
             let mut c = kw.chars();
             match c.next() {
                 Some(f) => f.to_uppercase().chain(c).collect(),
@@ -346,6 +356,7 @@ impl<'c> Interpreter<'c> {
             vars,
             dim: 3,
             regions: BTreeMap::new(),
+            prisms: BTreeMap::new(),
             sys: None,
             skin: 0.3,
             dry_run: false,
@@ -573,7 +584,22 @@ impl<'c> Interpreter<'c> {
         } else {
             1.0
         };
-        let t = sys.thermo();
+        // The temperature and pressure computes of thermo (LAMMPS: thermo_temp and
+        // thermo_press unless thermo_modify temp/press; thermo_press uses thermo_modify's temp).
+        let t = match &self.thermo.temp {
+            None => sys.thermo(),
+            Some(id) => match self.obs.thermo_of_temp(id, sys) {
+                Ok(t) => t,
+                Err(e) => return Some(Err(e)),
+            },
+        };
+        let p = match self
+            .obs
+            .thermo_of_press(self.thermo.press.as_deref().unwrap_or("thermo_press"), sys)
+        {
+            Ok(p) => p,
+            Err(e) => return Some(Err(e)),
+        };
         let len = sys.bx.len();
         let v = match kw {
             "step" => sys.step as f64,
@@ -582,13 +608,15 @@ impl<'c> Interpreter<'c> {
             "time" => sys.step as f64 * self.dt,
             "atoms" => n,
             "temp" => t.temp,
-            "press" => t.press,
-            "pxx" => t.p_tensor[0],
-            "pyy" => t.p_tensor[1],
-            "pzz" => t.p_tensor[2],
-            "pxy" => t.p_tensor[3],
-            "pxz" => t.p_tensor[4],
-            "pyz" => t.p_tensor[5],
+            "press" => p.press,
+            "pxx" => p.p_tensor[0],
+            "pyy" => p.p_tensor[1],
+            "pzz" => p.p_tensor[2],
+            "pxy" => p.p_tensor[3],
+            "pxz" => p.p_tensor[4],
+            "pyz" => p.p_tensor[5],
+            "xy" => sys.tri.as_ref().map_or(0.0, |tr| tr.reported_xy(&sys.bx)),
+            "xz" | "yz" => 0.0,
             "ke" => t.ke * norm,
             "pe" | "epair" | "evdwl" => t.pe * norm,
             "emol" => 0.0,
@@ -780,6 +808,11 @@ impl<'c> Interpreter<'c> {
                     match kind {
                         FixKind::Nve | FixKind::NveEuler => sys.integrator = None,
                         FixKind::Pex => sys.pex.retain(|p| p.id != id),
+                        FixKind::Deform => {
+                            if let Some(t) = sys.tri.as_mut() {
+                                t.deform = None;
+                            }
+                        }
                         FixKind::Enforce2d => {}
                         FixKind::Observe => {
                             self.obs.unfix(&id);
@@ -816,6 +849,22 @@ impl<'c> Interpreter<'c> {
                 Ok(())
             }
             "run" => self.cmd_run(args),
+            "change_box" => {
+                need(args, 2, "change_box all triclinic")?;
+                if args[0] != "all" {
+                    return Err(format!("group '{}' not supported: only 'all'", args[0]));
+                }
+                if let Some(o) = args[1..].iter().find(|a| *a != "triclinic") {
+                    return Err(format!(
+                        "change_box keyword '{o}' not supported: only 'change_box all triclinic'"
+                    ));
+                }
+                let sys = self.sys_mut()?;
+                if sys.tri.is_none() {
+                    sys.tri = Some(Triclinic::new(0.0));
+                }
+                Ok(())
+            }
             "reset_timestep" => {
                 need(args, 1, "reset_timestep N")?;
                 let n: u64 = parse_int(&args[0], "timestep")?;
@@ -930,15 +979,31 @@ impl<'c> Interpreter<'c> {
     }
 
     fn cmd_region(&mut self, args: &[String]) -> CmdResult {
-        let usage = "region ID block xlo xhi ylo yhi zlo zhi [units box|lattice]";
+        let usage = "region ID block xlo xhi ylo yhi zlo zhi [units box|lattice] | region ID prism xlo xhi ylo yhi zlo zhi xy xz yz [units box|lattice]";
         need(args, 8, usage)?;
-        if args[1] != "block" {
-            return Err(format!(
-                "region style '{}' not supported: only 'block'",
-                args[1]
-            ));
-        }
-        let mut k = 8;
+        let prism = match args[1].as_str() {
+            "block" => None,
+            "prism" => {
+                need(args, 11, usage)?;
+                let mut t = [0.0; 3];
+                for (k, name) in ["xy", "xz", "yz"].iter().enumerate() {
+                    t[k] = parse_f64(&args[8 + k], name)?;
+                }
+                if t[1] != 0.0 || t[2] != 0.0 {
+                    return Err(format!(
+                        "region prism: tilt xz '{}' yz '{}' not supported: only xy (Lees–Edwards Couette flow)",
+                        args[9], args[10]
+                    ));
+                }
+                Some(t)
+            }
+            o => {
+                return Err(format!(
+                    "region style '{o}' not supported: only 'block' and 'prism'"
+                ));
+            }
+        };
+        let mut k = if prism.is_some() { 11 } else { 8 };
         while k < args.len() {
             need(&args[k..], 2, usage)?;
             match (args[k].as_str(), args[k + 1].as_str()) {
@@ -974,6 +1039,14 @@ impl<'c> Interpreter<'c> {
             }
         }
         self.regions.insert(args[0].clone(), b);
+        match prism {
+            Some(t) => {
+                self.prisms.insert(args[0].clone(), t);
+            }
+            None => {
+                self.prisms.remove(&args[0]);
+            }
+        }
         Ok(())
     }
 
@@ -1009,6 +1082,15 @@ impl<'c> Interpreter<'c> {
             [r[0][1], r[1][1], r[2][1]],
         )?;
         let d = self.dim;
+        if let Some(t) = self.prisms.get(&args[1]).copied() {
+            let sys = self.sys_mut()?;
+            sys.tri = Some(Triclinic::new(t[0]));
+            self.out(&format!(
+                "Created triclinic box = ({} {} {}) to ({} {} {}) with tilt ({} {} {}) in {d}-D",
+                r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1], t[0], t[1], t[2]
+            ));
+            return Ok(());
+        }
         self.out(&format!(
             "Created orthogonal box = ({} {} {}) to ({} {} {}) in {d}-D",
             r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1]
@@ -1282,6 +1364,52 @@ impl<'c> Interpreter<'c> {
                     }
                 }
             }
+            "ramp" => {
+                // LAMMPS: v_a = vlo + f (vhi − vlo), f = (x_d − clo)/(chi − clo) clamped to
+                // [0, 1]; `sum yes` adds it to the current velocity.
+                let usage = "velocity all ramp vx|vy|vz VLO VHI x|y|z CLO CHI [sum yes|no] [units box|lattice]";
+                need(args, 8, usage)?;
+                let comp = |t: &str, names: [&str; 3]| {
+                    names
+                        .iter()
+                        .position(|n| *n == t)
+                        .ok_or_else(|| format!("velocity ramp: '{t}' must be one of {names:?}"))
+                };
+                let a = comp(&args[2], ["vx", "vy", "vz"])?;
+                let (vlo, vhi) = (
+                    parse_f64(&args[3], "velocity")?,
+                    parse_f64(&args[4], "velocity")?,
+                );
+                let c = comp(&args[5], ["x", "y", "z"])?;
+                let (clo, chi) = (
+                    parse_f64(&args[6], "coordinate")?,
+                    parse_f64(&args[7], "coordinate")?,
+                );
+                if chi <= clo {
+                    return Err(format!(
+                        "velocity ramp: coordinate range {clo} {chi} is empty"
+                    ));
+                }
+                if a >= dim || c >= dim {
+                    return Err("velocity ramp: a z component in a 2-D model".into());
+                }
+                let mut sum = false;
+                let mut k = 8;
+                while k < args.len() {
+                    need(&args[k..], 2, usage)?;
+                    match (args[k].as_str(), args[k + 1].as_str()) {
+                        ("sum", v) => sum = v == "yes",
+                        ("units", "box") | ("units", "lattice") => {}
+                        (o, _) => return Err(format!("unknown velocity ramp keyword '{o}'")),
+                    }
+                    k += 2;
+                }
+                for (v, x) in sys.atoms.v.iter_mut().zip(&sys.atoms.x) {
+                    let f = ((x[c] - clo) / (chi - clo)).clamp(0.0, 1.0);
+                    let u = vlo + f * (vhi - vlo);
+                    v[a] = if sum { v[a] + u } else { u };
+                }
+            }
             "zero" => {
                 need(args, 3, usage)?;
                 if args[2] != "linear" {
@@ -1299,7 +1427,7 @@ impl<'c> Interpreter<'c> {
             }
             o => {
                 return Err(format!(
-                    "velocity style '{o}' not supported (create, set, zero, scale)"
+                    "velocity style '{o}' not supported (create, set, ramp, zero, scale)"
                 ));
             }
         }
@@ -1541,9 +1669,81 @@ impl<'c> Interpreter<'c> {
                 });
                 FixKind::Pex
             }
+            "deform" => {
+                Self::fix_deform(sys, &id, args)?;
+                FixKind::Deform
+            }
             o => return Err(format!("fix style '{o}' not supported; {usage}")),
         };
         self.fixes.push((id, kind));
+        Ok(())
+    }
+
+    /// `fix ID all deform N xy erate R remap v [flip yes|no] [units box|lattice]`: the only
+    /// form Couette flow needs (Lees–Edwards, `engine::lees_edwards`).
+    fn fix_deform(sys: &mut System, id: &str, args: &[String]) -> CmdResult {
+        let usage = "fix ID all deform N xy erate R remap v [flip yes|no] [units box|lattice]";
+        need(args, 7, usage)?;
+        let every: u64 = parse_int(&args[3], "deform interval N")?;
+        if every == 0 {
+            return Err("fix deform: N must be >= 1".into());
+        }
+        if args[4] != "xy" {
+            return Err(format!(
+                "fix deform parameter '{}' not supported: only 'xy erate R remap v' (Couette flow)",
+                args[4]
+            ));
+        }
+        if args[5] != "erate" {
+            return Err(format!(
+                "fix deform xy style '{}' not supported: only 'erate'",
+                args[5]
+            ));
+        }
+        let erate = parse_f64(&args[6], "erate")?;
+        if !erate.is_finite() {
+            return Err(format!("fix deform: erate '{}' must be finite", args[6]));
+        }
+        let (mut remap_v, mut flip) = (false, true);
+        let mut k = 7;
+        while k < args.len() {
+            need(&args[k..], 2, usage)?;
+            let val = args[k + 1].as_str();
+            match (args[k].as_str(), val) {
+                ("remap", "v") => remap_v = true,
+                ("remap", o) => {
+                    return Err(format!(
+                        "fix deform remap '{o}' not supported: only 'remap v' (Lees–Edwards)"
+                    ));
+                }
+                ("flip", "yes") => flip = true,
+                ("flip", "no") => flip = false,
+                ("flip", o) => return Err(format!("fix deform flip '{o}' must be yes or no")),
+                ("units", "box" | "lattice") => {}
+                (o, _) => {
+                    return Err(format!(
+                        "fix deform keyword '{o}' not supported; usage: {usage}"
+                    ));
+                }
+            }
+            k += 2;
+        }
+        if !remap_v {
+            return Err(
+                "fix deform needs 'remap v' here (LAMMPS's default 'remap x' is not supported)"
+                    .into(),
+            );
+        }
+        let Some(tri) = sys.tri.as_mut() else {
+            return Err(
+                "fix deform xy needs a triclinic box (region … prism … or change_box all triclinic)"
+                    .into(),
+            );
+        };
+        if tri.deform.is_some() {
+            return Err("only one fix deform is allowed".into());
+        }
+        tri.deform = Some(Deform::new(id.to_string(), every, erate, flip));
         Ok(())
     }
 
@@ -1588,6 +1788,9 @@ impl<'c> Interpreter<'c> {
                                 | "yhi"
                                 | "zlo"
                                 | "zhi"
+                                | "xy"
+                                | "xz"
+                                | "yz"
                                 | "density"
                         );
                     if !known {
@@ -1600,11 +1803,18 @@ impl<'c> Interpreter<'c> {
         }
         self.thermo.fmt_line = None;
         self.thermo.fmt_col.clear();
+        // As LAMMPS: a new thermo_style drops thermo_modify's temp and press (thermo_press
+        // keeps the temperature thermo_modify gave it).
+        if self.thermo.temp.is_some() || self.thermo.press.is_some() {
+            self.thermo.temp = None;
+            self.thermo.press = None;
+            self.warn("New thermo_style command, previous thermo_modify settings will be lost");
+        }
         Ok(())
     }
 
     fn cmd_thermo_modify(&mut self, args: &[String]) -> CmdResult {
-        let usage = "thermo_modify norm yes|no | format line|int|float|N FORMAT | flush yes|no";
+        let usage = "thermo_modify norm yes|no | format line|int|float|N FORMAT | flush yes|no | temp ID | press ID";
         need(args, 2, usage)?;
         let mut k = 0;
         while k < args.len() {
@@ -1612,6 +1822,20 @@ impl<'c> Interpreter<'c> {
             match args[k].as_str() {
                 "norm" => self.thermo.norm = args[k + 1] == "yes",
                 "flush" | "lost" | "lost/bond" | "warn" => {}
+                "temp" => {
+                    let id = &args[k + 1];
+                    self.obs.set_thermo_temp(id)?;
+                    self.thermo.temp = Some(id.clone());
+                }
+                "press" => {
+                    let id = &args[k + 1];
+                    if !self.obs.is_pressure(id) {
+                        return Err(format!(
+                            "thermo_modify press: '{id}' is not a pressure compute"
+                        ));
+                    }
+                    self.thermo.press = Some(id.clone());
+                }
                 "format" => {
                     need(&args[k..], 3, usage)?;
                     let what = args[k + 1].as_str();

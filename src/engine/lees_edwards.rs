@@ -1,0 +1,416 @@
+//! Lees–Edwards boundaries in the standalone engine: the triclinic box of LAMMPS
+//! (`region … prism`, `change_box all triclinic`) with `fix deform … xy erate R remap v`, in the
+//! sliding-brick form (MODELS §6, Couette flow; weighting-function paper §5).
+//!
+//! A periodic box with tilt xy has the lattice vectors a = (L_x, 0, 0), b = (xy, L_y, 0),
+//! c = (0, 0, L_z). Positions are kept in the orthogonal box [lo, hi): the image at +L_y is
+//! displaced by xy along x, and xy only matters modulo L_x, so the "sliding brick" offset is
+//! `offset = xy mod L_x` ([`LeesEdwards`]). The same lattice as LAMMPS's, so the same physics;
+//! the wrapped coordinates differ from LAMMPS's by lattice vectors only.
+//!
+//! Under `fix deform … xy erate R`, LAMMPS changes the tilt at the rate h_rate_xy = R · L_y
+//! (L_y at the run's start), so xy(n) = xy_start + R L_y (n − n_start) δt, and with `remap v`
+//! an atom crossing y_hi (y_lo) has v_x changed by −h_rate_xy (+h_rate_xy), the velocity of the
+//! image it becomes; ghost (image) velocities carry the same jump. The shear rate is
+//! γ̇ = ∂v_x/∂y = R. Here the offset used at step n is xy(n) mod L_x (LAMMPS computes the
+//! forces of step n in the box of step n − 1, since `fix deform` changes the box at the end of
+//! a step: a constant shift γ̇ L_y δt of the image lattice, the same flow).
+//!
+//! Pair forces: every pair uses the Lees–Edwards minimum image r_ij and
+//! v_ij = v_i − v_j + Δv (Δv = −n_y γ̇ L_y e_x when the nearest image of j lies n_y boxes
+//! away along y: MODELS, notation, "under Lees–Edwards include the boundary velocity jump"),
+//! with the same kernel ([`crate::kernel::pair_forces_batch`], bit for bit
+//! [`crate::kernel::pair_force`]) and the same keyed Gaussians (seed, step, tags) as the
+//! periodic engine. The pair loop here is serial (deterministic for any thread count): a cell
+//! list rebuilt every step whose cells across the sheared y boundary are found with the
+//! current offset, each pair once (j > i in atom index), F_ji = −F_ij from one evaluation.
+
+use super::System;
+use super::domain::{LeesEdwards, SimBox};
+use super::neighbor::PairTally;
+use crate::kernel::{self, BATCH, PairBatch, PairTable};
+
+/// `fix ID all deform N xy erate R remap v [flip yes|no]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Deform {
+    /// Fix id.
+    pub id: String,
+    /// Box update interval N (the tilt changes on steps that are multiples of N).
+    pub every: u64,
+    /// Engineering shear strain rate R (1/time): the tilt changes at R · L_y, γ̇ = R.
+    pub erate: f64,
+    /// `flip yes|no`: only the reported tilt (`xy`) depends on it; the lattice does not.
+    pub flip: bool,
+    /// Step at which the current run started (LAMMPS's `beginstep`).
+    start_step: u64,
+    /// Tilt at that step (LAMMPS's `tilt_start`, unflipped).
+    start_xy: f64,
+}
+
+impl Deform {
+    /// A deformation that starts with the next run.
+    pub fn new(id: String, every: u64, erate: f64, flip: bool) -> Deform {
+        Deform {
+            id,
+            every,
+            erate,
+            flip,
+            start_step: 0,
+            start_xy: 0.0,
+        }
+    }
+}
+
+/// The triclinic (tilted in xy) state of a box.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Triclinic {
+    /// The tilt factor xy, unflipped (continuous in time).
+    pub xy: f64,
+    /// The deformation, if a `fix deform` is defined.
+    pub deform: Option<Deform>,
+    /// The sliding-brick state of the current step: rate γ̇ and offset xy mod L_x.
+    pub le: LeesEdwards,
+}
+
+impl Triclinic {
+    /// A box with tilt `xy` and no deformation.
+    pub fn new(xy: f64) -> Triclinic {
+        Triclinic {
+            xy,
+            deform: None,
+            le: LeesEdwards::new(0.0),
+        }
+    }
+
+    /// The tilt as LAMMPS reports it: with `flip yes` mapped into [−L_x/2, L_x/2] (LAMMPS flips
+    /// the box by L_x when |xy| exceeds L_x/2), otherwise as it grew.
+    pub fn reported_xy(&self, bx: &SimBox) -> f64 {
+        let lx = bx.len()[0];
+        match &self.deform {
+            Some(d) if !d.flip => self.xy,
+            _ => self.xy - lx * (self.xy / lx).round(),
+        }
+    }
+
+    /// The streaming velocity u_x of `compute temp/deform` at height y: h_rate_xy · λ_y with
+    /// λ_y = (y − y_lo)/L_y the fractional coordinate (LAMMPS `compute_temp_deform.cpp`:
+    /// vstream = h_rate · λ + h_ratelo; h_ratelo_x = 0 for a tilt change).
+    #[inline]
+    pub fn stream_x(&self, bx: &SimBox, y: f64) -> f64 {
+        let h_rate = self.le.rate * bx.len()[1];
+        h_rate * (y - bx.lo[1]) / bx.len()[1]
+    }
+
+    /// Set the tilt, rate and offset for `step` (see the module notes).
+    fn set_step(&mut self, bx: &SimBox, dt: f64, step: u64) {
+        let [lx, ly, _] = bx.len();
+        if let Some(d) = &self.deform {
+            let every = d.every.max(1);
+            // fix deform's end_of_step runs on multiples of N; the tilt is that of the latest.
+            let m = (step - step % every).max(d.start_step);
+            let elapsed = (m - d.start_step) as f64 * dt;
+            self.xy = d.start_xy + d.erate * ly * elapsed;
+            self.le.rate = d.erate;
+        } else {
+            self.le.rate = 0.0;
+        }
+        let mut off = self.xy.rem_euclid(lx);
+        if off >= lx {
+            off = 0.0;
+        }
+        self.le.offset = off;
+    }
+}
+
+/// Work arrays of the Lees–Edwards pair loop (kept between steps: no allocation per step once
+/// grown).
+#[derive(Clone, Debug, Default)]
+pub struct LeWork {
+    ncell: [usize; 3],
+    cell_of: Vec<u32>,
+    cell_start: Vec<u32>,
+    cell_atoms: Vec<u32>,
+    /// Per cell, its candidate neighbour cells (itself included), sorted and unique.
+    stencil_start: Vec<u32>,
+    stencil: Vec<u32>,
+    batch: PairBatch,
+    pi: Vec<u32>,
+    pj: Vec<u32>,
+}
+
+impl System {
+    /// True when the box is triclinic: the pair loop and wrapping are Lees–Edwards's.
+    pub fn is_triclinic(&self) -> bool {
+        self.tri.is_some()
+    }
+
+    /// Start of a run (`System::setup`): the deformation restarts from the current step and
+    /// tilt, as LAMMPS's `fix deform` does at every run's `init`.
+    pub(super) fn le_setup(&mut self) {
+        let step = self.step;
+        if let Some(t) = self.tri.as_mut() {
+            let xy = t.xy;
+            if let Some(d) = t.deform.as_mut() {
+                d.start_step = step;
+                d.start_xy = xy;
+            }
+        }
+    }
+
+    /// Wrap every atom into the box under Lees–Edwards (x shifted by the offset and v_x by
+    /// the velocity jump on a y crossing, [`SimBox::wrap_le`]) and evaluate all pair forces
+    /// at `self.step` with the Lees–Edwards minimum image and velocity jump.
+    pub(super) fn le_compute_forces(&mut self) {
+        let Some(ff) = self.ff.as_ref() else { return };
+        let Some(tri) = self.tri.as_mut() else { return };
+        tri.set_step(&self.bx, self.dt, self.step);
+        let le = tri.le;
+        let bx = &self.bx;
+        let a = &mut self.atoms;
+        for ((x, v), im) in a.x.iter_mut().zip(a.v.iter_mut()).zip(a.image.iter_mut()) {
+            bx.wrap_le(x, v, im, &le);
+        }
+        let rc_max = ff.rc_max();
+        let w = &mut self.le_work;
+        build_cells(w, bx, &le, &a.x, rc_max);
+        let nt = ff.ntypes() + 1;
+        let table = PairTable::new(&ff.model, &self.table);
+        let rcsq: Vec<f64> = self.table.iter().map(|c| c.rc * c.rc).collect();
+        for f in a.f.iter_mut() {
+            *f = [0.0; 3];
+        }
+        let mut tally = PairTally::default();
+        let (x, v, typ, tag) = (&a.x, &a.v, &a.typ, &a.tag);
+        w.batch.len = 0;
+        w.pi.clear();
+        w.pj.clear();
+        let ncells = w.cell_start.len() - 1;
+        for c in 0..ncells {
+            let (s0, s1) = (w.stencil_start[c] as usize, w.stencil_start[c + 1] as usize);
+            for ia in w.cell_start[c]..w.cell_start[c + 1] {
+                let i = w.cell_atoms[ia as usize] as usize;
+                let (xi, vi, ti) = (x[i], v[i], typ[i] as usize);
+                for &cn in &w.stencil[s0..s1] {
+                    let cn = cn as usize;
+                    for ja in w.cell_start[cn]..w.cell_start[cn + 1] {
+                        let j = w.cell_atoms[ja as usize] as usize;
+                        if j <= i {
+                            continue;
+                        }
+                        let k = ti * nt + typ[j] as usize;
+                        let d = [xi[0] - x[j][0], xi[1] - x[j][1], xi[2] - x[j][2]];
+                        let (dr, dvx) = bx.min_image_le(d, &le);
+                        let rsq = kernel::dot(dr, dr);
+                        if !(rsq < rcsq[k]
+                            && rsq >= kernel::MIN_PAIR_DISTANCE * kernel::MIN_PAIR_DISTANCE)
+                        {
+                            continue;
+                        }
+                        let vj = v[j];
+                        let b = &mut w.batch;
+                        let l = b.len;
+                        for q in 0..3 {
+                            b.dr[q][l] = dr[q];
+                        }
+                        // v_ij with the boundary velocity jump (domain.rs `min_image_le`).
+                        b.dv[0][l] = vi[0] - vj[0] + dvx;
+                        b.dv[1][l] = vi[1] - vj[1];
+                        b.dv[2][l] = vi[2] - vj[2];
+                        b.inv_mass_sum[l] = self.inv_mass[ti] + self.inv_mass[typ[j] as usize];
+                        b.coeff[l] = k as u32;
+                        b.tag_i[l] = tag[i];
+                        b.tag_j[l] = tag[j];
+                        b.len += 1;
+                        w.pi.push(i as u32);
+                        w.pj.push(j as u32);
+                        if b.len == BATCH {
+                            flush(
+                                &mut w.batch,
+                                &mut w.pi,
+                                &mut w.pj,
+                                ff,
+                                &table,
+                                self.step,
+                                &mut a.f,
+                                &mut tally,
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        flush(
+            &mut w.batch,
+            &mut w.pi,
+            &mut w.pj,
+            ff,
+            &table,
+            self.step,
+            &mut a.f,
+            &mut tally,
+        );
+        self.tally = tally;
+    }
+
+    /// The kinetic part of `compute temp/deform` (LAMMPS definitions): Σ m (v − u)_a (v − u)_b
+    /// with the streaming velocity u = (h_rate_xy (y − y_lo)/L_y, 0, 0) of the current
+    /// deformation (u = 0 without one), its temperature over dof = dN − d, and the pressure of
+    /// `compute pressure ID` with this temperature: (Σ m (v−u)_a (v−u)_b + W_ab)/V.
+    pub fn thermo_deform(&self) -> super::Thermo {
+        let mut kt = [0.0; 6];
+        for ((v, &t), x) in self.atoms.v.iter().zip(&self.atoms.typ).zip(&self.atoms.x) {
+            let m = self.mass[t as usize].unwrap_or(0.0);
+            let u = self
+                .tri
+                .as_ref()
+                .map_or(0.0, |tr| tr.stream_x(&self.bx, x[1]));
+            let w = [v[0] - u, v[1], v[2]];
+            kt[0] += m * w[0] * w[0];
+            kt[1] += m * w[1] * w[1];
+            kt[2] += m * w[2] * w[2];
+            kt[3] += m * w[0] * w[1];
+            kt[4] += m * w[0] * w[2];
+            kt[5] += m * w[1] * w[2];
+        }
+        self.thermo_from_kinetic(kt)
+    }
+}
+
+/// Evaluate the pending pairs and add their forces, energy and virial (the same operations as
+/// the periodic engine's `neighbor::flush`: f_i += F, f_j −= F, W_ab += r_a F_b).
+#[allow(clippy::too_many_arguments)]
+fn flush(
+    b: &mut PairBatch,
+    pi: &mut Vec<u32>,
+    pj: &mut Vec<u32>,
+    ff: &super::ForceField,
+    table: &PairTable,
+    step: u64,
+    f: &mut [[f64; 3]],
+    tally: &mut PairTally,
+) {
+    let n = b.len;
+    if n > 0 {
+        kernel::pair_forces_batch(&ff.model, table, ff.seed, step, b);
+        for l in 0..n {
+            let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
+            let s = b.fpair[l];
+            let fv = [s * dr[0], s * dr[1], s * dr[2]];
+            let (i, j) = (pi[l] as usize, pj[l] as usize);
+            for q in 0..3 {
+                f[i][q] += fv[q];
+                f[j][q] -= fv[q];
+            }
+            tally.energy += b.energy[l];
+            tally.virial[0] += dr[0] * fv[0];
+            tally.virial[1] += dr[1] * fv[1];
+            tally.virial[2] += dr[2] * fv[2];
+            tally.virial[3] += dr[0] * fv[1];
+            tally.virial[4] += dr[0] * fv[2];
+            tally.virial[5] += dr[1] * fv[2];
+        }
+    }
+    b.len = 0;
+    pi.clear();
+    pj.clear();
+}
+
+/// Sort atoms into cells of side ≥ `rc` and, per cell, list every cell that can hold a partner
+/// within `rc` under the current offset: the rows y ± 1 (z ± 1 in 3-D) with x ± 1, except that
+/// a row reached through the y boundary is displaced by ∓offset along x, so its candidate
+/// x cells are the four starting one below ⌊(x_cell − (±offset))/w⌋. A superset is enough: the
+/// distance test uses the exact Lees–Edwards minimum image.
+fn build_cells(w: &mut LeWork, bx: &SimBox, le: &LeesEdwards, x: &[[f64; 3]], rc: f64) {
+    let len = bx.len();
+    let mut nc = [1usize; 3];
+    for d in 0..bx.dim {
+        nc[d] = ((len[d] / rc).floor() as usize).max(1);
+    }
+    w.ncell = nc;
+    let total = nc[0] * nc[1] * nc[2];
+    let cw = [
+        len[0] / nc[0] as f64,
+        len[1] / nc[1] as f64,
+        len[2] / nc[2] as f64,
+    ];
+    w.cell_of.clear();
+    w.cell_start.clear();
+    w.cell_start.resize(total + 1, 0);
+    for p in x {
+        let mut c = [0usize; 3];
+        for d in 0..bx.dim {
+            let q = ((p[d] - bx.lo[d]) / cw[d]).floor();
+            c[d] = if q < 0.0 {
+                0
+            } else {
+                (q as usize).min(nc[d] - 1)
+            };
+        }
+        let id = (c[2] * nc[1] + c[1]) * nc[0] + c[0];
+        w.cell_of.push(id as u32);
+        w.cell_start[id + 1] += 1;
+    }
+    for k in 0..total {
+        w.cell_start[k + 1] += w.cell_start[k];
+    }
+    w.cell_atoms.clear();
+    w.cell_atoms.resize(x.len(), 0);
+    let mut fill: Vec<u32> = w.cell_start[..total].to_vec();
+    for (i, &c) in w.cell_of.iter().enumerate() {
+        w.cell_atoms[fill[c as usize] as usize] = i as u32;
+        fill[c as usize] += 1;
+    }
+    // Stencils.
+    let wrap = |c: i64, m: usize| c.rem_euclid(m as i64) as usize;
+    let near = |c: usize, m: usize| -> Vec<usize> {
+        if m < 3 {
+            (0..m).collect()
+        } else {
+            vec![wrap(c as i64 - 1, m), c, wrap(c as i64 + 1, m)]
+        }
+    };
+    w.stencil_start.clear();
+    w.stencil.clear();
+    w.stencil_start.push(0);
+    let mut cells: Vec<u32> = Vec::with_capacity(64);
+    let zs: Vec<Vec<usize>> = (0..nc[2]).map(|cz| near(cz, nc[2])).collect();
+    for cz in 0..nc[2] {
+        for cy in 0..nc[1] {
+            for cx in 0..nc[0] {
+                cells.clear();
+                for dy in -1i64..=1 {
+                    let ry = cy as i64 + dy;
+                    // n_y of the image the row is reached through (+1: above y_hi).
+                    let ny = if ry >= nc[1] as i64 {
+                        1
+                    } else if ry < 0 {
+                        -1
+                    } else {
+                        0
+                    };
+                    let row = wrap(ry, nc[1]);
+                    let xs: Vec<usize> = if ny == 0 {
+                        near(cx, nc[0])
+                    } else if nc[0] < 4 {
+                        (0..nc[0]).collect()
+                    } else {
+                        // Atoms of the row appear at x_j + n_y · offset: the partners of
+                        // x_i ∈ [cx w, (cx+1) w) have x_j ∈ [cx w − n_y off − rc, (cx+1) w − n_y off + rc).
+                        let base =
+                            ((cx as f64 * cw[0] - ny as f64 * le.offset) / cw[0]).floor() as i64;
+                        (base - 1..=base + 2).map(|k| wrap(k, nc[0])).collect()
+                    };
+                    for &z in &zs[cz] {
+                        for &xc in &xs {
+                            cells.push(((z * nc[1] + row) * nc[0] + xc) as u32);
+                        }
+                    }
+                }
+                cells.sort_unstable();
+                cells.dedup();
+                w.stencil.extend_from_slice(&cells);
+                w.stencil_start.push(w.stencil.len() as u32);
+            }
+        }
+    }
+}

@@ -1,0 +1,485 @@
+//! Lees–Edwards boundaries (`engine::lees_edwards`): pair forces against a brute-force sum over
+//! sheared images, momentum bookkeeping, the zero-rate limit against the periodic engine, a
+//! short Couette viscosity, and input errors.
+#![allow(clippy::needless_range_loop)]
+
+use dpdnl::engine::lees_edwards::{Deform, Triclinic};
+use dpdnl::engine::{Atoms, ForceField, Integrator, SimBox, System};
+use dpdnl::input::{Collect, Interpreter, Options, ScriptError};
+use dpdnl::kernel::{self, Friction, Noise, PairCoeff, PairInput, PairModel, Weight};
+use dpdnl::rng::pair_gaussian;
+
+/// A deterministic xorshift stream in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// A random two-type system in `bx` with `n` atoms, friction `dot` + corrected noise (the
+/// friction depends on r·v, so the velocity jump enters every part of the force), two cut-offs.
+fn system(bx: SimBox, n: usize, xy: f64, erate: f64, seed: u64) -> System {
+    let dim = bx.dim;
+    let mut sys = System::new(bx.clone(), 2);
+    let mut r = Rng(seed);
+    let mut atoms = Atoms::default();
+    for k in 0..n {
+        let mut x = [0.0; 3];
+        let mut v = [0.0; 3];
+        for d in 0..dim {
+            x[d] = bx.lo[d] + r.next() * bx.len()[d];
+            v[d] = 2.0 * r.next() - 1.0;
+        }
+        atoms.push(k as u32 + 1, 1 + (k % 2) as u32, x, v, [0; 3]);
+    }
+    sys.atoms = atoms;
+    sys.mass[1] = Some(1.0);
+    sys.mass[2] = Some(1.7);
+    let model = PairModel::new(
+        1.0,
+        Friction::Dot,
+        Noise::Corrected,
+        Weight::new(0.5).expect("weight"),
+        0.01,
+    );
+    let mut ff = ForceField::new(model, 4242, 1.0, 2);
+    let c = |a, g0, g1, rc| PairCoeff {
+        a,
+        gamma0: g0,
+        gamma1: g1,
+        rc,
+    };
+    ff.set(1, 1, c(25.0, 4.5, 0.5, 1.0));
+    ff.set(1, 2, c(30.0, 3.0, 0.2, 0.9));
+    ff.set(2, 2, c(20.0, 5.0, 0.3, 1.1));
+    sys.ff = Some(ff);
+    sys.dt = 0.01;
+    sys.step = 7;
+    let mut t = Triclinic::new(xy);
+    if erate != 0.0 {
+        t.deform = Some(Deform::new("3".into(), 1, erate, true));
+    }
+    sys.tri = Some(t);
+    sys
+}
+
+/// Forces, energy and virial by brute force: every pair, every image (n_x, n_y, n_z) of j at
+/// r_j + n_x a + n_y b + n_z c with b = (offset, L_y, 0) moving with n_y γ̇ L_y e_x, the kernel
+/// `pair_force` with the pair's keyed Gaussian (MODELS §1–2; notation: the boundary velocity
+/// jump). Returns (f, energy, virial, pairs through the sheared boundary).
+fn brute(sys: &System) -> (Vec<[f64; 3]>, f64, [f64; 6], usize) {
+    let ff = sys.ff.as_ref().expect("ff");
+    let tri = sys.tri.as_ref().expect("triclinic");
+    let (off, rate) = (tri.le.offset, tri.le.rate);
+    let l = sys.bx.len();
+    let a = &sys.atoms;
+    let n = a.len();
+    let mut f = vec![[0.0; 3]; n];
+    let (mut e, mut w, mut across) = (0.0, [0.0; 6], 0);
+    let nz: i32 = if sys.bx.dim == 3 { 1 } else { 0 };
+    for i in 0..n {
+        for j in i + 1..n {
+            let c = *ff
+                .get(a.typ[i] as usize, a.typ[j] as usize)
+                .expect("coefficients");
+            let inv_m = 1.0 / sys.mass[a.typ[i] as usize].unwrap()
+                + 1.0 / sys.mass[a.typ[j] as usize].unwrap();
+            for iy in -1..=1 {
+                for ix in -2..=2 {
+                    for iz in -nz..=nz {
+                        let dr = [
+                            a.x[i][0] - a.x[j][0] - (f64::from(ix) * l[0] + f64::from(iy) * off),
+                            a.x[i][1] - a.x[j][1] - f64::from(iy) * l[1],
+                            a.x[i][2] - a.x[j][2] - f64::from(iz) * l[2],
+                        ];
+                        let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+                        if !kernel::in_range(rsq, c.rc) {
+                            continue;
+                        }
+                        if iy != 0 {
+                            across += 1;
+                        }
+                        let dv = [
+                            a.v[i][0] - a.v[j][0] - f64::from(iy) * rate * l[1],
+                            a.v[i][1] - a.v[j][1],
+                            a.v[i][2] - a.v[j][2],
+                        ];
+                        let xi = pair_gaussian(ff.seed, sys.step, a.tag[i], a.tag[j]);
+                        let p = kernel::pair_force(
+                            &ff.model,
+                            &c,
+                            &PairInput {
+                                dr,
+                                dv,
+                                inv_mass_sum: inv_m,
+                                xi,
+                            },
+                        );
+                        let fv = p.vector(dr);
+                        for q in 0..3 {
+                            f[i][q] += fv[q];
+                            f[j][q] -= fv[q];
+                        }
+                        e += p.energy;
+                        let pairs = [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)];
+                        for (k, (p1, p2)) in pairs.iter().enumerate() {
+                            w[k] += dr[*p1] * fv[*p2];
+                        }
+                    }
+                }
+            }
+        }
+    }
+    (f, e, w, across)
+}
+
+fn check_against_brute(bx: SimBox, n: usize, xy: f64, erate: f64, seed: u64) {
+    let mut sys = system(bx, n, xy, erate, seed);
+    sys.setup().expect("setup");
+    let (f, e, w, across) = brute(&sys);
+    assert!(
+        across > 20,
+        "only {across} pairs through the sheared boundary"
+    );
+    let fmax = f
+        .iter()
+        .flat_map(|v| v.iter())
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    // The same pair forces, summed in another order: round-off of a few additions per atom.
+    let tol = 1e-12 * fmax.max(1.0);
+    for i in 0..f.len() {
+        for q in 0..3 {
+            let d = (sys.atoms.f[i][q] - f[i][q]).abs();
+            assert!(
+                d <= tol,
+                "atom {} component {q}: {} vs brute {} (tol {tol})",
+                sys.atoms.tag[i],
+                sys.atoms.f[i][q],
+                f[i][q]
+            );
+        }
+    }
+    assert!((sys.tally.energy - e).abs() <= 1e-12 * e.abs().max(1.0));
+    let wmax = w.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+    for k in 0..6 {
+        assert!(
+            (sys.tally.virial[k] - w[k]).abs() <= 1e-12 * wmax,
+            "virial {k}: {} vs {}",
+            sys.tally.virial[k],
+            w[k]
+        );
+    }
+}
+
+#[test]
+fn forces_equal_brute_force_sum_over_sheared_images_2d() {
+    // Offset xy = 13.3 mod 9 = 4.3 (not a multiple of the cell width); rate 0.7.
+    let bx = SimBox::new(2, [0.0, -3.5, -0.5], [9.0, 3.5, 0.5]).unwrap();
+    check_against_brute(bx, 500, 13.3, 0.7, 11);
+}
+
+#[test]
+fn forces_equal_brute_force_sum_over_sheared_images_3d() {
+    let bx = SimBox::new(3, [-1.0, 0.0, 0.0], [5.5, 4.5, 4.0]).unwrap();
+    check_against_brute(bx, 700, -2.2, -0.4, 23);
+}
+
+#[test]
+fn forces_equal_brute_force_in_a_box_of_few_cells() {
+    // 2 x 2 cells (every cell a neighbour of every other, through both boundaries).
+    let bx = SimBox::new(2, [0.0, 0.0, -0.5], [2.3, 2.4, 0.5]).unwrap();
+    check_against_brute(bx, 60, 0.9, 1.3, 5);
+}
+
+/// P_x changes only when an atom crosses y (remap v: v_x ∓ γ̇ L_y), so
+/// P_x + γ̇ L_y Σ m n_y (n_y: net y crossings, `image[1]`) and P_y are conserved by the pair
+/// forces (F_ji = −F_ij); they hold to round-off over many steps.
+#[test]
+fn momentum_conserved_up_to_the_boundary_remap() {
+    let bx = SimBox::new(2, [0.0, 0.0, -0.5], [8.0, 8.0, 0.5]).unwrap();
+    let ly = bx.len()[1];
+    let rate = 0.9;
+    let mut sys = system(bx, 256, 0.0, rate, 99);
+    sys.integrator = Some(Integrator::VelocityVerlet);
+    sys.setup().expect("setup");
+    let invariant = |s: &System| {
+        let p = s.momentum();
+        let mut crossed = 0.0;
+        for (im, &t) in s.atoms.image.iter().zip(&s.atoms.typ) {
+            crossed += s.mass[t as usize].unwrap() * f64::from(im[1]);
+        }
+        [p[0] + rate * ly * crossed, p[1]]
+    };
+    let p0 = invariant(&sys);
+    let mut crossings = 0;
+    for _ in 0..600 {
+        sys.step_once();
+        let sum_f = sys
+            .atoms
+            .f
+            .iter()
+            .fold([0.0; 3], |a, f| [a[0] + f[0], a[1] + f[1], a[2] + f[2]]);
+        assert!(sum_f[0].abs() < 1e-9 && sum_f[1].abs() < 1e-9, "{sum_f:?}");
+    }
+    for im in &sys.atoms.image {
+        crossings += im[1].abs();
+    }
+    assert!(
+        crossings > 10,
+        "only {crossings} net crossings: test too weak"
+    );
+    let p1 = invariant(&sys);
+    // 256 atoms, |v| ~ 1: P sums ~ 10²; 600 steps of ~10³ additions each at 1e-16.
+    assert!(
+        (p1[0] - p0[0]).abs() < 1e-10 && (p1[1] - p0[1]).abs() < 1e-10,
+        "{p0:?} -> {p1:?}"
+    );
+}
+
+fn run(text: &str) -> Result<(Vec<String>, Option<System>), ScriptError> {
+    let mut console = Collect::default();
+    let opts = Options::default();
+    let mut interp = Interpreter::new(&mut console, &opts).expect("no log file");
+    interp.run_text(text, "test.in")?;
+    let sys = interp.into_system();
+    Ok((console.0, sys))
+}
+
+fn fluid2d(region: &str, deform: &str, steps: u32) -> String {
+    format!(
+        "units lj\ndimension 2\nboundary p p p\natom_style atomic\ncomm_modify vel yes\n\
+         {region}\ncreate_box 1 box\ncreate_atoms 1 random 400 4242 box\n\
+         mass 1 1.0\nvelocity all create 1.0 87287 mom yes\n\
+         pair_style dpd/nonlinear 1.0 1.0 9898 friction dot noise corrected\n\
+         pair_coeff * * 25.0 4.5 0.5\nneighbor 0.3 bin\ntimestep 0.01\nfix 1 all nve\n\
+         fix 2 all enforce2d\n{deform}\nthermo 100\nrun {steps}\n"
+    )
+}
+
+/// Positions and velocities by tag.
+fn by_tag(s: &System) -> Vec<([f64; 3], [f64; 3])> {
+    let mut v: Vec<_> = (0..s.atoms.len())
+        .map(|i| (s.atoms.tag[i], s.atoms.x[i], s.atoms.v[i]))
+        .collect();
+    v.sort_by_key(|t| t.0);
+    v.into_iter().map(|(_, x, v)| (x, v)).collect()
+}
+
+/// A triclinic box with zero tilt and zero rate is the periodic box: the Lees–Edwards loop
+/// gives the periodic engine's trajectory. Not bit for bit: the pair forces are the same bits,
+/// but each atom's sum runs in another order (cells here, the slab list there), so the forces
+/// differ by round-off (checked: < 1e-12 relative at step 0), which chaotic amplification
+/// grows over the steps (checked: < 1e-9 after 50 steps, Lyapunov growth ~e^(λt) with
+/// λ ≈ 10 per time unit from 1e-16 over t = 0.5 gives ~1e-14; the bound leaves room).
+#[test]
+fn zero_rate_reproduces_the_periodic_engine() {
+    let block = "region box block 0 10 0 10 -0.5 0.5";
+    let prism = "region box prism 0 10 0 10 -0.5 0.5 0 0 0";
+    for (steps, tol) in [(0, 1e-12), (50, 1e-9)] {
+        let (_, a) = run(&fluid2d(block, "", steps)).expect("periodic run");
+        let (_, b) = run(&fluid2d(
+            prism,
+            "fix 3 all deform 1 xy erate 0.0 remap v",
+            steps,
+        ))
+        .expect("Lees-Edwards run");
+        let (a, b) = (a.unwrap(), b.unwrap());
+        assert!(b.is_triclinic() && !a.is_triclinic());
+        let fa: Vec<_> = {
+            let mut v: Vec<_> = (0..a.atoms.len())
+                .map(|i| (a.atoms.tag[i], a.atoms.f[i]))
+                .collect();
+            v.sort_by_key(|t| t.0);
+            v
+        };
+        let fb: Vec<_> = {
+            let mut v: Vec<_> = (0..b.atoms.len())
+                .map(|i| (b.atoms.tag[i], b.atoms.f[i]))
+                .collect();
+            v.sort_by_key(|t| t.0);
+            v
+        };
+        let fscale = fa
+            .iter()
+            .flat_map(|(_, f)| f.iter())
+            .fold(1.0f64, |m, x| m.max(x.abs()));
+        for ((_, x), (_, y)) in fa.iter().zip(&fb) {
+            for q in 0..2 {
+                assert!(
+                    (x[q] - y[q]).abs() <= tol * fscale,
+                    "step {steps}: {x:?} vs {y:?}"
+                );
+            }
+        }
+        for ((xa, va), (xb, vb)) in by_tag(&a).iter().zip(by_tag(&b).iter()) {
+            // The periodic engine wraps at list builds, this one at every step: compare
+            // positions modulo the box.
+            let dx = a.bx.min_image([xa[0] - xb[0], xa[1] - xb[1], 0.0]);
+            for q in 0..2 {
+                assert!(dx[q].abs() <= tol * 10.0, "step {steps}: x {xa:?} {xb:?}");
+                assert!(
+                    (va[q] - vb[q]).abs() <= tol * 10.0,
+                    "step {steps}: v {va:?} {vb:?}"
+                );
+            }
+        }
+        assert!((a.tally.virial[3] - b.tally.virial[3]).abs() <= tol * a.tally.virial[0].abs());
+    }
+}
+
+fn err_of(text: &str) -> ScriptError {
+    match run(text) {
+        Ok(_) => panic!("expected an error"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn bad_input_names_line_and_token() {
+    let base = "units lj\ndimension 2\nboundary p p p\natom_style atomic\n";
+    // fix deform on an orthogonal box.
+    let e = err_of(&format!(
+        "{base}region box block 0 5 0 5 -0.5 0.5\ncreate_box 1 box\n\
+         fix 3 all deform 1 xy erate 0.1 remap v\n"
+    ));
+    assert_eq!((e.line, e.command.as_str()), (7, "fix"), "{e}");
+    assert!(e.message.contains("triclinic"), "{e}");
+    let tri = format!("{base}region box prism 0 5 0 5 -0.5 0.5 0 0 0\ncreate_box 1 box\n");
+    // Unsupported parameter, style, remap, keyword.
+    for (line, token) in [
+        ("fix 3 all deform 1 xx erate 0.1 remap v", "'xx'"),
+        ("fix 3 all deform 1 xy trate 0.1 remap v", "'trate'"),
+        ("fix 3 all deform 1 xy erate 0.1 remap x", "'x'"),
+        (
+            "fix 3 all deform 1 xy erate 0.1 remap v wiggle 3",
+            "'wiggle'",
+        ),
+        ("fix 3 all deform 1 xy erate fast remap v", "fast"),
+        ("fix 3 all deform 0 xy erate 0.1 remap v", "N must be"),
+        ("fix 3 all deform 1 xy erate 0.1", "remap v"),
+        ("compute t all temp/deform extra", "'extra'"),
+        ("change_box all ortho", "'ortho'"),
+        ("thermo_modify temp nosuch", "'nosuch'"),
+    ] {
+        let e = err_of(&format!("{tri}{line}\n"));
+        assert_eq!(e.line, 7, "{line}: {e}");
+        assert!(e.message.contains(token), "{line}: {e}");
+    }
+    let e = err_of(&format!(
+        "{base}region box prism 0 5 0 5 -0.5 0.5 0 0.5 0\n"
+    ));
+    assert_eq!(e.line, 5, "{e}");
+    assert!(e.message.contains("xz '0.5'"), "{e}");
+}
+
+/// Thermo output of a Couette run: `thermo_modify temp` with `compute temp/deform` makes
+/// `temp` the thermal temperature (≈ kT) while `compute temp` includes the streaming
+/// velocity (kT + m γ̇² L_y² / 12 per degree of freedom in x, half of it in the 2-D
+/// average) — a direct check of the streaming profile removed (LAMMPS definition).
+#[test]
+fn temp_deform_removes_the_streaming_profile() {
+    let text = "units lj\ndimension 2\nboundary p p p\natom_style atomic\ncomm_modify vel yes\n\
+        region box prism 0 10 0 10 -0.5 0.5 0 0 0\ncreate_box 1 box\n\
+        create_atoms 1 random 400 4242 box\nmass 1 1.0\nvelocity all create 1.0 87287 mom yes\n\
+        pair_style dpd/nonlinear 1.0 1.0 9898\npair_coeff * * 25.0 4.5 0.0\ntimestep 0.01\n\
+        fix 1 all nve\nfix 2 all enforce2d\nfix 3 all deform 1 xy erate 0.4 remap v\n\
+        velocity all ramp vx 0.0 4.0 y 0 10 sum yes units box\n\
+        compute tdef all temp/deform\ncompute p2 all pressure tdef\n\
+        variable tplain equal c_thermo_temp\n\
+        thermo_style custom step temp v_tplain pxy c_p2[4]\nthermo_modify temp tdef\n\
+        thermo 50\nrun 200\n";
+    let (out, sys) = run(text).expect("run");
+    let sys = sys.unwrap();
+    let t = sys.thermo_deform();
+    let plain = sys.thermo();
+    assert!((t.temp - 1.0).abs() < 0.2, "thermal T {}", t.temp);
+    // Streaming part: Σ m u_x² / dof with u uniform in [0, γ̇ L_y] → N (γ̇L_y)²/3 / (2N − 2).
+    let extra = 400.0 * 16.0 / 3.0 / 798.0;
+    assert!(
+        (plain.temp - t.temp - extra).abs() < 0.3 * extra,
+        "{} - {} vs {extra}",
+        plain.temp,
+        t.temp
+    );
+    // thermo pxy (thermo_press after thermo_modify temp) equals compute pressure tdef.
+    let last = out
+        .iter()
+        .rev()
+        .find(|l| l.trim_start().starts_with("200"))
+        .unwrap();
+    let cols: Vec<f64> = last
+        .split_whitespace()
+        .map(|w| w.parse().unwrap())
+        .collect();
+    assert_eq!(cols[3], cols[4], "{last}");
+    assert!((cols[1] - t.temp).abs() < 1e-6 && (cols[2] - plain.temp).abs() < 1e-6);
+}
+
+fn tmp(name: &str) -> String {
+    let dir = std::env::temp_dir().join(format!("dpdnl-le-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name).display().to_string()
+}
+
+/// A short 2-D Couette run of `examples/couette/in.couette2d` (the script that also runs in
+/// LAMMPS) for the weighting paper's Table 5 fluid (r_c = 2.5, η0 = 49, s = 0.07, n = 4,
+/// N = 400, γ̇ = 1, 5000 steps after 500): η* = −⟨P_xy⟩/γ̇ must lie within 10 % of the kinetic
+/// theory's η (`theory::kinetic_theory`, 49.06).
+///
+/// Tolerance: the statistical error is ≈ 0.4 % (500 means of 10 steps; block averaging finds
+/// no correlation between them), so the band is about the theory, which is mean-field: the
+/// paper's own Couette η* for this fluid is 1 % below it, and this engine measures 6 % below
+/// it (46.0 ± 0.2 at N = 400, 46.1 ± 0.1 at N = 1600, 45.5 ± 0.7 at γ̇ = 0.2; LAMMPS with the
+/// shim agrees on the same script, validation/weighting). A missing or wrong velocity jump,
+/// offset or stress term changes η* by far more than 10 % (or gives no linear profile).
+#[test]
+fn couette_viscosity_near_kinetic_theory() {
+    let script = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/couette/in.couette2d"
+    ))
+    .expect("example script");
+    let (pxy, prof) = (tmp("pxy.ave"), tmp("prof.chunk"));
+    let script = script
+        .replace("file pxy.ave", &format!("file {pxy}"))
+        .replace("file prof.chunk", &format!("file {prof}"));
+    let vars = "variable N index 400\nvariable rc index 2.5\nvariable eta0 index 49\n\
+                variable s index 0.0700\nvariable rate index 1\nvariable eq index 500\n\
+                variable steps index 5000\n";
+    run(&format!("{vars}{script}")).expect("Couette run");
+    let text = std::fs::read_to_string(&pxy).expect("pxy.ave");
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 500);
+    let p: Vec<f64> = rows.iter().map(|r| r[1]).collect();
+    let t: Vec<f64> = rows.iter().map(|r| r[2]).collect();
+    let est = dpdnl::stats::block_average(&p);
+    let eta = -est.mean / 1.0;
+    let fluid = dpdnl::theory::Fluid::new(2, 4.0, 2.5, 1.0, 1.0).unwrap();
+    let k2 =
+        (0.07 + 1.0) * (0.07 + 2.0) * (0.07 + 3.0) * (0.07 + 4.0) / (6.0 * std::f64::consts::PI);
+    let gamma = 2.0 * 4.0 * 49.0 * k2 / (16.0 * 2.5f64.powi(4));
+    let kt = dpdnl::theory::kinetic_theory(&fluid, gamma, 0.07).unwrap();
+    assert!((kt.eta - 49.06).abs() < 0.01, "kinetic theory {}", kt.eta);
+    assert!(
+        est.stderr < 0.01 * eta,
+        "statistical error {} too large for the band",
+        est.stderr
+    );
+    assert!(
+        (eta / kt.eta - 1.0).abs() < 0.10,
+        "eta* = {eta} ± {} vs kinetic theory {}",
+        est.stderr,
+        kt.eta
+    );
+    // The thermal temperature (temp/deform) stays near kT = 1 (viscous heating at γ̇ = 1: +4 %).
+    let tm = t.iter().sum::<f64>() / t.len() as f64;
+    assert!((tm - 1.0).abs() < 0.1, "temp/deform {tm}");
+}
