@@ -41,5 +41,30 @@ for f in "$res"/visc_*.eh.json; do
       def r(k): (.*k|round/k);
       "| \($l) | \($eb) | \($a[0].viscosity|r(1000)) ± \(($a[0].viscosity_err // 0)|r(1000)) | \($mean) ± \($std) | \((($a[0].viscosity - ($mean|tonumber))/($mean|tonumber))*1000|round/10)% | \($t) | \($m[0].diffusion|r(10000)) ± \($m[0].diffusion_err|r(10000)) | \($rt) |"'
 done
+echo
+echo "## Couette flow under Lees–Edwards (η* = −⟨P_xy⟩/γ̇, P_xy with the temp/deform kinetic part; N = 1600, box 20 × 20, δt = 0.005)"
+echo
+echo "| fluid | γ̇ | η* standalone | η* LAMMPS (lmp_dpdnl) | paper η* | paper η̄ (kinetic theory) | γ̇ from the v_x profile (standalone) | kinetic T (temp/deform) standalone / LAMMPS | steps | wall s standalone / LAMMPS |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+col_of() { case "$1" in 0.05) echo 7 ;; 0.1) echo 8 ;; 0.2) echo 9 ;; 0.5) echo 10 ;; 1) echo 11 ;; *) echo 0 ;; esac; }
+eta_of() { [ -f "$res/$1.couette.json" ] && jq -r '"\(.viscosity*1000|round/1000) ± \(.viscosity_err*1000|round/1000)"' "$res/$1.couette.json" || echo "–"; }
+t_of() { sed -n 's/mean temp\/deform temperature \([0-9.]*\) +- \([0-9.]*\).*/\1 ± \2/p' "$res/$1.temp.txt" 2>/dev/null || true; }
+steps_of() { awk -F, -v r="$1" '$1 == r {print $4}' "$res/runtimes.csv" | tail -1; }
+for f in "$res"/couette_*_r*.couette.json; do
+    [ -f "$f" ] || continue
+    name=$(basename "$f" .couette.json)
+    case "$name" in *_lmp) continue ;; esac
+    tag=${name#couette_}; tag=${tag%%_N*}; rate=${name##*_r}
+    case "$tag" in
+        t3) sel='$1==3 && $2==1.0'; label="Table 3: r_c = 1, η0 = 10, s = ½" ;;
+        t5a) sel='$1==5 && $3==400 && $4==49'; label="Table 5: r_c = 2.5, η0 = 49, s = 0.0700" ;;
+        *) continue ;;
+    esac
+    c=$(col_of "$rate")
+    read -r etabar paper <<<"$(awk -F, "!/^#/ && $sel {print \$6, \$$c}" "$ref")"
+    prate=$(sed -n 's/.*shear rate \([^(]*\) (measured.*/\1/p' "$res/$name.profile.txt" 2>/dev/null)
+    lt=$(t_of "${name}_lmp"); lr=$(rt "${name}_lmp")
+    echo "| $label | $rate | $(eta_of "$name") | $(eta_of "${name}_lmp") | $paper | $etabar | $prate | $(t_of "$name") / ${lt:-–} | $(steps_of "$name") | $(rt "$name") / ${lr:-–} |"
+done | sort -t'|' -k2,2 -k3,3g
 } > "$res/summary.md"
 cat "$res/summary.md"
