@@ -364,6 +364,7 @@ fn bad_input_names_line_and_token() {
         ("compute t all temp/deform extra", "'extra'"),
         ("change_box all ortho", "'ortho'"),
         ("thermo_modify temp nosuch", "'nosuch'"),
+        ("write_data x.data", "triclinic"),
     ] {
         let e = err_of(&format!("{tri}{line}\n"));
         assert_eq!(e.line, 7, "{line}: {e}");

@@ -1232,6 +1232,12 @@ impl<'c> Interpreter<'c> {
             }
         }
         let sys = self.sys.as_ref().ok_or("needs a simulation box first")?;
+        if sys.is_triclinic() {
+            return Err(
+                "write_data of a triclinic (Lees–Edwards) box is not supported: read_data could not read its tilt back"
+                    .into(),
+            );
+        }
         let mut order: Vec<usize> = (0..sys.atoms.len()).collect();
         order.sort_by_key(|&i| sys.atoms.tag[i]);
         let mut atoms = Vec::with_capacity(order.len());
