@@ -4,6 +4,7 @@
 #   validation/nonlinear/run.sh eq      # MB check + Einstein-Helfand viscosity, five schemes
 #   validation/nonlinear/run.sh nemd    # reverse-NEMD shear-thinning points (modified PeX)
 #   validation/nonlinear/run.sh engines # the same eq script in LAMMPS (build/lmp_dpdnl) and dpdnl run
+#   validation/nonlinear/run.sh size    # the NEMD viscosity of one point against the box size
 #
 # Environment (defaults in brackets):
 #   DPDNL [${CARGO_TARGET_DIR:-target}/release/dpdnl]   LMP [build/lmp_dpdnl]   THREADS [1]
@@ -13,6 +14,8 @@
 #            to the same stress Pi_xz in this box: dp = dp_paper (L/8.55)^2 (dt/1e-4))
 #            L [3.5]  STEPS [40000]  FROM [20000] (steps discarded as the start-up of the profile)
 #   engines: N [1000]  STEPS [10000]  SCHEME [ref]
+#   size:    SIZES ["3 4 5"]  STEPS [40000]  FROM [20000]: the Ref point at Pi = 3.42 (dp_paper = 0.05)
+#            in boxes 2L x L x L, to show how the NEMD viscosity depends on the box
 # Raw outputs go to validation/nonlinear/work/ (ignored by git); summaries, CSV and figures to
 # validation/nonlinear/results/, with the wall time of every run in results/runtimes.csv.
 set -euo pipefail
@@ -72,14 +75,17 @@ engines)
     s="${SCHEME:-ref}"
     run_eq "engines_${s}_lammps" "$s" lammps "${N:-1000}" "${STEPS:-10000}" 1000
     run_eq "engines_${s}_standalone" "$s" standalone "${N:-1000}" "${STEPS:-10000}" 1000 ;;
-nemd)
-    L="${L:-3.5}"; steps="${STEPS:-40000}"; from="${FROM:-20000}"
+nemd|size)
+    mode=$1; steps="${STEPS:-40000}"; from="${FROM:-20000}"
     results=()
-    for p in ${POINTS:-ref:0.05 ref:0.2 cross:0.05 cross:0.1 cross:0.2 dot_corrected:0.05 dot_corrected:0.2}; do
-        s="${p%%:*}"; dpp="${p#*:}"
+    if [ "$mode" = size ]; then runs=""; for l in ${SIZES:-3 4 5}; do runs+=" ref:0.05:$l"; done
+    else runs="${POINTS:-ref:0.05 ref:0.2 cross:0.05 cross:0.1 cross:0.2 dot_corrected:0.05 dot_corrected:0.2}"; fi
+    for p in $runs; do
+        s="${p%%:*}"; rest="${p#*:}"; dpp="${rest%%:*}"
+        if [ "$mode" = size ]; then L="${rest#*:}"; else L="${L:-3.5}"; fi
         read -r fr no g1 <<<"$(scheme_vars "$s")"
         dp=$(awk -v d="$dpp" -v L="$L" 'BEGIN{printf "%.10g", d*(L/8.55)^2*(1e-3/1e-4)}')
-        name="nemd_${s}_dp${dpp}"
+        name="nemd_${s}_dp${dpp}"; if [ "$mode" = size ]; then name="size_${s}_dp${dpp}_L${L}"; fi
         d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.nemd" "$d/"
         t0=$SECONDS
         ( cd "$d" && "$DPDNL" run in.nemd --threads "$THREADS" --log log.dpdnl -var friction "$fr" \
@@ -91,7 +97,9 @@ nemd)
             --out "$res/$name" > "$res/$name.txt"
         results+=("$res/$name.json")
     done
-    "$DPDNL" analyze flowcurve "$res"/nemd_*.json --out "$res/flowcurve" > "$res/flowcurve.txt" ;;
+    if [ "$mode" = nemd ]; then
+        "$DPDNL" analyze flowcurve "$res"/nemd_*.json --out "$res/flowcurve" > "$res/flowcurve.txt"
+    fi ;;
 *)
     sed -n '2,20p' "$0"; exit 2 ;;
 esac

@@ -48,6 +48,18 @@ for f in "$res"/nemd_*.json; do
       "| \($s) | \($d) | \(.stress|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \($pr) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pm) | \(.density_centre|r(100)) ± \((.density_centre_err // 0)|r(100)) | \($pn) | \((.viscosity*256/(.density_centre*.density_centre))|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($pt) | \($rt) |"' "$f"
 done
 echo
+echo "## Box size: Ref at Π_xz = 3.42 (run.sh size; paper: L = 8.55, μ = 4.36 ± 0.02)"
+echo
+echo "| L (box 2L × L × L) | N | steps (profiles from) | shear rate | μ | centre n | T_d | wall s |"
+echo "|---|---|---|---|---|---|---|---|"
+for f in "$res"/size_ref_dp0.05_L*.json; do
+    [ -f "$f" ] || continue
+    b=$(basename "$f" .json); L=${b##*_L}
+    jq -r --arg L "$L" --arg rt "$(rt "$b")" '
+      def r(n): (.*n|round/n);
+      "| \($L) | \(16*2*($L|tonumber)*($L|tonumber)*($L|tonumber)|round) | \(.last_step) (\(.from_step)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \(.density_centre|r(100)) ± \((.density_centre_err // 0)|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($rt) |"' "$f"
+done
+echo
 echo "## Same script, two engines (Ref, N = 1000, 10⁴ steps)"
 echo
 echo "| quantity | LAMMPS (build/lmp_dpdnl) | standalone (dpdnl run) | difference/σ |"
