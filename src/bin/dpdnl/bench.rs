@@ -97,7 +97,7 @@ const SYSTEMS: &[RefSystem] = &[
         gamma1: 1.0,
         kt: 0.1,
         dt: 1e-3,
-        steps: 300,
+        steps: 200,
     },
     RefSystem {
         key: "n32",
@@ -108,7 +108,7 @@ const SYSTEMS: &[RefSystem] = &[
         gamma1: 1.0,
         kt: 0.1,
         dt: 1e-3,
-        steps: 150,
+        steps: 100,
     },
     RefSystem {
         key: "gw",
@@ -119,7 +119,7 @@ const SYSTEMS: &[RefSystem] = &[
         gamma1: 1.0,
         kt: 1.0,
         dt: 0.04,
-        steps: 1000,
+        steps: 300,
     },
 ];
 
@@ -202,6 +202,10 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     if !(a.steps_scale.is_finite() && a.steps_scale > 0.0) {
         return Err(format!("--steps-scale {} must be > 0", a.steps_scale).into());
     }
+    if a.kernel_only {
+        print!("{}", kernel_micro()?);
+        return Ok(ExitCode::SUCCESS);
+    }
     let (dir, remove_dir) = match &a.keep {
         Some(d) => (d.clone(), false),
         None => (
@@ -237,10 +241,6 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     }
     println!("{out}");
 
-    if a.kernel_only {
-        print!("{}", kernel_micro()?);
-        return Ok(ExitCode::SUCCESS);
-    }
     let mut cases = Vec::new();
     if !a.scaling_only {
         for key in &a.systems {
