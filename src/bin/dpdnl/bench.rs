@@ -789,9 +789,9 @@ fn run_external(mut cmd: Command, exe: &Path) -> Result<LoopTime, String> {
     // threads) over its wall time.
     let cpu = text
         .lines()
+        .rev()
         .filter_map(|l| l.trim().split_once("% CPU use"))
-        .filter_map(|(p, _)| p.trim().parse::<f64>().ok())
-        .last()
+        .find_map(|(p, _)| p.trim().parse::<f64>().ok())
         .map(|p| wall * p / 100.0);
     Ok(LoopTime { wall, cpu })
 }
