@@ -186,6 +186,8 @@ struct ScalingPoint {
     n: usize,
     steps: u64,
     rates: Vec<f64>,
+    /// Atom-steps per CPU-second (all threads).
+    cpu_rates: Vec<f64>,
     memory: Memory,
 }
 
@@ -296,6 +298,7 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 n,
                 steps,
                 rates: Vec::new(),
+                cpu_rates: Vec::new(),
                 memory: None,
             });
         }
@@ -343,6 +346,9 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             let script = scaling_script(pt.n, pt.steps);
             let (t, m) = run_standalone(&script, threads)?;
             pt.rates.push(pt.n as f64 * pt.steps as f64 / t.wall);
+            if let Some(cpu) = t.cpu.filter(|&c| c > 0.0) {
+                pt.cpu_rates.push(pt.n as f64 * pt.steps as f64 / cpu);
+            }
             pt.memory = m;
         }
     }
@@ -444,9 +450,9 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         )?;
         writeln!(
             out,
-            "| N | steps | time/step (ms) | ns per atom-step (median) | range | B/atom (data + neighbour) |"
+            "| N | steps | time/step (ms) | ns per atom-step (median) | range | CPU ns per atom-step (median, all threads) | B/atom (data + neighbour) |"
         )?;
-        writeln!(out, "|---:|---:|---:|---:|---:|---:|")?;
+        writeln!(out, "|---:|---:|---:|---:|---:|---:|---:|")?;
         for pt in &scaling {
             let (n, steps) = (pt.n, pt.steps);
             let m = median(&pt.rates);
@@ -458,9 +464,14 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
                     m.neighbor as f64 / n as f64
                 )
             });
+            let cpu = if pt.cpu_rates.is_empty() {
+                "–".to_string()
+            } else {
+                format!("{:.1}", 1e9 / median(&pt.cpu_rates))
+            };
             writeln!(
                 out,
-                "| {n} | {steps} | {:.3} | {:.1} | {:.1}–{:.1} | {bytes} |",
+                "| {n} | {steps} | {:.3} | {:.1} | {:.1}–{:.1} | {cpu} | {bytes} |",
                 1e3 * n as f64 / m,
                 1e9 / m,
                 1e9 / hi,
