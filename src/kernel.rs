@@ -612,9 +612,10 @@ pub struct PairBatch {
     /// Tag of j.
     pub tag_j: [u32; BATCH],
     /// Result: the total pair force divided by r, so the force on i is `fpair · r_ij`
-    /// (0 for a pair out of range).
+    /// (0 for a pair out of range). Entries from `len` on are unspecified.
     pub fpair: [f64; BATCH],
-    /// Result: the conservative pair energy (0 for a pair out of range).
+    /// Result: the conservative pair energy (0 for a pair out of range). Entries from `len` on
+    /// are unspecified.
     pub energy: [f64; BATCH],
     /// Working arrays of [`pair_forces_batch`] (kept here so that no call zeroes them).
     scratch: BatchScratch,
@@ -919,6 +920,10 @@ fn lanes<const F: u8, const N: u8, const STD: bool>(
     let weight = model.weight;
     let n = b.len.min(BATCH);
     fill_coeff(table, b, n);
+    // Every loop runs over all BATCH lanes, whatever `n`: lanes past `n` compute garbage from
+    // stale inputs (pure arithmetic, no traps) that nobody reads, and no scalar remainder
+    // loop is needed.
+    let n = BATCH;
     // Three loops (random bits, Gaussians, forces) rather than one: each body is short enough
     // for the processor to overlap several iterations, which hides the long latency chains of
     // Philox, ln and the divisions. The arithmetic of each pair is unchanged.

@@ -25,14 +25,16 @@ ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 
 SYSTEMS = {"ideal": "ideal DPD, n = 16, N = 20000, δt = 1e-3",
            "gw": "Groot–Warren, n = 3, a = 25, N = 20000, δt = 0.04"}
-LABELS = {"plugin": "dpd/nonlinear (plugin)", "dpd": "dpd", "omp": "dpd/omp"}
+LABELS = {"plugin": "dpd/nonlinear (plugin)", "plugin2": "dpd/nonlinear (--plugin2-dir build)",
+          "dpd": "dpd", "omp": "dpd/omp"}
 
 
-def run(lmp, plugin_dir, system, style, steps, threads, workdir):
+def run(lmp, plugin_dirs, system, style, steps, threads, workdir):
     log = os.path.join(workdir, f"log.{system}.{style}")
     env = dict(os.environ, OMP_NUM_THREADS=str(threads if style == "omp" else 1),
-               LAMMPS_PLUGIN_PATH=plugin_dir)
-    cmd = [lmp, "-in", f"in.{system}", "-var", "style", style, "-var", "steps", str(steps),
+               LAMMPS_PLUGIN_PATH=plugin_dirs[style == "plugin2"])
+    input_style = "plugin" if style == "plugin2" else style
+    cmd = [lmp, "-in", f"in.{system}", "-var", "style", input_style, "-var", "steps", str(steps),
            "-log", log, "-screen", "none", "-nocite"]
     if style == "omp":
         cmd += ["-pk", "omp", str(threads)]
@@ -57,6 +59,8 @@ def main():
     ap.add_argument("--lmp", default=os.path.join(ROOT, ".venv-lammps", "bin", "lmp"))
     ap.add_argument("--plugin-dir", default=os.path.join(ROOT, "build"),
                     help="directory holding dpdnlplugin.so (LAMMPS_PLUGIN_PATH)")
+    ap.add_argument("--plugin2-dir", help="a second plugin build to time beside the first "
+                    "(style plugin2)")
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--steps-ideal", type=int, default=500)
     ap.add_argument("--steps-gw", type=int, default=500)
@@ -75,8 +79,8 @@ def main():
             order = styles[rep % len(styles):] + styles[:rep % len(styles)]
             for system in systems:
                 for style in order:
-                    r = run(args.lmp, args.plugin_dir, system, style, steps[system],
-                            args.threads, tmp)
+                    r = run(args.lmp, (args.plugin_dir, args.plugin2_dir), system, style,
+                            steps[system], args.threads, tmp)
                     results[(system, style)].append(r)
                     print(f"# rep {rep} {system:5} {style:6} {r['atom_steps'] / 1e6:8.3f} "
                           f"M atom-steps/s ({r['atom_steps_cpu'] / 1e6:.3f} per CPU-s)  "

@@ -618,6 +618,10 @@ fn slab_avx2<const DIM: usize, const ONE_TYPE: bool>(
 struct RowArgs<'a> {
     i: usize,
     xi: [f64; 3],
+    vi: [f64; 3],
+    tag_i: u32,
+    /// 1/m_i.
+    inv_mi: f64,
     row: &'a [u32],
     /// `typ[i] · (ntypes + 1)`: the row of i's type in the coefficient table.
     row_t: usize,
@@ -626,7 +630,13 @@ struct RowArgs<'a> {
 /// Per-slab constants of the distance pass.
 struct PassConst<'a> {
     x: &'a [[f64; 3]],
+    v: &'a [[f64; 3]],
+    tag: &'a [u32],
     typ: &'a [u32],
+    /// 1/m by type.
+    inv_mass: &'a [f64],
+    /// 1/m_i + 1/m_j with one atom type.
+    ims_one: f64,
     rcsq: &'a [f64],
     one_coeff: usize,
     one_rcsq: f64,
@@ -664,9 +674,16 @@ fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: bool>(
     let box_len = bx.len();
     // One atom type: every pair has the coefficients of (1, 1), table index nt + 1.
     let one_coeff = ctx.nt + 1;
+    if ctx.v.len() != x.len() || ctx.tag.len() != x.len() || ctx.inv_mass.len() < ctx.nt {
+        return tally;
+    }
     let pc = PassConst {
         x,
+        v: ctx.v,
+        tag: ctx.tag,
         typ,
+        inv_mass: ctx.inv_mass,
+        ims_one: ctx.inv_mass[1] + ctx.inv_mass[1],
         rcsq: ctx.rcsq,
         one_coeff,
         one_rcsq: ctx.rcsq.get(one_coeff).copied().unwrap_or(0.0),
@@ -686,6 +703,9 @@ fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: bool>(
         let r = RowArgs {
             i,
             xi: x[i],
+            vi: pc.v[i],
+            tag_i: pc.tag[i],
+            inv_mi: pc.inv_mass[typ[i] as usize],
             row: &w.nbr[w.row_start[i - w.start] as usize..w.row_start[i - w.start + 1] as usize],
             row_t: typ[i] as usize * ctx.nt,
         };
@@ -695,7 +715,8 @@ fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: bool>(
         if AVX512 {
             // SAFETY: `AVX512` is true only inside `slab_avx512`, which runs only on CPUs with
             // AVX-512 (see `slab_isa`); every index in the row is < x.len() (list invariant,
-            // checked in `compute_forces`).
+            // checked in `compute_forces`), v and tag have x's length and every type < nt <=
+            // inv_mass.len() (checked above and in `compute_forces`).
             unsafe {
                 avx512::near_row::<ONE_TYPE>(&r, &pc, &mut p, &mut len, &mut sc.far, &mut sink)
             };
@@ -747,13 +768,7 @@ fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: bool>(
                 b.dr[0][len] = fx[q];
                 b.dr[1][len] = fy[q];
                 b.dr[2][len] = fz[q];
-                b.coeff[len] = if ONE_TYPE {
-                    one_coeff as u32
-                } else {
-                    (r.row_t + typ[j as usize] as usize) as u32
-                };
-                p.i[len] = i as u32;
-                p.j[len] = j;
+                append_rest::<ONE_TYPE>(&r, &pc, p_lane(&mut p, len), j);
                 len += fkeep[q] as usize;
                 if len == BATCH {
                     sink.evaluate::<ONE_TYPE>(&mut p, &mut len);
@@ -763,6 +778,42 @@ fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: bool>(
     }
     sink.evaluate::<ONE_TYPE>(&mut p, &mut len);
     tally
+}
+
+/// Lane `l` of the pending batch, for [`append_rest`].
+#[inline(always)]
+fn p_lane(p: &mut Pending, l: usize) -> (&mut Pending, usize) {
+    (p, l)
+}
+
+/// Fill lane `at.1` of the batch, apart from r_ij, for the pair (r.i, j): v_ij, the tags,
+/// 1/m_i + 1/m_j, the coefficient index and the atom indices.
+#[inline(always)]
+fn append_rest<const ONE_TYPE: bool>(
+    r: &RowArgs,
+    pc: &PassConst,
+    at: (&mut Pending, usize),
+    j: u32,
+) {
+    let (p, l) = at;
+    let ju = j as usize;
+    let vj = pc.v[ju];
+    let b = &mut p.batch;
+    b.dv[0][l] = r.vi[0] - vj[0];
+    b.dv[1][l] = r.vi[1] - vj[1];
+    b.dv[2][l] = r.vi[2] - vj[2];
+    b.tag_i[l] = r.tag_i;
+    b.tag_j[l] = pc.tag[ju];
+    if ONE_TYPE {
+        b.inv_mass_sum[l] = pc.ims_one;
+        b.coeff[l] = pc.one_coeff as u32;
+    } else {
+        let tj = pc.typ[ju] as usize;
+        b.inv_mass_sum[l] = r.inv_mi + pc.inv_mass[tj];
+        b.coeff[l] = (r.row_t + tj) as u32;
+    }
+    p.i[l] = r.i as u32;
+    p.j[l] = j;
 }
 
 /// The near pass of one row (portable): a branch-free distance pass into `sc`, then the
@@ -823,13 +874,7 @@ fn near_row<const ONE_TYPE: bool>(
         b.dr[0][*len] = drx[k];
         b.dr[1][*len] = dry[k];
         b.dr[2][*len] = drz[k];
-        b.coeff[*len] = if ONE_TYPE {
-            pc.one_coeff as u32
-        } else {
-            (r.row_t + pc.typ[j as usize] as usize) as u32
-        };
-        p.i[*len] = r.i as u32;
-        p.j[*len] = j;
+        append_rest::<ONE_TYPE>(r, pc, p_lane(p, *len), j);
         *len += (keep[k] & 1) as usize;
         if *len == BATCH {
             sink.evaluate::<ONE_TYPE>(p, len);
@@ -862,7 +907,7 @@ mod avx512 {
     //! The near pass of one row with AVX-512: 8 entries at a time, positions gathered, the
     //! in-range near pairs compressed into the batch. Same pairs, same order, same bits as the
     //! portable `near_row`.
-    use super::{BATCH, PairBatch, PassConst, Pending, RowArgs, Sink};
+    use super::{BATCH, PassConst, Pending, RowArgs, Sink};
     use std::arch::x86_64::*;
 
     // Whole 8-lane chunks fit in the batch arrays.
@@ -973,49 +1018,10 @@ mod avx512 {
         len
     }
 
-    /// The batch's v_i − v_j, tag_i and tag_j for its `n` pairs (atom indices `pi`, `pj`), 8
-    /// pairs at a time (lanes up to the next multiple of 8 are written with repeats).
-    ///
     /// # Safety
-    /// The CPU has AVX-512 F/VL; `0 < n <= BATCH`; every index in `pi[..n]`, `pj[..n]` is
-    /// < `v.len()` = `tag.len()`.
-    #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
-    pub(super) unsafe fn gather_velocities_tags(
-        v: &[[f64; 3]],
-        tag: &[u32],
-        pi: &[u32; BATCH],
-        pj: &[u32; BATCH],
-        n: usize,
-        b: &mut PairBatch,
-    ) {
-        let (vp, tp) = (v.as_ptr() as *const f64, tag.as_ptr() as *const i32);
-        let (ri, rj) = (&pi[..n], &pj[..n]);
-        let mut k0 = 0;
-        while k0 < n {
-            // SAFETY: indices < v.len() (caller's contract); stores stay inside the BATCH-long
-            // arrays because k0 + 8 <= BATCH (BATCH is a multiple of 8).
-            unsafe {
-                let vi = load_xyz(vp, ri, k0);
-                let vj = load_xyz(vp, rj, k0);
-                for c in 0..3 {
-                    _mm512_storeu_pd(b.dv[c].as_mut_ptr().add(k0), _mm512_sub_pd(vi[c], vj[c]));
-                }
-                let lm: __mmask8 = ((1u32 << (n - k0).min(8)) - 1) as u8;
-                let ii = _mm256_maskz_loadu_epi32(lm, ri.as_ptr().add(k0) as *const i32);
-                let jj = _mm256_maskz_loadu_epi32(lm, rj.as_ptr().add(k0) as *const i32);
-                let z = _mm256_setzero_si256();
-                let ti = _mm256_mmask_i32gather_epi32::<4>(z, lm, ii, tp);
-                let tj = _mm256_mmask_i32gather_epi32::<4>(z, lm, jj, tp);
-                _mm256_storeu_si256(b.tag_i.as_mut_ptr().add(k0) as *mut __m256i, ti);
-                _mm256_storeu_si256(b.tag_j.as_mut_ptr().add(k0) as *mut __m256i, tj);
-            }
-            k0 += 8;
-        }
-    }
-
-    /// # Safety
-    /// The CPU has AVX-512 F/DQ/VL/BW, and every index in `r.row` is < `pc.x.len()` (and, with
-    /// more than one type, `r.row_t + typ[j] < pc.rcsq.len()`).
+    /// The CPU has AVX-512 F/DQ/VL/BW, and every index in `r.row` is < `pc.x.len()` =
+    /// `pc.v.len()` = `pc.tag.len()` (and, with more than one type, `r.row_t + typ[j] <
+    /// pc.rcsq.len()` and `typ[j] < pc.inv_mass.len()`).
     #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
     pub(super) unsafe fn near_row<const ONE_TYPE: bool>(
         r: &RowArgs,
@@ -1041,8 +1047,16 @@ mod avx512 {
         let cvec = _mm256_set1_epi32(pc.one_coeff as i32);
         let rowt = _mm256_set1_epi32(r.row_t as i32);
         let xp = pc.x.as_ptr() as *const f64;
+        let vp = pc.v.as_ptr() as *const f64;
+        let vi = [
+            _mm512_set1_pd(r.vi[0]),
+            _mm512_set1_pd(r.vi[1]),
+            _mm512_set1_pd(r.vi[2]),
+        ];
+        let tagi = _mm256_set1_epi32(r.tag_i as i32);
+        let ims_one = _mm512_set1_pd(pc.ims_one);
+        let inv_mi = _mm512_set1_pd(r.inv_mi);
         let zero = _mm512_setzero_pd();
-        let _ = zero;
         let m = r.row.len();
         let mut k0 = 0;
         while k0 < m {
@@ -1063,8 +1077,8 @@ mod avx512 {
                     _mm512_add_pd(_mm512_mul_pd(dx, dx), _mm512_mul_pd(dy, dy)),
                     _mm512_mul_pd(dz, dz),
                 );
-                let (rcsq, coeff) = if ONE_TYPE {
-                    (rc_one, cvec)
+                let (rcsq, coeff, ims) = if ONE_TYPE {
+                    (rc_one, cvec, ims_one)
                 } else {
                     let tj = _mm256_mmask_i32gather_epi32::<4>(
                         _mm256_setzero_si256(),
@@ -1076,6 +1090,10 @@ mod avx512 {
                     (
                         _mm512_mask_i32gather_pd::<8>(zero, lm, ci, pc.rcsq.as_ptr()),
                         ci,
+                        _mm512_add_pd(
+                            inv_mi,
+                            _mm512_mask_i32gather_pd::<8>(zero, lm, tj, pc.inv_mass.as_ptr()),
+                        ),
                     )
                 };
                 let inside = _mm512_mask_cmp_pd_mask::<_CMP_LT_OQ>(lm, rsq, rcsq)
@@ -1110,6 +1128,35 @@ mod avx512 {
                     _mm256_maskz_compress_epi32(ok, jv),
                 );
                 _mm256_storeu_si256(p.i.as_mut_ptr().add(at) as *mut __m256i, ivec);
+                // v_ij, tags and 1/m_i + 1/m_j of the kept pairs.
+                let [wx, wy, wz] = load_xyz(vp, r.row, k0);
+                _mm512_storeu_pd(
+                    b.dv[0].as_mut_ptr().add(at),
+                    _mm512_maskz_compress_pd(ok, _mm512_sub_pd(vi[0], wx)),
+                );
+                _mm512_storeu_pd(
+                    b.dv[1].as_mut_ptr().add(at),
+                    _mm512_maskz_compress_pd(ok, _mm512_sub_pd(vi[1], wy)),
+                );
+                _mm512_storeu_pd(
+                    b.dv[2].as_mut_ptr().add(at),
+                    _mm512_maskz_compress_pd(ok, _mm512_sub_pd(vi[2], wz)),
+                );
+                let tj = _mm256_mmask_i32gather_epi32::<4>(
+                    _mm256_setzero_si256(),
+                    ok,
+                    jv,
+                    pc.tag.as_ptr() as *const i32,
+                );
+                _mm256_storeu_si256(
+                    b.tag_j.as_mut_ptr().add(at) as *mut __m256i,
+                    _mm256_maskz_compress_epi32(ok, tj),
+                );
+                _mm256_storeu_si256(b.tag_i.as_mut_ptr().add(at) as *mut __m256i, tagi);
+                _mm512_storeu_pd(
+                    b.inv_mass_sum.as_mut_ptr().add(at),
+                    _mm512_maskz_compress_pd(ok, ims),
+                );
                 *len = at + ok.count_ones() as usize;
                 let mut f = far;
                 while f != 0 {
@@ -1125,10 +1172,10 @@ mod avx512 {
     }
 }
 
-/// Evaluate the pending pairs and add their forces, energy and virial, in batch order. `own`
-/// starts at atom `at.0`, `next` at atom `at.1`. Kept out of line: its gathers and scatters are
-/// faster as scalar loads and stores than as the SIMD gathers the AVX-512 context would make of
-/// them.
+/// Evaluate the pending pairs (filled completely by the passes that appended them) and add
+/// their forces, energy and virial, in batch order. `own` starts at atom `at.0`, `next` at atom
+/// `at.1`. Kept out of line: its scatter is faster as scalar code than as what the AVX-512
+/// context would make of it.
 #[inline(never)]
 fn flush<const ONE_TYPE: bool>(
     ctx: &Ctx,
@@ -1142,45 +1189,7 @@ fn flush<const ONE_TYPE: bool>(
     if n == 0 {
         return;
     }
-    let (v, tag, typ, inv_mass) = (ctx.v, ctx.tag, ctx.typ, ctx.inv_mass);
-    let natoms = v.len();
-    if natoms == 0 || tag.len() != natoms || typ.len() != natoms || inv_mass.is_empty() {
-        return;
-    }
-    let (last, last_t) = (natoms - 1, inv_mass.len() - 1);
-    let ims_one = inv_mass.get(1).map_or(0.0, |m| m + m);
     let b = &mut p.batch;
-    #[cfg(target_arch = "x86_64")]
-    let simd = ctx.isa == Isa::Avx512;
-    #[cfg(not(target_arch = "x86_64"))]
-    let simd = false;
-    if simd {
-        // SAFETY: `ctx.isa` is Avx512 only on CPUs that have it (`compute_forces`), and the
-        // batch's atom indices are valid (list invariant, checked in `compute_forces`).
-        #[cfg(target_arch = "x86_64")]
-        unsafe {
-            avx512::gather_velocities_tags(v, tag, &p.i, &p.j, n, b)
-        };
-    } else {
-        // Clamped indices: no exits.
-        for l in 0..n {
-            let (i, j) = ((p.i[l] as usize).min(last), (p.j[l] as usize).min(last));
-            let (vi, vj) = (v[i], v[j]);
-            b.dv[0][l] = vi[0] - vj[0];
-            b.dv[1][l] = vi[1] - vj[1];
-            b.dv[2][l] = vi[2] - vj[2];
-            b.tag_i[l] = tag[i];
-            b.tag_j[l] = tag[j];
-        }
-    }
-    for l in 0..n {
-        let (i, j) = ((p.i[l] as usize).min(last), (p.j[l] as usize).min(last));
-        b.inv_mass_sum[l] = if ONE_TYPE {
-            ims_one
-        } else {
-            inv_mass[(typ[i] as usize).min(last_t)] + inv_mass[(typ[j] as usize).min(last_t)]
-        };
-    }
     pair_forces_batch_isa(ctx.isa, &ctx.ff.model, ctx.table, ctx.ff.seed, ctx.step, b);
     let (start, next_start) = at;
     // The force on i is carried in registers over the consecutive pairs of its row and stored

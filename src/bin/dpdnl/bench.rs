@@ -97,7 +97,7 @@ const SYSTEMS: &[RefSystem] = &[
         gamma1: 1.0,
         kt: 0.1,
         dt: 1e-3,
-        steps: 300,
+        steps: 200,
     },
     RefSystem {
         key: "n32",
@@ -108,7 +108,7 @@ const SYSTEMS: &[RefSystem] = &[
         gamma1: 1.0,
         kt: 0.1,
         dt: 1e-3,
-        steps: 150,
+        steps: 100,
     },
     RefSystem {
         key: "gw",
@@ -119,7 +119,7 @@ const SYSTEMS: &[RefSystem] = &[
         gamma1: 1.0,
         kt: 1.0,
         dt: 0.04,
-        steps: 1000,
+        steps: 300,
     },
 ];
 
@@ -173,6 +173,8 @@ struct Case {
     steps: u64,
     natoms: usize,
     rates: Vec<f64>,
+    /// Atom-steps per CPU-second of the loop (all threads' CPU time), where measurable.
+    cpu_rates: Vec<f64>,
     /// (atom data bytes, neighbour bytes, listed pairs, builds) of the last standalone run.
     memory: Memory,
     /// Why the configuration could not run (then it is skipped in later repeats).
@@ -184,6 +186,8 @@ struct ScalingPoint {
     n: usize,
     steps: u64,
     rates: Vec<f64>,
+    /// Atom-steps per CPU-second (all threads).
+    cpu_rates: Vec<f64>,
     memory: Memory,
 }
 
@@ -201,6 +205,10 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     }
     if !(a.steps_scale.is_finite() && a.steps_scale > 0.0) {
         return Err(format!("--steps-scale {} must be > 0", a.steps_scale).into());
+    }
+    if a.kernel_only {
+        print!("{}", kernel_micro()?);
+        return Ok(ExitCode::SUCCESS);
     }
     let (dir, remove_dir) = match &a.keep {
         Some(d) => (d.clone(), false),
@@ -237,10 +245,6 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     }
     println!("{out}");
 
-    if a.kernel_only {
-        print!("{}", kernel_micro()?);
-        return Ok(ExitCode::SUCCESS);
-    }
     let mut cases = Vec::new();
     if !a.scaling_only {
         for key in &a.systems {
@@ -274,6 +278,7 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
                         steps,
                         natoms: a.atoms,
                         rates: Vec::new(),
+                        cpu_rates: Vec::new(),
                         memory: None,
                         error: None,
                     });
@@ -293,6 +298,7 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 n,
                 steps,
                 rates: Vec::new(),
+                cpu_rates: Vec::new(),
                 memory: None,
             });
         }
@@ -316,9 +322,12 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             }
             // A configuration that cannot run is reported in its row; the others go on.
             match run_case(&dir, case) {
-                Ok((secs, mem)) => {
-                    case.rates
-                        .push(case.natoms as f64 * case.steps as f64 / secs);
+                Ok((t, mem)) => {
+                    let work = case.natoms as f64 * case.steps as f64;
+                    case.rates.push(work / t.wall);
+                    if let Some(cpu) = t.cpu.filter(|&c| c > 0.0) {
+                        case.cpu_rates.push(work / cpu);
+                    }
                     if mem.is_some() {
                         case.memory = mem;
                     }
@@ -335,8 +344,11 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 rep + 1
             );
             let script = scaling_script(pt.n, pt.steps);
-            let (secs, m) = run_standalone(&script, threads)?;
-            pt.rates.push(pt.n as f64 * pt.steps as f64 / secs);
+            let (t, m) = run_standalone(&script, threads)?;
+            pt.rates.push(pt.n as f64 * pt.steps as f64 / t.wall);
+            if let Some(cpu) = t.cpu.filter(|&c| c > 0.0) {
+                pt.cpu_rates.push(pt.n as f64 * pt.steps as f64 / cpu);
+            }
             pt.memory = m;
         }
     }
@@ -362,6 +374,11 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             .iter()
             .find(|c| matches!(c.engine, Engine::Lammps(_, 0)))
             .map(|c| median(&c.rates));
+        let cpu_median = |c: &Case| (!c.cpu_rates.is_empty()).then(|| median(&c.cpu_rates));
+        let serial_cpu = rows
+            .iter()
+            .find(|c| matches!(c.engine, Engine::Lammps(_, 0)))
+            .and_then(|c| cpu_median(c));
         writeln!(
             out,
             "## {}: {} (N = {}, {} steps)\n",
@@ -369,14 +386,14 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         )?;
         writeln!(
             out,
-            "| engine | friction/noise | M atom-steps/s (median) | range | × LAMMPS dpd/omp | × LAMMPS dpd (1 thread) |"
+            "| engine | friction/noise | M atom-steps/s (median) | range | × LAMMPS dpd/omp | × LAMMPS dpd (1 thread) | M atom-steps per CPU-s (median) | per CPU-s × LAMMPS dpd |"
         )?;
-        writeln!(out, "|---|---|---:|---:|---:|---:|")?;
+        writeln!(out, "|---|---|---:|---:|---:|---:|---:|---:|")?;
         for c in &rows {
             if let Some(e) = &c.error {
                 writeln!(
                     out,
-                    "| {} | {} | failed: {} | | | |",
+                    "| {} | {} | failed: {} | | | | | |",
                     c.engine.label(),
                     c.variant.label(),
                     e.replace('|', "/").replace('\n', " ")
@@ -386,16 +403,22 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             let m = median(&c.rates);
             let (lo, hi) = range(&c.rates);
             let ratio = |r: Option<f64>| r.map_or("–".to_string(), |r| format!("{:.2}", m / r));
+            let cpu = cpu_median(c);
+            let cpu_ratio = match (cpu, serial_cpu) {
+                (Some(a), Some(b)) => format!("{:.2}", a / b),
+                _ => "–".to_string(),
+            };
             writeln!(
                 out,
-                "| {} | {} | {:.3} | {:.3}–{:.3} | {} | {} |",
+                "| {} | {} | {:.3} | {:.3}–{:.3} | {} | {} | {} | {cpu_ratio} |",
                 c.engine.label(),
                 c.variant.label(),
                 m / 1e6,
                 lo / 1e6,
                 hi / 1e6,
                 ratio(reference),
-                ratio(serial)
+                ratio(serial),
+                cpu.map_or("–".to_string(), |x| format!("{:.3}", x / 1e6)),
             )?;
         }
         writeln!(out)?;
@@ -427,9 +450,9 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         )?;
         writeln!(
             out,
-            "| N | steps | time/step (ms) | ns per atom-step (median) | range | B/atom (data + neighbour) |"
+            "| N | steps | time/step (ms) | ns per atom-step (median) | range | CPU ns per atom-step (median, all threads) | B/atom (data + neighbour) |"
         )?;
-        writeln!(out, "|---:|---:|---:|---:|---:|---:|")?;
+        writeln!(out, "|---:|---:|---:|---:|---:|---:|---:|")?;
         for pt in &scaling {
             let (n, steps) = (pt.n, pt.steps);
             let m = median(&pt.rates);
@@ -441,9 +464,14 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
                     m.neighbor as f64 / n as f64
                 )
             });
+            let cpu = if pt.cpu_rates.is_empty() {
+                "–".to_string()
+            } else {
+                format!("{:.1}", 1e9 / median(&pt.cpu_rates))
+            };
             writeln!(
                 out,
-                "| {n} | {steps} | {:.3} | {:.1} | {:.1}–{:.1} | {bytes} |",
+                "| {n} | {steps} | {:.3} | {:.1} | {:.1}–{:.1} | {cpu} | {bytes} |",
                 1e3 * n as f64 / m,
                 1e9 / m,
                 1e9 / hi,
@@ -633,7 +661,7 @@ struct MemoryUse {
 type Memory = Option<MemoryUse>;
 
 /// Run one repeat of a case; returns the loop time in seconds (and memory for standalone runs).
-fn run_case(dir: &Path, case: &Case) -> Result<(f64, Memory), String> {
+fn run_case(dir: &Path, case: &Case) -> Result<(LoopTime, Memory), String> {
     let data = dir.join(data_name(&case.sys));
     match &case.engine {
         Engine::Standalone(t) => {
@@ -689,8 +717,29 @@ fn run_case(dir: &Path, case: &Case) -> Result<(f64, Memory), String> {
     }
 }
 
+/// A run's loop time: wall seconds and, where known, the CPU seconds of all its threads.
+#[derive(Clone, Copy, Debug)]
+struct LoopTime {
+    wall: f64,
+    cpu: Option<f64>,
+}
+
+/// CPU seconds (user + system) used so far by this process, threads that ended included, from
+/// /proc/self/stat (Linux; clock ticks of 1/100 s, the fixed USER_HZ of the Linux ABI).
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name (which may hold blanks) in parentheses; utime and stime
+    // are fields 14 and 15 of the whole line, 12 and 13 after the ')'.
+    let rest = stat.get(stat.rfind(')')? + 1..)?;
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = f.get(11)?.parse::<u64>().ok()? + f.get(12)?.parse::<u64>().ok()?;
+    Some(ticks as f64 / 100.0)
+}
+
 /// Run a script in this process on `threads` threads; the loop time and the memory figures.
-fn run_standalone(text: &str, threads: usize) -> Result<(f64, Memory), String> {
+/// The CPU time is that of the script's last line (its `run`, set-up of the run included),
+/// measured apart from the lines before it (reading the data file).
+fn run_standalone(text: &str, threads: usize) -> Result<(LoopTime, Memory), String> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -703,11 +752,18 @@ fn run_standalone(text: &str, threads: usize) -> Result<(f64, Memory), String> {
             threads,
         };
         let mut interp = Interpreter::new(&mut console, &opts)?;
+        let body = text.trim_end();
+        let (head, last) = body.rsplit_once('\n').unwrap_or(("", body));
         interp
-            .run_text(text, "bench.in")
+            .run_text(head, "bench.in")
             .map_err(|e| format!("standalone engine: {e}"))?;
+        let cpu0 = process_cpu_seconds();
+        interp
+            .run_text(last, "bench.in")
+            .map_err(|e| format!("standalone engine: {e}"))?;
+        let cpu = process_cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
         let sys: Option<System> = interp.into_system();
-        let secs = loop_time(console.0.iter().map(String::as_str))
+        let wall = loop_time(console.0.iter().map(String::as_str))
             .ok_or("standalone engine printed no 'Loop time'")?;
         let mem = sys.map(|s| {
             let (atom, nbr) = s.bytes();
@@ -719,11 +775,11 @@ fn run_standalone(text: &str, threads: usize) -> Result<(f64, Memory), String> {
                 builds: s.neighbor.builds,
             }
         });
-        Ok((secs, mem))
+        Ok((LoopTime { wall, cpu }, mem))
     })
 }
 
-fn run_external(mut cmd: Command, exe: &Path) -> Result<f64, String> {
+fn run_external(mut cmd: Command, exe: &Path) -> Result<LoopTime, String> {
     let o = cmd
         .output()
         .map_err(|e| format!("cannot run {}: {e}", exe.display()))?;
@@ -738,7 +794,17 @@ fn run_external(mut cmd: Command, exe: &Path) -> Result<f64, String> {
             String::from_utf8_lossy(&o.stderr)
         ));
     }
-    loop_time(text.lines()).ok_or_else(|| format!("{} printed no 'Loop time'", exe.display()))
+    let wall = loop_time(text.lines())
+        .ok_or_else(|| format!("{} printed no 'Loop time'", exe.display()))?;
+    // LAMMPS: "P% CPU use with R MPI tasks x T OpenMP threads", the loop's CPU time (all
+    // threads) over its wall time.
+    let cpu = text
+        .lines()
+        .rev()
+        .filter_map(|l| l.trim().split_once("% CPU use"))
+        .find_map(|(p, _)| p.trim().parse::<f64>().ok())
+        .map(|p| wall * p / 100.0);
+    Ok(LoopTime { wall, cpu })
 }
 
 /// Seconds from the line "Loop time of T on P procs for S steps with N atoms".
