@@ -222,9 +222,12 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let dir = dir
         .canonicalize()
         .map_err(|e| format!("{}: {e}", dir.display()))?;
+    // LAMMPS runs in the scratch directory, so a relative path is made absolute here (a bare
+    // name is left to the PATH lookup).
+    let lmp = a.lmp.as_deref().map(resolve_exe).transpose()?;
     let shim = match a.shim.as_deref() {
         Some("none") => None,
-        Some(p) => Some(PathBuf::from(p)),
+        Some(p) => Some(resolve_exe(Path::new(p))?),
         None => {
             let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("build/lmp_dpdnl");
             p.is_file().then_some(p)
@@ -237,7 +240,7 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     writeln!(out)?;
     writeln!(out, "{}", machine_line(threads))?;
     writeln!(out, "load average at start: {load0}")?;
-    if let Some(l) = &a.lmp {
+    if let Some(l) = &lmp {
         writeln!(out, "LAMMPS: {} ({})", l.display(), lammps_version(l))?;
     }
     if let Some(s) = &shim {
@@ -258,7 +261,7 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             if threads > 1 {
                 engines.push(Engine::Standalone(threads));
             }
-            if let Some(l) = &a.lmp {
+            if let Some(l) = &lmp {
                 engines.push(Engine::Lammps(l.clone(), 0));
                 engines.push(Engine::Lammps(l.clone(), threads));
             }
@@ -366,17 +369,22 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     for key in &a.systems {
         let rows: Vec<&Case> = cases.iter().filter(|c| c.sys.key == key).collect();
         let Some(first) = rows.first() else { continue };
+        // A reference that failed gives no ratio ("–"), not NaN.
+        let ok = |c: &&&Case| c.error.is_none() && !c.rates.is_empty();
         let reference = rows
             .iter()
+            .filter(ok)
             .find(|c| matches!(c.engine, Engine::Lammps(_, t) if t > 0))
             .map(|c| median(&c.rates));
         let serial = rows
             .iter()
+            .filter(ok)
             .find(|c| matches!(c.engine, Engine::Lammps(_, 0)))
             .map(|c| median(&c.rates));
         let cpu_median = |c: &Case| (!c.cpu_rates.is_empty()).then(|| median(&c.cpu_rates));
         let serial_cpu = rows
             .iter()
+            .filter(ok)
             .find(|c| matches!(c.engine, Engine::Lammps(_, 0)))
             .and_then(|c| cpu_median(c));
         writeln!(
@@ -893,4 +901,13 @@ fn kernel_micro() -> Result<String, Box<dyn std::error::Error>> {
         writeln!(out)?;
     }
     Ok(out)
+}
+
+/// An executable given on the command line: a path with a directory part must exist and is made
+/// absolute (the runs happen in a scratch directory); a bare name is looked up in PATH when run.
+fn resolve_exe(p: &Path) -> Result<PathBuf, String> {
+    if p.components().count() <= 1 {
+        return Ok(p.to_path_buf());
+    }
+    std::fs::canonicalize(p).map_err(|e| format!("{}: {e}", p.display()))
 }
