@@ -9,11 +9,13 @@
 # Environment (defaults in brackets):
 #   DPDNL [${CARGO_TARGET_DIR:-target}/release/dpdnl]   LMP [build/lmp_dpdnl]   THREADS [1]
 #   eq:      SCHEMES ["ref cross dot_plain dot_corrected twostep_dot"]  N [2000]  STEPS [40000]  EQ [2000]
+#            SUFFIX [""]: appended to the result names (e.g. _N6000), so other sizes do not replace them
 #   nemd:    POINTS ["ref:0.05 ref:0.2 cross:0.05 cross:0.1 cross:0.2 dot_corrected:0.05 dot_corrected:0.2"]
 #            (scheme:dp of the paper's Tables 3-4, i.e. at L = 8.55, dt = 1e-4; the push is rescaled
 #            to the same stress Pi_xz in this box: dp = dp_paper (L/8.55)^2 (dt/1e-4))
 #            L [3.5]  STEPS [40000]  FROM [20000] (steps discarded as the start-up of the profile)
 #   engines: N [1000]  STEPS [10000]  SCHEME [ref]
+#            DENSITY [16]: 32 runs Tables 5-7 (push rescaled from the paper's L = 6.79), results nemd32_*
 #   size:    SIZES ["3 4 5"]  STEPS [40000]  FROM [20000]: the Ref point at Pi = 3.42 (dp_paper = 0.05)
 #            in boxes 2L x L x L, to show how the NEMD viscosity depends on the box
 # Raw outputs go to validation/nonlinear/work/ (ignored by git); summaries, CSV and figures to
@@ -69,7 +71,7 @@ run_eq() {
 case "${1:-}" in
 eq)
     for s in ${SCHEMES:-ref cross dot_plain dot_corrected twostep_dot}; do
-        run_eq "eq_$s" "$s" standalone "${N:-2000}" "${STEPS:-40000}" "${EQ:-2000}"
+        run_eq "eq_$s${SUFFIX:-}" "$s" standalone "${N:-2000}" "${STEPS:-40000}" "${EQ:-2000}"
     done ;;
 engines)
     s="${SCHEME:-ref}"
@@ -77,6 +79,10 @@ engines)
     run_eq "engines_${s}_standalone" "$s" standalone "${N:-1000}" "${STEPS:-10000}" 1000 ;;
 nemd|size)
     mode=$1; steps="${STEPS:-40000}"; from="${FROM:-20000}"
+    # The paper's box side: 8.55 at n = 16, 6.79 at n = 32 (Tables 5-7); results at n = 32 are
+    # named nemd32_*.
+    dens="${DENSITY:-16}"; tag=""; lpaper=8.55
+    if [ "$dens" = 32 ]; then tag=32; lpaper=6.79; elif [ "$dens" != 16 ]; then echo "DENSITY must be 16 or 32" >&2; exit 2; fi
     results=()
     if [ "$mode" = size ]; then runs=""; for l in ${SIZES:-3 4 5}; do runs+=" ref:0.05:$l"; done
     else runs="${POINTS:-ref:0.05 ref:0.2 cross:0.05 cross:0.1 cross:0.2 dot_corrected:0.05 dot_corrected:0.2}"; fi
@@ -84,13 +90,13 @@ nemd|size)
         s="${p%%:*}"; rest="${p#*:}"; dpp="${rest%%:*}"
         if [ "$mode" = size ]; then L="${rest#*:}"; else L="${L:-3.5}"; fi
         read -r fr no g1 <<<"$(scheme_vars "$s")"
-        dp=$(awk -v d="$dpp" -v L="$L" 'BEGIN{printf "%.10g", d*(L/8.55)^2*(1e-3/1e-4)}')
-        name="nemd_${s}_dp${dpp}"; if [ "$mode" = size ]; then name="size_${s}_dp${dpp}_L${L}"; fi
+        dp=$(awk -v d="$dpp" -v L="$L" -v Lp="$lpaper" 'BEGIN{printf "%.10g", d*(L/Lp)^2*(1e-3/1e-4)}')
+        name="nemd${tag}_${s}_dp${dpp}"; if [ "$mode" = size ]; then name="size_${s}_dp${dpp}_L${L}"; fi
         d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.nemd" "$d/"
         t0=$SECONDS
         ( cd "$d" && "$DPDNL" run in.nemd --threads "$THREADS" --log log.dpdnl -var friction "$fr" \
-            -var noise "$no" -var gamma1 "$g1" -var L "$L" -var dp "$dp" -var steps "$steps" > screen.txt )
-        natoms=$(awk -v L="$L" 'BEGIN{printf "%d", 16*2*L^3+0.5}')
+            -var noise "$no" -var gamma1 "$g1" -var L "$L" -var dp "$dp" -var n "$dens" -var steps "$steps" > screen.txt )
+        natoms=$(awk -v L="$L" -v n="$dens" 'BEGIN{printf "%d", n*2*L^3+0.5}')
         echo "$name,standalone,$natoms,$steps,$((SECONDS - t0))" >> "$res/runtimes.csv"
         "$DPDNL" analyze nemd "$d/prof.chunk" --box "$(awk -v L="$L" 'BEGIN{print 2*L}')" "$L" "$L" \
             --dt 0.001 --dp "$dp" --push "$d/push.ave" --from "$from" --label "$s" \
@@ -98,7 +104,7 @@ nemd|size)
         results+=("$res/$name.json")
     done
     if [ "$mode" = nemd ]; then
-        "$DPDNL" analyze flowcurve "$res"/nemd_*.json --out "$res/flowcurve" > "$res/flowcurve.txt"
+        "$DPDNL" analyze flowcurve "$res"/nemd${tag}_*.json --out "$res/flowcurve${tag}" > "$res/flowcurve${tag}.txt"
     fi ;;
 *)
     sed -n '2,20p' "$0"; exit 2 ;;

@@ -12,7 +12,7 @@ echo "## MB check (n = 16, kT = 0.1; speed histogram, 150 bins on [0, 2])"
 echo
 echo "| scheme | kT fitted | (kT_fit − 0.1)/error | χ² p (corrected for correlation) | KS p | samples | wall s |"
 echo "|---|---|---|---|---|---|---|"
-for s in ref cross dot_plain dot_corrected twostep_dot; do
+for s in ref cross dot_plain dot_corrected twostep_dot ref_N6000 cross_N6000; do
     f="$res/eq_$s.mb.json"; [ -f "$f" ] || continue
     jq -r --arg s "$s" --arg rt "$(rt "eq_$s")" '"| \($s) | \(.kt_fit*1e5|round/1e5) ± \(.kt_fit_err_blocks*1e5|round/1e5) | \(((.kt_fit-.kt_set)/.kt_fit_err_blocks)*10|round/10) | \(.p_value_corrected|tostring|.[0:6]) | \(.ks_p|tostring|.[0:6]) | \(.n_samples) | \($rt) |"' "$f"
 done
@@ -21,9 +21,9 @@ echo "## Zero-shear viscosity by Einstein–Helfand (eq. 59), Table 2 (n = 16)"
 echo
 echo "| scheme | μ_EH this project | fit window [t_min, t_max] | paper μ_EH | paper μ_NEQ | (this − paper EH)/σ |"
 echo "|---|---|---|---|---|---|"
-for s in ref cross dot_plain dot_corrected twostep_dot; do
+for s in ref cross dot_plain dot_corrected twostep_dot ref_N6000 cross_N6000; do
     f="$res/eq_$s.eh.json"; [ -f "$f" ] || continue
-    pc=$(paper_case "$s")
+    pc=$(paper_case "${s%_N6000}")
     read -r pe pee pn pne <<<"$(awk -F, -v c="$pc" '$1 == c && $2 == 16 {print $3, $4, $5, $6}' "$ref/nonlinear_table2_zero_shear.csv")"
     jq -r --arg s "$s" --arg pe "${pe:-—}" --arg pee "${pee:-}" --arg pn "${pn:-—}" --arg pne "${pne:-}" '
       def r3: (.*1000|round/1000);
@@ -46,6 +46,21 @@ for f in "$res"/nemd_*.json; do
     jq -r --arg s "$s" --arg d "$dpp" --arg pr "$prate" --arg pm "$pmu" --arg pt "$ptd" --arg pn "$pn" --arg rt "$(rt "$b")" '
       def r(n): (.*n|round/n);
       "| \($s) | \($d) | \(.stress|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \($pr) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pm) | \(.density_centre|r(100)) ± \((.density_centre_err // 0)|r(100)) | \($pn) | \((.viscosity*256/(.density_centre*.density_centre))|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($pt) | \($rt) |"' "$f"
+done
+echo
+echo "## Reverse NEMD at n = 32, Tables 5–7 (box 6 × 3 × 3, N = 1728; paper L = 6.79)"
+echo
+echo "| scheme | paper Δp (its box) | Π_xz | shear rate this | shear rate paper | μ this | μ paper | centre n this | T_d this | T_d paper | wall s |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|"
+for f in "$res"/nemd32_*.json; do
+    [ -f "$f" ] || continue
+    b=$(basename "$f" .json); s=${b#nemd32_}; dpp=${s##*_dp}; s=${s%_dp*}
+    pc=$(paper_case "$s")
+    line=$(awk -F, -v c="$pc" -v d="$dpp" '$1 == c && $2 == 32 && $3+0 == d+0 {print $5"±"$6, $11"±"$12, $7"±"$8}' "$ref/nonlinear_tables3to7_nemd.csv")
+    read -r prate pmu ptd <<<"${line:-— — —}"
+    jq -r --arg s "$s" --arg d "$dpp" --arg pr "$prate" --arg pm "$pmu" --arg pt "$ptd" --arg rt "$(rt "$b")" '
+      def r(n): (.*n|round/n);
+      "| \($s) | \($d) | \(.stress|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \($pr) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pm) | \(.density_centre|r(100)) ± \((.density_centre_err // 0)|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($pt) | \($rt) |"' "$f"
 done
 echo
 echo "## Box size: Ref at Π_xz = 3.42 (run.sh size; paper: L = 8.55, μ = 4.36 ± 0.02)"
