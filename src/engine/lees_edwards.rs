@@ -301,13 +301,7 @@ fn flush(
                 f[i][q] += fv[q];
                 f[j][q] -= fv[q];
             }
-            tally.energy += b.energy[l];
-            tally.virial[0] += dr[0] * fv[0];
-            tally.virial[1] += dr[1] * fv[1];
-            tally.virial[2] += dr[2] * fv[2];
-            tally.virial[3] += dr[0] * fv[1];
-            tally.virial[4] += dr[0] * fv[2];
-            tally.virial[5] += dr[1] * fv[2];
+            tally.add_pair(dr, fv, b.energy[l]);
         }
     }
     b.len = 0;

@@ -59,6 +59,21 @@ pub struct PairTally {
     pub virial: [f64; 6],
 }
 
+impl PairTally {
+    /// Adds one pair: its conservative energy and r_ij,a F_ij,b (xx, yy, zz, xy, xz, yz), in this
+    /// order, so every pair loop sums the same way.
+    #[inline(always)]
+    pub fn add_pair(&mut self, dr: [f64; 3], fv: [f64; 3], energy: f64) {
+        self.energy += energy;
+        self.virial[0] += dr[0] * fv[0];
+        self.virial[1] += dr[1] * fv[1];
+        self.virial[2] += dr[2] * fv[2];
+        self.virial[3] += dr[0] * fv[1];
+        self.virial[4] += dr[0] * fv[2];
+        self.virial[5] += dr[1] * fv[2];
+    }
+}
+
 /// The neighbour list with its cell sort and force buffers. Buffers are reused between builds, so
 /// the step loop does not allocate once they have reached their working size.
 #[derive(Debug, Default)]
@@ -1218,13 +1233,7 @@ fn flush<const ONE_TYPE: bool>(
         fj[0] -= fv[0];
         fj[1] -= fv[1];
         fj[2] -= fv[2];
-        tally.energy += b.energy[l];
-        tally.virial[0] += dr[0] * fv[0];
-        tally.virial[1] += dr[1] * fv[1];
-        tally.virial[2] += dr[2] * fv[2];
-        tally.virial[3] += dr[0] * fv[1];
-        tally.virial[4] += dr[0] * fv[2];
-        tally.virial[5] += dr[1] * fv[2];
+        tally.add_pair(dr, fv, b.energy[l]);
     }
     own[cur] = fi;
     b.len = 0;
