@@ -2,16 +2,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use dpdnl::engine::System;
-use dpdnl::input::{Collect, Interpreter, Options, ScriptError};
 
-fn run(text: &str) -> Result<(Vec<String>, Option<System>), ScriptError> {
-    let mut console = Collect::default();
-    let opts = Options::default();
-    let mut interp = Interpreter::new(&mut console, &opts).expect("no log file");
-    interp.run_text(text, "test.in")?;
-    let sys = interp.into_system();
-    Ok((console.0, sys))
-}
+mod common;
+use common::{run, state_by_tag};
 
 fn tmp(name: &str) -> String {
     let dir = std::env::temp_dir().join(format!("dpdnl-test-{}", std::process::id()));
@@ -59,15 +52,6 @@ fn momentum_conserved() {
             assert!(sys.thermo().temp > 0.5, "the fluid is alive");
         }
     }
-}
-
-fn state_by_tag(sys: &System) -> Vec<(u32, [u64; 3], [u64; 3])> {
-    let a = &sys.atoms;
-    let mut v: Vec<_> = (0..a.len())
-        .map(|i| (a.tag[i], a.x[i].map(f64::to_bits), a.v[i].map(f64::to_bits)))
-        .collect();
-    v.sort_by_key(|e| e.0);
-    v
 }
 
 /// The same bits with 1, 2 and 3 threads (fixed summation order, MODELS-independent).

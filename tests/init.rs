@@ -4,17 +4,10 @@
 //! `tests/crosscheck.rs`.
 
 use dpdnl::engine::System;
-use dpdnl::input::{Collect, Interpreter, Options, ScriptError};
 use dpdnl::theory::{Fluid, Targets, design_from_targets, euler_critical_dt, kinetic_theory};
 
-fn run(text: &str) -> Result<(Vec<String>, Option<System>), ScriptError> {
-    let mut console = Collect::default();
-    let opts = Options::default();
-    let mut interp = Interpreter::new(&mut console, &opts).expect("no log file");
-    interp.run_text(text, "test.in")?;
-    let sys = interp.into_system();
-    Ok((console.0, sys))
-}
+mod common;
+use common::run;
 
 /// A 2-D ideal fluid of `n_atoms` atoms in a 10 × 10 box, with the given pair lines, step and
 /// integrator, run for `steps` steps.

@@ -5,9 +5,12 @@
 
 use dpdnl::engine::lees_edwards::{Deform, Triclinic};
 use dpdnl::engine::{Atoms, ForceField, Integrator, SimBox, System};
-use dpdnl::input::{Collect, Interpreter, Options, ScriptError};
+use dpdnl::input::ScriptError;
 use dpdnl::kernel::{self, Friction, Noise, PairCoeff, PairInput, PairModel, Weight};
 use dpdnl::rng::pair_gaussian;
+
+mod common;
+use common::run;
 
 /// A deterministic xorshift stream in [0, 1).
 struct Rng(u64);
@@ -238,15 +241,6 @@ fn momentum_conserved_up_to_the_boundary_remap() {
         (p1[0] - p0[0]).abs() < 1e-10 && (p1[1] - p0[1]).abs() < 1e-10,
         "{p0:?} -> {p1:?}"
     );
-}
-
-fn run(text: &str) -> Result<(Vec<String>, Option<System>), ScriptError> {
-    let mut console = Collect::default();
-    let opts = Options::default();
-    let mut interp = Interpreter::new(&mut console, &opts).expect("no log file");
-    interp.run_text(text, "test.in")?;
-    let sys = interp.into_system();
-    Ok((console.0, sys))
 }
 
 fn fluid2d(region: &str, deform: &str, steps: u32) -> String {

@@ -7,6 +7,9 @@ use dpdnl::engine::{ForceField, Integrator, NeighborList, SimBox, System};
 use dpdnl::kernel::{Friction, Isa, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force};
 use dpdnl::rng::{keyed_gaussian, keyed_uniform, pair_gaussian};
 
+mod common;
+use common::state_by_tag;
+
 const SEED: u32 = 9898;
 
 struct Spec {
@@ -207,15 +210,6 @@ fn forces_match_brute_force() {
             );
         }
     }
-}
-
-fn state_by_tag(sys: &System) -> Vec<(u32, [u64; 3], [u64; 3])> {
-    let a = &sys.atoms;
-    let mut v: Vec<_> = (0..a.len())
-        .map(|i| (a.tag[i], a.x[i].map(f64::to_bits), a.v[i].map(f64::to_bits)))
-        .collect();
-    v.sort_by_key(|e| e.0);
-    v
 }
 
 /// 100 steps give the same bits with 1, 2 and 3 threads, with each instruction set of the
