@@ -5,6 +5,7 @@
 //! - [`theory`]: closed-form kinetic theory, (η, Sc) design and the finite-step temperature.
 //! - [`init`]: what both engines resolve and check at a run's set-up ((η, Sc) → γ, s; Euler heating).
 //! - [`engine`]: the standalone engine (boxes, neighbour lists, integrators, measurements).
+//! - [`grammar`]: the arguments of this project's styles, parsed once for both engines (C ABI too).
 //! - [`input`]: the LAMMPS-input subset the engine reads.
 //! - [`io`]: LAMMPS file formats (data, dump, log) read and written.
 //! - [`analysis`]: what the papers measure (MB histograms, NEMD, Einstein–Helfand, MSD, Couette), from LAMMPS-format outputs.
@@ -19,6 +20,7 @@
 
 pub mod analysis;
 pub mod engine;
+pub mod grammar;
 pub mod init;
 pub mod input;
 pub mod io;

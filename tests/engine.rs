@@ -148,7 +148,7 @@ fn bad_scripts_give_clear_errors() {
         (
             "pair_style dpd/nonlinear 1.0 1.0 5 frction dot\n",
             "pair_style",
-            "unknown pair_style keyword 'frction'",
+            "unknown pair_style dpd/nonlinear keyword 'frction'",
         ),
         (
             "pair_style dpd/nonlinear 1.0 1.0 5 noise fancy\n",

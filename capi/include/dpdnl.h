@@ -108,6 +108,77 @@ typedef struct DpdnlTally {
   double *vatom;
 } DpdnlTally;
 
+// The settings of `pair_style dpd/nonlinear` (from [`dpdnl_parse_pair_style`]).
+// `friction`: 0 none, 1 cross, 2 dot; `noise`: 0 plain, 1 corrected, 2 twostep.
+typedef struct DpdnlPairStyle {
+  // Thermostat temperature kT.
+  double kt;
+  // Global cut-off.
+  double rc;
+  // Noise seed, 1..=2147483647.
+  int32_t seed;
+  // Friction model code.
+  int32_t friction;
+  // Noise scheme code.
+  int32_t noise;
+  // Weight exponent s.
+  double weight_s;
+} DpdnlPairStyle;
+
+// One `pair_coeff` line of `dpd/nonlinear` (from [`dpdnl_parse_pair_coeff`]): the type
+// ranges ilo..=ihi, jlo..=jhi (set the pairs i <= j), the coefficients, and for the
+// `eta … sc …` form `targets = 1` with eta and sc (gamma0 is then 1 until set-up).
+typedef struct DpdnlPairCoeffLine {
+  // First type of I.
+  int32_t ilo;
+  // Last type of I.
+  int32_t ihi;
+  // First type of J.
+  int32_t jlo;
+  // Last type of J.
+  int32_t jhi;
+  // Conservative amplitude a.
+  double a;
+  // Friction γ0.
+  double gamma0;
+  // Non-linear coefficient γ1.
+  double gamma1;
+  // Cut-off of the pair.
+  double rc;
+  // 1 for the `eta E sc S` form.
+  int32_t targets;
+  // Target viscosity (targets only).
+  double eta;
+  // Target Schmidt number (targets only).
+  double sc;
+} DpdnlPairCoeffLine;
+
+// The arguments of `fix pex/push` (from [`dpdnl_parse_fix_pex_push`]); `width` 0 means the
+// default Lx/20 of each run's box.
+typedef struct DpdnlPexArgs {
+  // Momentum per push.
+  double dp;
+  // Slab width, or 0 for Lx/20.
+  double width;
+  // Push every N steps.
+  int32_t every;
+} DpdnlPexArgs;
+
+// One rank's candidates of a PeX push, laid out as two MPI_DOUBLE_INT pairs: the slowest v_z
+// of slab 1 (`slow_v`, `slow_tag`; +inf and 2147483647 when the rank has none) and the fastest
+// of slab 2 (`fast_v`, `fast_tag`; −inf and 2147483647 when none). Reduce with MPI_MINLOC and
+// MPI_MAXLOC: ties go to the lowest tag, as within a rank.
+typedef struct DpdnlPexPick {
+  // Slowest v_z in slab 1.
+  double slow_v;
+  // Its tag.
+  int32_t slow_tag;
+  // Fastest v_z in slab 2.
+  double fast_v;
+  // Its tag.
+  int32_t fast_tag;
+} DpdnlPexPick;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -121,7 +192,7 @@ const char *dpdnl_last_error(void);
 
 // Create a parameter table: `pair_style dpd/nonlinear` settings for `ntypes` atom types.
 // `friction` is "none", "cross" or "dot"; `noise` is "plain", "corrected" or "twostep";
-// `kt > 0`, `1 <= seed <= 2^32 − 1`, `weight_s > 0`, `ntypes >= 1`. On success `*out` holds a
+// `kt > 0`, `1 <= seed <= 2^31 − 1`, `weight_s > 0`, `ntypes >= 1`. On success `*out` holds a
 // table to release with [`dpdnl_params_free`]; on failure `*out` is null.
 //
 // # Safety
@@ -255,6 +326,119 @@ enum DpdnlStatus dpdnl_euler_warning(int32_t dimension,
                                      double dt,
                                      int32_t conservative,
                                      int32_t nonlinear);
+
+// Parse `pair_style dpd/nonlinear` arguments (the words after the style name, LAMMPS's
+// `Pair::settings(narg, arg)`) into `*out`. Errors carry the standalone engine's message.
+//
+// # Safety
+// `arg` points to `narg` NUL-terminated strings; `out` is valid for writing.
+enum DpdnlStatus dpdnl_parse_pair_style(int32_t narg,
+                                        const char *const *arg,
+                                        struct DpdnlPairStyle *out);
+
+// The keyword of friction code `code` ("none", "cross", "dot") or of noise code `code`
+// ("plain", "corrected", "twostep") when `noise` is nonzero; "" for an unknown code. Static
+// strings.
+const char *dpdnl_model_keyword(int32_t noise, int32_t code);
+
+// Parse a `pair_coeff` line of `dpd/nonlinear` (all words, types first: LAMMPS's
+// `Pair::coeff(narg, arg)`) for `ntypes` types under `style` into `*out`.
+//
+// # Safety
+// `style` is valid for reading; `arg` points to `narg` NUL-terminated strings; `out` is valid
+// for writing.
+enum DpdnlStatus dpdnl_parse_pair_coeff(const struct DpdnlPairStyle *style,
+                                        int32_t ntypes,
+                                        int32_t narg,
+                                        const char *const *arg,
+                                        struct DpdnlPairCoeffLine *out);
+
+// A parameter table (as [`crate::dpdnl_params_new`]) from parsed settings.
+//
+// # Safety
+// `style` is valid for reading; `out` is valid for writing.
+enum DpdnlStatus dpdnl_params_from_style(const struct DpdnlPairStyle *style,
+                                         int32_t ntypes,
+                                         struct DpdnlParams **out);
+
+// Check the arguments of `fix ID group nve` or `nve/euler` (`style`; the words after it):
+// none are allowed.
+//
+// # Safety
+// `style` is a NUL-terminated string; `arg` points to `narg` NUL-terminated strings.
+enum DpdnlStatus dpdnl_parse_fix_integrator(const char *style,
+                                            int32_t narg,
+                                            const char *const *arg);
+
+// Parse `fix ID group pex/push dp [width W] [every N]` (the words after the style name) in a
+// box of `dimension` into `*out`.
+//
+// # Safety
+// `arg` points to `narg` NUL-terminated strings; `out` is valid for writing.
+enum DpdnlStatus dpdnl_parse_fix_pex_push(int32_t dimension,
+                                          int32_t narg,
+                                          const char *const *arg,
+                                          struct DpdnlPexArgs *out);
+
+// The set-up check of a `fix pex/push` against the box of a run (every `init()`): orthogonal,
+// periodic in x, width at most Lx/2.
+//
+// # Safety
+// `args` is valid for reading.
+enum DpdnlStatus dpdnl_pex_box_check(const struct DpdnlPexArgs *args,
+                                     double lx,
+                                     int32_t triclinic,
+                                     int32_t x_periodic);
+
+// This rank's candidates of a PeX push (see [`DpdnlPexPick`]) among its `nlocal` owned atoms
+// in group `groupbit`, in a box spanning `xlo..xhi`.
+//
+// # Safety
+// `x`, `v` hold `3 nlocal` doubles; `tag`, `mask` `nlocal` ints; `args` and `out` valid.
+enum DpdnlStatus dpdnl_pex_select(const struct DpdnlPexArgs *args,
+                                  int32_t nlocal,
+                                  const double *x,
+                                  const double *v,
+                                  const int32_t *tag,
+                                  const int32_t *mask,
+                                  int32_t groupbit,
+                                  double xlo,
+                                  double xhi,
+                                  struct DpdnlPexPick *out);
+
+// The exchange of a PeX push after the MPI reductions: v_z += dp/m on the owned atom of tag
+// `slow_tag`, −= dp/m on that of `fast_tag` (each on whichever rank owns it).
+//
+// # Safety
+// `v` holds `3 nlocal` doubles; `tag` and `atom_type` `nlocal` ints; `rmass` is null or
+// `nlocal` doubles, else `mass` is indexed by type (entry 0 unused); `args` valid.
+enum DpdnlStatus dpdnl_pex_apply(const struct DpdnlPexArgs *args,
+                                 int32_t nlocal,
+                                 double *v,
+                                 const int32_t *tag,
+                                 const int32_t *atom_type,
+                                 const double *mass,
+                                 const double *rmass,
+                                 int32_t slow_tag,
+                                 int32_t fast_tag);
+
+// `fix nve/euler` on one rank: for each owned atom in group `groupbit`, x += dtv v(t) and
+// v += (dtf/m) f(t) (`dpdnl::engine::fixes::euler_update`; dtf = δt·ftm2v).
+//
+// # Safety
+// `x`, `v`, `f` hold `3 nlocal` doubles (`x` and `v` not aliased); `atom_type`, `mask`
+// `nlocal` ints; `rmass` null or `nlocal` doubles, else `mass` indexed by type.
+enum DpdnlStatus dpdnl_euler_step(int32_t nlocal,
+                                  double *x,
+                                  double *v,
+                                  const double *f,
+                                  const int32_t *atom_type,
+                                  const double *mass,
+                                  const double *rmass,
+                                  const int32_t *mask,
+                                  int32_t groupbit,
+                                  double dtv,
+                                  double dtf);
 
 #ifdef __cplusplus
 }  // extern "C"

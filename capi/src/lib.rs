@@ -22,11 +22,14 @@ use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
+use dpdnl::engine::pair::{Batcher, DpdKernel, lane_force};
 use dpdnl::kernel::{
-    BATCH, Friction, Noise, PairBatch, PairCoeff, PairInput, PairModel, PairTable, Weight,
-    pair_force, pair_forces_batch,
+    Friction, Isa, Noise, PairBatch, PairCoeff, PairInput, PairModel, PairTable, Weight, pair_force,
 };
 use dpdnl::rng::pair_gaussian;
+
+mod styles;
+pub use styles::*;
 
 /// Result of every fallible call. Anything but `Ok` leaves a message for [`dpdnl_last_error`].
 #[repr(C)]
@@ -257,10 +260,10 @@ impl DpdnlParams {
                 "temperature kT = {kt} must be a finite number > 0"
             )));
         }
-        if !(1..=i64::from(u32::MAX)).contains(&seed) {
+        if !(1..=i64::from(i32::MAX)).contains(&seed) {
             return Err(Error::invalid(format!(
                 "seed = {seed} must be an integer in 1..={}",
-                u32::MAX
+                i32::MAX
             )));
         }
         let friction = Friction::from_keyword(friction).ok_or_else(|| {
@@ -355,7 +358,7 @@ pub extern "C" fn dpdnl_last_error() -> *const c_char {
 
 /// Create a parameter table: `pair_style dpd/nonlinear` settings for `ntypes` atom types.
 /// `friction` is "none", "cross" or "dot"; `noise` is "plain", "corrected" or "twostep";
-/// `kt > 0`, `1 <= seed <= 2^32 − 1`, `weight_s > 0`, `ntypes >= 1`. On success `*out` holds a
+/// `kt > 0`, `1 <= seed <= 2^31 − 1`, `weight_s > 0`, `ntypes >= 1`. On success `*out` holds a
 /// table to release with [`dpdnl_params_free`]; on failure `*out` is null.
 ///
 /// # Safety
@@ -687,24 +690,26 @@ unsafe fn compute(
     let mask = list.neighmask as u32 as usize;
     let step = st.step as u64;
 
-    // In-range pairs are gathered, in list order, into batches of BATCH evaluated by
-    // `pair_forces_batch` (the same function as `pair_force` for each pair, same bits, in SIMD
-    // lanes); `Apply` then adds the forces and tallies in list order as the pair-by-pair loop
-    // did, so every sum is formed in the same order.
-    let mut batch = Box::<PairBatch>::default();
-    let mut owner = [(0usize, 0usize); BATCH];
-    // The lanes' v_ij, 1/m_i + 1/m_j and tags (r_ij and the coefficient index are in place),
-    // then the batch evaluation.
-    let evaluate = |b: &mut PairBatch, owner: &[(usize, usize); BATCH]| {
-        for (l, &(i, j)) in owner.iter().enumerate().take(b.len) {
-            for d in 0..3 {
-                b.dv[d][l] = v[3 * i + d] - v[3 * j + d];
-            }
-            b.inv_mass_sum[l] = inv_m(i) + inv_m(j);
-            b.tag_i[l] = tag[i] as u32;
-            b.tag_j[l] = tag[j] as u32;
+    // In-range pairs are gathered, in list order, into batches of BATCH (`Batcher`, the driver
+    // the standalone Lees–Edwards loop uses too) evaluated through the pair-style seam
+    // (`DpdKernel`: `pair_forces_batch`, the same function as `pair_force` for each pair, same
+    // bits, in SIMD lanes); `Apply` then adds the forces and tallies in list order as the
+    // pair-by-pair loop did, so every sum is formed in the same order.
+    let kernel = DpdKernel {
+        model: &model,
+        table: &ptable,
+        seed: p.seed,
+        isa: Isa::detect(),
+    };
+    let mut bt = Batcher::default();
+    // The lanes' v_ij, 1/m_i + 1/m_j and tags (r_ij and the coefficient index are in place).
+    let gather = |b: &mut PairBatch, l: usize, i: usize, j: usize| {
+        for d in 0..3 {
+            b.dv[d][l] = v[3 * i + d] - v[3 * j + d];
         }
-        pair_forces_batch(&model, &ptable, p.seed, step, b);
+        b.inv_mass_sum[l] = inv_m(i) + inv_m(j);
+        b.tag_i[l] = tag[i] as u32;
+        b.tag_j[l] = tag[j] as u32;
     };
     let mut apply = Apply {
         f,
@@ -740,23 +745,18 @@ unsafe fn compute(
             // Every listed pair is written to the next lane, and only a pair in range keeps it
             // (the kernel checks again): with half the listed pairs in range (n = 16, skin 0.3)
             // a branch here is mispredicted half the time. The rest of the lane (velocities,
-            // masses, tags) is gathered for the kept pairs only, in `evaluate`.
-            let l = batch.len;
-            for (lane, &c) in batch.dr.iter_mut().zip(&dr) {
+            // masses, tags) is gathered for the kept pairs only, in `gather`.
+            let l = bt.lane();
+            for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
                 lane[l] = c;
             }
-            batch.coeff[l] = k as u32;
-            owner[l] = (i, j);
-            batch.len = l + usize::from(rsq < rc * rc);
-            if batch.len == BATCH {
-                evaluate(&mut batch, &owner);
-                apply.batch(&batch, &owner);
-                batch.len = 0;
+            bt.batch.coeff[l] = k as u32;
+            if bt.commit(i as u32, j as u32, rsq < rc * rc) {
+                bt.flush(&kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
             }
         }
     }
-    evaluate(&mut batch, &owner);
-    apply.batch(&batch, &owner);
+    bt.flush(&kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
     apply.finish_row();
     Ok(())
 }
@@ -776,38 +776,34 @@ struct Apply<'a, 'b> {
 }
 
 impl Apply<'_, '_> {
-    fn batch(&mut self, b: &PairBatch, owner: &[(usize, usize); BATCH]) {
-        for (l, &(i, j)) in owner.iter().enumerate().take(b.len) {
-            if self.row.is_some_and(|(r, _)| r != i) {
-                self.finish_row();
-            }
-            let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
-            let fpair = b.fpair[l];
-            let fv = [fpair * dr[0], fpair * dr[1], fpair * dr[2]];
-            let fi = &mut self.row.get_or_insert((i, [0.0; 3])).1;
-            fi[0] += fv[0];
-            fi[1] += fv[1];
-            fi[2] += fv[2];
-            let j_owned = j < self.nlocal;
-            if !self.full && (self.newton || j_owned) {
-                self.f[3 * j] -= fv[0];
-                self.f[3 * j + 1] -= fv[1];
-                self.f[3 * j + 2] -= fv[2];
-            }
-            if self.tallying {
-                tally_pair(
-                    self.sinks,
-                    i,
-                    j,
-                    b.energy[l],
-                    fpair,
-                    dr,
-                    self.full,
-                    self.newton,
-                    i < self.nlocal,
-                    j_owned,
-                );
-            }
+    fn lane(&mut self, b: &PairBatch, l: usize, i: usize, j: usize) {
+        if self.row.is_some_and(|(r, _)| r != i) {
+            self.finish_row();
+        }
+        let (dr, fv) = lane_force(b, l);
+        let fi = &mut self.row.get_or_insert((i, [0.0; 3])).1;
+        fi[0] += fv[0];
+        fi[1] += fv[1];
+        fi[2] += fv[2];
+        let j_owned = j < self.nlocal;
+        if !self.full && (self.newton || j_owned) {
+            self.f[3 * j] -= fv[0];
+            self.f[3 * j + 1] -= fv[1];
+            self.f[3 * j + 2] -= fv[2];
+        }
+        if self.tallying {
+            tally_pair(
+                self.sinks,
+                i,
+                j,
+                b.energy[l],
+                b.fpair[l],
+                dr,
+                self.full,
+                self.newton,
+                i < self.nlocal,
+                j_owned,
+            );
         }
     }
 

@@ -1,6 +1,8 @@
 // fix nve/euler: from the state at t, x += dt v(t) and v += dt f(t)/m, both in
 // initial_integrate; nothing in final_integrate. The forces LAMMPS computes later in the same
 // step then belong to the new state (x(t+dt), v(t+dt)), which is what the next step uses.
+// The arguments are checked and the update is computed in Rust (dpdnl_parse_fix_integrator,
+// dpdnl_euler_step: dpdnl::engine::fixes::euler_update, as in the standalone engine).
 
 #include "fix_nve_euler.h"
 
@@ -9,6 +11,8 @@
 #include "force.h"
 #include "update.h"
 
+#include "dpdnl.h"
+
 #include <string>
 
 using namespace LAMMPS_NS;
@@ -16,9 +20,8 @@ using namespace FixConst;
 
 FixNVEEuler::FixNVEEuler(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
 {
-  if (narg != 3)
-    error->all(FLERR, std::string("Illegal fix nve/euler command: expected 'fix ID group-ID "
-                                  "nve/euler' (no further arguments)"));
+  if (dpdnl_parse_fix_integrator("nve/euler", narg - 3, arg + 3) != DPDNL_STATUS_OK)
+    error->all(FLERR, std::string("Illegal fix nve/euler command: ") + dpdnl_last_error());
   dynamic_group_allow = 1;
   time_integrate = 1;
 }
@@ -30,23 +33,11 @@ int FixNVEEuler::setmask()
 
 void FixNVEEuler::initial_integrate(int /*vflag*/)
 {
-  const double dtv = update->dt;
-  const double dtf = update->dt * force->ftm2v;
-  double **x = atom->x;
-  double **v = atom->v;
-  double **f = atom->f;
-  const double *rmass = atom->rmass;
-  const double *mass = atom->mass;
-  const int *type = atom->type;
-  const int *mask = atom->mask;
   const int nlocal = (igroup == atom->firstgroup) ? atom->nfirst : atom->nlocal;
-
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    const double dtfm = dtf / (rmass ? rmass[i] : mass[type[i]]);
-    for (int k = 0; k < 3; k++) {
-      x[i][k] += dtv * v[i][k];    // uses v(t): updated below
-      v[i][k] += dtfm * f[i][k];
-    }
-  }
+  const bool any = nlocal > 0;
+  if (dpdnl_euler_step(nlocal, any ? &atom->x[0][0] : nullptr, any ? &atom->v[0][0] : nullptr,
+                       any ? &atom->f[0][0] : nullptr, atom->type, atom->mass,
+                       atom->rmass_flag ? atom->rmass : nullptr, atom->mask, groupbit, update->dt,
+                       update->dt * force->ftm2v) != DPDNL_STATUS_OK)
+    error->one(FLERR, std::string("Fix nve/euler: ") + dpdnl_last_error());
 }

@@ -5,6 +5,9 @@
 // An atom belongs to a slab when |x_w − c| < W/2, with x_w its x wrapped into [xlo, xhi).
 // Selection is global over all MPI ranks: MPI_MINLOC / MPI_MAXLOC on (v_z, tag), which break
 // ties by the lowest tag; the rank owning the chosen atom applies the kick. See docs/fixes.md.
+// Arguments, box checks, the per-rank pick and the kick are Rust (dpdnl_parse_fix_pex_push,
+// dpdnl_pex_box_check, dpdnl_pex_select, dpdnl_pex_apply: dpdnl::engine::fixes, as in the
+// standalone engine); only the MPI reductions are here.
 
 #include "fix_pex_push.h"
 
@@ -14,6 +17,8 @@
 #include "error.h"
 #include "update.h"
 #include "utils.h"
+
+#include "dpdnl.h"
 
 #include <cmath>
 #include <string>
@@ -32,35 +37,11 @@ struct ValueTag {
 }    // namespace
 
 FixPexPush::FixPexPush(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), dp(0.0), width(-1.0), total(0.0), exchanges(0)
+    Fix(lmp, narg, arg), args(), total(0.0), exchanges(0)
 {
-  const std::string usage =
-      "Illegal fix pex/push command: expected 'fix ID group-ID pex/push dp [width W] [every N]'";
-  if (narg < 4) error->all(FLERR, usage);
-  dp = utils::numeric(FLERR, arg[3], false, lmp);
-  if (!(std::isfinite(dp) && dp > 0.0))
-    error->all(FLERR, "Illegal fix pex/push command: dp = " + std::string(arg[3]) +
-                          " must be a finite number > 0");
-  nevery = 1;
-  for (int iarg = 4; iarg < narg; iarg += 2) {
-    const std::string key = arg[iarg];
-    if (iarg + 1 >= narg)
-      error->all(FLERR, "Illegal fix pex/push command: keyword '" + key + "' needs a value");
-    if (key == "width") {
-      width = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
-      if (!(std::isfinite(width) && width > 0.0))
-        error->all(FLERR, "Illegal fix pex/push command: width = " + std::string(arg[iarg + 1]) +
-                              " must be a finite number > 0");
-    } else if (key == "every") {
-      nevery = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
-      if (nevery < 1)
-        error->all(FLERR, "Illegal fix pex/push command: every = " + std::string(arg[iarg + 1]) +
-                              " must be >= 1");
-    } else {
-      error->all(FLERR, "Illegal fix pex/push command: unknown keyword '" + key +
-                            "' (expected width or every)");
-    }
-  }
+  if (dpdnl_parse_fix_pex_push(domain->dimension, narg - 3, arg + 3, &args) != DPDNL_STATUS_OK)
+    error->all(FLERR, std::string("Illegal fix pex/push command: ") + dpdnl_last_error());
+  nevery = args.every;
 
   scalar_flag = 1;
   global_freq = 1;
@@ -76,65 +57,33 @@ int FixPexPush::setmask()
 
 void FixPexPush::init()
 {
-  if (domain->dimension != 3)
-    error->all(FLERR, std::string("Fix pex/push requires a 3-D system (it moves z momentum)"));
-  if (domain->triclinic)
-    error->all(FLERR, std::string("Fix pex/push requires an orthogonal box"));
-  if (!domain->xperiodic)
-    error->all(FLERR, std::string("Fix pex/push requires a periodic x boundary"));
-  const double w = (width > 0.0) ? width : domain->xprd / 20.0;
-  if (!(w < 0.5 * domain->xprd))
-    error->all(FLERR, "Fix pex/push: width " + std::to_string(w) +
-                          " must be smaller than Lx/2 = " + std::to_string(0.5 * domain->xprd));
+  if (dpdnl_pex_box_check(&args, domain->xprd, domain->triclinic, domain->xperiodic) !=
+      DPDNL_STATUS_OK)
+    error->all(FLERR, std::string("Fix pex/push: ") + dpdnl_last_error());
 }
 
 void FixPexPush::end_of_step()
 {
-  const double lx = domain->xprd;
-  const double xlo = domain->boxlo[0];
-  const double xhi = domain->boxhi[0];
-  const double half_w = 0.5 * ((width > 0.0) ? width : lx / 20.0);
-  const double c1 = xlo + 0.25 * lx;
-  const double c2 = xlo + 0.75 * lx;
-
-  double **x = atom->x;
-  double **v = atom->v;
-  const tagint *tag = atom->tag;
-  const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
+  const bool any = nlocal > 0;
+  DpdnlPexPick pick;
+  if (dpdnl_pex_select(&args, nlocal, any ? &atom->x[0][0] : nullptr,
+                       any ? &atom->v[0][0] : nullptr, atom->tag, atom->mask, groupbit,
+                       domain->boxlo[0], domain->boxhi[0], &pick) != DPDNL_STATUS_OK)
+    error->one(FLERR, std::string("Fix pex/push: ") + dpdnl_last_error());
 
-  ValueTag slow = {HUGE_VAL, MAXTAGINT};
-  ValueTag fast = {-HUGE_VAL, MAXTAGINT};
-  for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    double xw = x[i][0];
-    if (xw < xlo)
-      xw += lx;
-    else if (xw >= xhi)
-      xw -= lx;
-    const double vz = v[i][2];
-    if (std::fabs(xw - c1) < half_w) {
-      if (vz < slow.value || (vz == slow.value && tag[i] < slow.tag)) slow = {vz, tag[i]};
-    } else if (std::fabs(xw - c2) < half_w) {
-      if (vz > fast.value || (vz == fast.value && tag[i] < fast.tag)) fast = {vz, tag[i]};
-    }
-  }
-
+  ValueTag slow = {pick.slow_v, pick.slow_tag}, fast = {pick.fast_v, pick.fast_tag};
   ValueTag gslow, gfast;
   MPI_Allreduce(&slow, &gslow, 1, MPI_DOUBLE_INT, MPI_MINLOC, world);
   MPI_Allreduce(&fast, &gfast, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
   // An empty slab: no exchange this time (both kicks or none, so momentum is conserved).
   if (std::isinf(gslow.value) || std::isinf(gfast.value)) return;
 
-  const double *rmass = atom->rmass;
-  const double *mass = atom->mass;
-  const int *type = atom->type;
-  for (int i = 0; i < nlocal; i++) {
-    const double m = rmass ? rmass[i] : mass[type[i]];
-    if (tag[i] == gslow.tag) v[i][2] += dp / m;
-    if (tag[i] == gfast.tag) v[i][2] -= dp / m;
-  }
-  total += dp;
+  if (dpdnl_pex_apply(&args, nlocal, any ? &atom->v[0][0] : nullptr, atom->tag, atom->type,
+                      atom->mass, atom->rmass_flag ? atom->rmass : nullptr, gslow.tag,
+                      gfast.tag) != DPDNL_STATUS_OK)
+    error->one(FLERR, std::string("Fix pex/push: ") + dpdnl_last_error());
+  total += args.dp;
   exchanges++;
 }
 

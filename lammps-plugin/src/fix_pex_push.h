@@ -6,6 +6,8 @@
 
 #include "fix.h"
 
+#include "dpdnl.h"
+
 namespace LAMMPS_NS {
 
 class FixPexPush : public Fix {
@@ -19,8 +21,7 @@ class FixPexPush : public Fix {
   void restart(char *) override;
 
  protected:
-  double dp;          // momentum moved per exchange
-  double width;       // slab width; <= 0 means the default Lx/20
+  DpdnlPexArgs args;  // dp, width (0: the default Lx/20), every; parsed in Rust
   double total;       // momentum moved so far (the fix's scalar)
   bigint exchanges;   // number of exchanges done so far
 };

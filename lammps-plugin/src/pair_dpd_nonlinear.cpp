@@ -34,8 +34,7 @@ using namespace LAMMPS_NS;
 static_assert(sizeof(tagint) == sizeof(int32_t), "dpd/nonlinear needs 32-bit tags (LAMMPS_SMALLBIG)");
 
 PairDPDNonlinear::PairDPDNonlinear(LAMMPS *lmp) :
-    Pair(lmp), temperature(0.0), cut_global(0.0), seed(0), weight_s(2.0), friction("none"),
-    noise("plain"), a0(nullptr), gamma0(nullptr), gamma1(nullptr), cut(nullptr), eta_t(nullptr),
+    Pair(lmp), style(), cut_global(0.0), a0(nullptr), gamma0(nullptr), gamma1(nullptr), cut(nullptr), eta_t(nullptr),
     sc_t(nullptr), params(nullptr)
 {
   writedata = 1;
@@ -81,45 +80,13 @@ void PairDPDNonlinear::allocate()
     for (int j = 0; j <= n; j++) eta_t[i][j] = sc_t[i][j] = 0.0;
 }
 
-// pair_style dpd/nonlinear T rc seed [friction F] [noise N] [weight s]
+// pair_style dpd/nonlinear T rc seed [friction F] [noise N] [weight s]: parsed and validated
+// in Rust (dpdnl::grammar::pair, the same function as the standalone engine's).
 void PairDPDNonlinear::settings(int narg, char **arg)
 {
-  const std::string usage =
-      "Illegal pair_style dpd/nonlinear command: expected 'pair_style dpd/nonlinear T rc seed "
-      "[friction none|cross|dot] [noise plain|corrected|twostep] [weight s]'";
-  if (narg < 3) error->all(FLERR, usage);
-
-  temperature = utils::numeric(FLERR, arg[0], false, lmp);
-  cut_global = utils::numeric(FLERR, arg[1], false, lmp);
-  seed = utils::bnumeric(FLERR, arg[2], false, lmp);
-  friction = "none";
-  noise = "plain";
-  weight_s = 2.0;
-
-  for (int iarg = 3; iarg < narg; iarg += 2) {
-    const std::string key = arg[iarg];
-    if (iarg + 1 >= narg)
-      error->all(FLERR, "Illegal pair_style dpd/nonlinear command: keyword '" + key +
-                            "' needs a value");
-    if (key == "friction")
-      friction = arg[iarg + 1];
-    else if (key == "noise")
-      noise = arg[iarg + 1];
-    else if (key == "weight")
-      weight_s = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
-    else
-      error->all(FLERR, "Illegal pair_style dpd/nonlinear command: unknown keyword '" + key +
-                            "' (expected friction, noise or weight)");
-  }
-
-  // Validate everything in Rust now, so a bad value fails on this line.
-  DpdnlParams *check = nullptr;
-  if (dpdnl_params_new(temperature, seed, friction.c_str(), noise.c_str(), weight_s, 1, &check) !=
-      DPDNL_STATUS_OK)
+  if (dpdnl_parse_pair_style(narg, arg, &style) != DPDNL_STATUS_OK)
     rust_error("Illegal pair_style dpd/nonlinear command");
-  dpdnl_params_free(check);
-  if (dpdnl_coeff_check(0.0, 0.0, 0.0, cut_global) != DPDNL_STATUS_OK)
-    rust_error("Illegal pair_style dpd/nonlinear command (global cutoff)");
+  cut_global = style.rc;
 
   // As other pair styles do: a new pair_style resets explicitly set cutoffs to the global one.
   if (allocated) {
@@ -131,83 +98,24 @@ void PairDPDNonlinear::settings(int narg, char **arg)
 
 // pair_coeff I J a gamma0 gamma1 [rc]
 // pair_coeff I J a eta E sc S [gamma1 G] [rc R]
+// Parsed and validated in Rust (dpdnl::grammar::pair), type ranges included; stored here.
 void PairDPDNonlinear::coeff(int narg, char **arg)
 {
-  const bool targets = narg >= 4 && strcmp(arg[3], "eta") == 0;
-  if (targets) {
-    const std::string usage = "Incorrect args for pair coefficients: expected 'pair_coeff I J a "
-                              "eta E sc S [gamma1 G] [rc R]' for pair_style dpd/nonlinear";
-    if (narg < 7 || (narg - 7) % 2 != 0 || strcmp(arg[5], "sc") != 0) error->all(FLERR, usage);
-    if (!allocated) allocate();
-    int ilo, ihi, jlo, jhi;
-    utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
-    utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
-    const double a_one = utils::numeric(FLERR, arg[2], false, lmp);
-    const double eta_one = utils::numeric(FLERR, arg[4], false, lmp);
-    const double sc_one = utils::numeric(FLERR, arg[6], false, lmp);
-    double gamma1_one = 0.0, cut_one = cut_global;
-    for (int k = 7; k < narg; k += 2) {
-      if (strcmp(arg[k], "gamma1") == 0)
-        gamma1_one = utils::numeric(FLERR, arg[k + 1], false, lmp);
-      else if (strcmp(arg[k], "rc") == 0)
-        cut_one = utils::numeric(FLERR, arg[k + 1], false, lmp);
-      else
-        error->all(FLERR, std::string("unknown keyword '") + arg[k] + "'; " + usage);
-    }
-    if (!(eta_one > 0.0) || !(sc_one > 0.5))
-      error->all(FLERR, std::string("pair_coeff dpd/nonlinear: eta must be > 0 and sc > 1/2 (an ideal DPD "
-                        "fluid has Sc > 1/2)"));
-    // gamma0 = 1 stands in until init_style(); the rest is checked now.
-    if (dpdnl_coeff_check(a_one, 1.0, gamma1_one, cut_one) != DPDNL_STATUS_OK)
-      rust_error("Incorrect args for pair coefficients of pair_style dpd/nonlinear");
-    if (friction == "none" && gamma1_one != 0.0)
-      error->all(FLERR, std::string("pair_coeff dpd/nonlinear: gamma1 has no effect with 'friction none': set "
-                        "it to 0 or choose cross/dot"));
-    int count = 0;
-    for (int i = ilo; i <= ihi; i++) {
-      for (int j = MAX(jlo, i); j <= jhi; j++) {
-        a0[i][j] = a_one;
-        gamma0[i][j] = 1.0;
-        gamma1[i][j] = gamma1_one;
-        cut[i][j] = cut_one;
-        eta_t[i][j] = eta_one;
-        sc_t[i][j] = sc_one;
-        setflag[i][j] = 1;
-        count++;
-      }
-    }
-    if (count == 0) error->all(FLERR, std::string("Incorrect args for pair coefficients"));
-    return;
-  }
-  if (narg < 5 || narg > 6)
-    error->all(FLERR, std::string("Incorrect args for pair coefficients: expected 'pair_coeff I J "
-                                  "a gamma0 gamma1 [rc]' for pair_style dpd/nonlinear"));
-  if (!allocated) allocate();
-
-  int ilo, ihi, jlo, jhi;
-  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
-  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
-
-  const double a_one = utils::numeric(FLERR, arg[2], false, lmp);
-  const double gamma0_one = utils::numeric(FLERR, arg[3], false, lmp);
-  const double gamma1_one = utils::numeric(FLERR, arg[4], false, lmp);
-  const double cut_one = (narg == 6) ? utils::numeric(FLERR, arg[5], false, lmp) : cut_global;
-  if (dpdnl_coeff_check(a_one, gamma0_one, gamma1_one, cut_one) != DPDNL_STATUS_OK)
+  DpdnlPairCoeffLine line;
+  if (dpdnl_parse_pair_coeff(&style, atom->ntypes, narg, arg, &line) != DPDNL_STATUS_OK)
     rust_error("Incorrect args for pair coefficients of pair_style dpd/nonlinear");
-
-  int count = 0;
-  for (int i = ilo; i <= ihi; i++) {
-    for (int j = MAX(jlo, i); j <= jhi; j++) {
-      a0[i][j] = a_one;
-      gamma0[i][j] = gamma0_one;
-      gamma1[i][j] = gamma1_one;
-      cut[i][j] = cut_one;
-      eta_t[i][j] = sc_t[i][j] = 0.0;
+  if (!allocated) allocate();
+  for (int i = line.ilo; i <= line.ihi; i++) {
+    for (int j = MAX(line.jlo, i); j <= line.jhi; j++) {
+      a0[i][j] = line.a;
+      gamma0[i][j] = line.gamma0;
+      gamma1[i][j] = line.gamma1;
+      cut[i][j] = line.rc;
+      eta_t[i][j] = line.targets ? line.eta : 0.0;
+      sc_t[i][j] = line.targets ? line.sc : 0.0;
       setflag[i][j] = 1;
-      count++;
     }
   }
-  if (count == 0) error->all(FLERR, std::string("Incorrect args for pair coefficients"));
 }
 
 // Hand the current settings and coefficients to Rust (types may have been added since).
@@ -215,8 +123,7 @@ void PairDPDNonlinear::build_params()
 {
   dpdnl_params_free(params);
   params = nullptr;
-  if (dpdnl_params_new(temperature, seed, friction.c_str(), noise.c_str(), weight_s, atom->ntypes,
-                       &params) != DPDNL_STATUS_OK)
+  if (dpdnl_params_from_style(&style, atom->ntypes, &params) != DPDNL_STATUS_OK)
     rust_error("Pair dpd/nonlinear");
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++)
@@ -270,7 +177,7 @@ void PairDPDNonlinear::resolve_targets()
     for (int j = i; j <= ntypes; j++) {
       if (!setflag[i][j] || eta_t[i][j] <= 0.0) continue;
       double g = 0.0, s = 0.0;
-      if (dpdnl_design_pair(i, j, dim, density, cut[i][j], mass, temperature, eta_t[i][j],
+      if (dpdnl_design_pair(i, j, dim, density, cut[i][j], mass, style.kt, eta_t[i][j],
                             sc_t[i][j], &g, &s) != DPDNL_STATUS_OK)
         rust_error("Pair dpd/nonlinear");
       gamma0[i][j] = g;
@@ -280,11 +187,11 @@ void PairDPDNonlinear::resolve_targets()
       sv.push_back(s);
     }
   }
-  double s_out = weight_s;
-  if (dpdnl_common_exponent(static_cast<int>(sv.size()), ti.data(), tj.data(), sv.data(), weight_s,
-                            &s_out) != DPDNL_STATUS_OK)
+  double s_out = style.weight_s;
+  if (dpdnl_common_exponent(static_cast<int>(sv.size()), ti.data(), tj.data(), sv.data(),
+                            style.weight_s, &s_out) != DPDNL_STATUS_OK)
     rust_error("Pair dpd/nonlinear");
-  weight_s = s_out;
+  style.weight_s = s_out;
   const std::string note = dpdnl_last_message();
   if (comm->me == 0 && !note.empty()) utils::logmesg(lmp, note + "\n");
 }
@@ -316,8 +223,8 @@ void PairDPDNonlinear::euler_check()
   double volume = domain->xprd * domain->yprd;
   if (dim == 3) volume *= domain->zprd;
   const double density = static_cast<double>(atom->natoms) / volume;
-  if (dpdnl_euler_warning(dim, density, rc, mass, temperature, gmax, weight_s, update->dt,
-                          conservative ? 1 : 0, friction != "none" ? 1 : 0) != DPDNL_STATUS_OK)
+  if (dpdnl_euler_warning(dim, density, rc, mass, style.kt, gmax, style.weight_s, update->dt,
+                          conservative ? 1 : 0, style.friction != 0 ? 1 : 0) != DPDNL_STATUS_OK)
     rust_error("Pair dpd/nonlinear (Euler step check)");
   const std::string text = dpdnl_last_message();
   if (comm->me == 0 && !text.empty()) error->warning(FLERR, text);
@@ -409,29 +316,42 @@ static std::string read_string(FILE *fp, int me, MPI_Comm world, Error *error)
 
 void PairDPDNonlinear::write_restart_settings(FILE *fp)
 {
-  fwrite(&temperature, sizeof(double), 1, fp);
+  const bigint seed = style.seed;
+  fwrite(&style.kt, sizeof(double), 1, fp);
   fwrite(&cut_global, sizeof(double), 1, fp);
   fwrite(&seed, sizeof(bigint), 1, fp);
-  fwrite(&weight_s, sizeof(double), 1, fp);
-  write_string(fp, friction);
-  write_string(fp, noise);
+  fwrite(&style.weight_s, sizeof(double), 1, fp);
+  write_string(fp, dpdnl_model_keyword(0, style.friction));
+  write_string(fp, dpdnl_model_keyword(1, style.noise));
 }
 
+// The settings read back are parsed again by the same grammar as a pair_style line.
 void PairDPDNonlinear::read_restart_settings(FILE *fp)
 {
   const int me = comm->me;
+  double kt = 0.0, s = 0.0;
+  bigint seed = 0;
   if (me == 0) {
-    utils::sfread(FLERR, &temperature, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &kt, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, &cut_global, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, &seed, sizeof(bigint), 1, fp, nullptr, error);
-    utils::sfread(FLERR, &weight_s, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &s, sizeof(double), 1, fp, nullptr, error);
   }
-  MPI_Bcast(&temperature, 1, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&kt, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&cut_global, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&seed, 1, MPI_LMP_BIGINT, 0, world);
-  MPI_Bcast(&weight_s, 1, MPI_DOUBLE, 0, world);
-  friction = read_string(fp, me, world, error);
-  noise = read_string(fp, me, world, error);
+  MPI_Bcast(&s, 1, MPI_DOUBLE, 0, world);
+  const std::string friction = read_string(fp, me, world, error);
+  const std::string noise = read_string(fp, me, world, error);
+  char buf[4][32];
+  snprintf(buf[0], sizeof(buf[0]), "%.17g", kt);
+  snprintf(buf[1], sizeof(buf[1]), "%.17g", cut_global);
+  snprintf(buf[2], sizeof(buf[2]), BIGINT_FORMAT, seed);
+  snprintf(buf[3], sizeof(buf[3]), "%.17g", s);
+  const char *words[9] = {buf[0],     buf[1],  buf[2], "friction", friction.c_str(),
+                          "noise", noise.c_str(), "weight", buf[3]};
+  if (dpdnl_parse_pair_style(9, words, &style) != DPDNL_STATUS_OK)
+    rust_error("Pair dpd/nonlinear: restart file settings");
 }
 
 void PairDPDNonlinear::write_restart(FILE *fp)

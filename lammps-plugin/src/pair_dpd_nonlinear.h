@@ -1,7 +1,7 @@
 // pair_style dpd/nonlinear: DPD with non-linear (velocity-dependent) friction.
 //
-// A thin LAMMPS driver: argument parsing, coefficient storage, restart and data-file I/O live
-// here; every force, energy and virial is computed in Rust through the dpdnl C ABI
+// A thin LAMMPS driver: arguments are parsed in Rust (dpdnl_parse_pair_style/pair_coeff, the
+// standalone engine's grammar); coefficient storage, restart and data-file I/O live here; every force, energy and virial is computed in Rust through the dpdnl C ABI
 // (capi/include/dpdnl.h), which walks the whole neighbour list in one call.
 //
 //   pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep]
@@ -14,9 +14,10 @@
 
 #include "pair.h"
 
+#include "dpdnl.h"
+
 #include <string>
 
-struct DpdnlParams;
 
 namespace LAMMPS_NS {
 
@@ -39,13 +40,9 @@ class PairDPDNonlinear : public Pair {
   void write_data_all(FILE *) override;
 
  protected:
-  // pair_style settings, as given (validated by the Rust side in settings()).
-  double temperature;
+  // pair_style settings, parsed and validated by the Rust side (dpdnl_parse_pair_style).
+  DpdnlPairStyle style;
   double cut_global;
-  bigint seed;
-  double weight_s;
-  std::string friction;
-  std::string noise;
 
   // pair_coeff values per type pair (1-based), kept for init_one, restart and write_data.
   double **a0, **gamma0, **gamma1, **cut;

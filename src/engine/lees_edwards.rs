@@ -28,7 +28,8 @@
 use super::System;
 use super::domain::{LeesEdwards, SimBox};
 use super::neighbor::PairTally;
-use crate::kernel::{self, BATCH, PairBatch, PairTable};
+use super::pair::{Batcher, DpdKernel, lane_force};
+use crate::kernel::{self, Isa, PairBatch, PairTable};
 
 /// `fix ID all deform N xy erate R remap v [flip yes|no]`.
 #[derive(Clone, Debug, PartialEq)]
@@ -133,9 +134,7 @@ pub struct LeWork {
     /// Per cell, its candidate neighbour cells (itself included), sorted and unique.
     stencil_start: Vec<u32>,
     stencil: Vec<u32>,
-    batch: PairBatch,
-    pi: Vec<u32>,
-    pj: Vec<u32>,
+    batcher: Batcher,
 }
 
 impl System {
@@ -175,15 +174,31 @@ impl System {
         build_cells(w, bx, &le, &a.x, rc_max);
         let nt = ff.ntypes() + 1;
         let table = PairTable::new(&ff.model, &self.table);
+        let kernel = DpdKernel {
+            model: &ff.model,
+            table: &table,
+            seed: ff.seed,
+            isa: Isa::detect(),
+        };
         let rcsq: Vec<f64> = self.table.iter().map(|c| c.rc * c.rc).collect();
         for f in a.f.iter_mut() {
             *f = [0.0; 3];
         }
         let mut tally = PairTally::default();
         let (x, v, typ, tag) = (&a.x, &a.v, &a.typ, &a.tag);
-        w.batch.len = 0;
-        w.pi.clear();
-        w.pj.clear();
+        let f = &mut a.f;
+        let bt = &mut w.batcher;
+        bt.batch.len = 0;
+        // f_i += F, f_j −= F, W_ab += r_a F_b: the same operations as the periodic engine's
+        // `neighbor::flush`.
+        let mut apply = |b: &PairBatch, l: usize, i: usize, j: usize| {
+            let (dr, fv) = lane_force(b, l);
+            for q in 0..3 {
+                f[i][q] += fv[q];
+                f[j][q] -= fv[q];
+            }
+            tally.add_pair(dr, fv, b.energy[l]);
+        };
         let ncells = w.cell_start.len() - 1;
         for c in 0..ncells {
             let (s0, s1) = (w.stencil_start[c] as usize, w.stencil_start[c + 1] as usize);
@@ -207,8 +222,8 @@ impl System {
                             continue;
                         }
                         let vj = v[j];
-                        let b = &mut w.batch;
-                        let l = b.len;
+                        let l = bt.lane();
+                        let b = &mut *bt.batch;
                         for q in 0..3 {
                             b.dr[q][l] = dr[q];
                         }
@@ -220,35 +235,14 @@ impl System {
                         b.coeff[l] = k as u32;
                         b.tag_i[l] = tag[i];
                         b.tag_j[l] = tag[j];
-                        b.len += 1;
-                        w.pi.push(i as u32);
-                        w.pj.push(j as u32);
-                        if b.len == BATCH {
-                            flush(
-                                &mut w.batch,
-                                &mut w.pi,
-                                &mut w.pj,
-                                ff,
-                                &table,
-                                self.step,
-                                &mut a.f,
-                                &mut tally,
-                            );
+                        if bt.commit(i as u32, j as u32, true) {
+                            bt.flush(&kernel, self.step, |_, _, _, _| {}, &mut apply);
                         }
                     }
                 }
             }
         }
-        flush(
-            &mut w.batch,
-            &mut w.pi,
-            &mut w.pj,
-            ff,
-            &table,
-            self.step,
-            &mut a.f,
-            &mut tally,
-        );
+        bt.flush(&kernel, self.step, |_, _, _, _| {}, &mut apply);
         self.tally = tally;
     }
 
@@ -274,39 +268,6 @@ impl System {
         }
         self.thermo_from_kinetic(kt)
     }
-}
-
-/// Evaluate the pending pairs and add their forces, energy and virial (the same operations as
-/// the periodic engine's `neighbor::flush`: f_i += F, f_j −= F, W_ab += r_a F_b).
-#[allow(clippy::too_many_arguments)]
-fn flush(
-    b: &mut PairBatch,
-    pi: &mut Vec<u32>,
-    pj: &mut Vec<u32>,
-    ff: &super::ForceField,
-    table: &PairTable,
-    step: u64,
-    f: &mut [[f64; 3]],
-    tally: &mut PairTally,
-) {
-    let n = b.len;
-    if n > 0 {
-        kernel::pair_forces_batch(&ff.model, table, ff.seed, step, b);
-        for l in 0..n {
-            let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
-            let s = b.fpair[l];
-            let fv = [s * dr[0], s * dr[1], s * dr[2]];
-            let (i, j) = (pi[l] as usize, pj[l] as usize);
-            for q in 0..3 {
-                f[i][q] += fv[q];
-                f[j][q] -= fv[q];
-            }
-            tally.add_pair(dr, fv, b.energy[l]);
-        }
-    }
-    b.len = 0;
-    pi.clear();
-    pj.clear();
 }
 
 /// Sort atoms into cells of side ≥ `rc` and, per cell, list every cell that can hold a partner

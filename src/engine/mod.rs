@@ -4,10 +4,12 @@
 
 pub mod atoms;
 pub mod domain;
+pub mod fixes;
 pub mod forcefield;
 pub mod lees_edwards;
 pub mod measure;
 pub mod neighbor;
+pub mod pair;
 
 pub use atoms::Atoms;
 pub use domain::SimBox;
@@ -179,6 +181,10 @@ impl System {
         {
             self.setup_notes.push(SetupNote::Warning(w));
         }
+        for p in &self.pex {
+            crate::grammar::fix::pex_box_check(p.width, self.bx.len()[0], self.tri.is_some(), true)
+                .map_err(|e| format!("fix {} pex/push: {e}", p.id))?;
+        }
         ff.model.set_timestep(self.dt);
         let rc_max = ff.rc_max();
         let len = self.bx.len();
@@ -259,11 +265,19 @@ impl System {
         if self.neighbor.needs_rebuild(&self.atoms) {
             self.neighbor.build(&mut self.atoms, &self.bx, ff.rc_max());
         }
+        let table = crate::kernel::PairTable::new(&ff.model, &self.table);
+        let kernel = pair::DpdKernel {
+            model: &ff.model,
+            table: &table,
+            seed: ff.seed,
+            isa: self.neighbor.isa(),
+        };
         self.tally = self.neighbor.compute_forces(
             &mut self.atoms,
             &self.bx,
-            ff,
+            &kernel,
             &self.table,
+            ff.ntypes(),
             &self.inv_mass,
             self.step,
         );
@@ -283,16 +297,18 @@ impl System {
     pub fn advance(&mut self) {
         self.step += 1;
         let dt = self.dt;
-        let inv_mass = &self.inv_mass;
+        let mass = &self.mass;
         let a = &mut self.atoms;
         match self.integrator {
             Some(Integrator::VelocityVerlet) => {
+                // dtf / m per type, as LAMMPS `fix nve` forms it.
                 let dtf = 0.5 * dt;
+                let dtfm: Vec<f64> = mass.iter().map(|m| m.map_or(0.0, |m| dtf / m)).collect();
                 a.x.par_iter_mut()
                     .zip(a.v.par_iter_mut())
                     .zip(a.f.par_iter().zip(a.typ.par_iter()))
                     .for_each(|((x, v), (f, &t))| {
-                        let dtfm = dtf * inv_mass[t as usize];
+                        let dtfm = dtfm[t as usize];
                         for k in 0..3 {
                             v[k] += dtfm * f[k];
                             x[k] += dt * v[k];
@@ -300,26 +316,22 @@ impl System {
                     });
                 self.compute_forces();
                 let a = &mut self.atoms;
-                let inv_mass = &self.inv_mass;
                 a.v.par_iter_mut()
                     .zip(a.f.par_iter().zip(a.typ.par_iter()))
                     .for_each(|(v, (f, &t))| {
-                        let dtfm = dtf * inv_mass[t as usize];
+                        let dtfm = dtfm[t as usize];
                         for k in 0..3 {
                             v[k] += dtfm * f[k];
                         }
                     });
             }
             Some(Integrator::Euler) => {
+                let dtfm: Vec<f64> = mass.iter().map(|m| m.map_or(0.0, |m| dt / m)).collect();
                 a.x.par_iter_mut()
                     .zip(a.v.par_iter_mut())
                     .zip(a.f.par_iter().zip(a.typ.par_iter()))
                     .for_each(|((x, v), (f, &t))| {
-                        let dtfm = dt * inv_mass[t as usize];
-                        for k in 0..3 {
-                            x[k] += dt * v[k];
-                            v[k] += dtfm * f[k];
-                        }
+                        fixes::euler_update(x, v, f, dt, dtfm[t as usize])
                     });
                 self.compute_forces();
             }
@@ -336,48 +348,29 @@ impl System {
     /// The end-of-step action of PeX push `k` (index into [`System::pex`]) at the current step;
     /// does nothing on steps that are not a multiple of its `every`. See docs/fixes.md.
     pub fn apply_pex_push(&mut self, k: usize) {
+        let step = self.step;
+        let Some(push) = self.pex.get_mut(k) else {
+            return;
+        };
+        if !step.is_multiple_of(push.every) {
+            return;
+        }
         let bx = &self.bx;
         let lx = bx.len()[0];
-        let step = self.step;
-        if let Some(push) = self.pex.get_mut(k) {
-            if !step.is_multiple_of(push.every) {
-                return;
-            }
-            let w = push.width.unwrap_or(lx / 20.0);
-            let c1 = bx.lo[0] + 0.25 * lx;
-            let c2 = bx.lo[0] + 0.75 * lx;
-            let mut slow: Option<(f64, u32, usize)> = None;
-            let mut fast: Option<(f64, u32, usize)> = None;
-            for i in 0..self.atoms.len() {
-                let mut x = self.atoms.x[i];
-                let mut im = [0; 3];
-                bx.wrap(&mut x, &mut im);
-                let (vz, tag) = (self.atoms.v[i][2], self.atoms.tag[i]);
-                if (x[0] - c1).abs() < 0.5 * w {
-                    let better = match slow {
-                        None => true,
-                        Some((v0, t0, _)) => vz < v0 || (vz == v0 && tag < t0),
-                    };
-                    if better {
-                        slow = Some((vz, tag, i));
-                    }
-                } else if (x[0] - c2).abs() < 0.5 * w {
-                    let better = match fast {
-                        None => true,
-                        Some((v0, t0, _)) => vz > v0 || (vz == v0 && tag < t0),
-                    };
-                    if better {
-                        fast = Some((vz, tag, i));
-                    }
-                }
-            }
-            if let (Some((_, _, i)), Some((_, _, j))) = (slow, fast) {
-                let mi = self.mass[self.atoms.typ[i] as usize].unwrap_or(1.0);
-                let mj = self.mass[self.atoms.typ[j] as usize].unwrap_or(1.0);
-                self.atoms.v[i][2] += push.dp / mi;
-                self.atoms.v[j][2] -= push.dp / mj;
-                push.total += push.dp;
-            }
+        let slabs = fixes::PexSlabs::new(bx.lo[0], bx.hi[0], push.width.unwrap_or(lx / 20.0));
+        let a = &mut self.atoms;
+        let pick = fixes::PexPick::select(&slabs, &a.x, &a.v, &a.tag, |_| true);
+        if let (Some((_, slow)), Some((_, fast))) = (pick.slow, pick.fast) {
+            let (mass, typ) = (&self.mass, &a.typ);
+            fixes::pex_apply(
+                &mut a.v,
+                &a.tag,
+                |i| mass[typ[i] as usize].unwrap_or(1.0),
+                push.dp,
+                slow,
+                fast,
+            );
+            push.total += push.dp;
         }
     }
 

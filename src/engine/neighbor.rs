@@ -15,16 +15,15 @@
 //! summed per slab, then over slabs in order. Fewer than 3 slabs (small boxes): one task over the
 //! whole list (j > i in every neighbouring cell).
 //!
-//! Inside a task, in-range pairs are gathered into a [`PairBatch`] and evaluated by
-//! [`crate::kernel::pair_forces_batch`] (the same function as [`crate::kernel::pair_force`], in SIMD lanes). The
-//! displacement of every pair is the box's minimum image, computed per pair.
+//! Inside a task, in-range pairs are gathered into a [`PairBatch`] and evaluated by the pair
+//! style's [`PairKernel`] (`pair.rs`; for `dpd/nonlinear` [`crate::kernel::pair_forces_batch`],
+//! the same function as [`crate::kernel::pair_force`], in SIMD lanes). The displacement of every
+//! pair is the box's minimum image, computed per pair.
 
 use super::atoms::Atoms;
 use super::domain::SimBox;
-use super::forcefield::ForceField;
-use crate::kernel::{
-    BATCH, Isa, MIN_PAIR_DISTANCE, PairBatch, PairCoeff, PairTable, pair_forces_batch_isa,
-};
+use super::pair::PairKernel;
+use crate::kernel::{BATCH, Isa, MIN_PAIR_DISTANCE, PairBatch, PairCoeff};
 use rayon::prelude::*;
 
 /// The linear index of cell coordinates (x fastest).
@@ -414,14 +413,28 @@ impl NeighborList {
         self.inner_stale = false;
     }
 
-    /// Evaluate all pair forces at `step` (the noise key), overwrite `atoms.f`, and return the
-    /// energy and virial. `inv_mass[t]` is 1/m of type t. Requires a current list.
+    /// The instruction set the pair loop uses: the override of [`NeighborList::set_isa`] if
+    /// this CPU supports it (else the baseline), or the best the CPU has.
+    pub fn isa(&self) -> Isa {
+        match self.isa {
+            Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
+            Some(_) => Isa::Baseline,
+            None => Isa::detect(),
+        }
+    }
+
+    /// Evaluate all pair forces of `kernel` at `step` (the noise key), overwrite `atoms.f`, and
+    /// return the energy and virial. `table` holds the cut-offs of the `ntypes` types (dense,
+    /// `(ntypes + 1)²`), `inv_mass[t]` is 1/m of type t. Requires a current list; `isa` is the
+    /// instruction set of the distance pass (the kernel has its own).
+    #[allow(clippy::too_many_arguments)]
     pub fn compute_forces(
         &mut self,
         atoms: &mut Atoms,
         bx: &SimBox,
-        ff: &ForceField,
+        kernel: &dyn PairKernel,
         table: &[PairCoeff],
+        ntypes: usize,
         inv_mass: &[f64],
         step: u64,
     ) -> PairTally {
@@ -432,7 +445,7 @@ impl NeighborList {
             self.x_at_build.len(),
             "neighbour list built for a different number of atoms"
         );
-        let nt = ff.ntypes() + 1;
+        let nt = ntypes + 1;
         assert!(
             table.len() == nt * nt && atoms.typ.par_iter().all(|&t| (t as usize) < nt),
             "atom type outside the coefficient table"
@@ -441,18 +454,12 @@ impl NeighborList {
         self.refresh_inner(atoms, bx);
         self.rcsq.clear();
         self.rcsq.extend(table.iter().map(|c| c.rc * c.rc));
-        let pair_table = PairTable::new(&ff.model, table);
-        let isa = match self.isa {
-            Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
-            Some(_) => Isa::Baseline,
-            None => Isa::detect(),
-        };
+        let isa = self.isa();
         let ctx = Ctx {
             inner: self.inner_on,
             isa,
             bx,
-            ff,
-            table: &pair_table,
+            kernel,
             rcsq: &self.rcsq,
             inv_mass,
             nt,
@@ -512,8 +519,8 @@ struct Ctx<'a> {
     /// The instruction set of the pair loop (supported by this CPU).
     isa: Isa,
     bx: &'a SimBox,
-    ff: &'a ForceField,
-    table: &'a PairTable,
+    /// The pair style's batch evaluation (`pair.rs`).
+    kernel: &'a dyn PairKernel,
     rcsq: &'a [f64],
     inv_mass: &'a [f64],
     nt: usize,
@@ -1205,7 +1212,7 @@ fn flush<const ONE_TYPE: bool>(
         return;
     }
     let b = &mut p.batch;
-    pair_forces_batch_isa(ctx.isa, &ctx.ff.model, ctx.table, ctx.ff.seed, ctx.step, b);
+    ctx.kernel.evaluate(ctx.step, b, &p.i[..n], &p.j[..n]);
     let (start, next_start) = at;
     // The force on i is carried in registers over the consecutive pairs of its row and stored
     // when i changes: the same additions in the same order as adding into memory pair by pair

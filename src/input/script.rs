@@ -10,8 +10,9 @@ use super::lexer::{logical_lines, split_words, strip_comment};
 use super::observe::{self, Observe, VarStyle};
 use crate::engine::lees_edwards::{Deform, Triclinic};
 use crate::engine::{ForceField, Integrator, PexPush, SetupNote, SimBox, System};
+use crate::grammar;
 use crate::io::data::{DataFile, format_data, parse_data};
-use crate::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
+use crate::kernel::{PairCoeff, PairModel};
 use crate::rng::{STREAM_CREATE_ATOMS, STREAM_VELOCITY, keyed_gaussian, keyed_uniform};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -239,57 +240,8 @@ fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
     ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
 }
 
-fn parse_f64(tok: &str, what: &str) -> Result<f64, String> {
-    let v: f64 = tok
-        .parse()
-        .map_err(|_| format!("expected a number for {what}, found '{tok}'"))?;
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(format!("{what} = '{tok}' is not finite"))
-    }
-}
-
-fn parse_int<T: std::str::FromStr>(tok: &str, what: &str) -> Result<T, String> {
-    tok.parse()
-        .map_err(|_| format!("expected an integer for {what}, found '{tok}'"))
-}
-
-fn need(args: &[String], n: usize, usage: &str) -> CmdResult {
-    if args.len() < n {
-        Err(format!("missing arguments; usage: {usage}"))
-    } else {
-        Ok(())
-    }
-}
-
-/// A LAMMPS type range: `*`, `n`, `n*`, `*n`, `m*n`, within 1..=ntypes.
-pub fn type_range(tok: &str, ntypes: usize) -> Result<(usize, usize), String> {
-    let bad = || format!("invalid type or type range '{tok}' (types are 1..{ntypes})");
-    let (lo, hi) = match tok.split_once('*') {
-        None => {
-            let t: usize = tok.parse().map_err(|_| bad())?;
-            (t, t)
-        }
-        Some((a, b)) => {
-            let lo = if a.is_empty() {
-                1
-            } else {
-                a.parse().map_err(|_| bad())?
-            };
-            let hi = if b.is_empty() {
-                ntypes
-            } else {
-                b.parse().map_err(|_| bad())?
-            };
-            (lo, hi)
-        }
-    };
-    if lo < 1 || hi > ntypes || lo > hi {
-        return Err(bad());
-    }
-    Ok((lo, hi))
-}
+pub use crate::grammar::type_range;
+use crate::grammar::{need, parse_f64, parse_int};
 
 /// Rescale all velocities so that the kinetic temperature becomes `t` (current T must be > 0).
 fn scale_to(sys: &mut System, t: f64) {
@@ -1441,155 +1393,37 @@ impl<'c> Interpreter<'c> {
     }
 
     fn cmd_pair_style(&mut self, args: &[String]) -> CmdResult {
-        let usage = "pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep] [weight s]";
-        need(args, 1, usage)?;
+        need(args, 1, grammar::pair::PAIR_STYLE.usage)?;
         if args[0] != "dpd/nonlinear" {
             return Err(format!(
                 "pair style '{}' not supported: only dpd/nonlinear",
-                args[0]
+                grammar::shown(&args[0])
             ));
         }
-        need(args, 4, usage)?;
-        let kt = parse_f64(&args[1], "T")?;
-        if kt <= 0.0 {
-            return Err(format!("T = {kt} must be > 0"));
-        }
-        let rc = parse_f64(&args[2], "rc")?;
-        if rc <= 0.0 {
-            return Err(format!("rc = {rc} must be > 0"));
-        }
-        let seed: u32 = parse_int(&args[3], "seed")?;
-        if seed == 0 || seed > i32::MAX as u32 {
-            return Err(format!("seed {seed} must be in 1..2147483647"));
-        }
-        let mut friction = Friction::None;
-        let mut noise = Noise::Plain;
-        let mut weight = Weight::STANDARD;
-        let mut k = 4;
-        while k < args.len() {
-            need(&args[k..], 2, usage)?;
-            let val = &args[k + 1];
-            match args[k].as_str() {
-                "friction" => {
-                    friction = Friction::from_keyword(val)
-                        .ok_or_else(|| format!("friction '{val}' must be none, cross or dot"))?
-                }
-                "noise" => {
-                    noise = Noise::from_keyword(val).ok_or_else(|| {
-                        format!("noise '{val}' must be plain, corrected or twostep")
-                    })?
-                }
-                "weight" => {
-                    let s = parse_f64(val, "weight exponent")?;
-                    weight =
-                        Weight::new(s).ok_or_else(|| format!("weight exponent {s} must be > 0"))?
-                }
-                o => return Err(format!("unknown pair_style keyword '{o}'; {usage}")),
-            }
-            k += 2;
-        }
+        let style = grammar::pair::pair_style(&args[1..])?;
         let dt = self.dt;
         let sys = self.sys_mut()?;
-        let model = PairModel::new(kt, friction, noise, weight, dt);
-        sys.ff = Some(ForceField::new(model, seed, rc, sys.ntypes));
+        sys.ff = Some(ForceField::new(
+            style.model(dt),
+            style.seed,
+            style.rc,
+            sys.ntypes,
+        ));
         Ok(())
     }
 
+    /// `pair_coeff I J a gamma0 gamma1 [rc]` or `I J a eta E sc S [gamma1 G] [rc R]` (γ0 and
+    /// the weight exponent then come from the targets η and Sc at every run's set-up,
+    /// `crate::init::resolve_design`).
     fn cmd_pair_coeff(&mut self, args: &[String]) -> CmdResult {
-        if args.get(3).map(String::as_str) == Some("eta") {
-            return self.cmd_pair_coeff_targets(args);
-        }
-        let usage = "pair_coeff I J a gamma0 gamma1 [rc] | I J a eta E sc S [gamma1 G] [rc R]";
-        need(args, 5, usage)?;
-        if args.len() > 6 {
-            return Err(format!("too many arguments; usage: {usage}"));
-        }
         let sys = self.sys_mut()?;
         let ntypes = sys.ntypes;
         let ff = sys.ff.as_mut().ok_or("pair_coeff before pair_style")?;
-        let (ilo, ihi) = type_range(&args[0], ntypes)?;
-        let (jlo, jhi) = type_range(&args[1], ntypes)?;
-        let c = PairCoeff {
-            a: parse_f64(&args[2], "a")?,
-            gamma0: parse_f64(&args[3], "gamma0")?,
-            gamma1: parse_f64(&args[4], "gamma1")?,
-            rc: match args.get(5) {
-                Some(t) => parse_f64(t, "rc")?,
-                None => ff.rc_global,
-            },
-        };
-        c.validate()?;
-        if ff.model.friction == Friction::None && c.gamma1 != 0.0 {
-            return Err(format!(
-                "gamma1 = {} has no effect with 'friction none': set it to 0 or choose cross/dot",
-                c.gamma1
-            ));
-        }
-        for i in ilo..=ihi {
-            for j in jlo.max(i)..=jhi {
-                ff.set(i, j, c);
-            }
-        }
-        Ok(())
-    }
-
-    /// `pair_coeff I J a eta E sc S [gamma1 G] [rc R]`: γ0 and the weight exponent come from the
-    /// targets η and Sc at every run's set-up (`crate::init::resolve_design`).
-    fn cmd_pair_coeff_targets(&mut self, args: &[String]) -> CmdResult {
-        let usage = "pair_coeff I J a eta E sc S [gamma1 G] [rc R]";
-        need(args, 7, usage)?;
-        if args[5] != "sc" {
-            return Err(format!(
-                "expected 'sc' after 'eta {}', got '{}'; usage: {usage}",
-                args[4], args[5]
-            ));
-        }
-        let sys = self.sys_mut()?;
-        let ntypes = sys.ntypes;
-        let ff = sys.ff.as_mut().ok_or("pair_coeff before pair_style")?;
-        let (ilo, ihi) = type_range(&args[0], ntypes)?;
-        let (jlo, jhi) = type_range(&args[1], ntypes)?;
-        let a = parse_f64(&args[2], "a")?;
-        let eta = parse_f64(&args[4], "eta")?;
-        let sc = parse_f64(&args[6], "sc")?;
-        if !(eta.is_finite() && eta > 0.0) {
-            return Err(format!("eta = {eta} must be finite and > 0"));
-        }
-        if !(sc.is_finite() && sc > 0.5) {
-            return Err(format!(
-                "sc = {sc} is unreachable: an ideal DPD fluid has Sc > 1/2"
-            ));
-        }
-        let (mut gamma1, mut rc) = (0.0, ff.rc_global);
-        let mut k = 7;
-        while k < args.len() {
-            let value = args
-                .get(k + 1)
-                .ok_or_else(|| format!("keyword '{}' needs a value; usage: {usage}", args[k]))?;
-            match args[k].as_str() {
-                "gamma1" => gamma1 = parse_f64(value, "gamma1")?,
-                "rc" => rc = parse_f64(value, "rc")?,
-                o => return Err(format!("unknown keyword '{o}'; usage: {usage}")),
-            }
-            k += 2;
-        }
-        // γ0 = 1 stands in until set-up; validate the rest now so a bad value fails on this line.
-        let c = PairCoeff {
-            a,
-            gamma0: 1.0,
-            gamma1,
-            rc,
-        };
-        c.validate()?;
-        if ff.model.friction == Friction::None && c.gamma1 != 0.0 {
-            return Err(format!(
-                "gamma1 = {} has no effect with 'friction none': set it to 0 or choose cross/dot",
-                c.gamma1
-            ));
-        }
-        for i in ilo..=ihi {
-            for j in jlo.max(i)..=jhi {
-                ff.set_targets(i, j, c, eta, sc);
+        let line = grammar::pair::pair_coeff(args, ntypes, ff.model.friction, ff.rc_global)?;
+        for (i, j) in line.pairs() {
+            match line.targets {
+                Some((eta, sc)) => ff.set_targets(i, j, line.coeff, eta, sc),
+                None => ff.set(i, j, line.coeff),
             }
         }
         Ok(())
@@ -1615,9 +1449,7 @@ impl<'c> Interpreter<'c> {
         let sys = self.sys_mut()?;
         let kind = match args[2].as_str() {
             s @ ("nve" | "nve/euler") => {
-                if args.len() > 3 {
-                    return Err(format!("fix {s} takes no arguments"));
-                }
+                grammar::fix::integrator(s, &args[3..])?;
                 if sys.integrator.is_some() {
                     return Err(
                         "only one time-integration fix (nve or nve/euler) is allowed".into(),
@@ -1638,39 +1470,12 @@ impl<'c> Interpreter<'c> {
                 FixKind::Enforce2d
             }
             "pex/push" => {
-                need(args, 4, usage)?;
-                if dim != 3 {
-                    return Err("fix pex/push moves z momentum: it needs dimension 3".into());
-                }
-                let dp = parse_f64(&args[3], "dp")?;
-                let mut width = None;
-                let mut every = 1u64;
-                let mut k = 4;
-                while k < args.len() {
-                    need(&args[k..], 2, usage)?;
-                    match args[k].as_str() {
-                        "width" => {
-                            let w = parse_f64(&args[k + 1], "width")?;
-                            if w <= 0.0 || w > 0.5 * sys.bx.len()[0] {
-                                return Err(format!("width {w} must be in (0, Lx/2]"));
-                            }
-                            width = Some(w);
-                        }
-                        "every" => {
-                            every = parse_int(&args[k + 1], "every")?;
-                            if every == 0 {
-                                return Err("every must be >= 1".into());
-                            }
-                        }
-                        o => return Err(format!("unknown fix pex/push keyword '{o}'")),
-                    }
-                    k += 2;
-                }
+                let p = grammar::fix::pex_push(&args[3..], dim)?;
                 sys.pex.push(PexPush {
                     id: id.clone(),
-                    dp,
-                    width,
-                    every,
+                    dp: p.dp,
+                    width: p.width,
+                    every: p.every,
                     total: 0.0,
                 });
                 FixKind::Pex

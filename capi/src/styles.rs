@@ -1,0 +1,574 @@
+//! The grammar and the fix physics of `dpdnl::grammar` and `dpdnl::engine::fixes`, for the
+//! LAMMPS styles: argc/argv in, a typed struct or an error text out; the Euler step and the
+//! PeX push on one rank's atoms (the MPI reductions stay in C++).
+
+use std::ffi::c_char;
+
+use dpdnl::engine::fixes::{PexPick, PexSlabs, euler_update, pex_apply};
+use dpdnl::grammar::{self, fix::PexArgs, pair::DpdStyle};
+use dpdnl::kernel::{Friction, Noise, Weight};
+
+use crate::{DpdnlParams, Error, c_str, guard, slice, slice_mut};
+
+/// The settings of `pair_style dpd/nonlinear` (from [`dpdnl_parse_pair_style`]).
+/// `friction`: 0 none, 1 cross, 2 dot; `noise`: 0 plain, 1 corrected, 2 twostep.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DpdnlPairStyle {
+    /// Thermostat temperature kT.
+    pub kt: f64,
+    /// Global cut-off.
+    pub rc: f64,
+    /// Noise seed, 1..=2147483647.
+    pub seed: i32,
+    /// Friction model code.
+    pub friction: i32,
+    /// Noise scheme code.
+    pub noise: i32,
+    /// Weight exponent s.
+    pub weight_s: f64,
+}
+
+/// One `pair_coeff` line of `dpd/nonlinear` (from [`dpdnl_parse_pair_coeff`]): the type
+/// ranges ilo..=ihi, jlo..=jhi (set the pairs i <= j), the coefficients, and for the
+/// `eta … sc …` form `targets = 1` with eta and sc (gamma0 is then 1 until set-up).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DpdnlPairCoeffLine {
+    /// First type of I.
+    pub ilo: i32,
+    /// Last type of I.
+    pub ihi: i32,
+    /// First type of J.
+    pub jlo: i32,
+    /// Last type of J.
+    pub jhi: i32,
+    /// Conservative amplitude a.
+    pub a: f64,
+    /// Friction γ0.
+    pub gamma0: f64,
+    /// Non-linear coefficient γ1.
+    pub gamma1: f64,
+    /// Cut-off of the pair.
+    pub rc: f64,
+    /// 1 for the `eta E sc S` form.
+    pub targets: i32,
+    /// Target viscosity (targets only).
+    pub eta: f64,
+    /// Target Schmidt number (targets only).
+    pub sc: f64,
+}
+
+/// The arguments of `fix pex/push` (from [`dpdnl_parse_fix_pex_push`]); `width` 0 means the
+/// default Lx/20 of each run's box.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DpdnlPexArgs {
+    /// Momentum per push.
+    pub dp: f64,
+    /// Slab width, or 0 for Lx/20.
+    pub width: f64,
+    /// Push every N steps.
+    pub every: i32,
+}
+
+/// One rank's candidates of a PeX push, laid out as two MPI_DOUBLE_INT pairs: the slowest v_z
+/// of slab 1 (`slow_v`, `slow_tag`; +inf and 2147483647 when the rank has none) and the fastest
+/// of slab 2 (`fast_v`, `fast_tag`; −inf and 2147483647 when none). Reduce with MPI_MINLOC and
+/// MPI_MAXLOC: ties go to the lowest tag, as within a rank.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DpdnlPexPick {
+    /// Slowest v_z in slab 1.
+    pub slow_v: f64,
+    /// Its tag.
+    pub slow_tag: i32,
+    /// Fastest v_z in slab 2.
+    pub fast_v: f64,
+    /// Its tag.
+    pub fast_tag: i32,
+}
+
+const FRICTIONS: [Friction; 3] = [Friction::None, Friction::Cross, Friction::Dot];
+const NOISES: [Noise; 3] = [Noise::Plain, Noise::Corrected, Noise::TwoStep];
+
+impl DpdnlPairStyle {
+    fn from_style(s: &DpdStyle) -> DpdnlPairStyle {
+        DpdnlPairStyle {
+            kt: s.kt,
+            rc: s.rc,
+            seed: s.seed as i32,
+            friction: FRICTIONS.iter().position(|&f| f == s.friction).unwrap_or(0) as i32,
+            noise: NOISES.iter().position(|&n| n == s.noise).unwrap_or(0) as i32,
+            weight_s: s.weight.exponent(),
+        }
+    }
+
+    /// Back to the grammar's type, checking every field as the parser would.
+    pub(crate) fn to_style(self) -> Result<DpdStyle, Error> {
+        let code = |c: i32, n: usize, what: &str| {
+            usize::try_from(c)
+                .ok()
+                .filter(|&c| c < n)
+                .ok_or_else(|| Error::invalid(format!("{what} code {c} is not 0..{}", n - 1)))
+        };
+        let style = DpdStyle {
+            kt: self.kt,
+            rc: self.rc,
+            seed: u32::try_from(self.seed).unwrap_or(0),
+            friction: FRICTIONS[code(self.friction, 3, "friction")?],
+            noise: NOISES[code(self.noise, 3, "noise")?],
+            weight: Weight::new(self.weight_s).ok_or_else(|| {
+                Error::invalid(format!("weight exponent {} must be > 0", self.weight_s))
+            })?,
+        };
+        // The parser's checks of the numbers, on their shortest round-trip text.
+        grammar::pair::pair_style(&style.to_words()).map_err(Error::invalid)
+    }
+}
+
+/// The words `arg[0..narg]` as strings.
+///
+/// # Safety
+/// `arg` is null only when `narg == 0`, else it points to `narg` NUL-terminated strings.
+unsafe fn words<'a>(narg: i32, arg: *const *const c_char) -> Result<Vec<&'a str>, Error> {
+    let n =
+        usize::try_from(narg).map_err(|_| Error::invalid(format!("narg = {narg} must be >= 0")))?;
+    // SAFETY: `narg` pointers by the caller's contract.
+    let ptrs = unsafe { slice(arg, n, "arg")? };
+    ptrs.iter()
+        .enumerate()
+        // SAFETY: each is a NUL-terminated string by the caller's contract.
+        .map(|(k, &p)| unsafe { c_str(p, &format!("arg[{k}]")) })
+        .collect()
+}
+
+/// Write `value` through `out`.
+///
+/// # Safety
+/// `out` is null or valid for writing.
+unsafe fn put<T>(out: *mut T, value: T) -> Result<(), Error> {
+    // SAFETY: null or valid for writing by the caller's contract.
+    let out = unsafe { out.as_mut() }.ok_or_else(|| Error::null("out"))?;
+    *out = value;
+    Ok(())
+}
+
+/// Parse `pair_style dpd/nonlinear` arguments (the words after the style name, LAMMPS's
+/// `Pair::settings(narg, arg)`) into `*out`. Errors carry the standalone engine's message.
+///
+/// # Safety
+/// `arg` points to `narg` NUL-terminated strings; `out` is valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_parse_pair_style(
+    narg: i32,
+    arg: *const *const c_char,
+    out: *mut DpdnlPairStyle,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let w = unsafe { words(narg, arg)? };
+        let s = grammar::pair::pair_style(&w).map_err(Error::invalid)?;
+        // SAFETY: forwarded caller's contract.
+        unsafe { put(out, DpdnlPairStyle::from_style(&s)) }
+    })
+}
+
+/// The keyword of friction code `code` ("none", "cross", "dot") or of noise code `code`
+/// ("plain", "corrected", "twostep") when `noise` is nonzero; "" for an unknown code. Static
+/// strings.
+#[unsafe(no_mangle)]
+pub extern "C" fn dpdnl_model_keyword(noise: i32, code: i32) -> *const c_char {
+    match (noise != 0, code) {
+        (false, 0) => c"none".as_ptr(),
+        (false, 1) => c"cross".as_ptr(),
+        (false, 2) => c"dot".as_ptr(),
+        (true, 0) => c"plain".as_ptr(),
+        (true, 1) => c"corrected".as_ptr(),
+        (true, 2) => c"twostep".as_ptr(),
+        _ => c"".as_ptr(),
+    }
+}
+
+/// Parse a `pair_coeff` line of `dpd/nonlinear` (all words, types first: LAMMPS's
+/// `Pair::coeff(narg, arg)`) for `ntypes` types under `style` into `*out`.
+///
+/// # Safety
+/// `style` is valid for reading; `arg` points to `narg` NUL-terminated strings; `out` is valid
+/// for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_parse_pair_coeff(
+    style: *const DpdnlPairStyle,
+    ntypes: i32,
+    narg: i32,
+    arg: *const *const c_char,
+    out: *mut DpdnlPairCoeffLine,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        // SAFETY: null or valid for reading by the caller's contract.
+        let style = unsafe { style.as_ref() }
+            .ok_or_else(|| Error::null("style"))?
+            .to_style()?;
+        let nt = usize::try_from(ntypes)
+            .ok()
+            .filter(|&n| n >= 1)
+            .ok_or_else(|| Error::invalid(format!("ntypes = {ntypes} must be >= 1")))?;
+        // SAFETY: forwarded caller's contract.
+        let w = unsafe { words(narg, arg)? };
+        let l =
+            grammar::pair::pair_coeff(&w, nt, style.friction, style.rc).map_err(Error::invalid)?;
+        let (eta, sc) = l.targets.unwrap_or((0.0, 0.0));
+        let line = DpdnlPairCoeffLine {
+            ilo: l.i.0 as i32,
+            ihi: l.i.1 as i32,
+            jlo: l.j.0 as i32,
+            jhi: l.j.1 as i32,
+            a: l.coeff.a,
+            gamma0: l.coeff.gamma0,
+            gamma1: l.coeff.gamma1,
+            rc: l.coeff.rc,
+            targets: i32::from(l.targets.is_some()),
+            eta,
+            sc,
+        };
+        // SAFETY: forwarded caller's contract.
+        unsafe { put(out, line) }
+    })
+}
+
+/// A parameter table (as [`crate::dpdnl_params_new`]) from parsed settings.
+///
+/// # Safety
+/// `style` is valid for reading; `out` is valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_params_from_style(
+    style: *const DpdnlPairStyle,
+    ntypes: i32,
+    out: *mut *mut DpdnlParams,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        if out.is_null() {
+            return Err(Error::null("out"));
+        }
+        // SAFETY: non-null, valid for writing by the caller's contract.
+        unsafe { *out = std::ptr::null_mut() };
+        // SAFETY: null or valid for reading by the caller's contract.
+        let s = unsafe { style.as_ref() }
+            .ok_or_else(|| Error::null("style"))?
+            .to_style()?;
+        let p = DpdnlParams::new(
+            s.kt,
+            i64::from(s.seed),
+            s.friction.keyword(),
+            s.noise.keyword(),
+            s.weight.exponent(),
+            ntypes,
+        )?;
+        // SAFETY: as above.
+        unsafe { *out = Box::into_raw(Box::new(p)) };
+        Ok(())
+    })
+}
+
+/// Check the arguments of `fix ID group nve` or `nve/euler` (`style`; the words after it):
+/// none are allowed.
+///
+/// # Safety
+/// `style` is a NUL-terminated string; `arg` points to `narg` NUL-terminated strings.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_parse_fix_integrator(
+    style: *const c_char,
+    narg: i32,
+    arg: *const *const c_char,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let (style, w) = unsafe { (c_str(style, "style")?, words(narg, arg)?) };
+        grammar::fix::integrator(style, &w).map_err(Error::invalid)
+    })
+}
+
+/// Parse `fix ID group pex/push dp [width W] [every N]` (the words after the style name) in a
+/// box of `dimension` into `*out`.
+///
+/// # Safety
+/// `arg` points to `narg` NUL-terminated strings; `out` is valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_parse_fix_pex_push(
+    dimension: i32,
+    narg: i32,
+    arg: *const *const c_char,
+    out: *mut DpdnlPexArgs,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let w = unsafe { words(narg, arg)? };
+        let dim = usize::try_from(dimension).unwrap_or(0);
+        let p = grammar::fix::pex_push(&w, dim).map_err(Error::invalid)?;
+        let args = DpdnlPexArgs {
+            dp: p.dp,
+            width: p.width.unwrap_or(0.0),
+            every: p.every as i32,
+        };
+        // SAFETY: forwarded caller's contract.
+        unsafe { put(out, args) }
+    })
+}
+
+fn pex_args(p: *const DpdnlPexArgs) -> Result<PexArgs, Error> {
+    // SAFETY: null or valid for reading by the caller's contract (every entry point below).
+    let p = unsafe { p.as_ref() }.ok_or_else(|| Error::null("args"))?;
+    Ok(PexArgs {
+        dp: p.dp,
+        width: (p.width > 0.0).then_some(p.width),
+        every: u64::try_from(p.every).unwrap_or(0),
+    })
+}
+
+/// The set-up check of a `fix pex/push` against the box of a run (every `init()`): orthogonal,
+/// periodic in x, width at most Lx/2.
+///
+/// # Safety
+/// `args` is valid for reading.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pex_box_check(
+    args: *const DpdnlPexArgs,
+    lx: f64,
+    triclinic: i32,
+    x_periodic: i32,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        let p = pex_args(args)?;
+        grammar::fix::pex_box_check(p.width, lx, triclinic != 0, x_periodic != 0)
+            .map(|_| ())
+            .map_err(Error::invalid)
+    })
+}
+
+/// Per-atom arrays of one rank for the fixes: `nlocal` owned atoms, LAMMPS layout.
+struct Local<'a> {
+    tag: &'a [i32],
+    mask: &'a [i32],
+    groupbit: i32,
+}
+
+impl Local<'_> {
+    fn member(&self, i: usize) -> bool {
+        self.mask[i] & self.groupbit != 0
+    }
+}
+
+/// `x` or `v` of `n` atoms (`&x[0][0]`) as rows.
+///
+/// # Safety
+/// `p` is null only when `n == 0`, else valid for `3 n` doubles.
+unsafe fn rows<'a>(p: *const f64, n: usize, what: &str) -> Result<&'a [[f64; 3]], Error> {
+    // SAFETY: `[f64; 3]` has the layout of 3 consecutive doubles; caller's contract on size.
+    unsafe { slice(p.cast::<[f64; 3]>(), n, what) }
+}
+
+/// As [`rows`], mutable.
+///
+/// # Safety
+/// As [`rows`], and not aliased.
+unsafe fn rows_mut<'a>(p: *mut f64, n: usize, what: &str) -> Result<&'a mut [[f64; 3]], Error> {
+    // SAFETY: as in `rows`.
+    unsafe { slice_mut(p.cast::<[f64; 3]>(), n, what) }
+}
+
+fn count(nlocal: i32) -> Result<usize, Error> {
+    usize::try_from(nlocal).map_err(|_| Error::invalid(format!("nlocal = {nlocal} must be >= 0")))
+}
+
+/// This rank's candidates of a PeX push (see [`DpdnlPexPick`]) among its `nlocal` owned atoms
+/// in group `groupbit`, in a box spanning `xlo..xhi`.
+///
+/// # Safety
+/// `x`, `v` hold `3 nlocal` doubles; `tag`, `mask` `nlocal` ints; `args` and `out` valid.
+#[allow(clippy::too_many_arguments)]
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pex_select(
+    args: *const DpdnlPexArgs,
+    nlocal: i32,
+    x: *const f64,
+    v: *const f64,
+    tag: *const i32,
+    mask: *const i32,
+    groupbit: i32,
+    xlo: f64,
+    xhi: f64,
+    out: *mut DpdnlPexPick,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        let p = pex_args(args)?;
+        let n = count(nlocal)?;
+        // SAFETY: sizes by the caller's contract.
+        let (x, v, tag, mask) = unsafe {
+            (
+                rows(x, n, "x")?,
+                rows(v, n, "v")?,
+                slice(tag, n, "tag")?,
+                slice(mask, n, "mask")?,
+            )
+        };
+        let local = Local {
+            tag,
+            mask,
+            groupbit,
+        };
+        let tags: Vec<u32> = local.tag.iter().map(|&t| t as u32).collect();
+        let slabs = PexSlabs::new(xlo, xhi, p.width.unwrap_or((xhi - xlo) / 20.0));
+        let pick = PexPick::select(&slabs, x, v, &tags, |i| local.member(i));
+        let none = i32::MAX;
+        let (slow_v, slow_tag) = pick
+            .slow
+            .map_or((f64::INFINITY, none), |(v, t)| (v, t as i32));
+        let (fast_v, fast_tag) = pick
+            .fast
+            .map_or((f64::NEG_INFINITY, none), |(v, t)| (v, t as i32));
+        // SAFETY: forwarded caller's contract.
+        unsafe {
+            put(
+                out,
+                DpdnlPexPick {
+                    slow_v,
+                    slow_tag,
+                    fast_v,
+                    fast_tag,
+                },
+            )
+        }
+    })
+}
+
+/// Masses of the owned atoms: per atom (`rmass`, if not null) or per type (`mass[type]`).
+struct Masses<'a> {
+    typ: &'a [i32],
+    mass: &'a [f64],
+    rmass: Option<&'a [f64]>,
+}
+
+impl Masses<'_> {
+    /// # Safety
+    /// `typ` holds `n` ints; `rmass` is null or holds `n` doubles; else `mass` holds
+    /// `ntypes + 1` doubles where every type in `typ` is at most `ntypes`.
+    unsafe fn new<'a>(
+        n: usize,
+        typ: *const i32,
+        mass: *const f64,
+        rmass: *const f64,
+    ) -> Result<Masses<'a>, Error> {
+        // SAFETY: forwarded caller's contract.
+        let typ = unsafe { slice(typ, n, "type")? };
+        if !rmass.is_null() {
+            return Ok(Masses {
+                typ,
+                mass: &[],
+                // SAFETY: forwarded caller's contract.
+                rmass: Some(unsafe { slice(rmass, n, "rmass")? }),
+            });
+        }
+        let tmax = typ.iter().copied().max().unwrap_or(0);
+        if typ.iter().any(|&t| t < 1) {
+            return Err(Error::invalid("an atom type is < 1"));
+        }
+        Ok(Masses {
+            typ,
+            // SAFETY: `tmax + 1` doubles by the caller's contract.
+            mass: unsafe { slice(mass, tmax as usize + 1, "mass")? },
+            rmass: None,
+        })
+    }
+
+    fn of(&self, i: usize) -> f64 {
+        match self.rmass {
+            Some(r) => r[i],
+            None => self.mass[self.typ[i] as usize],
+        }
+    }
+}
+
+/// The exchange of a PeX push after the MPI reductions: v_z += dp/m on the owned atom of tag
+/// `slow_tag`, −= dp/m on that of `fast_tag` (each on whichever rank owns it).
+///
+/// # Safety
+/// `v` holds `3 nlocal` doubles; `tag` and `atom_type` `nlocal` ints; `rmass` is null or
+/// `nlocal` doubles, else `mass` is indexed by type (entry 0 unused); `args` valid.
+#[allow(clippy::too_many_arguments)]
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pex_apply(
+    args: *const DpdnlPexArgs,
+    nlocal: i32,
+    v: *mut f64,
+    tag: *const i32,
+    atom_type: *const i32,
+    mass: *const f64,
+    rmass: *const f64,
+    slow_tag: i32,
+    fast_tag: i32,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        let p = pex_args(args)?;
+        let n = count(nlocal)?;
+        // SAFETY: sizes by the caller's contract.
+        let (v, tag, m) = unsafe {
+            (
+                rows_mut(v, n, "v")?,
+                slice(tag, n, "tag")?,
+                Masses::new(n, atom_type, mass, rmass)?,
+            )
+        };
+        let tags: Vec<u32> = tag.iter().map(|&t| t as u32).collect();
+        pex_apply(
+            v,
+            &tags,
+            |i| m.of(i),
+            p.dp,
+            slow_tag as u32,
+            fast_tag as u32,
+        );
+        Ok(())
+    })
+}
+
+/// `fix nve/euler` on one rank: for each owned atom in group `groupbit`, x += dtv v(t) and
+/// v += (dtf/m) f(t) (`dpdnl::engine::fixes::euler_update`; dtf = δt·ftm2v).
+///
+/// # Safety
+/// `x`, `v`, `f` hold `3 nlocal` doubles (`x` and `v` not aliased); `atom_type`, `mask`
+/// `nlocal` ints; `rmass` null or `nlocal` doubles, else `mass` indexed by type.
+#[allow(clippy::too_many_arguments)]
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_euler_step(
+    nlocal: i32,
+    x: *mut f64,
+    v: *mut f64,
+    f: *const f64,
+    atom_type: *const i32,
+    mass: *const f64,
+    rmass: *const f64,
+    mask: *const i32,
+    groupbit: i32,
+    dtv: f64,
+    dtf: f64,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        let n = count(nlocal)?;
+        // SAFETY: sizes and aliasing by the caller's contract.
+        let (x, v, f, mask, m) = unsafe {
+            (
+                rows_mut(x, n, "x")?,
+                rows_mut(v, n, "v")?,
+                rows(f, n, "f")?,
+                slice(mask, n, "mask")?,
+                Masses::new(n, atom_type, mass, rmass)?,
+            )
+        };
+        for i in 0..n {
+            if mask[i] & groupbit != 0 {
+                euler_update(&mut x[i], &mut v[i], &f[i], dtv, dtf / m.of(i));
+            }
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,121 @@
+//! The pair-style seam: how every driver of a pair loop (the periodic slab loop of
+//! `neighbor.rs`, the Lees–Edwards loop of `lees_edwards.rs`, and the LAMMPS neighbour-list
+//! walk of `capi/`) reaches the pair computation.
+//!
+//! A driver finds the pairs in range, fills the lanes of a [`PairBatch`] with r_ij and the
+//! coefficient index (and, for the kernels that use them, v_ij, 1/m_i + 1/m_j and the tags),
+//! hands full batches to a [`PairKernel`], and adds the returned central forces
+//! `fpair · r_ij` to atom i and subtracts them from atom j, so momentum is conserved exactly
+//! whatever the kernel. A second pair style is a second `PairKernel`; it sees the atom indices
+//! of each lane, so a many-body style (sDPD's densities) gathers its per-atom values there.
+//!
+//! [`Batcher`] is the gather → batch → apply driver that the Lees–Edwards and the C ABI paths
+//! share; the periodic path appends lanes from its SIMD distance pass directly and evaluates
+//! through the same kernel.
+
+use crate::kernel::{BATCH, Isa, PairBatch, PairModel, PairTable, pair_forces_batch_isa};
+
+/// A pair style's evaluation of a batch of in-range pairs: from the lanes `0..b.len` of `b`
+/// (and the atoms `i[l]`, `j[l]` of each lane) into `b.fpair` (force on i along r_ij, divided
+/// by r: F_i = fpair · r_ij) and `b.energy`.
+pub trait PairKernel: Sync {
+    /// Evaluate the batch of noise key `step`.
+    fn evaluate(&self, step: u64, b: &mut PairBatch, i: &[u32], j: &[u32]);
+}
+
+/// `pair_style dpd/nonlinear`: [`crate::kernel::pair_forces_batch`] (docs/models.md §1–2).
+pub struct DpdKernel<'a> {
+    /// The global model (friction, noise, weight, δt).
+    pub model: &'a PairModel,
+    /// The per-type-pair coefficients.
+    pub table: &'a PairTable,
+    /// The noise seed.
+    pub seed: u32,
+    /// The instruction set of the lane loops (same bits with every one).
+    pub isa: Isa,
+}
+
+impl PairKernel for DpdKernel<'_> {
+    #[inline]
+    fn evaluate(&self, step: u64, b: &mut PairBatch, _i: &[u32], _j: &[u32]) {
+        pair_forces_batch_isa(self.isa, self.model, self.table, self.seed, step, b);
+    }
+}
+
+/// Pairs gathered into a batch with the atoms they belong to (the shared driver of the
+/// Lees–Edwards and C ABI loops).
+///
+/// A caller writes lane [`Batcher::lane`]'s `dr` and `coeff` (and whatever else it has at
+/// hand) into [`Batcher::batch`], then [`Batcher::commit`]s it, kept or not: a lane that is
+/// not kept is overwritten by the next pair, so the append needs no branch. A full batch is
+/// [`Batcher::flush`]ed: `gather` completes each kept lane, the kernel evaluates it, and
+/// `apply` receives every lane in order.
+#[derive(Clone, Debug)]
+pub struct Batcher {
+    /// The lanes.
+    pub batch: Box<PairBatch>,
+    i: [u32; BATCH],
+    j: [u32; BATCH],
+}
+
+impl Default for Batcher {
+    fn default() -> Batcher {
+        Batcher {
+            batch: Box::default(),
+            i: [0; BATCH],
+            j: [0; BATCH],
+        }
+    }
+}
+
+impl Batcher {
+    /// The lane the next pair goes to.
+    #[inline(always)]
+    pub fn lane(&self) -> usize {
+        self.batch.len
+    }
+
+    /// Record atoms (i, j) for the current lane and keep it if `keep`; true when the batch
+    /// is then full (flush it).
+    #[inline(always)]
+    pub fn commit(&mut self, i: u32, j: u32, keep: bool) -> bool {
+        let l = self.batch.len;
+        self.i[l] = i;
+        self.j[l] = j;
+        self.batch.len = l + usize::from(keep);
+        self.batch.len == BATCH
+    }
+
+    /// Complete the kept lanes with `gather(batch, lane, i, j)`, evaluate them with `kernel`
+    /// at `step`, pass each to `apply(batch, lane, i, j)` in lane order, and empty the batch.
+    #[inline]
+    pub fn flush(
+        &mut self,
+        kernel: &dyn PairKernel,
+        step: u64,
+        mut gather: impl FnMut(&mut PairBatch, usize, usize, usize),
+        mut apply: impl FnMut(&PairBatch, usize, usize, usize),
+    ) {
+        let n = self.batch.len;
+        if n == 0 {
+            return;
+        }
+        let b = &mut *self.batch;
+        for l in 0..n {
+            gather(b, l, self.i[l] as usize, self.j[l] as usize);
+        }
+        kernel.evaluate(step, b, &self.i[..n], &self.j[..n]);
+        for l in 0..n {
+            apply(b, l, self.i[l] as usize, self.j[l] as usize);
+        }
+        self.batch.len = 0;
+    }
+}
+
+/// The central force of lane `l`: fpair · r_ij (the force on i; −it on j).
+#[inline(always)]
+pub fn lane_force(b: &PairBatch, l: usize) -> ([f64; 3], [f64; 3]) {
+    let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
+    let s = b.fpair[l];
+    (dr, [s * dr[0], s * dr[1], s * dr[2]])
+}

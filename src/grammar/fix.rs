@@ -1,0 +1,131 @@
+//! The fixes this project defines (`fix nve/euler`, `fix pex/push`; docs/fixes.md), and
+//! `fix nve`, whose words the standalone engine checks the same way.
+
+use super::{INT_MAX, StyleSpec, at_most, keywords, need, parse_f64, parse_int_in, shown};
+
+/// `fix ID group nve`.
+pub const NVE: StyleSpec = StyleSpec {
+    command: "fix",
+    style: "nve",
+    usage: "fix ID group-ID nve",
+    keywords: &[],
+};
+
+/// `fix ID group nve/euler`.
+pub const NVE_EULER: StyleSpec = StyleSpec {
+    command: "fix",
+    style: "nve/euler",
+    usage: "fix ID group-ID nve/euler",
+    keywords: &[],
+};
+
+/// `fix ID group pex/push dp [width W] [every N]`.
+pub const PEX_PUSH: StyleSpec = StyleSpec {
+    command: "fix",
+    style: "pex/push",
+    usage: "fix ID group-ID pex/push dp [width W] [every N]",
+    keywords: &["width", "every"],
+};
+
+/// Check `fix ID group nve` or `nve/euler` (`args` after the style name): no arguments.
+pub fn integrator<S: AsRef<str>>(style: &str, args: &[S]) -> Result<(), String> {
+    let spec = if style == "nve" { NVE } else { NVE_EULER };
+    at_most(args, 0, spec.usage).map_err(|_| {
+        format!(
+            "fix {style} takes no arguments, found '{}'; usage: {}",
+            shown(args[0].as_ref()),
+            spec.usage
+        )
+    })
+}
+
+/// The arguments of `fix pex/push`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PexArgs {
+    /// Momentum Δp_z moved per push (finite, > 0).
+    pub dp: f64,
+    /// Slab width (None: Lx/20, docs/fixes.md).
+    pub width: Option<f64>,
+    /// Push every N steps, 1..=2147483647.
+    pub every: u64,
+}
+
+/// Parse `fix ID group pex/push dp [width W] [every N]` (`args` after the style name) in a
+/// box of dimension `dim`.
+pub fn pex_push<S: AsRef<str>>(args: &[S], dim: usize) -> Result<PexArgs, String> {
+    let usage = PEX_PUSH.usage;
+    need(args, 1, usage)?;
+    if dim != 3 {
+        return Err("fix pex/push moves z momentum: it needs dimension 3".into());
+    }
+    let dp = parse_f64(args[0].as_ref(), "dp")?;
+    if dp <= 0.0 {
+        return Err(format!("dp = {dp} must be a finite number > 0"));
+    }
+    let mut p = PexArgs {
+        dp,
+        width: None,
+        every: 1,
+    };
+    keywords(&args[1..], &PEX_PUSH, |key, val| {
+        match key {
+            "width" => {
+                let w = parse_f64(val, "width")?;
+                if w <= 0.0 {
+                    return Err(format!("width = {w} must be a finite number > 0"));
+                }
+                p.width = Some(w);
+            }
+            _ => p.every = parse_int_in(val, "every", 1, INT_MAX)?,
+        }
+        Ok(())
+    })?;
+    Ok(p)
+}
+
+/// What a run's set-up checks of a `fix pex/push` against the box (both engines, at every
+/// run): a periodic, orthogonal x axis and slabs of width W ≤ Lx/2 (the two slabs, centred at
+/// Lx/4 and 3Lx/4, then do not overlap). Returns the width in use.
+pub fn pex_box_check(
+    width: Option<f64>,
+    lx: f64,
+    triclinic: bool,
+    x_periodic: bool,
+) -> Result<f64, String> {
+    if triclinic {
+        return Err("needs an orthogonal box".into());
+    }
+    if !x_periodic {
+        return Err("needs a periodic x boundary".into());
+    }
+    let w = width.unwrap_or(lx / 20.0);
+    if w > 0.5 * lx {
+        return Err(format!("width {w} must be at most Lx/2 = {}", 0.5 * lx));
+    }
+    Ok(w)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pex_rules() {
+        assert_eq!(
+            pex_push(&["0.05", "width", "0.8", "every", "4"], 3),
+            Ok(PexArgs {
+                dp: 0.05,
+                width: Some(0.8),
+                every: 4
+            })
+        );
+        assert!(pex_push(&["0.05"], 2).is_err());
+        assert!(pex_push(&["-0.05"], 3).is_err());
+        assert!(pex_push(&["0.05", "every", "4294967297"], 3).is_err());
+        assert!(pex_push(&["0.05", "every"], 3).is_err());
+        assert!(pex_push(&["0.05", "depth", "1"], 3).is_err());
+        assert_eq!(pex_box_check(Some(2.0), 4.0, false, true), Ok(2.0));
+        assert!(pex_box_check(Some(2.0001), 4.0, false, true).is_err());
+        assert_eq!(pex_box_check(None, 4.0, false, true), Ok(0.2));
+    }
+}

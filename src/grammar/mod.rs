@@ -1,0 +1,222 @@
+//! One grammar for both engines: the arguments of every style this project defines
+//! (`pair_style`/`pair_coeff dpd/nonlinear`, `fix nve/euler`, `fix pex/push`) are parsed and
+//! validated here, once, into typed values. The standalone interpreter (`crate::input`) calls
+//! these functions with the words of a script line; the LAMMPS styles call them through the
+//! C ABI (`capi/`, argc/argv in, a typed struct or an error text out) and only forward what
+//! LAMMPS gives them. The same line therefore gets the same verdict and the same message in
+//! both engines.
+//!
+//! Usage strings and keyword lists come from one table, [`SPECS`].
+//!
+//! Rules that used to differ between the engines, now one rule each (docs/input.md):
+//! - seeds are integers in 1..=2147483647 (LAMMPS's `int` seeds, and the range the
+//!   standalone engine always had);
+//! - `pair_coeff I J a gamma0 gamma1` with `friction none` needs gamma1 = 0 (a non-zero
+//!   gamma1 has no effect there, so a LAMMPS `pair dpd` habit is refused, not silently kept);
+//! - `fix pex/push`: dp finite and > 0, width W in (0, Lx/2] checked at every run's set-up
+//!   against the box of that run, `every` in 1..=2147483647.
+
+pub mod fix;
+pub mod pair;
+
+/// The usage line and keywords of one style.
+#[derive(Clone, Copy, Debug)]
+pub struct StyleSpec {
+    /// The command (`pair_style`, `pair_coeff`, `fix`).
+    pub command: &'static str,
+    /// The style name.
+    pub style: &'static str,
+    /// The usage string quoted in error messages.
+    pub usage: &'static str,
+    /// Optional keywords (each followed by one value).
+    pub keywords: &'static [&'static str],
+}
+
+/// Every style of this project, the single source of usage strings and keyword lists.
+pub const SPECS: &[StyleSpec] = &[
+    pair::PAIR_STYLE,
+    pair::PAIR_COEFF,
+    pair::PAIR_COEFF_TARGETS,
+    fix::NVE,
+    fix::NVE_EULER,
+    fix::PEX_PUSH,
+];
+
+/// The spec of `command style` (e.g. `("fix", "pex/push")`).
+pub fn spec(command: &str, style: &str) -> Option<&'static StyleSpec> {
+    SPECS
+        .iter()
+        .find(|s| s.command == command && s.style == style)
+}
+
+/// The largest seed or step interval a style accepts (LAMMPS `int`).
+pub const INT_MAX: u64 = i32::MAX as u64;
+
+/// A token shortened for an error message (a 1 MB token is not echoed in full).
+pub fn shown(tok: &str) -> String {
+    const MAX: usize = 40;
+    if tok.chars().count() <= MAX {
+        tok.to_string()
+    } else {
+        let head: String = tok.chars().take(MAX).collect();
+        format!("{head}… ({} characters)", tok.chars().count())
+    }
+}
+
+/// A finite floating-point number.
+pub fn parse_f64(tok: &str, what: &str) -> Result<f64, String> {
+    let v: f64 = tok
+        .parse()
+        .map_err(|_| format!("expected a number for {what}, found '{}'", shown(tok)))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("{what} = '{}' is not finite", shown(tok)))
+    }
+}
+
+/// An integer of type `T` (range errors included in the message).
+pub fn parse_int<T: std::str::FromStr>(tok: &str, what: &str) -> Result<T, String> {
+    tok.parse()
+        .map_err(|_| format!("expected an integer for {what}, found '{}'", shown(tok)))
+}
+
+/// An integer in `lo..=hi`, checked before any narrowing.
+pub fn parse_int_in(tok: &str, what: &str, lo: u64, hi: u64) -> Result<u64, String> {
+    let v: i128 = tok
+        .parse()
+        .map_err(|_| format!("expected an integer for {what}, found '{}'", shown(tok)))?;
+    if v < i128::from(lo) || v > i128::from(hi) {
+        return Err(format!("{what} = {} must be in {lo}..={hi}", shown(tok)));
+    }
+    Ok(v as u64)
+}
+
+/// At least `n` words, else the usage.
+pub fn need<S: AsRef<str>>(args: &[S], n: usize, usage: &str) -> Result<(), String> {
+    if args.len() < n {
+        Err(format!("missing arguments; usage: {usage}"))
+    } else {
+        Ok(())
+    }
+}
+
+/// A LAMMPS type range: `*`, `n`, `n*`, `*n`, `m*n`, within 1..=ntypes.
+pub fn type_range(tok: &str, ntypes: usize) -> Result<(usize, usize), String> {
+    let bad = || {
+        format!(
+            "invalid type or type range '{}' (types are 1..{ntypes})",
+            shown(tok)
+        )
+    };
+    let (lo, hi) = match tok.split_once('*') {
+        None => {
+            let t: usize = tok.parse().map_err(|_| bad())?;
+            (t, t)
+        }
+        Some((a, b)) => {
+            let lo = if a.is_empty() {
+                1
+            } else {
+                a.parse().map_err(|_| bad())?
+            };
+            let hi = if b.is_empty() {
+                ntypes
+            } else {
+                b.parse().map_err(|_| bad())?
+            };
+            (lo, hi)
+        }
+    };
+    if lo < 1 || hi > ntypes || lo > hi {
+        return Err(bad());
+    }
+    Ok((lo, hi))
+}
+
+/// `keyword value` pairs after the positional words: calls `f(keyword, value)` for each, with
+/// the spec's usage when a value is missing or a keyword unknown.
+pub fn keywords<S: AsRef<str>>(
+    args: &[S],
+    spec: &StyleSpec,
+    mut f: impl FnMut(&str, &str) -> Result<(), String>,
+) -> Result<(), String> {
+    let mut k = 0;
+    while k < args.len() {
+        let key = args[k].as_ref();
+        if !spec.keywords.contains(&key) {
+            return Err(format!(
+                "unknown {} {} keyword '{}' (expected {}); usage: {}",
+                spec.command,
+                spec.style,
+                shown(key),
+                spec.keywords.join(", "),
+                spec.usage
+            ));
+        }
+        let value = args
+            .get(k + 1)
+            .ok_or_else(|| format!("keyword '{key}' needs a value; usage: {}", spec.usage))?;
+        f(key, value.as_ref())?;
+        k += 2;
+    }
+    Ok(())
+}
+
+/// No words beyond `n` (a trailing token is an error, never silently dropped).
+pub fn at_most<S: AsRef<str>>(args: &[S], n: usize, usage: &str) -> Result<(), String> {
+    match args.get(n) {
+        Some(extra) => Err(format!(
+            "unexpected argument '{}'; usage: {usage}",
+            shown(extra.as_ref())
+        )),
+        None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_spec_is_unique_and_lists_its_keywords_in_the_usage() {
+        for (k, s) in SPECS.iter().enumerate() {
+            assert!(
+                SPECS[..k]
+                    .iter()
+                    .all(|o| (o.command, o.style, o.usage) != (s.command, s.style, s.usage)),
+                "{s:?}"
+            );
+            for kw in s.keywords {
+                assert!(s.usage.contains(kw), "{} lacks {kw}", s.usage);
+            }
+        }
+    }
+
+    #[test]
+    fn integers_are_range_checked_before_narrowing() {
+        assert_eq!(parse_int_in("7", "every", 1, INT_MAX), Ok(7));
+        assert!(parse_int_in("4294967297", "every", 1, INT_MAX).is_err());
+        assert!(parse_int_in("0", "every", 1, INT_MAX).is_err());
+        assert!(parse_int_in("-3", "every", 1, INT_MAX).is_err());
+        assert!(parse_int_in("1e3", "every", 1, INT_MAX).is_err());
+    }
+
+    #[test]
+    fn long_tokens_are_cut_in_messages() {
+        let tok = "x".repeat(1_000_000);
+        let e = parse_f64(&tok, "T").unwrap_err();
+        assert!(e.len() < 200, "{}", e.len());
+    }
+
+    #[test]
+    fn type_ranges() {
+        assert_eq!(type_range("*", 3), Ok((1, 3)));
+        assert_eq!(type_range("2*", 3), Ok((2, 3)));
+        assert_eq!(type_range("*2", 3), Ok((1, 2)));
+        assert_eq!(type_range("2", 3), Ok((2, 2)));
+        assert!(type_range("0", 3).is_err());
+        assert!(type_range("3*2", 3).is_err());
+        assert!(type_range("4", 3).is_err());
+    }
+}

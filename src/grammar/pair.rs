@@ -1,0 +1,257 @@
+//! `pair_style dpd/nonlinear` and its `pair_coeff` lines (docs/input.md), for both engines.
+
+use super::{
+    INT_MAX, StyleSpec, at_most, keywords, need, parse_f64, parse_int_in, shown, type_range,
+};
+use crate::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
+
+/// `pair_style dpd/nonlinear …` (the words after the style name).
+pub const PAIR_STYLE: StyleSpec = StyleSpec {
+    command: "pair_style",
+    style: "dpd/nonlinear",
+    usage: "pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep] [weight s]",
+    keywords: &["friction", "noise", "weight"],
+};
+
+/// `pair_coeff I J a gamma0 gamma1 [rc]`.
+pub const PAIR_COEFF: StyleSpec = StyleSpec {
+    command: "pair_coeff",
+    style: "dpd/nonlinear",
+    usage: "pair_coeff I J a gamma0 gamma1 [rc] | I J a eta E sc S [gamma1 G] [rc R]",
+    keywords: &[],
+};
+
+/// `pair_coeff I J a eta E sc S [gamma1 G] [rc R]`: γ0 and s from target η and Sc.
+pub const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
+    command: "pair_coeff",
+    style: "dpd/nonlinear",
+    usage: "pair_coeff I J a eta E sc S [gamma1 G] [rc R]",
+    keywords: &["gamma1", "rc"],
+};
+
+/// The settings of `pair_style dpd/nonlinear`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DpdStyle {
+    /// Thermostat temperature kT (> 0).
+    pub kt: f64,
+    /// Global cut-off (> 0).
+    pub rc: f64,
+    /// Noise seed, 1..=2147483647.
+    pub seed: u32,
+    /// Friction model.
+    pub friction: Friction,
+    /// Noise scheme.
+    pub noise: Noise,
+    /// Dissipative weight.
+    pub weight: Weight,
+}
+
+impl DpdStyle {
+    /// The kernel's model at time step `dt`.
+    pub fn model(&self, dt: f64) -> PairModel {
+        PairModel::new(self.kt, self.friction, self.noise, self.weight, dt)
+    }
+
+    /// The words of a `pair_style dpd/nonlinear` line that gives these settings back through
+    /// [`pair_style`] exactly (numbers with 17 significant digits); LAMMPS restarts use it.
+    pub fn to_words(&self) -> Vec<String> {
+        vec![
+            format!("{:.17e}", self.kt),
+            format!("{:.17e}", self.rc),
+            self.seed.to_string(),
+            "friction".into(),
+            self.friction.keyword().into(),
+            "noise".into(),
+            self.noise.keyword().into(),
+            "weight".into(),
+            format!("{:.17e}", self.weight.exponent()),
+        ]
+    }
+}
+
+/// Parse `pair_style dpd/nonlinear T rc seed [friction F] [noise N] [weight s]` (`args` are
+/// the words after the style name).
+pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<DpdStyle, String> {
+    let usage = PAIR_STYLE.usage;
+    need(args, 3, usage)?;
+    let kt = parse_f64(args[0].as_ref(), "T")?;
+    if kt <= 0.0 {
+        return Err(format!("T = {kt} must be > 0"));
+    }
+    let rc = parse_f64(args[1].as_ref(), "rc")?;
+    if rc <= 0.0 {
+        return Err(format!("rc = {rc} must be > 0"));
+    }
+    let seed = parse_int_in(args[2].as_ref(), "seed", 1, INT_MAX)? as u32;
+    let mut style = DpdStyle {
+        kt,
+        rc,
+        seed,
+        friction: Friction::None,
+        noise: Noise::Plain,
+        weight: Weight::STANDARD,
+    };
+    keywords(&args[3..], &PAIR_STYLE, |key, val| {
+        match key {
+            "friction" => {
+                style.friction = Friction::from_keyword(val).ok_or_else(|| {
+                    format!("friction '{}' must be none, cross or dot", shown(val))
+                })?
+            }
+            "noise" => {
+                style.noise = Noise::from_keyword(val).ok_or_else(|| {
+                    format!("noise '{}' must be plain, corrected or twostep", shown(val))
+                })?
+            }
+            _ => {
+                let s = parse_f64(val, "weight exponent")?;
+                style.weight =
+                    Weight::new(s).ok_or_else(|| format!("weight exponent {s} must be > 0"))?
+            }
+        }
+        Ok(())
+    })?;
+    Ok(style)
+}
+
+/// One parsed `pair_coeff` line of `dpd/nonlinear`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DpdCoeffLine {
+    /// Type range of I (1-based, inclusive).
+    pub i: (usize, usize),
+    /// Type range of J.
+    pub j: (usize, usize),
+    /// The coefficients (γ0 = 1 stands in until set-up when `targets` is given).
+    pub coeff: PairCoeff,
+    /// Target (η, Sc) of the `eta … sc …` form: γ0 and the weight exponent are resolved from
+    /// them at every run's set-up (`crate::init::resolve_design`).
+    pub targets: Option<(f64, f64)>,
+}
+
+impl DpdCoeffLine {
+    /// The type pairs (i ≤ j) the line sets, as LAMMPS does: i in I, j in J with j ≥ i.
+    pub fn pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (self.i.0..=self.i.1).flat_map(move |i| (self.j.0.max(i)..=self.j.1).map(move |j| (i, j)))
+    }
+}
+
+/// Parse a `pair_coeff` line of `dpd/nonlinear` (all its words, types first) for `ntypes`
+/// types, under a pair style with `friction` and global cut-off `rc_global`.
+pub fn pair_coeff<S: AsRef<str>>(
+    args: &[S],
+    ntypes: usize,
+    friction: Friction,
+    rc_global: f64,
+) -> Result<DpdCoeffLine, String> {
+    let targets = args.get(3).map(AsRef::as_ref) == Some("eta");
+    let usage = if targets {
+        PAIR_COEFF_TARGETS.usage
+    } else {
+        PAIR_COEFF.usage
+    };
+    need(args, if targets { 7 } else { 5 }, usage)?;
+    let word = |k: usize| args[k].as_ref();
+    let i = type_range(word(0), ntypes)?;
+    let j = type_range(word(1), ntypes)?;
+    let a = parse_f64(word(2), "a")?;
+    let (coeff, targets) = if targets {
+        if word(5) != "sc" {
+            return Err(format!(
+                "expected 'sc' after 'eta {}', got '{}'; usage: {usage}",
+                shown(word(4)),
+                shown(word(5))
+            ));
+        }
+        let eta = parse_f64(word(4), "eta")?;
+        let sc = parse_f64(word(6), "sc")?;
+        if eta <= 0.0 {
+            return Err(format!("eta = {eta} must be finite and > 0"));
+        }
+        if sc <= 0.5 {
+            return Err(format!(
+                "sc = {sc} is unreachable: an ideal DPD fluid has Sc > 1/2"
+            ));
+        }
+        let (mut gamma1, mut rc) = (0.0, rc_global);
+        keywords(&args[7..], &PAIR_COEFF_TARGETS, |key, val| {
+            match key {
+                "gamma1" => gamma1 = parse_f64(val, "gamma1")?,
+                _ => rc = parse_f64(val, "rc")?,
+            }
+            Ok(())
+        })?;
+        // γ0 = 1 stands in until set-up; the rest is validated now, so a bad value fails on
+        // this line.
+        let c = PairCoeff {
+            a,
+            gamma0: 1.0,
+            gamma1,
+            rc,
+        };
+        (c, Some((eta, sc)))
+    } else {
+        at_most(args, 6, usage)?;
+        let c = PairCoeff {
+            a,
+            gamma0: parse_f64(word(3), "gamma0")?,
+            gamma1: parse_f64(word(4), "gamma1")?,
+            rc: match args.get(5) {
+                Some(t) => parse_f64(t.as_ref(), "rc")?,
+                None => rc_global,
+            },
+        };
+        (c, None)
+    };
+    coeff.validate()?;
+    if friction == Friction::None && coeff.gamma1 != 0.0 {
+        return Err(format!(
+            "gamma1 = {} has no effect with 'friction none': set it to 0 or choose cross/dot",
+            coeff.gamma1
+        ));
+    }
+    Ok(DpdCoeffLine {
+        i,
+        j,
+        coeff,
+        targets,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn restart_words_round_trip() {
+        let s = pair_style(&[
+            "0.1",
+            "1.0",
+            "2147483647",
+            "friction",
+            "dot",
+            "noise",
+            "twostep",
+            "weight",
+            "0.3",
+        ])
+        .unwrap();
+        assert_eq!(pair_style(&s.to_words()).unwrap(), s);
+    }
+
+    #[test]
+    fn seeds_and_gamma1() {
+        assert!(pair_style(&["1", "1", "0"]).is_err());
+        assert!(pair_style(&["1", "1", "2147483648"]).is_err());
+        assert!(pair_coeff(&["1", "1", "25", "4.5", "1.0"], 1, Friction::None, 1.0).is_err());
+        assert!(pair_coeff(&["1", "1", "25", "4.5", "1.0"], 1, Friction::Dot, 1.0).is_ok());
+        assert!(
+            pair_coeff(
+                &["1", "1", "25", "4.5", "0", "1", "x"],
+                1,
+                Friction::Dot,
+                1.0
+            )
+            .is_err()
+        );
+    }
+}
