@@ -3,10 +3,14 @@
 //!
 //! - [`resolve_design`]: `pair_coeff I J a eta E sc S …` — the γ (`gamma0`) and the weight exponent
 //!   s that give the target viscosity η and Schmidt number Sc at the current number density, by the
-//!   exact inversion of the kinetic theory ([`crate::theory::design_from_targets`], `MODELS.md` §5).
-//! - [`euler_warning`]: the finite-step heating of the Euler integrator (finite-step paper
-//!   eqs. 22 and 25, `MODELS.md` §4) for the run's step, with the thresholds documented in
+//!   exact inversion of the kinetic theory ([`crate::theory::design_from_targets`],
+//!   `docs/models.md` §3.4).
+//! - [`euler_warning`]: the finite-step heating of the Euler integrator (finite-step paper eqs. 22
+//!   and 25, `docs/models.md` §2.2) for the run's step, with the thresholds documented in
 //!   `docs/theory.md`.
+//!
+//! Equation numbers are the papers' own: "eq. 22", "eq. 25" the finite-step paper's (FS-22,
+//! FS-25 in `docs/models.md`), "eq. 43 / 58" the weighting-function paper's (WF-43, WF-58).
 //!
 //! Nothing here prints: each function returns the text, the caller logs it.
 

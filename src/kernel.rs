@@ -10,13 +10,13 @@
 //! boundary velocity jump, already applied by the caller). Vectors are 3-component; a 2-D caller
 //! passes z = 0, and every formula below reduces to its 2-D form (the cross estimator becomes
 //! (x v_y − y v_x)²). Units are whatever the caller uses consistently (LAMMPS `units lj`).
-//! Equation numbers refer to `MODELS.md` (copied from the project's spec) and to the non-linear
-//! paper (Avalos et al., PCCP 2025) unless stated.
+//! Sections (§) refer to `docs/models.md`; equation numbers ("eq. 32") are the non-linear
+//! paper's (Avalos et al., PCCP 2025), labelled NL-32 … there, unless stated.
 
 /// Pairs closer than this are skipped (their direction e_ij is undefined), as LAMMPS's DPD does.
 pub const MIN_PAIR_DISTANCE: f64 = 1.0e-10;
 
-/// The dissipative weight w_D(r) = (1 − r/r_c)^s and w_R = sqrt(w_D) (MODELS §1; non-linear
+/// The dissipative weight w_D(r) = (1 − r/r_c)^s and w_R = sqrt(w_D) (§1.1; non-linear
 /// paper eq. 10 for s = 2; weighting-function paper eq. 43/58 for general s > 0).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Weight {
@@ -57,7 +57,7 @@ impl Default for Weight {
     }
 }
 
-/// The friction model γ(S) with its pairwise strain-rate estimator S(r_ij, v_ij) (MODELS §2).
+/// The friction model γ(S) with its pairwise strain-rate estimator S(r_ij, v_ij) (§1.2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Friction {
     /// Constant friction γ = γ0 (standard DPD; γ1 is ignored).
@@ -136,7 +136,7 @@ impl Friction {
     }
 }
 
-/// How the random force is built for a velocity-dependent friction (MODELS §2).
+/// How the random force is built for a velocity-dependent friction (§1.3–1.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Noise {
     /// σ² = 2 kT γ(S_ij) at the state at t (eq. 31). Exact for `cross`, biased for `dot`.
@@ -240,7 +240,7 @@ impl PairModel {
         m
     }
 
-    /// Set δt: the random force scales as δt^(−1/2) (MODELS §1), the two-step impulse as δt^(1/2).
+    /// Set δt: the random force scales as δt^(−1/2) (§1.1), the two-step impulse as δt^(1/2).
     pub fn set_timestep(&mut self, dt: f64) {
         self.sqrt_dt = dt.sqrt();
         self.inv_sqrt_dt = 1.0 / self.sqrt_dt;
@@ -317,10 +317,10 @@ pub fn in_range(rsq: f64, rc: f64) -> bool {
     rsq < rc * rc && rsq >= MIN_PAIR_DISTANCE * MIN_PAIR_DISTANCE
 }
 
-/// All force parts of one pair (MODELS §1–2). Zero for r ≥ r_c or r < [`MIN_PAIR_DISTANCE`].
+/// All force parts of one pair (§1.1–1.4). Zero for r ≥ r_c or r < [`MIN_PAIR_DISTANCE`].
 ///
-/// - conservative F^C = a (1 − r/r_c) e (§1);
-/// - dissipative F^D = −γ(S) w_D (e · v) e, S at t (§1, eq. 30, and eq. 38 for two-step);
+/// - conservative F^C = a (1 − r/r_c) e (§1.1);
+/// - dissipative F^D = −γ(S) w_D (e · v) e, S at t (§1.1, eq. 30, and eq. 38 for two-step);
 /// - random: `plain`/`corrected` use σ² = 2 kT γ(S) (eq. 31); `twostep` draws the impulse
 ///   δp1 = sqrt(2 kT γ(S) w_D) ξ δt^(1/2), forms the pair-local v'' = v + (1/m_i + 1/m_j) δp1 e
 ///   (eq. 35), S'' = S(r, v'') (eq. 36) and uses sqrt(2 kT γ(S'') w_D) ξ δt^(−1/2) (eq. 37);

@@ -36,7 +36,7 @@
 //! from version 1: `b' = ((o2 << 32) | o3) >> 11`, `u = b' · 2⁻⁵³ ∈ [0, 1)`.
 //! Known-answer vectors (Random123's) and the Gaussian's test vectors live in `tests/rng.rs`.
 
-/// Stream id of the pair random force ξ_ij (MODELS §1).
+/// Stream id of the pair random force ξ_ij (`docs/models.md` §4.2, P-4).
 pub const STREAM_PAIR_NOISE: u32 = 0x0000_0001;
 /// Stream id used by `velocity … create` (keyed by atom tag and component).
 pub const STREAM_VELOCITY: u32 = 0x0000_0002;

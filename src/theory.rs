@@ -1,28 +1,30 @@
 //! Closed-form theory of the ideal DPD fluid (conservative force a = 0).
 //!
 //! - [`kinetic_theory`]: viscosity, self-diffusion and Schmidt number for a dissipative weight
-//!   w_D(r) = (1 − r/r_c)^s of any exponent s > 0, in 2-D or 3-D (`MODELS.md` §5;
+//!   w_D(r) = (1 − r/r_c)^s of any exponent s > 0, in 2-D or 3-D (`docs/models.md` §3.2;
 //!   weighting-function paper eqs. 23–24 and 60).
 //! - [`design_from_targets`]: the (γ, s) that give a target viscosity η and Schmidt number Sc,
 //!   by the exact closed-form inversion of the kinetic theory; [`design_paper_approx`] is the
 //!   weighting-function paper's own recipe (it fixes η0 and approximates η ≈ η0, eqs. 52–53, 65).
 //! - [`euler_temperature_ratio`], [`euler_critical_dt`], [`euler_critical_density`]: the
 //!   finite-step equilibrium temperature of the Euler (Hoogerbrugge–Koelman) integrator
-//!   (`MODELS.md` §4; finite-step paper eqs. 20–26).
+//!   (`docs/models.md` §2.2; finite-step paper eqs. 20–26).
 //!
 //! # Conventions
-//! The pair forces are those of `MODELS.md` §1: F^D_ij = −γ w_D(r) (e_ij · v_ij) e_ij with γ ≥ 0
-//! (γ is `gamma0` of `pair_coeff`), F^R_ij = σ w_R(r) ξ_ij δt^(−1/2) e_ij, σ² = 2 γ kT and
-//! w_R² = w_D. All particles have one mass m. Units are any consistent set (LAMMPS `units lj`):
+//! The pair forces are those of `docs/models.md` §3.1: F^D_ij = −γ w_D(r) (e_ij · v_ij) e_ij
+//! with γ ≥ 0 (γ is `gamma0` of `pair_coeff`), F^R_ij = σ w_R(r) ξ_ij δt^(−1/2) e_ij, σ² = 2 γ kT
+//! and w_R² = w_D. All particles have one mass m. Units are any consistent set (LAMMPS `units lj`):
 //! n is particles per unit volume (3-D) or per unit area (2-D), γ is force·time/length, η is
 //! mass/(length^(d−2)·time) (a 2-D viscosity is mass/time), D is length²/time, Sc = η/(m n D) is a
 //! pure number, kT is an energy and δt a time.
 //!
 //! The integrals are \[f\] = ∫_{r<r_c} f(r) d^d r, all in closed form ([`radial_moment`]); no
 //! quadrature. "The weighting-function paper" is Mai-Duy, Phan-Thien & Tran-Cong, Appl. Math.
-//! Model. (2017); "the finite-step paper" is Marsh & Yeomans, Europhys. Lett. 37 (1997).
+//! Model. (2017); "the finite-step paper" is Marsh & Yeomans, Europhys. Lett. 37 (1997). Their
+//! equation numbers ("eq. 60", "eqs. 20–26") are the papers' own, labelled WF-60, FS-20 … in
+//! `docs/models.md`.
 //!
-//! # Derivation check (weighting-function paper vs `MODELS.md`)
+//! # Derivation check (weighting-function paper vs `docs/models.md` §3.3)
 //! With \[r^k (1 − r/r_c)^s\] = S_d r_c^(d+k) (d+k−1)! / ∏_{j=1}^{d+k} (s+j), S_2 = 2π, S_3 = 4π,
 //! the weight γ w_D(r) = 2(d+2) η0 K_d(s) / (n² r_c^(d+2)) · (1 − r/r_c)^s with
 //! K_d(s) = d ∏_{j=1}^{d+2}(s+j) / (S_d (d+1)!) (K_3 = (s+1)…(s+5)/(32π), eq. 43;
@@ -31,7 +33,7 @@
 //! Γ = γ \[w_D\] = 2(d+2) η0 P_d(s) / ((d+1) n² r_c²) with P_3 = (s+4)(s+5), P_2 = (s+3)(s+4), so
 //! η_K = d m kT / (2Γ) = c_d m kT n² r_c² / (η0 P_d(s)), c_d = d(d+1) / (4(d+2)):
 //! c_3 = 3/5 (eq. 45), c_2 = 3/8 (eq. 60). This reproduces eqs. 44, 45, 59 and 60 of the paper
-//! and `MODELS.md` §5; no disagreement was found. One remark on the paper's text: its claim
+//! and `docs/models.md` §3.3; no disagreement was found. One remark on the paper's text: its claim
 //! that with s from eq. 53/65 "the S_c predicted by kinetic theory will be exactly equal to this
 //! specified value" holds only for C built from η̄η0; with its approximation C ≈ …/η0² (used in
 //! its Tables 4–5) the kinetic-theory Schmidt number is exactly Sc0 + 1/2 (see
@@ -350,7 +352,7 @@ fn positive(name: &'static str, value: f64) -> Result<(), TheoryError> {
 
 /// \[r^k w\] = ∫_{r<r_c} r^k (1 − r/r_c)^s d^d r in closed form:
 /// S_d r_c^(d+k) B(d+k, s+1) = S_d r_c^(d+k) (d+k−1)! / ∏_{j=1}^{d+k} (s+j),
-/// with S_2 = 2π, S_3 = 4π (the \[·\] of `MODELS.md` §4–5 and of both papers).
+/// with S_2 = 2π, S_3 = 4π (the \[·\] of `docs/models.md` §0 and of both papers).
 ///
 /// The integral exists for s > −1; nothing is checked here (the public functions that call it
 /// check s > 0 first). Used with k = 0 for \[w_D\], k = 2 for \[R² w_D\], and exponent 2s for
@@ -377,7 +379,7 @@ pub struct Transport {
     pub schmidt: f64,
 }
 
-/// Kinetic theory of the ideal DPD fluid (a = 0) with w_D = (1 − r/r_c)^s (`MODELS.md` §5;
+/// Kinetic theory of the ideal DPD fluid (a = 0) with w_D = (1 − r/r_c)^s (`docs/models.md` §3.2;
 /// weighting-function paper eqs. 23–24 in 3-D, eq. 60 in 2-D, after Marsh, Backx & Ernst):
 ///
 /// Γ = γ \[w_D\], η_K = d m kT / (2Γ), η_D = γ n² \[R² w_D\] / (2d(d+2)), η = η_K + η_D,
@@ -504,7 +506,7 @@ fn finish(
     }
 }
 
-/// Exact design from targets (`MODELS.md` §5): with X = m kT n² r_c²,
+/// Exact design from targets (`docs/models.md` §3.4): with X = m kT n² r_c²,
 /// η_K = η / (2 Sc), η0 = η (1 − 1/(2 Sc)), P_d(s) = c_d X / (η0 η_K), s the positive root
 /// (eqs. 52–53 in 3-D, 65 in 2-D, here without the approximation η ≈ η0), and
 /// γ = 2(d+2) η0 K_d(s) / (n² r_c^(d+2)) ([`gamma_for`]). Then [`kinetic_theory`] with
@@ -608,8 +610,8 @@ pub fn euler_coefficients(
     Ok(EulerCoefficients { a1, a2, a3 })
 }
 
-/// Equilibrium temperature ratio T_eq(δt) / T0 of the Euler (Hoogerbrugge–Koelman) integrator
-/// for the ideal fluid (finite-step paper eq. 22 with σ² = 2 γ kT0, w_R² = w_D; `MODELS.md` §4):
+/// Equilibrium temperature ratio T_eq(δt) / T0 of the Euler (Hoogerbrugge–Koelman) integrator for
+/// the ideal fluid (finite-step paper eq. 22 with σ² = 2 γ kT0, w_R² = w_D; `docs/models.md` §2.2):
 ///
 /// T_eq / T0 = 2 / (2 − A1 n δt − (A2/A1) δt) ≈ 1 + (A1 n + A2/A1) δt / 2 + O(δt²),
 ///

@@ -54,7 +54,7 @@ fn momentum_conserved() {
     }
 }
 
-/// The same bits with 1, 2 and 3 threads (fixed summation order, MODELS-independent).
+/// The same bits with 1, 2 and 3 threads (fixed summation order, whatever the model).
 #[test]
 fn bit_identical_across_thread_counts() {
     let script = fluid(3, "dot", "twostep", 300);

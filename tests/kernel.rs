@@ -1,4 +1,5 @@
-//! Tier (a): exact identities of the pair kernel (MODELS §1–2).
+//! Tier (a): exact identities of the pair kernel (`docs/models.md` §1.1–1.4; "eq. N" below is
+//! the non-linear paper's, NL-N there).
 
 use dpdnl::kernel::{
     Friction, Noise, PairCoeff, PairForce, PairInput, PairModel, Weight, pair_force,

@@ -72,8 +72,8 @@ fn system(bx: SimBox, n: usize, xy: f64, erate: f64, seed: u64) -> System {
 
 /// Forces, energy and virial by brute force: every pair, every image (n_x, n_y, n_z) of j at
 /// r_j + n_x a + n_y b + n_z c with b = (offset, L_y, 0) moving with n_y γ̇ L_y e_x, the kernel
-/// `pair_force` with the pair's keyed Gaussian (MODELS §1–2; notation: the boundary velocity
-/// jump). Returns (f, energy, virial, pairs through the sheared boundary).
+/// `pair_force` with the pair's keyed Gaussian (`docs/models.md` §1.1–1.4; P-5: the boundary
+/// velocity jump). Returns (f, energy, virial, pairs through the sheared boundary).
 fn brute(sys: &System) -> (Vec<[f64; 3]>, f64, [f64; 6], usize) {
     let ff = sys.ff.as_ref().expect("ff");
     let tri = sys.tri.as_ref().expect("triclinic");

@@ -4,7 +4,8 @@
 //! digit), never bit-exact. The weighting-function paper is Mai-Duy, Phan-Thien & Tran-Cong,
 //! Appl. Math. Model. (2017); its tables are in `tests/data/weighting_tables_2d.csv` (a copy of the
 //! project's reference CSV, header comments kept). The finite-step paper is Marsh & Yeomans,
-//! Europhys. Lett. 37 (1997).
+//! Europhys. Lett. 37 (1997). Equation numbers are the papers' own (WF-n, FS-n in
+//! `docs/models.md`).
 
 use dpdnl::theory::{
     Dim, Fluid, Targets, TheoryError, design_from_targets, design_paper_approx, euler_coefficients,
@@ -16,7 +17,7 @@ use std::process::Command;
 
 const TABLES_CSV: &str = include_str!("data/weighting_tables_2d.csv");
 
-/// The paper's tables: 2-D, m = 1, kT = 1, n = 4 (MODELS.md §5, §7).
+/// The paper's tables: 2-D, m = 1, kT = 1, n = 4 (`docs/models.md` §3.6).
 fn paper_fluid(rc: f64) -> Fluid {
     Fluid::new(2, 4.0, rc, 1.0, 1.0).expect("valid fluid")
 }

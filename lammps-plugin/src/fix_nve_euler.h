@@ -1,4 +1,5 @@
-// fix ID group nve/euler: explicit Euler (Hoogerbrugge–Koelman) integration, MODELS §3.
+// fix ID group nve/euler: explicit Euler (Hoogerbrugge–Koelman) integration, docs/models.md §4.1
+// (P-2; finite-step paper eqs. 1–2).
 // Exact semantics: docs/fixes.md.
 
 #ifndef DPDNL_FIX_NVE_EULER_H

@@ -1,5 +1,5 @@
 // fix pex/push: every N steps, at end_of_step, move momentum dp along z from the fastest-v_z
-// atom of slab 2 to the slowest-v_z atom of slab 1 (modified PeX, MODELS §6).
+// atom of slab 2 to the slowest-v_z atom of slab 1 (modified PeX, docs/models.md §4.4, P-6).
 //
 // Slabs: box length Lx along x, slab 1 centred at xlo + Lx/4, slab 2 at xlo + 3Lx/4, width W.
 // An atom belongs to a slab when |x_w − c| < W/2, with x_w its x wrapped into [xlo, xhi).

@@ -1,5 +1,5 @@
 // fix ID group pex/push dp [width W] [every N]: the modified PeX momentum exchange of reverse
-// non-equilibrium MD (MODELS §6). Exact semantics: docs/fixes.md.
+// non-equilibrium MD (docs/models.md §4.4, P-6). Exact semantics: docs/fixes.md.
 
 #ifndef DPDNL_FIX_PEX_PUSH_H
 #define DPDNL_FIX_PEX_PUSH_H

@@ -1,5 +1,5 @@
-//! Couette flow under Lees–Edwards boundaries (weighting-function paper §5; MODELS §6):
-//! η* = −⟨P_xy⟩ / γ̇, with ⟨P_xy⟩ and its error from block averaging
+//! Couette flow under Lees–Edwards boundaries (weighting-function paper §5; `docs/models.md` §3.5,
+//! P-12): η* = −⟨P_xy⟩ / γ̇, with ⟨P_xy⟩ and its error from block averaging
 //! (Flyvbjerg–Petersen, `stats::block_average`) of the P_xy series, the shear rate either the
 //! imposed one (`fix deform … erate`) or measured as the slope of the streaming-velocity
 //! profile v_x(y) over the whole box (block-averaged over the outputs of `fix ave/chunk`).

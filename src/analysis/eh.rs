@@ -1,4 +1,4 @@
-//! Einstein–Helfand shear viscosity (non-linear paper eq. 59; MODELS §6):
+//! Einstein–Helfand shear viscosity (non-linear paper eq. 59; `docs/models.md` §1.5 and P-13):
 //!
 //! μ = lim_{t→∞} V / (2 k_B T t) ⟨(∫_0^t Π_ab(t') dt')²⟩,
 //!

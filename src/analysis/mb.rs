@@ -1,5 +1,5 @@
 //! Speed histograms against the Maxwell–Boltzmann distribution in d dimensions (non-linear
-//! paper §3.2 and eq. 53; MODELS §6).
+//! paper §3.2 and eq. 53; `docs/models.md` §1.5).
 //!
 //! The expected content of a bin is the exact integral of the density over the bin,
 //! N [F(v_hi) − F(v_lo)], with the cumulative distribution F(v) = P(d/2, m v² / 2kT) (the

@@ -13,8 +13,9 @@
 //! - [`couette`]: Lees–Edwards Couette flow, η* = −⟨P_xy⟩/γ̇.
 //! - [`special`], [`corr`]: incomplete gamma, χ² and Kolmogorov tails; all-origin MSD by FFT.
 //!
-//! Equations are numbered as in the papers (see MODELS.md); `docs/analysis.md` describes the
-//! command line, defaults and output columns.
+//! Equations are numbered as in the papers ("eq. 55" is the non-linear paper's unless stated:
+//! NL-55 in `docs/models.md`); `docs/analysis.md` describes the command line, defaults and output
+//! columns.
 
 pub mod corr;
 pub mod couette;

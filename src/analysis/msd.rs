@@ -1,6 +1,6 @@
-//! Self-diffusion from the mean-squared displacement, D = MSD / (2 d t) (MODELS §6), fitted as
-//! D = slope / (2d) of MSD(t) over a window that leaves out the ballistic start, and the
-//! Schmidt number Sc = ν / D = μ / (ρ D) (weighting-function paper §4; MODELS §5).
+//! Self-diffusion from the mean-squared displacement, D = MSD / (2 d t) (`docs/models.md` P-10),
+//! fitted as D = slope / (2d) of MSD(t) over a window that leaves out the ballistic start, and the
+//! Schmidt number Sc = ν / D = μ / (ρ D) (weighting-function paper §4; `docs/models.md` P-11).
 //!
 //! Two sources:
 //! - a single-origin MSD series, as LAMMPS's `compute msd` (column 4 = total) writes through

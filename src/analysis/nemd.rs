@@ -1,5 +1,5 @@
 //! Reverse non-equilibrium MD with the modified PeX push (non-linear paper §3.3, eqs. 55–58;
-//! MODELS §6; `fix pex/push` in docs/fixes.md).
+//! `docs/models.md` §1.5 and P-6; `fix pex/push` in docs/fixes.md).
 //!
 //! Geometry: box `[xlo, xlo + Lx)` periodic in x, slab centres c1 = xlo + Lx/4 (receives +Δp_z
 //! on its slowest particle) and c2 = xlo + 3Lx/4 (receives −Δp_z). The two halves between the

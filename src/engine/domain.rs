@@ -104,11 +104,12 @@ impl SimBox {
     }
 }
 
-/// Lees–Edwards "sliding brick" boundaries for planar Couette flow (MODELS §6; weighting-function
-/// paper §5): flow along x, gradient along y. The periodic image at +L_y is displaced by
-/// `offset` along x and moves with velocity +γ̇ L_y along x (the image at −L_y by −offset and
-/// −γ̇ L_y). Equivalent to LAMMPS's `fix deform … xy erate γ̇ remap v` on a tilted box, in the
-/// orthogonal-box form. Used by the Lees–Edwards pair loop and wrapping in `lees_edwards.rs`.
+/// Lees–Edwards "sliding brick" boundaries for planar Couette flow (`docs/models.md` §4.3, P-5;
+/// weighting-function paper §5): flow along x, gradient along y. The periodic image at +L_y is
+/// displaced by `offset` along x and moves with velocity +γ̇ L_y along x (the image at −L_y by
+/// −offset and −γ̇ L_y). Equivalent to LAMMPS's `fix deform … xy erate γ̇ remap v` on a tilted box,
+/// in the orthogonal-box form. Used by the Lees–Edwards pair loop and wrapping in
+/// `lees_edwards.rs`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LeesEdwards {
     /// Shear rate γ̇ = ∂v_x/∂y.
@@ -140,8 +141,8 @@ impl LeesEdwards {
 
 impl SimBox {
     /// The minimum image of r_ij = r_i − r_j under Lees–Edwards boundaries, and the velocity
-    /// correction Δv_x to add to v_ij = v_i − v_j (MODELS notation: "under Lees–Edwards include
-    /// the boundary velocity jump"). When the nearest image of j lies n_y boxes away along y,
+    /// correction Δv_x to add to v_ij = v_i − v_j (`docs/models.md` §0 and P-5: v_ij includes the
+    /// boundary velocity jump). When the nearest image of j lies n_y boxes away along y,
     /// r_ij.x also shifts by −n_y·offset and Δv_x = −n_y γ̇ L_y. Exactly antisymmetric, like
     /// [`SimBox::min_image`]: the pair (j, i) gets −r_ij and −Δv_x. In 2-D z is left alone.
     #[inline]

@@ -1,6 +1,7 @@
 //! Lees–Edwards boundaries in the standalone engine: the triclinic box of LAMMPS
 //! (`region … prism`, `change_box all triclinic`) with `fix deform … xy erate R remap v`, in the
-//! sliding-brick form (MODELS §6, Couette flow; weighting-function paper §5).
+//! sliding-brick form (`docs/models.md` §4.3, P-5, and §3.5, Couette flow; weighting-function
+//! paper §5).
 //!
 //! A periodic box with tilt xy has the lattice vectors a = (L_x, 0, 0), b = (xy, L_y, 0),
 //! c = (0, 0, L_z). Positions are kept in the orthogonal box [lo, hi): the image at +L_y is
@@ -18,7 +19,7 @@
 //!
 //! Pair forces: every pair uses the Lees–Edwards minimum image r_ij and
 //! v_ij = v_i − v_j + Δv (Δv = −n_y γ̇ L_y e_x when the nearest image of j lies n_y boxes
-//! away along y: MODELS, notation, "under Lees–Edwards include the boundary velocity jump"),
+//! away along y: `docs/models.md` §0 and P-5, the boundary velocity jump included in v_ij),
 //! with the same kernel ([`crate::kernel::pair_forces_batch`], bit for bit
 //! [`crate::kernel::pair_force`]) and the same keyed Gaussians (seed, step, tags) as the
 //! periodic engine. The pair loop here is serial (deterministic for any thread count): a cell

@@ -1,7 +1,7 @@
-//! Measurements on a [`System`] with LAMMPS's definitions (MODELS §6): spatial 1-D bins
-//! (`compute chunk/atom bin/1d`), mean-squared displacement (`compute msd`), histogram
-//! binning (`fix ave/histo`), per-atom formula values (`variable … atom`). Pure functions of
-//! the state; the averaging over time and the file formats live in `input::observe`.
+//! Measurements on a [`System`] with LAMMPS's definitions (`docs/models.md` §4.5–4.6): spatial 1-D
+//! bins (`compute chunk/atom bin/1d`), mean-squared displacement (`compute msd`), histogram binning
+//! (`fix ave/histo`), per-atom formula values (`variable … atom`). Pure functions of the state; the
+//! averaging over time and the file formats live in `input::observe`.
 
 use super::{SimBox, System};
 use crate::input::expr::{AtomValue, Formula};

@@ -19,7 +19,7 @@ pub use neighbor::{NeighborList, PairTally};
 use crate::kernel::PairCoeff;
 use rayon::prelude::*;
 
-/// Time integration scheme (MODELS §3).
+/// Time integration scheme (`docs/models.md` §4.1, P-1 and P-2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Integrator {
     /// Velocity-Verlet as LAMMPS `fix nve`: half kick, drift, forces at the new step, half kick.
@@ -29,8 +29,9 @@ pub enum Integrator {
     Euler,
 }
 
-/// The modified PeX momentum push (MODELS §6; `fix ID all pex/push dp [width W] [every N]`).
-/// Semantics mirror the LAMMPS fix (docs/fixes.md): applied after the step's final integration.
+/// The modified PeX momentum push (`docs/models.md` §4.4, P-6;
+/// `fix ID all pex/push dp [width W] [every N]`). Semantics mirror the LAMMPS fix (docs/fixes.md):
+/// applied after the step's final integration.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PexPush {
     /// Fix id (for `f_ID` in thermo).
@@ -374,7 +375,7 @@ impl System {
         }
     }
 
-    /// The thermodynamic state with LAMMPS's definitions (MODELS §6).
+    /// The thermodynamic state with LAMMPS's definitions (`docs/models.md` §4.5, P-7–P-9).
     pub fn thermo(&self) -> Thermo {
         let mut kt = [0.0; 6];
         for ((v, &t), _) in self.atoms.v.iter().zip(&self.atoms.typ).zip(0..) {

@@ -1,7 +1,8 @@
 //! `dpdnl analyze <mb|nemd|eh|msd|couette|flowcurve> FILES… [--out PREFIX]`: turn run outputs
 //! (LAMMPS's or this engine's, same formats) into the papers' numbers. Each subcommand prints
 //! a short summary and writes `PREFIX.json` (the numbers), `PREFIX.csv` (the curve or profile)
-//! and `PREFIX.png` / `PREFIX.svg` (the figure). See docs/analysis.md.
+//! and `PREFIX.png` / `PREFIX.svg` (the figure). See docs/analysis.md. Equation numbers ("eq. 55")
+//! are the non-linear paper's, NL-55 … in docs/models.md.
 
 use dpdnl::analysis::formats::{
     FileKind, Series, detect, parse_ave_chunk, parse_ave_histo, parse_series,

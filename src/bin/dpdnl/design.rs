@@ -2,7 +2,8 @@
 //!
 //! Both print `key = value` lines (comments start with `#`) or, with `--json`, one JSON object.
 //! Numbers are printed in Rust's shortest round-trip form, so pasting them back reproduces the
-//! design bit for bit.
+//! design bit for bit. Equation numbers are the papers' own: the weighting-function paper's
+//! ("eqs. 52-53, 65", WF-52 … in `docs/models.md`) and the finite-step paper's (FS-22 …).
 
 use dpdnl::theory::{
     Design, DesignMode, Dim, Fluid, Targets, TheoryError, Transport, design_from_targets,
@@ -268,7 +269,7 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
         DesignMode::Exact => {
             let _ = writeln!(
                 out,
-                "# design: exact inversion of the kinetic theory (MODELS.md 5) for eta = {}, Sc = {}",
+                "# design: exact inversion of the kinetic theory (docs/models.md 3.4) for eta = {}, Sc = {}",
                 num(a.eta),
                 num(a.sc)
             );
@@ -408,7 +409,7 @@ pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>
     );
     let _ = writeln!(
         out,
-        "# kinetic theory of the ideal fluid (a = 0), w_D = (1 - r/r_c)^s (MODELS.md 5)"
+        "# kinetic theory of the ideal fluid (a = 0), w_D = (1 - r/r_c)^s (docs/models.md 3.2)"
     );
     transport_text(&mut out, &t);
     if let Some((dt, ratio, dt_c, n_c)) = euler {
@@ -537,7 +538,7 @@ fn theory_of_script(
             let t = kinetic_theory(&fluid, c.gamma0, s)?;
             let _ = writeln!(
                 out,
-                "# kinetic theory of the ideal fluid, w_D = (1 - r/r_c)^s (MODELS.md 5){}{}",
+                "# kinetic theory of the ideal fluid, w_D = (1 - r/r_c)^s (docs/models.md 3.2){}{}",
                 if c.a != 0.0 {
                     "; a != 0 adds a conservative viscosity not in it"
                 } else {
