@@ -1,9 +1,10 @@
 //! The state updates of this project's fixes, for both engines: the Euler step of
-//! `fix nve/euler` and the modified PeX push of `fix pex/push` (docs/models.md, docs/fixes.md).
+//! `fix nve/euler` (docs/models.md P-2, FS-1–2) and the modified PeX push of `fix pex/push`
+//! (docs/models.md P-6; ties, empty slabs and MPI: docs/fixes.md).
 //! The standalone engine calls them on its arrays; the LAMMPS fixes call them through the C ABI
 //! on one MPI rank's atoms and only do the MPI reductions themselves.
 
-/// The Euler update of one atom from the state at t (finite-step paper eqs. 1–2):
+/// The Euler update of one atom from the state at t (docs/models.md P-2, FS-1–2):
 /// x += δt v(t), then v += (δt/m) F(t). `dtfm` is δt·ftm2v / m, formed by the caller as LAMMPS
 /// does (a division by the mass).
 #[inline]

@@ -23,7 +23,7 @@ pub trait PairKernel: Sync {
     fn evaluate(&self, step: u64, b: &mut PairBatch, i: &[u32], j: &[u32]);
 }
 
-/// `pair_style dpd/nonlinear`: [`crate::kernel::pair_forces_batch`] (docs/models.md §1–2).
+/// `pair_style dpd/nonlinear`: [`crate::kernel::pair_forces_batch`] (docs/models.md §1.1–1.4).
 pub struct DpdKernel<'a> {
     /// The global model (friction, noise, weight, δt).
     pub model: &'a PairModel,

@@ -1,5 +1,6 @@
 //! LAMMPS's output computes and time-averaging fixes, the subset a DPD measurement needs
-//! (MODELS §6; syntax and file formats of LAMMPS 29 Sep 2021, see `docs/input.md`):
+//! (`docs/models.md` §1.5 and §4.5–4.6; syntax and file formats of LAMMPS 29 Sep 2021, see
+//! `docs/input.md`):
 //!
 //! - computes `temp`, `pressure`, `pe`, `ke`, `msd`, `chunk/atom bin/1d` and the built-in
 //!   `thermo_temp`, `thermo_press`, `thermo_pe`;
