@@ -776,6 +776,7 @@ struct Apply<'a, 'b> {
 }
 
 impl Apply<'_, '_> {
+    #[inline(always)]
     fn lane(&mut self, b: &PairBatch, l: usize, i: usize, j: usize) {
         if self.row.is_some_and(|(r, _)| r != i) {
             self.finish_row();

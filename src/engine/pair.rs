@@ -89,9 +89,9 @@ impl Batcher {
     /// Complete the kept lanes with `gather(batch, lane, i, j)`, evaluate them with `kernel`
     /// at `step`, pass each to `apply(batch, lane, i, j)` in lane order, and empty the batch.
     #[inline]
-    pub fn flush(
+    pub fn flush<K: PairKernel + ?Sized>(
         &mut self,
-        kernel: &dyn PairKernel,
+        kernel: &K,
         step: u64,
         mut gather: impl FnMut(&mut PairBatch, usize, usize, usize),
         mut apply: impl FnMut(&PairBatch, usize, usize, usize),
