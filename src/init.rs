@@ -155,3 +155,26 @@ pub fn euler_warning(
         100.0 * (ratio_eq22 - 1.0)
     )))
 }
+
+/// The box check of every run's set-up, in both engines: along each periodic dimension the box
+/// must be at least 2 r_c long, else a pair would interact with more than one image of its
+/// partner and those images would share one keyed random number (docs/models.md P-4).
+/// `len` are the box lengths, `periodic` which of the first `dim` dimensions are periodic.
+pub fn check_box_images(
+    len: [f64; 3],
+    periodic: [bool; 3],
+    dim: usize,
+    rc_max: f64,
+) -> Result<(), String> {
+    for d in 0..dim.min(3) {
+        if periodic[d] && len[d] < 2.0 * rc_max {
+            return Err(format!(
+                "box length {} in {} is shorter than 2 rc = {}: a pair's periodic images would share one random number",
+                len[d],
+                ["x", "y", "z"][d],
+                2.0 * rc_max
+            ));
+        }
+    }
+    Ok(())
+}

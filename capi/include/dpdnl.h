@@ -327,6 +327,17 @@ enum DpdnlStatus dpdnl_euler_warning(int32_t dimension,
                                      int32_t conservative,
                                      int32_t nonlinear);
 
+// The set-up box check of both engines (`dpdnl::init::check_box_images`): every periodic
+// dimension (`periodic[d]` nonzero, d < `dimension`) of the box `len` (3 doubles) must be at
+// least 2 `rc_max` long. Call it at every `init` and after every box change.
+//
+// # Safety
+// `len` and `periodic` point to 3 values each.
+enum DpdnlStatus dpdnl_box_check(const double *len,
+                                 const int32_t *periodic,
+                                 int32_t dimension,
+                                 double rc_max);
+
 // Parse `pair_style dpd/nonlinear` arguments (the words after the style name, LAMMPS's
 // `Pair::settings(narg, arg)`) into `*out`. Errors carry the standalone engine's message.
 //

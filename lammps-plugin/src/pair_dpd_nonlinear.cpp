@@ -145,9 +145,23 @@ void PairDPDNonlinear::init_style()
                                   "them)"));
   resolve_targets();
   build_params();
+  box_check();
   euler_check();
   // The default request: a half list (newton on or off as set by the 'newton' command).
   dpdnl_compat::request_half_list(neighbor, this, instance_me);
+}
+
+// The box must be at least 2 rc long along every periodic dimension (dpdnl_box_check, the
+// standalone engine's rule): at every init and, under a box-changing fix, at every step.
+void PairDPDNonlinear::box_check()
+{
+  double rc_max = 0.0;
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++)
+      if (setflag[i][j]) rc_max = MAX(rc_max, cut[i][j]);
+  const double len[3] = {domain->xprd, domain->yprd, domain->zprd};
+  if (dpdnl_box_check(len, domain->periodicity, domain->dimension, rc_max) != DPDNL_STATUS_OK)
+    rust_error("Pair dpd/nonlinear");
 }
 
 // pair_coeff ... eta E sc S: gamma0 and the weight exponent from the targets at the current
@@ -245,6 +259,7 @@ double PairDPDNonlinear::init_one(int i, int j)
 void PairDPDNonlinear::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
+  if (domain->box_change) box_check();
 
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;

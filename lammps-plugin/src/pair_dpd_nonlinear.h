@@ -56,6 +56,7 @@ class PairDPDNonlinear : public Pair {
   void build_params();
   void resolve_targets();
   void euler_check();
+  void box_check();
   [[noreturn]] void rust_error(const std::string &context);
 };
 

@@ -26,11 +26,12 @@
 //! list rebuilt every step whose cells across the sheared y boundary are found with the
 //! current offset, each pair once (j > i in atom index), F_ji = −F_ij from one evaluation.
 
-use super::System;
+use super::atoms::Atoms;
 use super::domain::{LeesEdwards, SimBox};
+use super::forcefield::ForceField;
 use super::neighbor::PairTally;
 use super::pair::{Batcher, DpdKernel, lane_force};
-use crate::kernel::{self, Isa, PairBatch, PairTable};
+use crate::kernel::{self, Isa, PairBatch, PairCoeff, PairTable};
 
 /// `fix ID all deform N xy erate R remap v [flip yes|no]`.
 #[derive(Clone, Debug, PartialEq)]
@@ -138,50 +139,51 @@ pub struct LeWork {
     batcher: Batcher,
 }
 
-impl System {
-    /// True when the box is triclinic: the pair loop and wrapping are Lees–Edwards's.
-    pub fn is_triclinic(&self) -> bool {
-        self.tri.is_some()
-    }
-
-    /// Start of a run (`System::setup`): the deformation restarts from the current step and
+impl Triclinic {
+    /// Start of a run (`System::setup`): the deformation restarts from `step` and the current
     /// tilt, as LAMMPS's `fix deform` does at every run's `init`.
-    pub(super) fn le_setup(&mut self) {
-        let step = self.step;
-        if let Some(t) = self.tri.as_mut() {
-            let xy = t.xy;
-            if let Some(d) = t.deform.as_mut() {
-                d.start_step = step;
-                d.start_xy = xy;
-            }
+    pub fn start_run(&mut self, step: u64) {
+        let xy = self.xy;
+        if let Some(d) = self.deform.as_mut() {
+            d.start_step = step;
+            d.start_xy = xy;
         }
     }
+}
 
+impl LeWork {
     /// Wrap every atom into the box under Lees–Edwards (x shifted by the offset and v_x by
     /// the velocity jump on a y crossing, [`SimBox::wrap_le`]) and evaluate all pair forces
     /// at `self.step` with the Lees–Edwards minimum image and velocity jump.
-    pub(super) fn le_compute_forces(&mut self) {
-        let Some(ff) = self.ff.as_ref() else { return };
-        let Some(tri) = self.tri.as_mut() else { return };
-        tri.set_step(&self.bx, self.dt, self.step);
+    #[allow(clippy::too_many_arguments)]
+    pub fn compute_forces(
+        &mut self,
+        tri: &mut Triclinic,
+        bx: &SimBox,
+        a: &mut Atoms,
+        ff: &ForceField,
+        coeffs: &[PairCoeff],
+        inv_mass: &[f64],
+        dt: f64,
+        step: u64,
+    ) -> PairTally {
+        tri.set_step(bx, dt, step);
         let le = tri.le;
-        let bx = &self.bx;
-        let a = &mut self.atoms;
         for ((x, v), im) in a.x.iter_mut().zip(a.v.iter_mut()).zip(a.image.iter_mut()) {
             bx.wrap_le(x, v, im, &le);
         }
         let rc_max = ff.rc_max();
-        let w = &mut self.le_work;
+        let w = self;
         build_cells(w, bx, &le, &a.x, rc_max);
         let nt = ff.ntypes() + 1;
-        let table = PairTable::new(&ff.model, &self.table);
+        let table = PairTable::new(&ff.model, coeffs);
         let kernel = DpdKernel {
             model: &ff.model,
             table: &table,
             seed: ff.seed,
             isa: Isa::detect(),
         };
-        let rcsq: Vec<f64> = self.table.iter().map(|c| c.rc * c.rc).collect();
+        let rcsq: Vec<f64> = coeffs.iter().map(|c| c.rc * c.rc).collect();
         for f in a.f.iter_mut() {
             *f = [0.0; 3];
         }
@@ -232,42 +234,19 @@ impl System {
                         b.dv[0][l] = vi[0] - vj[0] + dvx;
                         b.dv[1][l] = vi[1] - vj[1];
                         b.dv[2][l] = vi[2] - vj[2];
-                        b.inv_mass_sum[l] = self.inv_mass[ti] + self.inv_mass[typ[j] as usize];
+                        b.inv_mass_sum[l] = inv_mass[ti] + inv_mass[typ[j] as usize];
                         b.coeff[l] = k as u32;
                         b.tag_i[l] = tag[i];
                         b.tag_j[l] = tag[j];
                         if bt.commit(i as u32, j as u32, true) {
-                            bt.flush(&kernel, self.step, |_, _, _, _| {}, &mut apply);
+                            bt.flush(&kernel, step, |_, _, _, _| {}, &mut apply);
                         }
                     }
                 }
             }
         }
-        bt.flush(&kernel, self.step, |_, _, _, _| {}, &mut apply);
-        self.tally = tally;
-    }
-
-    /// The kinetic part of `compute temp/deform` (LAMMPS definitions): Σ m (v − u)_a (v − u)_b
-    /// with the streaming velocity u = (h_rate_xy (y − y_lo)/L_y, 0, 0) of the current
-    /// deformation (u = 0 without one), its temperature over dof = dN − d, and the pressure of
-    /// `compute pressure ID` with this temperature: (Σ m (v−u)_a (v−u)_b + W_ab)/V.
-    pub fn thermo_deform(&self) -> super::Thermo {
-        let mut kt = [0.0; 6];
-        for ((v, &t), x) in self.atoms.v.iter().zip(&self.atoms.typ).zip(&self.atoms.x) {
-            let m = self.mass[t as usize].unwrap_or(0.0);
-            let u = self
-                .tri
-                .as_ref()
-                .map_or(0.0, |tr| tr.stream_x(&self.bx, x[1]));
-            let w = [v[0] - u, v[1], v[2]];
-            kt[0] += m * w[0] * w[0];
-            kt[1] += m * w[1] * w[1];
-            kt[2] += m * w[2] * w[2];
-            kt[3] += m * w[0] * w[1];
-            kt[4] += m * w[0] * w[2];
-            kt[5] += m * w[1] * w[2];
-        }
-        self.thermo_from_kinetic(kt)
+        bt.flush(&kernel, step, |_, _, _, _| {}, &mut apply);
+        tally
     }
 }
 

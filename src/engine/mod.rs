@@ -135,6 +135,11 @@ impl System {
         }
     }
 
+    /// True when the box is triclinic: the pair loop and wrapping are Lees–Edwards's.
+    pub fn is_triclinic(&self) -> bool {
+        self.tri.is_some()
+    }
+
     /// Dimension (2 or 3).
     pub fn dim(&self) -> usize {
         self.bx.dim
@@ -188,17 +193,7 @@ impl System {
         }
         ff.model.set_timestep(self.dt);
         let rc_max = ff.rc_max();
-        let len = self.bx.len();
-        for d in 0..self.bx.dim {
-            if len[d] < 2.0 * rc_max {
-                return Err(format!(
-                    "box length {} in {} is shorter than 2 rc = {}: a pair's periodic images would share one random number",
-                    len[d],
-                    ["x", "y", "z"][d],
-                    2.0 * rc_max
-                ));
-            }
-        }
+        crate::init::check_box_images(self.bx.len(), [true; 3], self.bx.dim, rc_max)?;
         self.table = ff.dense_table();
         self.inv_mass = self
             .mass
@@ -211,8 +206,8 @@ impl System {
                 v[2] = 0.0;
             }
         }
-        if self.tri.is_some() {
-            self.le_setup();
+        if let Some(t) = self.tri.as_mut() {
+            t.start_run(self.step);
         } else {
             self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
         }
@@ -258,11 +253,20 @@ impl System {
     }
 
     fn compute_forces(&mut self) {
-        if self.tri.is_some() {
-            self.le_compute_forces();
+        let Some(ff) = self.ff.as_ref() else { return };
+        if let Some(tri) = self.tri.as_mut() {
+            self.tally = self.le_work.compute_forces(
+                tri,
+                &self.bx,
+                &mut self.atoms,
+                ff,
+                &self.table,
+                &self.inv_mass,
+                self.dt,
+                self.step,
+            );
             return;
         }
-        let Some(ff) = self.ff.as_ref() else { return };
         if self.neighbor.needs_rebuild(&self.atoms) {
             self.neighbor.build(&mut self.atoms, &self.bx, ff.rc_max());
         }
@@ -386,6 +390,29 @@ impl System {
             kt[3] += m * v[0] * v[1];
             kt[4] += m * v[0] * v[2];
             kt[5] += m * v[1] * v[2];
+        }
+        self.thermo_from_kinetic(kt)
+    }
+
+    /// The kinetic part of `compute temp/deform` (LAMMPS definitions): Σ m (v − u)_a (v − u)_b
+    /// with the streaming velocity u = (h_rate_xy (y − y_lo)/L_y, 0, 0) of the current
+    /// deformation (u = 0 without one), its temperature over dof = dN − d, and the pressure of
+    /// `compute pressure ID` with this temperature: (Σ m (v−u)_a (v−u)_b + W_ab)/V.
+    pub fn thermo_deform(&self) -> Thermo {
+        let mut kt = [0.0; 6];
+        for ((v, &t), x) in self.atoms.v.iter().zip(&self.atoms.typ).zip(&self.atoms.x) {
+            let m = self.mass[t as usize].unwrap_or(0.0);
+            let u = self
+                .tri
+                .as_ref()
+                .map_or(0.0, |tr| tr.stream_x(&self.bx, x[1]));
+            let w = [v[0] - u, v[1], v[2]];
+            kt[0] += m * w[0] * w[0];
+            kt[1] += m * w[1] * w[1];
+            kt[2] += m * w[2] * w[2];
+            kt[3] += m * w[0] * w[1];
+            kt[4] += m * w[0] * w[2];
+            kt[5] += m * w[1] * w[2];
         }
         self.thermo_from_kinetic(kt)
     }

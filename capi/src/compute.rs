@@ -1,0 +1,469 @@
+//! [`dpdnl_compute`]: one LAMMPS neighbour list walked in Rust, its pairs evaluated through the
+//! pair-style seam (`dpdnl::engine::pair`) and added with LAMMPS's `ev_tally` conventions.
+
+use dpdnl::engine::pair::{Batcher, DpdKernel, lane_force};
+use dpdnl::kernel::{Isa, PairBatch, PairTable};
+
+use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
+
+/// Per-atom arrays of one MPI rank, owned atoms first then ghosts (LAMMPS layout).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct DpdnlAtoms {
+    /// Positions, `nall * 3` doubles (LAMMPS `&x[0][0]`).
+    pub x: *const f64,
+    /// Velocities, `nall * 3` doubles; ghost velocities must be current (`comm_modify vel yes`).
+    pub v: *const f64,
+    /// Global ids (LAMMPS `tagint`, 32-bit under SMALLBIG), `nall` entries, all > 0.
+    pub tag: *const i32,
+    /// Atom types, 1-based, `nall` entries.
+    pub atom_type: *const i32,
+    /// Per-type masses, 1-based: `ntypes + 1` entries (entry 0 unused). Ignored if `rmass` is set.
+    pub mass: *const f64,
+    /// Per-atom masses (`nall` entries), or null to use `mass`.
+    pub rmass: *const f64,
+    /// Number of owned atoms.
+    pub nlocal: i32,
+    /// Owned plus ghost atoms.
+    pub nall: i32,
+}
+
+/// A LAMMPS neighbour list (`NeighList`): `inum`, `ilist`, `numneigh`, `firstneigh`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct DpdnlNeighList {
+    /// Number of atoms with a list.
+    pub inum: i32,
+    /// Their indices, `inum` entries.
+    pub ilist: *const i32,
+    /// `numneigh[i]`: length of atom i's list, valid for every i in `ilist`.
+    pub numneigh: *const i32,
+    /// `firstneigh[i]`: atom i's neighbours, valid for every i in `ilist`.
+    pub firstneigh: *const *const i32,
+    /// Mask applied to every neighbour entry (LAMMPS `NEIGHMASK`; the upper bits flag special
+    /// bonds). 0x3FFFFFFF in LAMMPS 2021–2022, 0x1FFFFFFF in later versions: pass the header's.
+    pub neighmask: i32,
+    /// 0: half list (each pair once); 1: full list (each pair seen from both atoms).
+    pub full: i32,
+}
+
+/// Step-level settings of one force evaluation.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct DpdnlStep {
+    /// Time step number used as the key of the pair noise (LAMMPS `update->ntimestep`), ≥ 0.
+    pub step: i64,
+    /// Time step δt (> 0): the random force scales as δt^(−1/2).
+    pub dt: f64,
+    /// LAMMPS `force->newton_pair` (half lists: 1 also updates ghost forces).
+    pub newton_pair: i32,
+    /// 2 or 3. Coordinates are used as given (z = 0 in 2-D under `fix enforce2d`).
+    pub dimension: i32,
+}
+
+/// Energy and virial accumulators, following LAMMPS `Pair::ev_tally` / `ev_tally_full`.
+/// Every pointer may be null when its flag is 0; results are added to what is there.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct DpdnlTally {
+    /// Nonzero: add the conservative energy to `*eng_vdwl`.
+    pub eflag_global: i32,
+    /// Nonzero: add the pair virial to `virial[0..6]` (xx, yy, zz, xy, xz, yz).
+    pub vflag_global: i32,
+    /// Global energy accumulator (LAMMPS `Pair::eng_vdwl`).
+    pub eng_vdwl: *mut f64,
+    /// Global virial accumulator, 6 doubles (LAMMPS `Pair::virial`).
+    pub virial: *mut f64,
+    /// Per-atom energy (`nall` doubles) or null.
+    pub eatom: *mut f64,
+    /// Per-atom virial (`nall * 6` doubles, LAMMPS `&vatom[0][0]`) or null.
+    pub vatom: *mut f64,
+}
+
+/// All pair forces of one LAMMPS neighbour list, accumulated into `f` (`nall * 3` doubles,
+/// LAMMPS `&f[0][0]`), with energy and virial tallied into `tally` (may be null when nothing is
+/// tallied).
+///
+/// Half list (`full == 0`): each listed pair once; force on i is added, force on j subtracted if
+/// `newton_pair` or j is owned; energy/virial as LAMMPS `ev_tally` (newton on: the whole pair;
+/// off: half for each owned partner; per-atom halves likewise). Full list: only i's force, and
+/// half of the pair's energy/virial to i (`ev_tally_full`).
+///
+/// # Safety
+/// Every non-null pointer in `atoms`, `list`, `tally` and `f` is valid for the sizes documented
+/// on those structs and not aliased by another argument; `params` is a live table.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_compute(
+    params: *const DpdnlParams,
+    atoms: *const DpdnlAtoms,
+    list: *const DpdnlNeighList,
+    step: *const DpdnlStep,
+    f: *mut f64,
+    tally: *mut DpdnlTally,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: each pointer is null or valid for reading by the caller's contract.
+        let (p, atoms, list, step) = unsafe {
+            (
+                params.as_ref().ok_or_else(|| Error::null("params"))?,
+                atoms.as_ref().ok_or_else(|| Error::null("atoms"))?,
+                list.as_ref().ok_or_else(|| Error::null("list"))?,
+                step.as_ref().ok_or_else(|| Error::null("step"))?,
+            )
+        };
+        // SAFETY: null or valid for reading by the caller's contract.
+        let tally = unsafe { tally.as_ref() }.copied();
+        // SAFETY: forwarded caller's contract on every array.
+        unsafe { compute(p, atoms, list, step, f, tally) }
+    })
+}
+
+/// Where the tallies go, resolved to slices once.
+pub(crate) struct Sinks<'a> {
+    eng: Option<&'a mut f64>,
+    virial: Option<&'a mut [f64]>,
+    eatom: Option<&'a mut [f64]>,
+    vatom: Option<&'a mut [f64]>,
+}
+
+/// The body of [`dpdnl_compute`].
+///
+/// # Safety
+/// As [`dpdnl_compute`].
+pub(crate) unsafe fn compute(
+    p: &DpdnlParams,
+    atoms: &DpdnlAtoms,
+    list: &DpdnlNeighList,
+    st: &DpdnlStep,
+    f: *mut f64,
+    tally: Option<DpdnlTally>,
+) -> Result<(), Error> {
+    if st.step < 0 {
+        return Err(Error::invalid(format!("step = {} must be >= 0", st.step)));
+    }
+    if st.dimension != 2 && st.dimension != 3 {
+        return Err(Error::invalid(format!(
+            "dimension = {} must be 2 or 3",
+            st.dimension
+        )));
+    }
+    let model = p.model(st.dt)?;
+    if atoms.nlocal < 0 || atoms.nall < atoms.nlocal {
+        return Err(Error::invalid(format!(
+            "nlocal = {} and nall = {} must satisfy 0 <= nlocal <= nall",
+            atoms.nlocal, atoms.nall
+        )));
+    }
+    if list.inum < 0 {
+        return Err(Error::invalid(format!("inum = {} must be >= 0", list.inum)));
+    }
+    let (nlocal, nall, inum) = (
+        atoms.nlocal as usize,
+        atoms.nall as usize,
+        list.inum as usize,
+    );
+    let nt = p.ntypes;
+    // SAFETY: sizes as documented on `DpdnlAtoms`, `DpdnlNeighList` (caller's contract).
+    let (x, v, tag, ty, ilist) = unsafe {
+        (
+            slice(atoms.x, 3 * nall, "x")?,
+            slice(atoms.v, 3 * nall, "v")?,
+            slice(atoms.tag, nall, "tag")?,
+            slice(atoms.atom_type, nall, "type")?,
+            slice(list.ilist, inum, "ilist")?,
+        )
+    };
+    // SAFETY: `nall * 3` doubles, not aliased by the read-only arrays (caller's contract).
+    let f = unsafe { slice_mut(f, 3 * nall, "f")? };
+    if let Some(bad) = ty.iter().position(|&t| t < 1 || t as usize > nt) {
+        return Err(Error::invalid(format!(
+            "atom {bad} has type {} outside 1..={nt}",
+            ty[bad]
+        )));
+    }
+    // 1/m per atom (per-atom masses) or per type.
+    let (inv_mass, per_atom) = if atoms.rmass.is_null() {
+        // SAFETY: `ntypes + 1` doubles (caller's contract).
+        let mass = unsafe { slice(atoms.mass, nt + 1, "mass")? };
+        (inverse_masses(&mass[1..], 1)?, false)
+    } else {
+        // SAFETY: `nall` doubles (caller's contract).
+        let rmass = unsafe { slice(atoms.rmass, nall, "rmass")? };
+        (inverse_masses(rmass, 0)?, true)
+    };
+    let inv_m = |i: usize| {
+        if per_atom {
+            inv_mass[i]
+        } else {
+            inv_mass[ty[i] as usize - 1]
+        }
+    };
+    if inum > 0 && (list.numneigh.is_null() || list.firstneigh.is_null()) {
+        return Err(Error::null("numneigh/firstneigh"));
+    }
+
+    let t = tally.unwrap_or(DpdnlTally {
+        eflag_global: 0,
+        vflag_global: 0,
+        eng_vdwl: std::ptr::null_mut(),
+        virial: std::ptr::null_mut(),
+        eatom: std::ptr::null_mut(),
+        vatom: std::ptr::null_mut(),
+    });
+    // SAFETY: each is null or valid for its documented size, unaliased (caller's contract).
+    let mut sinks = unsafe {
+        Sinks {
+            eng: if t.eflag_global != 0 {
+                Some(t.eng_vdwl.as_mut().ok_or_else(|| Error::null("eng_vdwl"))?)
+            } else {
+                None
+            },
+            virial: if t.vflag_global != 0 {
+                Some(slice_mut(t.virial, 6, "virial")?)
+            } else {
+                None
+            },
+            eatom: (!t.eatom.is_null())
+                .then(|| slice_mut(t.eatom, nall, "eatom"))
+                .transpose()?,
+            vatom: (!t.vatom.is_null())
+                .then(|| slice_mut(t.vatom, 6 * nall, "vatom"))
+                .transpose()?,
+        }
+    };
+    let tallying = sinks.eng.is_some()
+        || sinks.virial.is_some()
+        || sinks.eatom.is_some()
+        || sinks.vatom.is_some();
+
+    let table = p.dense_table();
+    let ptable = PairTable::new(&model, &table);
+    let full = list.full != 0;
+    let newton = st.newton_pair != 0;
+    let mask = list.neighmask as u32 as usize;
+    let step = st.step as u64;
+
+    // In-range pairs are gathered, in list order, into batches of BATCH (`Batcher`, the driver
+    // the standalone Lees–Edwards loop uses too) evaluated through the pair-style seam
+    // (`DpdKernel`: `pair_forces_batch`, the same function as `pair_force` for each pair, same
+    // bits, in SIMD lanes); `Apply` then adds the forces and tallies in list order as the
+    // pair-by-pair loop did, so every sum is formed in the same order.
+    let kernel = DpdKernel {
+        model: &model,
+        table: &ptable,
+        seed: p.seed,
+        isa: Isa::detect(),
+    };
+    let mut bt = Batcher::default();
+    // The lanes' v_ij, 1/m_i + 1/m_j and tags (r_ij and the coefficient index are in place).
+    let gather = |b: &mut PairBatch, l: usize, i: usize, j: usize| {
+        for d in 0..3 {
+            b.dv[d][l] = v[3 * i + d] - v[3 * j + d];
+        }
+        b.inv_mass_sum[l] = inv_m(i) + inv_m(j);
+        b.tag_i[l] = tag[i] as u32;
+        b.tag_j[l] = tag[j] as u32;
+    };
+    let mut apply = Apply {
+        f,
+        sinks: &mut sinks,
+        tallying,
+        full,
+        newton,
+        nlocal,
+        row: None,
+    };
+    for &i in ilist {
+        if i < 0 || i as usize >= nall {
+            return Err(Error::invalid(format!("ilist entry {i} outside 0..{nall}")));
+        }
+        let i = i as usize;
+        // SAFETY: `numneigh` and `firstneigh` are valid for every i in ilist (caller's contract).
+        let (n, first) = unsafe { (*list.numneigh.add(i), *list.firstneigh.add(i)) };
+        // SAFETY: `firstneigh[i]` holds `numneigh[i]` ints (caller's contract).
+        let jlist = unsafe { slice(first, n.max(0) as usize, "firstneigh[i]")? };
+        let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
+        let row = ty[i] as usize * (nt + 1);
+        for &jraw in jlist {
+            let j = jraw as u32 as usize & mask;
+            if j >= nall {
+                return Err(Error::invalid(format!(
+                    "neighbour index {j} of atom {i} outside 0..{nall}"
+                )));
+            }
+            let k = row + ty[j] as usize;
+            let rc = table[k].rc;
+            let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
+            let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+            // Every listed pair is written to the next lane, and only a pair in range keeps it
+            // (the kernel checks again): with half the listed pairs in range (n = 16, skin 0.3)
+            // a branch here is mispredicted half the time. The rest of the lane (velocities,
+            // masses, tags) is gathered for the kept pairs only, in `gather`.
+            let l = bt.lane();
+            for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
+                lane[l] = c;
+            }
+            bt.batch.coeff[l] = k as u32;
+            if bt.commit(i as u32, j as u32, rsq < rc * rc) {
+                bt.flush(&kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
+            }
+        }
+    }
+    bt.flush(&kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
+    apply.finish_row();
+    Ok(())
+}
+
+/// Adds evaluated pairs to the forces and tallies, in list order. The force on i is summed over
+/// its row in `row` and added to f[i] when the next row starts (or at the end), as the
+/// pair-by-pair loop did.
+pub(crate) struct Apply<'a, 'b> {
+    f: &'a mut [f64],
+    sinks: &'a mut Sinks<'b>,
+    tallying: bool,
+    full: bool,
+    newton: bool,
+    nlocal: usize,
+    /// The row being summed: atom i and the force on it so far.
+    row: Option<(usize, [f64; 3])>,
+}
+
+impl Apply<'_, '_> {
+    #[inline(always)]
+    fn lane(&mut self, b: &PairBatch, l: usize, i: usize, j: usize) {
+        if self.row.is_some_and(|(r, _)| r != i) {
+            self.finish_row();
+        }
+        let (dr, fv) = lane_force(b, l);
+        let fi = &mut self.row.get_or_insert((i, [0.0; 3])).1;
+        fi[0] += fv[0];
+        fi[1] += fv[1];
+        fi[2] += fv[2];
+        let j_owned = j < self.nlocal;
+        if !self.full && (self.newton || j_owned) {
+            self.f[3 * j] -= fv[0];
+            self.f[3 * j + 1] -= fv[1];
+            self.f[3 * j + 2] -= fv[2];
+        }
+        if self.tallying {
+            tally_pair(
+                self.sinks,
+                i,
+                j,
+                b.energy[l],
+                b.fpair[l],
+                dr,
+                self.full,
+                self.newton,
+                i < self.nlocal,
+                j_owned,
+            );
+        }
+    }
+
+    fn finish_row(&mut self) {
+        if let Some((i, fi)) = self.row.take() {
+            self.f[3 * i] += fi[0];
+            self.f[3 * i + 1] += fi[1];
+            self.f[3 * i + 2] += fi[2];
+        }
+    }
+}
+
+/// `1/m` for each mass, checking they are finite and > 0 (`offset` shifts the reported index).
+pub(crate) fn inverse_masses(m: &[f64], offset: usize) -> Result<Vec<f64>, Error> {
+    m.iter()
+        .enumerate()
+        .map(|(k, &mk)| {
+            if mk.is_finite() && mk > 0.0 {
+                Ok(1.0 / mk)
+            } else {
+                Err(Error::invalid(format!(
+                    "mass[{}] = {mk} must be a finite number > 0",
+                    k + offset
+                )))
+            }
+        })
+        .collect()
+}
+
+/// LAMMPS `ev_tally` (half list) / `ev_tally_full` (full list) for one pair.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(crate) fn tally_pair(
+    s: &mut Sinks,
+    i: usize,
+    j: usize,
+    evdwl: f64,
+    fpair: f64,
+    d: [f64; 3],
+    full: bool,
+    newton: bool,
+    i_owned: bool,
+    j_owned: bool,
+) {
+    let v = [
+        d[0] * d[0] * fpair,
+        d[1] * d[1] * fpair,
+        d[2] * d[2] * fpair,
+        d[0] * d[1] * fpair,
+        d[0] * d[2] * fpair,
+        d[1] * d[2] * fpair,
+    ];
+    // Global sums, in LAMMPS's order of operations: ev_tally_full adds half to i; ev_tally adds
+    // the whole pair with newton on, and half per owned partner with newton off.
+    if let Some(e) = s.eng.as_deref_mut() {
+        if full {
+            *e += 0.5 * evdwl;
+        } else if newton {
+            *e += evdwl;
+        } else {
+            if i_owned {
+                *e += 0.5 * evdwl;
+            }
+            if j_owned {
+                *e += 0.5 * evdwl;
+            }
+        }
+    }
+    if let Some(vir) = s.virial.as_deref_mut() {
+        if !full && newton {
+            for k in 0..6 {
+                vir[k] += v[k];
+            }
+        } else {
+            let times = if full {
+                1
+            } else {
+                u8::from(i_owned) + u8::from(j_owned)
+            };
+            for _ in 0..times {
+                for k in 0..6 {
+                    vir[k] += 0.5 * v[k];
+                }
+            }
+        }
+    }
+    let to_i = full || newton || i_owned;
+    let to_j = !full && (newton || j_owned);
+    if let Some(ea) = s.eatom.as_deref_mut() {
+        let half = 0.5 * evdwl;
+        if to_i {
+            ea[i] += half;
+        }
+        if to_j {
+            ea[j] += half;
+        }
+    }
+    if let Some(va) = s.vatom.as_deref_mut() {
+        for k in 0..6 {
+            let half = 0.5 * v[k];
+            if to_i {
+                va[6 * i + k] += half;
+            }
+            if to_j {
+                va[6 * j + k] += half;
+            }
+        }
+    }
+}

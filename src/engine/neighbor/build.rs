@@ -1,0 +1,206 @@
+//! Building the list: cell coordinates, the rows of each slab (portable and AVX-512 scans of
+//! neighbour-cell runs), and the cell-order permutation of the atoms.
+
+use super::*;
+use crate::kernel::Isa;
+
+/// Stencil image code: the neighbour cell's periodic image is decided per pair.
+pub(super) const AMBIGUOUS: i8 = 2;
+
+/// Cell coordinates of a position (the box is periodic and positions are wrapped, so the
+/// scaled coordinate is ≥ 0 and truncation is the floor).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct CellCoords {
+    pub(super) lo: [f64; 3],
+    pub(super) len: [f64; 3],
+    pub(super) ncell: [usize; 3],
+    pub(super) dim: usize,
+}
+
+impl CellCoords {
+    #[inline(always)]
+    pub(super) fn of(&self, x: &[f64; 3]) -> [usize; 3] {
+        let mut c = [0usize; 3];
+        for d in 0..self.dim {
+            let f = (x[d] - self.lo[d]) / self.len[d] * self.ncell[d] as f64;
+            c[d] = (f.max(0.0) as usize).min(self.ncell[d] - 1);
+        }
+        c
+    }
+}
+
+/// What building the rows of a slab reads.
+pub(super) struct RowBuild<'a> {
+    pub(super) x: &'a [[f64; 3]],
+    pub(super) bx: &'a SimBox,
+    pub(super) cells: CellCoords,
+    pub(super) cell_start: &'a [u32],
+    pub(super) axes: &'a [Vec<Vec<(usize, i8)>>; 3],
+    /// For each x cell coordinate, its neighbour cells along x as runs (first, last, image),
+    /// in increasing order.
+    pub(super) xruns: &'a [Vec<(usize, usize, i8)>],
+    /// Box lengths (for image shifts).
+    pub(super) len: [f64; 3],
+    pub(super) cutsq: f64,
+    /// The slab axis in slab mode; None: one task, j > i in every neighbouring cell.
+    pub(super) slab_axis: Option<usize>,
+}
+
+pub(super) fn build_rows_isa(isa: Isa, rb: &RowBuild, s: &mut Slab) {
+    match isa {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `isa` is one the CPU supports (checked against `Isa::best_supported`).
+        Isa::Avx512 => unsafe { build_rows_avx512(rb, s) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        Isa::Avx2 => unsafe { build_rows_avx2(rb, s) },
+        _ => build_rows::<false>(rb, s),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+pub(super) fn build_rows_avx512(rb: &RowBuild, s: &mut Slab) {
+    build_rows::<true>(rb, s)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+pub(super) fn build_rows_avx2(rb: &RowBuild, s: &mut Slab) {
+    build_rows::<false>(rb, s)
+}
+
+/// The rows of one slab: for each atom, the atoms of the neighbouring cells (stencil order,
+/// increasing index within a cell) within the list cut-off. A cell reached without crossing
+/// the periodic boundary is scanned with raw separations (exact for the cut-off test: with at
+/// least 3 cells of side ≥ cut-off per axis, a pair within the cut-off has its raw separation
+/// as minimum image); the others go through `SimBox::min_image`.
+#[inline(always)]
+pub(super) fn build_rows<const AVX512: bool>(rb: &RowBuild, s: &mut Slab) {
+    let x = rb.x;
+    let ncell = rb.cells.ncell;
+    s.row_start.clear();
+    s.row_start.push(0);
+    // `s.nbr` is used as a buffer longer than the row data (grown, never shrunk, while
+    // building); `len` is the data's length.
+    let mut len = 0usize;
+    for i in s.start..s.end {
+        let xi = x[i];
+        let c = rb.cells.of(&xi);
+        // Scan the cells `cells.0..=cells.1` (consecutive along x, so their atoms are one
+        // index range).
+        // Scan the cells `cells.0..=cells.1` (consecutive along x, so their atoms are one
+        // index range), whose atoms are seen through the periodic image `img` (per axis: 0,
+        // ±1 for x_i shifted by ±L, AMBIGUOUS: decided per pair by `SimBox::min_image`).
+        let mut scan = |cells: (usize, usize), first: usize, img: [i8; 3]| {
+            let lo = (rb.cell_start[cells.0] as usize).max(first);
+            let hi = rb.cell_start[cells.1 + 1] as usize;
+            if hi <= lo {
+                return;
+            }
+            let need = len + (hi - lo) + 8;
+            if s.nbr.len() < need {
+                s.nbr.resize(need.max(2 * s.nbr.len()), 0);
+            }
+            let mut l = len;
+            if img.contains(&AMBIGUOUS) {
+                for j in lo..hi {
+                    let xj = x[j];
+                    let d = rb
+                        .bx
+                        .min_image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
+                    s.nbr[l] = j as u32;
+                    l += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rb.cutsq);
+                }
+                len = l;
+                return;
+            }
+            // x_i − (x_j − image · L) = (x_i + image · L) − x_j. (A sheared boundary would add
+            // its offset here.)
+            let xs = [0, 1, 2].map(|k| xi[k] + f64::from(img[k]) * rb.len[k]);
+            #[cfg(target_arch = "x86_64")]
+            if AVX512 {
+                // SAFETY: only inside `build_rows_avx512` (AVX-512 present); lo..hi are atom
+                // indices < x.len(); s.nbr has room for len + (hi − lo) + 8 entries.
+                len = unsafe { avx512::scan_cell(xs, x, lo, hi, rb.cutsq, &mut s.nbr, l) };
+                return;
+            }
+            for j in lo..hi {
+                let xj = x[j];
+                let d = [xs[0] - xj[0], xs[1] - xj[1], xs[2] - xj[2]];
+                s.nbr[l] = j as u32;
+                l += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rb.cutsq);
+            }
+            len = l;
+        };
+        // Neighbouring cells as runs along x (cells are x-fastest): x − 1, x, x + 1 merge into
+        // one index range unless one of them is across the boundary.
+        let xruns = &rb.xruns[c[0]];
+        if let Some(axis) = rb.slab_axis {
+            // Own layer: j > i; next layer: every j.
+            let layers = ncell[axis];
+            let slow = if axis == 2 { 1 } else { 2 };
+            let mut cc = c;
+            for (dl, first) in [(0, i + 1), (1, 0)] {
+                cc[axis] = (c[axis] + dl) % layers;
+                let mut img = [0i8; 3];
+                img[axis] = if c[axis] + dl >= layers { -1 } else { 0 };
+                for &(cs, is) in &rb.axes[slow][c[slow]] {
+                    cc[slow] = cs;
+                    img[slow] = is;
+                    for &(x0, x1, ix) in xruns {
+                        cc[0] = x0;
+                        img[0] = ix;
+                        let a = cell_id(cc, ncell);
+                        scan((a, a + (x1 - x0)), first, img);
+                    }
+                }
+            }
+        } else {
+            for &(cz, iz) in &rb.axes[2][c[2]] {
+                for &(cy, iy) in &rb.axes[1][c[1]] {
+                    for &(x0, x1, ix) in xruns {
+                        let a = cell_id([x0, cy, cz], ncell);
+                        scan((a, a + (x1 - x0)), i + 1, [ix, iy, iz]);
+                    }
+                }
+            }
+        }
+        s.row_start.push(len as u32);
+    }
+    s.nbr.truncate(len);
+}
+
+/// Reorder every per-atom array by `perm` (new index k holds old atom `perm[k]`): a parallel
+/// gather into one scratch array per element type, swapped with the field (so the scratch
+/// holds the old array for the next field of that type). The destructuring names every field
+/// of [`Atoms`]: a field added there fails to compile here until it is permuted too.
+pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch) {
+    pub(super) fn gather<T: Copy + Send + Sync>(a: &mut Vec<T>, perm: &[u32], tmp: &mut Vec<T>) {
+        tmp.clear();
+        tmp.par_extend(perm.par_iter().map(|&p| a[p as usize]));
+        std::mem::swap(a, tmp);
+    }
+    let Atoms {
+        x,
+        v,
+        f,
+        tag,
+        typ,
+        image,
+    } = atoms;
+    gather(x, perm, &mut scratch.vec3);
+    gather(v, perm, &mut scratch.vec3);
+    gather(f, perm, &mut scratch.vec3);
+    gather(tag, perm, &mut scratch.u32s);
+    gather(typ, perm, &mut scratch.u32s);
+    gather(image, perm, &mut scratch.int3);
+}
+
+/// Scratch arrays of [`permute`], one per element type (kept between builds).
+#[derive(Clone, Debug, Default)]
+pub(super) struct PermScratch {
+    pub(super) vec3: Vec<[f64; 3]>,
+    pub(super) u32s: Vec<u32>,
+    pub(super) int3: Vec<[i32; 3]>,
+}

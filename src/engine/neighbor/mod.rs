@@ -1,0 +1,521 @@
+//! Cell-sorted half neighbour list and the deterministic pair-force evaluation.
+//!
+//! Atoms are sorted by cell (cells of side ≥ cut-off + skin, x fastest), so the atoms of one
+//! layer of cells along the *slab axis* (z in 3-D, y in 2-D) form a contiguous index range, a
+//! *slab*. With at least 3 slabs, the half list of an atom i in slab k holds
+//! - the atoms j > i of its own slab in the neighbouring cells, and
+//! - all atoms of slab k + 1 (periodically) in the neighbouring cells,
+//!
+//! so a slab's pairs touch only slab k and slab k + 1. Slabs are the parallel tasks, and need no
+//! colouring: task k adds its forces on slab-k atoms into `f` (which it alone writes there) and its
+//! forces on slab-(k+1) atoms into a second array (which it alone writes there), both starting from
+//! zero in its fixed pair order. The force on an atom is then the sum of exactly two partial sums,
+//! `own + next`, and IEEE addition is commutative: the result has the same bits whatever thread ran
+//! which slab, and F_ji = −F_ij exactly (both come from one evaluation). Energy and virial are
+//! summed per slab, then over slabs in order. Fewer than 3 slabs (small boxes): one task over the
+//! whole list (j > i in every neighbouring cell).
+//!
+//! Inside a task, in-range pairs are gathered into a [`PairBatch`] and evaluated by the pair
+//! style's [`PairKernel`] (`pair.rs`; for `dpd/nonlinear` [`crate::kernel::pair_forces_batch`],
+//! the same function as [`crate::kernel::pair_force`], in SIMD lanes). The displacement of every
+//! pair is the box's minimum image, computed per pair.
+
+use super::atoms::Atoms;
+use super::domain::SimBox;
+use super::pair::PairKernel;
+use crate::kernel::{Isa, PairCoeff};
+use rayon::prelude::*;
+
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+mod build;
+mod slab;
+
+use build::*;
+use slab::*;
+
+/// The linear index of cell coordinates (x fastest).
+#[inline]
+fn cell_id(c: [usize; 3], ncell: [usize; 3]) -> usize {
+    (c[2] * ncell[1] + c[1]) * ncell[0] + c[0]
+}
+
+/// One slab (or, in serial mode, all atoms): its atoms' rows and its tallies.
+#[derive(Clone, Debug, Default)]
+struct Slab {
+    start: usize,
+    end: usize,
+    /// First atom of the next slab (where the `next` forces go); `end` in serial mode.
+    next_start: usize,
+    row_start: Vec<u32>,
+    nbr: Vec<u32>,
+    /// The working list: each row's entries within `rc_max + margin` at its build, in row order.
+    in_row_start: Vec<u32>,
+    in_nbr: Vec<u32>,
+    scratch: RowScratch,
+    virial: [f64; 6],
+    energy: f64,
+}
+
+/// Energy and virial of one force evaluation (sums over pairs, not normalised).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PairTally {
+    /// Σ conservative pair energy.
+    pub energy: f64,
+    /// Σ_{pairs} r_ij,a F_ij,b in LAMMPS order xx, yy, zz, xy, xz, yz (all force parts).
+    pub virial: [f64; 6],
+}
+
+impl PairTally {
+    /// Adds one pair: its conservative energy and r_ij,a F_ij,b (xx, yy, zz, xy, xz, yz), in this
+    /// order, so every pair loop sums the same way.
+    #[inline(always)]
+    pub fn add_pair(&mut self, dr: [f64; 3], fv: [f64; 3], energy: f64) {
+        self.energy += energy;
+        self.virial[0] += dr[0] * fv[0];
+        self.virial[1] += dr[1] * fv[1];
+        self.virial[2] += dr[2] * fv[2];
+        self.virial[3] += dr[0] * fv[1];
+        self.virial[4] += dr[0] * fv[2];
+        self.virial[5] += dr[1] * fv[2];
+    }
+}
+
+/// The neighbour list with its cell sort and force buffers. Buffers are reused between builds, so
+/// the step loop does not allocate once they have reached their working size.
+#[derive(Debug, Default)]
+pub struct NeighborList {
+    /// Skin distance added to the largest cut-off.
+    pub skin: f64,
+    /// Number of builds so far.
+    pub builds: u64,
+    slabs: Vec<Slab>,
+    /// Forces of slab k's task on the atoms of slab k + 1 (slab mode only).
+    next_f: Vec<[f64; 3]>,
+    x_at_build: Vec<[f64; 3]>,
+    cell_of: Vec<u32>,
+    cell_count: Vec<u32>,
+    cell_start: Vec<u32>,
+    perm: Vec<u32>,
+    perm_scratch: PermScratch,
+    rcsq: Vec<f64>,
+    ncell: [usize; 3],
+    stencil_axes: [Vec<Vec<(usize, i8)>>; 3],
+    xruns: Vec<Vec<(usize, usize, i8)>>,
+    isa: Option<Isa>,
+    /// Working list: on/off override (None: decided from the list's lifetime).
+    inner_override: Option<bool>,
+    /// Whether the working list is in use for the current list.
+    inner_on: bool,
+    /// Its rows need rebuilding (new list, or atoms moved more than margin/2).
+    inner_stale: bool,
+    /// Force evaluations since the last build, and over the whole previous list.
+    evals_since_build: u64,
+    last_life: u64,
+    /// Cut-off of the list (rc_max + skin) and of the working list (rc_max + margin).
+    cutoff: f64,
+    rc_max: f64,
+    x_at_inner: Vec<[f64; 3]>,
+}
+
+/// The working list's margin as a fraction of the skin, and the list lifetime (force
+/// evaluations) from which it pays: it is rebuilt, by a filter pass over the list, whenever an
+/// atom has moved margin/2, so it needs lists that live long (slow atoms, small steps).
+const INNER_MARGIN: f64 = 1.0 / 3.0;
+const INNER_MIN_LIFE: u64 = 12;
+
+impl NeighborList {
+    /// Use this instruction set for the pair loop instead of the best one ([`Isa::detect`]);
+    /// one the CPU lacks falls back to [`Isa::Baseline`]. For tests and benchmarks: the results
+    /// are the same bits with every instruction set.
+    pub fn set_isa(&mut self, isa: Option<Isa>) {
+        self.isa = isa;
+    }
+
+    /// Force the working list (a subsequence of the list with margin skin/3, rebuilt from it
+    /// when an atom has moved skin/6) on or off; `None` (the default) uses it when lists last
+    /// at least 12 force evaluations. For tests and benchmarks: the results are the same bits
+    /// either way, because a pair enters the kernel batch in the same order.
+    pub fn set_working_list(&mut self, on: Option<bool>) {
+        self.inner_override = on;
+    }
+
+    /// True when the working list is in use.
+    pub fn working_list(&self) -> bool {
+        self.inner_on
+    }
+
+    /// An empty list with the given skin.
+    pub fn new(skin: f64) -> NeighborList {
+        NeighborList {
+            skin,
+            ..Default::default()
+        }
+    }
+
+    /// True when some atom moved more than half the skin since the last build (or never built).
+    pub fn needs_rebuild(&self, atoms: &Atoms) -> bool {
+        if self.x_at_build.len() != atoms.len() || self.builds == 0 {
+            return true;
+        }
+        let limit = 0.25 * self.skin * self.skin;
+        atoms
+            .x
+            .par_iter()
+            .zip(self.x_at_build.par_iter())
+            .any(|(x, x0)| {
+                let d = [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]];
+                d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > limit
+            })
+    }
+
+    /// Number of pairs held in the list.
+    pub fn pairs(&self) -> usize {
+        self.slabs.iter().map(|b| b.nbr.len()).sum()
+    }
+
+    /// Number of pairs held in the working list (0 when it is off).
+    pub fn working_pairs(&self) -> usize {
+        if self.inner_on {
+            self.slabs.iter().map(|b| b.in_nbr.len()).sum()
+        } else {
+            0
+        }
+    }
+
+    /// Bytes held by the list and its buffers (for the memory report).
+    pub fn bytes(&self) -> usize {
+        let rows: usize = self
+            .slabs
+            .iter()
+            .map(|b| {
+                (b.row_start.capacity() + b.nbr.capacity()) * 4
+                    + (b.in_row_start.capacity() + b.in_nbr.capacity()) * 4
+            })
+            .sum();
+        rows + self.next_f.capacity() * 24
+            + self.x_at_build.capacity() * 24
+            + self.x_at_inner.capacity() * 24
+            + (self.cell_of.capacity() + self.perm.capacity()) * 4
+            + (self.cell_count.capacity() + self.cell_start.capacity()) * 4
+            + self.perm_scratch.vec3.capacity() * 24
+            + self.perm_scratch.u32s.capacity() * 4
+            + self.perm_scratch.int3.capacity() * 12
+    }
+
+    /// Wrap positions into the box, sort atoms by cell, and build the half list with cut-off
+    /// `rc_max + skin`. Atom order changes; every per-atom array travels with the atoms.
+    pub fn build(&mut self, atoms: &mut Atoms, bx: &SimBox, rc_max: f64) {
+        let n = atoms.len();
+        atoms
+            .x
+            .par_iter_mut()
+            .zip(atoms.image.par_iter_mut())
+            .for_each(|(x, im)| bx.wrap(x, im));
+        let cutoff = rc_max + self.skin;
+        let len = bx.len();
+        let mut ncell = [1usize; 3];
+        for d in 0..bx.dim {
+            ncell[d] = ((len[d] / cutoff).floor() as usize).max(1);
+        }
+        if ncell != self.ncell {
+            self.ncell = ncell;
+            for d in 0..3 {
+                let m = ncell[d];
+                // (neighbour coordinate, image): the neighbour cell is reached directly (0) or
+                // through the periodic boundary; then its atoms' nearest images are at x_j − L
+                // (+1: the cell below 0 is m − 1) or x_j + L (−1: the cell above m − 1 is 0),
+                // and x_i − image = (x_i ± L) − x_j. With fewer than 3 cells the neighbours are
+                // all cells and the image is decided per pair (AMBIGUOUS).
+                let periodic = d < bx.dim;
+                self.stencil_axes[d] = (0..m)
+                    .map(|c| {
+                        if m >= 3 {
+                            vec![
+                                ((c + m - 1) % m, if c == 0 { 1 } else { 0 }),
+                                (c, 0),
+                                ((c + 1) % m, if c == m - 1 { -1 } else { 0 }),
+                            ]
+                        } else {
+                            let img = if periodic { AMBIGUOUS } else { 0 };
+                            (0..m).map(|k| (k, img)).collect()
+                        }
+                    })
+                    .collect();
+            }
+            let m = ncell[0];
+            self.xruns = (0..m)
+                .map(|c| {
+                    if m < 3 {
+                        (0..m).map(|k| (k, k, AMBIGUOUS)).collect()
+                    } else if c == 0 {
+                        vec![(0, 1, 0), (m - 1, m - 1, 1)]
+                    } else if c == m - 1 {
+                        vec![(0, 0, -1), (m - 2, m - 1, 0)]
+                    } else {
+                        vec![(c - 1, c + 1, 0)]
+                    }
+                })
+                .collect();
+        }
+        let total_cells = ncell[0] * ncell[1] * ncell[2];
+        let cell_coords = CellCoords {
+            lo: bx.lo,
+            len,
+            ncell,
+            dim: bx.dim,
+        };
+        // Counting sort by cell, stable in the current order.
+        self.cell_of.clear();
+        self.cell_of.par_extend(
+            atoms
+                .x
+                .par_iter()
+                .map(|x| cell_id(cell_coords.of(x), ncell) as u32),
+        );
+        self.cell_count.clear();
+        self.cell_count.resize(total_cells + 1, 0);
+        for &c in &self.cell_of {
+            self.cell_count[c as usize + 1] += 1;
+        }
+        for c in 0..total_cells {
+            self.cell_count[c + 1] += self.cell_count[c];
+        }
+        self.cell_start.clear();
+        self.cell_start.extend_from_slice(&self.cell_count);
+        self.perm.clear();
+        self.perm.resize(n, 0);
+        for (i, &c) in self.cell_of.iter().enumerate() {
+            let slot = &mut self.cell_count[c as usize];
+            self.perm[*slot as usize] = i as u32;
+            *slot += 1;
+        }
+        permute(atoms, &self.perm, &mut self.perm_scratch);
+
+        // Slabs: layers of cells along the last periodic axis (contiguous in the cell order).
+        let axis = bx.dim - 1;
+        let layers = ncell[axis];
+        let slab_mode = layers >= 3;
+        let nslabs = if slab_mode { layers } else { 1 };
+        let cells_per_slab = total_cells / nslabs;
+        self.slabs.resize_with(nslabs, Slab::default);
+        for (k, s) in self.slabs.iter_mut().enumerate() {
+            s.start = self.cell_start[k * cells_per_slab] as usize;
+            s.end = self.cell_start[(k + 1) * cells_per_slab] as usize;
+            s.next_start = if slab_mode {
+                self.cell_start[((k + 1) % nslabs) * cells_per_slab] as usize
+            } else {
+                s.end
+            };
+        }
+        if slab_mode {
+            self.next_f.resize(n, [0.0; 3]);
+        } else {
+            self.next_f = Vec::new();
+        }
+
+        // Rows, slab by slab (each slab independent: parallel and deterministic).
+        let rows = RowBuild {
+            x: &atoms.x,
+            bx,
+            cells: cell_coords,
+            cell_start: &self.cell_start,
+            axes: &self.stencil_axes,
+            xruns: &self.xruns,
+            len,
+            cutsq: cutoff * cutoff,
+            slab_axis: if slab_mode { Some(bx.dim - 1) } else { None },
+        };
+        let isa = match self.isa {
+            Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
+            Some(_) => Isa::Baseline,
+            None => Isa::detect(),
+        };
+        self.slabs
+            .par_iter_mut()
+            .for_each(|s| build_rows_isa(isa, &rows, s));
+
+        self.x_at_build.clear();
+        self.x_at_build.extend_from_slice(&atoms.x);
+        self.builds += 1;
+        self.last_life = self.evals_since_build;
+        self.evals_since_build = 0;
+        self.cutoff = cutoff;
+        self.rc_max = rc_max;
+        self.inner_on = self.skin > 0.0
+            && self
+                .inner_override
+                .unwrap_or(self.last_life >= INNER_MIN_LIFE);
+        self.inner_stale = true;
+        if !self.inner_on {
+            for s in self.slabs.iter_mut() {
+                s.in_row_start = Vec::new();
+                s.in_nbr = Vec::new();
+            }
+            self.x_at_inner = Vec::new();
+        }
+    }
+
+    /// Rebuild the working list if it is in use and stale or an atom moved margin/2 since.
+    fn refresh_inner(&mut self, atoms: &Atoms, bx: &SimBox) {
+        if !self.inner_on
+            && self.inner_override.is_none()
+            && self.skin > 0.0
+            && self.evals_since_build >= INNER_MIN_LIFE
+        {
+            // This list lives long: switch the working list on.
+            self.inner_on = true;
+            self.inner_stale = true;
+        }
+        if !self.inner_on {
+            return;
+        }
+        let margin = INNER_MARGIN * self.skin;
+        if !self.inner_stale {
+            let limit = 0.25 * margin * margin;
+            let moved = atoms
+                .x
+                .par_iter()
+                .zip(self.x_at_inner.par_iter())
+                .any(|(x, x0)| {
+                    let d = [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]];
+                    d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > limit
+                });
+            if !moved {
+                return;
+            }
+        }
+        let cut = self.rc_max + margin;
+        let cutsq = cut * cut;
+        let len = bx.len();
+        let quarter = [0.25 * len[0], 0.25 * len[1], 0.25 * len[2]];
+        let x = &atoms.x;
+        self.slabs.par_iter_mut().for_each(|s| {
+            s.in_row_start.clear();
+            s.in_nbr.clear();
+            s.in_row_start.push(0);
+            let mut len = 0usize;
+            for (r, i) in (s.start..s.end).enumerate() {
+                let row = &s.nbr[s.row_start[r] as usize..s.row_start[r + 1] as usize];
+                let xi = x[i];
+                // Branch-free append of the entries within the cut (a subsequence of the row).
+                s.in_nbr.resize(len + row.len(), 0);
+                for &j in row {
+                    let xj = x[j as usize];
+                    let mut d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
+                    if (d[0].abs() >= quarter[0])
+                        | (d[1].abs() >= quarter[1])
+                        | (d[2].abs() >= quarter[2])
+                    {
+                        d = bx.min_image(d);
+                    }
+                    s.in_nbr[len] = j;
+                    len += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cutsq);
+                }
+                s.in_nbr.truncate(len);
+                s.in_row_start.push(len as u32);
+            }
+        });
+        self.x_at_inner.clear();
+        self.x_at_inner.extend_from_slice(x);
+        self.inner_stale = false;
+    }
+
+    /// The instruction set the pair loop uses: the override of [`NeighborList::set_isa`] if
+    /// this CPU supports it (else the baseline), or the best the CPU has.
+    pub fn isa(&self) -> Isa {
+        match self.isa {
+            Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
+            Some(_) => Isa::Baseline,
+            None => Isa::detect(),
+        }
+    }
+
+    /// Evaluate all pair forces of `kernel` at `step` (the noise key), overwrite `atoms.f`, and
+    /// return the energy and virial. `table` holds the cut-offs of the `ntypes` types (dense,
+    /// `(ntypes + 1)²`), `inv_mass[t]` is 1/m of type t. Requires a current list; `isa` is the
+    /// instruction set of the distance pass (the kernel has its own).
+    #[allow(clippy::too_many_arguments)]
+    pub fn compute_forces(
+        &mut self,
+        atoms: &mut Atoms,
+        bx: &SimBox,
+        kernel: &dyn PairKernel,
+        table: &[PairCoeff],
+        ntypes: usize,
+        inv_mass: &[f64],
+        step: u64,
+    ) -> PairTally {
+        // The invariants the unchecked (SIMD gather) reads rely on: the list was built for these
+        // atoms (so every listed index is < n), and every type indexes the table.
+        assert_eq!(
+            atoms.len(),
+            self.x_at_build.len(),
+            "neighbour list built for a different number of atoms"
+        );
+        let nt = ntypes + 1;
+        assert!(
+            table.len() == nt * nt && atoms.typ.par_iter().all(|&t| (t as usize) < nt),
+            "atom type outside the coefficient table"
+        );
+        self.evals_since_build += 1;
+        self.refresh_inner(atoms, bx);
+        self.rcsq.clear();
+        self.rcsq.extend(table.iter().map(|c| c.rc * c.rc));
+        let isa = self.isa();
+        let ctx = Ctx {
+            inner: self.inner_on,
+            isa,
+            bx,
+            kernel,
+            rcsq: &self.rcsq,
+            inv_mass,
+            nt,
+            step,
+            x: &atoms.x,
+            v: &atoms.v,
+            tag: &atoms.tag,
+            typ: &atoms.typ,
+        };
+        let f = &mut atoms.f;
+        if self.slabs.len() == 1 {
+            let s = &mut self.slabs[0];
+            s.compute(&ctx, f, &mut []);
+        } else {
+            // Slab k writes f[slab k] and next_f[slab k + 1] (periodically): disjoint slices.
+            let mut own: Vec<&mut [[f64; 3]]> = Vec::with_capacity(self.slabs.len());
+            let mut next: Vec<&mut [[f64; 3]]> = Vec::with_capacity(self.slabs.len());
+            let (mut rest_f, mut rest_n) = (&mut f[..], &mut self.next_f[..]);
+            for s in &self.slabs {
+                let (a, b) = std::mem::take(&mut rest_f).split_at_mut(s.end - s.start);
+                let (c, d) = std::mem::take(&mut rest_n).split_at_mut(s.end - s.start);
+                own.push(a);
+                next.push(c);
+                rest_f = b;
+                rest_n = d;
+            }
+            next.rotate_left(1);
+            self.slabs
+                .par_iter_mut()
+                .zip(own.into_par_iter().zip(next.into_par_iter()))
+                .for_each(|(s, (own, next))| s.compute(&ctx, own, next));
+            // f = own + next: one addition of two partial sums per component (commutative).
+            f.par_iter_mut()
+                .zip(self.next_f.par_iter())
+                .for_each(|(f, n)| {
+                    f[0] += n[0];
+                    f[1] += n[1];
+                    f[2] += n[2];
+                });
+        }
+
+        let mut tally = PairTally::default();
+        for s in &self.slabs {
+            tally.energy += s.energy;
+            for a in 0..6 {
+                tally.virial[a] += s.virial[a];
+            }
+        }
+        tally
+    }
+}

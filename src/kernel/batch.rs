@@ -1,0 +1,462 @@
+//! The batched pair kernel: [`pair_forces_batch`] evaluates the same function as
+//! [`super::pair_force`] (bit for bit) on up to [`BATCH`] pairs in structure-of-arrays lanes,
+//! for the engines' hot loops, with a choice of instruction set ([`Isa`]).
+
+use super::*;
+/// Pairs per [`PairBatch`].
+pub const BATCH: usize = 64;
+
+/// Up to [`BATCH`] pairs in structure-of-arrays form, for [`pair_forces_batch`]: the inputs of
+/// [`pair_force`] for each pair, with the pair's tags in place of its Gaussian (the batch draws
+/// ξ_ij itself, [`crate::rng::pair_gaussian`]) and an index into the caller's coefficient table.
+#[derive(Clone, Debug)]
+pub struct PairBatch {
+    /// Number of pairs filled (≤ [`BATCH`]).
+    pub len: usize,
+    /// r_ij by component: `dr[k][l]` is component k of pair l.
+    pub dr: [[f64; BATCH]; 3],
+    /// v_ij by component (with any Lees–Edwards velocity offset already added).
+    pub dv: [[f64; BATCH]; 3],
+    /// 1/m_i + 1/m_j.
+    pub inv_mass_sum: [f64; BATCH],
+    /// Index of the pair's coefficients in the table passed to [`pair_forces_batch`].
+    pub coeff: [u32; BATCH],
+    /// Tag of i.
+    pub tag_i: [u32; BATCH],
+    /// Tag of j.
+    pub tag_j: [u32; BATCH],
+    /// Result: the total pair force divided by r, so the force on i is `fpair · r_ij`
+    /// (0 for a pair out of range). Entries from `len` on are unspecified.
+    pub fpair: [f64; BATCH],
+    /// Result: the conservative pair energy (0 for a pair out of range). Entries from `len` on
+    /// are unspecified.
+    pub energy: [f64; BATCH],
+    /// Working arrays of [`pair_forces_batch`] (kept here so that no call zeroes them).
+    pub(super) scratch: BatchScratch,
+}
+
+/// The per-lane coefficients, random bits and Gaussians of one batch evaluation.
+#[derive(Clone, Debug)]
+pub(super) struct BatchScratch {
+    co: LaneCoeff,
+    bits: [[u32; BATCH]; 4],
+    xi: [f64; BATCH],
+    st: StageArrays,
+}
+
+/// The results of the kernel's stages for each lane: `g` = the fields of [`Geom`] (r, 1/r, q,
+/// w_D, w_R, r·v, S), `gs` = γ(S), σ(S), σ(S'').
+#[derive(Clone, Debug)]
+pub(super) struct StageArrays {
+    g: [[f64; BATCH]; 7],
+    gs: [[f64; BATCH]; 3],
+}
+
+impl Default for PairBatch {
+    fn default() -> Self {
+        PairBatch {
+            len: 0,
+            dr: [[0.0; BATCH]; 3],
+            dv: [[0.0; BATCH]; 3],
+            inv_mass_sum: [0.0; BATCH],
+            coeff: [0; BATCH],
+            tag_i: [0; BATCH],
+            tag_j: [0; BATCH],
+            fpair: [0.0; BATCH],
+            energy: [0.0; BATCH],
+            scratch: BatchScratch {
+                co: LaneCoeff {
+                    a: [0.0; BATCH],
+                    gamma0: [0.0; BATCH],
+                    gamma1: [0.0; BATCH],
+                    rc: [0.0; BATCH],
+                    inv_rc: [0.0; BATCH],
+                    sigma0: [0.0; BATCH],
+                    half_a_rc: [0.0; BATCH],
+                },
+                bits: [[0; BATCH]; 4],
+                xi: [0.0; BATCH],
+                st: StageArrays {
+                    g: [[0.0; BATCH]; 7],
+                    gs: [[0.0; BATCH]; 3],
+                },
+            },
+        }
+    }
+}
+
+/// Instruction sets [`pair_forces_batch`] can use (chosen at run time; the results are the same
+/// bits with each, since the arithmetic is IEEE and never fused).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Isa {
+    /// Baseline x86-64 / any target: SSE2 vectors (2 lanes) or scalar code.
+    Baseline,
+    /// AVX2 + FMA (4 lanes; FMA instructions are available but never used for a·b + c).
+    Avx2,
+    /// AVX-512 F/DQ/VL/BW (8 lanes).
+    Avx512,
+}
+
+impl Isa {
+    /// The best instruction set this CPU has, capped by the environment variable `DPDNL_SIMD`
+    /// (`baseline`, `avx2` or `avx512`; for benchmarks and tests), read once.
+    pub fn detect() -> Isa {
+        static ISA: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *ISA.get_or_init(|| {
+            let best = Isa::best_supported();
+            let cap = match std::env::var("DPDNL_SIMD").as_deref() {
+                Ok("baseline") => Isa::Baseline,
+                Ok("avx2") => Isa::Avx2,
+                _ => Isa::Avx512,
+            };
+            if (cap as u8) < (best as u8) {
+                cap
+            } else {
+                best
+            }
+        })
+    }
+
+    /// The best instruction set the CPU supports.
+    pub fn best_supported() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512dq")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+                && std::arch::is_x86_feature_detected!("avx512bw")
+                && std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+                && std::arch::is_x86_feature_detected!("popcnt")
+                && std::arch::is_x86_feature_detected!("bmi1")
+                && std::arch::is_x86_feature_detected!("bmi2")
+                && std::arch::is_x86_feature_detected!("lzcnt")
+            {
+                return Isa::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+                && std::arch::is_x86_feature_detected!("popcnt")
+                && std::arch::is_x86_feature_detected!("bmi1")
+                && std::arch::is_x86_feature_detected!("bmi2")
+                && std::arch::is_x86_feature_detected!("lzcnt")
+            {
+                return Isa::Avx2;
+            }
+        }
+        Isa::Baseline
+    }
+}
+
+/// The coefficients of each pair of a batch, gathered from the table.
+#[derive(Clone, Debug)]
+pub(super) struct LaneCoeff {
+    a: [f64; BATCH],
+    gamma0: [f64; BATCH],
+    gamma1: [f64; BATCH],
+    rc: [f64; BATCH],
+    inv_rc: [f64; BATCH],
+    sigma0: [f64; BATCH],
+    half_a_rc: [f64; BATCH],
+}
+
+/// Evaluate every pair of `b` at `step`: `b.fpair[l]` and `b.energy[l]` become exactly
+/// `pair_force(model, &coeff[b.coeff[l]], input_l)` (`table` = `PairTable::new(model, coeff)`) with `input_l.xi = pair_gaussian(seed, step,
+/// b.tag_i[l], b.tag_j[l])` (total force / r and energy; 0 out of range). The loop has no calls
+/// and no branches, so it runs in SIMD lanes ([`Isa::detect`]).
+///
+/// Panics if a `coeff` index is outside `table` (a caller bug), or if `table` was prepared for a
+/// model with another kT (checked in debug builds).
+pub fn pair_forces_batch(
+    model: &PairModel,
+    table: &PairTable,
+    seed: u32,
+    step: u64,
+    b: &mut PairBatch,
+) {
+    pair_forces_batch_isa(Isa::detect(), model, table, seed, step, b);
+}
+
+/// [`pair_forces_batch`] with a given instruction set (a lower one than the CPU's best is fine;
+/// an unsupported one falls back to [`Isa::Baseline`]). For tests and benchmarks.
+pub fn pair_forces_batch_isa(
+    isa: Isa,
+    model: &PairModel,
+    table: &PairTable,
+    seed: u32,
+    step: u64,
+    b: &mut PairBatch,
+) {
+    let n = b.len.min(BATCH);
+    b.len = n;
+    if n == 0 {
+        return;
+    }
+    debug_assert_eq!(
+        table.kt.to_bits(),
+        model.kt.to_bits(),
+        "PairTable of another model"
+    );
+    let isa = if (isa as u8) > (Isa::best_supported() as u8) {
+        Isa::Baseline
+    } else {
+        isa
+    };
+    let standard = model.weight == Weight::STANDARD;
+    macro_rules! arms {
+        ($(($f:ident, $n:ident)),*) => {
+            match (model.friction, model.noise, standard) {
+                $(
+                    (Friction::$f, Noise::$n, true) => {
+                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, true>(isa, model, table, seed, step, b)
+                    }
+                    (Friction::$f, Noise::$n, false) => {
+                        lanes_isa::<{ Friction::$f as u8 }, { Noise::$n as u8 }, false>(isa, model, table, seed, step, b)
+                    }
+                )*
+            }
+        };
+    }
+    arms!(
+        (None, Plain),
+        (None, Corrected),
+        (None, TwoStep),
+        (Cross, Plain),
+        (Cross, Corrected),
+        (Cross, TwoStep),
+        (Dot, Plain),
+        (Dot, Corrected),
+        (Dot, TwoStep)
+    );
+}
+
+pub(super) fn lanes_isa<const F: u8, const N: u8, const STD: bool>(
+    isa: Isa,
+    model: &PairModel,
+    table: &PairTable,
+    seed: u32,
+    step: u64,
+    b: &mut PairBatch,
+) {
+    match isa {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `isa` is at most `Isa::best_supported()` (checked by the caller), so the CPU has
+        // every feature these functions are compiled for.
+        Isa::Avx512 => unsafe { lanes_avx512::<F, N, STD>(model, table, seed, step, b) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        Isa::Avx2 => unsafe { lanes_avx2::<F, N, STD>(model, table, seed, step, b) },
+        _ => lanes::<F, N, STD>(model, table, seed, step, b),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+pub(super) fn lanes_avx512<const F: u8, const N: u8, const STD: bool>(
+    model: &PairModel,
+    table: &PairTable,
+    seed: u32,
+    step: u64,
+    b: &mut PairBatch,
+) {
+    lanes::<F, N, STD>(model, table, seed, step, b)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+pub(super) fn lanes_avx2<const F: u8, const N: u8, const STD: bool>(
+    model: &PairModel,
+    table: &PairTable,
+    seed: u32,
+    step: u64,
+    b: &mut PairBatch,
+) {
+    lanes::<F, N, STD>(model, table, seed, step, b)
+}
+
+pub(super) const fn friction_of(f: u8) -> Friction {
+    match f {
+        1 => Friction::Cross,
+        2 => Friction::Dot,
+        _ => Friction::None,
+    }
+}
+
+pub(super) const fn noise_of(n: u8) -> Noise {
+    match n {
+        1 => Noise::Corrected,
+        2 => Noise::TwoStep,
+        _ => Noise::Plain,
+    }
+}
+
+/// Gather each pair's coefficients and constants into the lane arrays (a broadcast when the
+/// whole batch has one type pair, e.g. one atom type).
+#[inline(always)]
+pub(super) fn fill_coeff(table: &PairTable, b: &mut PairBatch, n: usize) {
+    let first = b.coeff[0];
+    let co = &mut b.scratch.co;
+    if b.coeff[..n].iter().all(|&k| k == first) {
+        let (c, d) = (&table.coeff[first as usize], &table.derived[first as usize]);
+        co.a.fill(c.a);
+        co.gamma0.fill(c.gamma0);
+        co.gamma1.fill(c.gamma1);
+        co.rc.fill(c.rc);
+        co.inv_rc.fill(d.inv_rc);
+        co.sigma0.fill(d.sigma0);
+        co.half_a_rc.fill(d.half_a_rc);
+    } else {
+        for l in 0..n {
+            let k = b.coeff[l] as usize;
+            let (c, d) = (&table.coeff[k], &table.derived[k]);
+            co.a[l] = c.a;
+            co.gamma0[l] = c.gamma0;
+            co.gamma1[l] = c.gamma1;
+            co.rc[l] = c.rc;
+            co.inv_rc[l] = d.inv_rc;
+            co.sigma0[l] = d.sigma0;
+            co.half_a_rc[l] = d.half_a_rc;
+        }
+    }
+}
+
+/// The per-pair loop of [`pair_forces_batch`], with friction, noise and weight fixed.
+#[inline(always)]
+pub(super) fn lanes<const F: u8, const N: u8, const STD: bool>(
+    model: &PairModel,
+    table: &PairTable,
+    seed: u32,
+    step: u64,
+    b: &mut PairBatch,
+) {
+    let friction = friction_of(F);
+    let noise = noise_of(N);
+    let weight = model.weight;
+    let n = b.len.min(BATCH);
+    fill_coeff(table, b, n);
+    // Every loop runs over all BATCH lanes, whatever `n`: lanes past `n` compute garbage from
+    // stale inputs (pure arithmetic, no traps) that nobody reads, and no scalar remainder
+    // loop is needed.
+    let n = BATCH;
+    // Three loops (random bits, Gaussians, forces) rather than one: each body is short enough
+    // for the processor to overlap several iterations, which hides the long latency chains of
+    // Philox, ln and the divisions. The arithmetic of each pair is unchanged.
+    let bits = &mut b.scratch.bits;
+    for l in 0..n {
+        let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
+        let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
+        bits[0][l] = o[0];
+        bits[1][l] = o[1];
+        bits[2][l] = o[2];
+        bits[3][l] = o[3];
+    }
+    let xi = &mut b.scratch.xi;
+    for l in 0..n {
+        xi[l] = crate::rng::gaussian_from_bits([bits[0][l], bits[1][l], bits[2][l], bits[3][l]]);
+    }
+    // The stages of `pair_parts`, one loop each (see there); lane arrays in between.
+    let coeff_at = |co: &LaneCoeff, l: usize| {
+        (
+            PairCoeff {
+                a: co.a[l],
+                gamma0: co.gamma0[l],
+                gamma1: co.gamma1[l],
+                rc: co.rc[l],
+            },
+            Derived {
+                inv_rc: co.inv_rc[l],
+                sigma0: co.sigma0[l],
+                half_a_rc: co.half_a_rc[l],
+            },
+        )
+    };
+    let input_at = |b: &PairBatch, xi: &[f64; BATCH], l: usize| PairInput {
+        dr: [b.dr[0][l], b.dr[1][l], b.dr[2][l]],
+        dv: [b.dv[0][l], b.dv[1][l], b.dv[2][l]],
+        inv_mass_sum: b.inv_mass_sum[l],
+        xi: xi[l],
+    };
+    // Geometry and σ's between the stages, as lane arrays in the batch's scratch.
+    let geom_at = |st: &StageArrays, l: usize| Geom {
+        r: st.g[0][l],
+        inv_r: st.g[1][l],
+        q: st.g[2][l],
+        wd: st.g[3][l],
+        wr: st.g[4][l],
+        rdotv: st.g[5][l],
+        s: st.g[6][l],
+    };
+    {
+        let BatchScratch { co, xi, st, .. } = &mut b.scratch;
+        let io = (&b.dr, &b.dv, &b.inv_mass_sum);
+        let input = |l: usize| PairInput {
+            dr: [io.0[0][l], io.0[1][l], io.0[2][l]],
+            dv: [io.1[0][l], io.1[1][l], io.1[2][l]],
+            inv_mass_sum: io.2[l],
+            xi: xi[l],
+        };
+        for l in 0..n {
+            let (_, d) = coeff_at(co, l);
+            let p = input(l);
+            let rsq = dot(p.dr, p.dr);
+            let g = if STD {
+                geom(friction, |q| (q * q, q), &d, &p, rsq)
+            } else {
+                geom(friction, |q| weight.wd_wr(q), &d, &p, rsq)
+            };
+            st.g[0][l] = g.r;
+            st.g[1][l] = g.inv_r;
+            st.g[2][l] = g.q;
+            st.g[3][l] = g.wd;
+            st.g[4][l] = g.wr;
+            st.g[5][l] = g.rdotv;
+            st.g[6][l] = g.s;
+        }
+        if friction != Friction::None {
+            for l in 0..n {
+                let (c, d) = coeff_at(co, l);
+                let (gamma, sigma) = friction_at(friction, &c, &d, st.g[6][l]);
+                st.gs[0][l] = gamma;
+                st.gs[1][l] = sigma;
+            }
+            if noise == Noise::TwoStep {
+                for l in 0..n {
+                    let (c, d) = coeff_at(co, l);
+                    let p = input(l);
+                    let rsq = dot(p.dr, p.dr);
+                    let s2 = twostep_rate(friction, model, &geom_at(st, l), st.gs[1][l], &p, rsq);
+                    st.gs[2][l] = friction_at(friction, &c, &d, s2).1;
+                }
+            }
+        }
+    }
+    let (co, xi, st) = (&b.scratch.co, &b.scratch.xi, &b.scratch.st);
+    for l in 0..n {
+        let (c, d) = coeff_at(co, l);
+        let p = input_at(b, xi, l);
+        let rsq = dot(p.dr, p.dr);
+        let ok = in_range(rsq, c.rc);
+        // Constant friction: γ and σ are the type pair's (what `friction_at` returns).
+        let (gamma, sigma, sigma2) = if friction == Friction::None {
+            (c.gamma0, d.sigma0, d.sigma0)
+        } else if noise == Noise::TwoStep {
+            (st.gs[0][l], st.gs[1][l], st.gs[2][l])
+        } else {
+            (st.gs[0][l], st.gs[1][l], st.gs[1][l])
+        };
+        let pf = assemble(
+            friction,
+            noise,
+            model,
+            &c,
+            &d,
+            &p,
+            &geom_at(st, l),
+            gamma,
+            sigma,
+            sigma2,
+        );
+        b.fpair[l] = if ok { pf.total() * pf.inv_r } else { 0.0 };
+        b.energy[l] = if ok { pf.energy } else { 0.0 };
+    }
+}
