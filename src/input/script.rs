@@ -2071,7 +2071,6 @@ impl observe::Env for Interpreter<'_> {
         let f = Ctx(self, 0)
             .atom_variable(name)
             .ok_or_else(|| format!("variable '{name}' is not an atom-style variable"))??;
-        crate::engine::measure::eval_atoms(&f, sys)
-            .map_err(|e| format!("atom-style variable '{name}': {e}"))
+        observe::eval_atoms(&f, sys).map_err(|e| format!("atom-style variable '{name}': {e}"))
     }
 }

@@ -4,9 +4,10 @@
 use super::average::{Ave, Averager};
 use super::compute::ComputeKind;
 use super::fix::{AveKind, Epoch, FixArgs};
+use super::per_atom::atom_value;
 use super::{Env, Observe, Sample, Source, ValueRef, VarStyle, parse_i64, parse_num, parse_ref};
 use crate::engine::System;
-use crate::engine::measure::{self, HistoBins, HistoSample};
+use crate::engine::measure::{HistoBins, HistoSample};
 use crate::input::expr::AtomValue;
 use crate::input::format::{FmtArg, sprintf};
 
@@ -214,7 +215,7 @@ impl Observe {
             match input {
                 HistoInput::Atom(a) => {
                     for i in 0..sys.atoms.len() {
-                        h.bins.add(&mut s, measure::atom_value(sys, i, *a));
+                        h.bins.add(&mut s, atom_value(sys, i, *a));
                     }
                 }
                 HistoInput::AtomVar(name) => {

@@ -23,6 +23,7 @@
 //! - `fix`: the averaging fixes' common part (keywords, files, the two phases of
 //!   `end_of_step`);
 //! - `ave_time`, `ave_chunk`, `ave_histo`: what is particular to each fix;
+//! - `per_atom`: per-atom values and atom-style formulas evaluated on a system.
 
 mod ave_chunk;
 mod ave_histo;
@@ -31,9 +32,11 @@ mod average;
 mod compute;
 mod fix;
 mod global;
+mod per_atom;
 
 pub use compute::{BUILTIN_COMPUTES, ComputeDef};
 pub use fix::AveFix;
+pub use per_atom::{atom_value, eval_atoms};
 
 use super::expr::RefKind;
 use super::format::{ArgKind, conversion_kinds};
