@@ -39,12 +39,27 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-/// Where the interpreter's screen output goes (the library never prints by itself).
+/// Where the interpreter's screen output goes (the library never prints by itself), and how an
+/// embedding stops a run.
+///
+/// Interrupting (a Python binding's Ctrl-C, a GUI's stop button): [`Console::interrupted`] is
+/// asked at the start of every `run` (before its set-up) and after each of its steps (after the
+/// step's fixes, thermo row and dumps). When it returns true the run stops at that step
+/// boundary: the log is flushed as at the end of a run (dump and `fix ave/*` files are flushed
+/// as they are written), no "Loop time" summary is printed, and the script stops with a
+/// [`ScriptError`] of command `run` and message `interrupted at step N`, N the step reached.
+/// The interpreter stays usable: the system is left at step N and a later `run` continues from
+/// it.
 pub trait Console {
     /// One line of output (no trailing newline).
     fn line(&mut self, text: &str);
     /// Progress of a run: `step` reached, run from `first` to `last`. Called about every second.
     fn progress(&mut self, _step: u64, _first: u64, _last: u64) {}
+    /// True to stop the current run at this step boundary (see the trait's documentation).
+    /// Called once per step, so it should be cheap (e.g. read a flag). Default: never.
+    fn interrupted(&mut self) -> bool {
+        false
+    }
 }
 
 /// A console that collects lines in memory (tests, library users).
@@ -185,6 +200,13 @@ impl<'c> Interpreter<'c> {
     /// The system, once a box exists.
     pub fn system(&self) -> Option<&System> {
         self.sys.as_ref()
+    }
+
+    /// The system, mutably, once a box exists (for embeddings that read or change the state
+    /// between commands; the next `run` checks it and evaluates its forces again in its
+    /// set-up).
+    pub fn system_mut(&mut self) -> Option<&mut System> {
+        self.sys.as_mut()
     }
 
     /// The file names of the dumps currently defined, as given to `dump` (after variable

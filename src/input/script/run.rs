@@ -128,6 +128,10 @@ impl Interpreter<'_> {
             }
         }
         let threads = self.threads;
+        let step = self.sys_mut()?.step;
+        if self.console.interrupted() {
+            return Err(self.interrupted_at(step));
+        }
         let sys = self.sys_mut()?;
         if upto {
             n = n
@@ -197,6 +201,9 @@ impl Interpreter<'_> {
                     let _ = l.flush();
                 }
             }
+            if self.console.interrupted() {
+                return Err(self.interrupted_at(step));
+            }
         }
         let secs = start.elapsed().as_secs_f64();
         self.out(&format!(
@@ -215,5 +222,14 @@ impl Interpreter<'_> {
             let _ = l.flush();
         }
         Ok(())
+    }
+
+    /// Stop a run that [`super::Console::interrupted`] interrupted at `step`: flush the log as
+    /// at the end of a run; the message of the error the script stops with.
+    fn interrupted_at(&mut self, step: u64) -> String {
+        if let Some(l) = self.log.as_mut() {
+            let _ = l.flush();
+        }
+        format!("interrupted at step {step}")
     }
 }
