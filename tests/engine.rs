@@ -2,6 +2,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use dpdnl::engine::System;
+use dpdnl::input::{Console, Interpreter, Options};
 
 mod common;
 use common::{run, state_by_tag};
@@ -225,4 +226,91 @@ fn log_shape() {
         .collect();
     assert_eq!(rows.len(), 3, "steps 0, 100, 200");
     assert!(lines.iter().any(|l| l.starts_with("Loop time of")));
+}
+
+/// A console whose `interrupted` returns true from call `after + 1` on, while `*limit` is not
+/// raised (an embedding's Ctrl-C).
+struct StopAfter {
+    lines: Vec<String>,
+    calls: usize,
+    limit: std::rc::Rc<std::cell::Cell<usize>>,
+}
+
+impl Console for StopAfter {
+    fn line(&mut self, text: &str) {
+        self.lines.push(text.to_string());
+    }
+    fn interrupted(&mut self) -> bool {
+        self.calls += 1;
+        self.calls > self.limit.get()
+    }
+}
+
+/// `Console::interrupted` stops a run at a step boundary: asked at the start of the run and
+/// after every step, so true on call K + 1 stops at step K with `interrupted at step K`; dump
+/// and log hold that step; the interpreter can run on from it.
+#[test]
+fn interrupted_run_stops_at_the_step_boundary() {
+    let dump = tmp("interrupt.dump");
+    let log = tmp("interrupt.log");
+    let script = fluid(3, "dot", "twostep", 100)
+        .replace("thermo 100\n", "thermo 10\n")
+        .replace(
+            "run 100\n",
+            &format!("dump d all custom 5 {dump} id x\nrun 100\n"),
+        );
+    let nlines = script.lines().count();
+    let limit = std::rc::Rc::new(std::cell::Cell::new(37));
+    let mut console = StopAfter {
+        lines: Vec::new(),
+        calls: 0,
+        limit: limit.clone(),
+    };
+    let opts = Options {
+        log: Some(log.clone().into()),
+        ..Options::default()
+    };
+    let mut interp = Interpreter::new(&mut console, &opts).expect("log file");
+    let err = interp
+        .run_text(&script, "test.in")
+        .expect_err("interrupted");
+    assert_eq!(err.message, "interrupted at step 37");
+    assert_eq!(err.command, "run");
+    assert_eq!((err.file.as_str(), err.line), ("test.in", nlines));
+    assert_eq!(interp.system().expect("system").step, 37);
+    // The files hold every step written before the interruption (dumps 0, 5, …, 35; thermo
+    // 0, 10, 20, 30) and no end-of-run summary.
+    let dumped = std::fs::read_to_string(&dump).expect("dump");
+    assert_eq!(dumped.matches("ITEM: TIMESTEP").count(), 8);
+    let logged = std::fs::read_to_string(&log).expect("log");
+    assert!(
+        logged
+            .lines()
+            .any(|l| l.split_whitespace().next() == Some("30"))
+    );
+    assert!(!logged.contains("Loop time of"));
+    // Running on: the next run continues from step 37.
+    limit.set(usize::MAX);
+    interp.run_text("run 10\n", "more.in").expect("runs on");
+    assert_eq!(interp.system().expect("system").step, 47);
+    // Interrupted before the set-up of a run (call 1): nothing is run or printed.
+    limit.set(0);
+    let err = interp
+        .run_text("run 10\n", "more.in")
+        .expect_err("interrupted");
+    assert_eq!(err.message, "interrupted at step 47");
+    assert_eq!(err.line, 1);
+    drop(interp);
+    assert_eq!(
+        console.calls,
+        38 + 11 + 1,
+        "asked at the start of every run and after every step"
+    );
+    let setups = console
+        .lines
+        .iter()
+        .filter(|l| l.starts_with("Setting up"))
+        .count();
+    assert_eq!(setups, 2, "the last run stopped before its set-up");
+    assert!(console.lines.iter().any(|l| l.starts_with("Loop time of")));
 }

@@ -1,11 +1,9 @@
 //! Measurements on a [`System`] with LAMMPS's definitions (`docs/models.md` §4.5–4.6): spatial 1-D
 //! bins (`compute chunk/atom bin/1d`), mean-squared displacement (`compute msd`), histogram binning
-//! (`fix ave/histo`), per-atom formula values (`variable … atom`). Pure functions of the state; the
-//! averaging over time and the file formats live in `input::observe`.
+//! (`fix ave/histo`). Pure functions of the state; the averaging over time, the file formats and
+//! the per-atom values of the script language (`variable … atom`) live in `input::observe`.
 
 use super::{SimBox, System};
-use crate::input::expr::{AtomValue, Formula};
-use rayon::prelude::*;
 
 /// Where the bin origin of a `bin/1d` chunk style lies (LAMMPS `lower|center|upper|value`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -206,37 +204,6 @@ impl BinLayout {
 /// The mass of atom `i` (0 if its type has no mass yet).
 pub fn mass_of(sys: &System, i: usize) -> f64 {
     sys.mass[sys.atoms.typ[i] as usize].unwrap_or(0.0)
-}
-
-/// One per-atom value of atom `i`.
-pub fn atom_value(sys: &System, i: usize, v: AtomValue) -> f64 {
-    let a = &sys.atoms;
-    match v {
-        AtomValue::Id => f64::from(a.tag[i]),
-        AtomValue::Mass => mass_of(sys, i),
-        AtomValue::Type => f64::from(a.typ[i]),
-        AtomValue::X => a.x[i][0],
-        AtomValue::Y => a.x[i][1],
-        AtomValue::Z => a.x[i][2],
-        AtomValue::Vx => a.v[i][0],
-        AtomValue::Vy => a.v[i][1],
-        AtomValue::Vz => a.v[i][2],
-        AtomValue::Fx => a.f[i][0],
-        AtomValue::Fy => a.f[i][1],
-        AtomValue::Fz => a.f[i][2],
-    }
-}
-
-/// Evaluates a bound atom-style formula ([`Formula::bind_atoms`]) for every atom, in the atoms'
-/// internal order.
-pub fn eval_atoms(f: &Formula, sys: &System) -> Result<Vec<f64>, String> {
-    if let Some(c) = f.constant() {
-        return Ok(vec![c; sys.atoms.len()]);
-    }
-    (0..sys.atoms.len())
-        .into_par_iter()
-        .map(|i| f.eval_atom(&|v| atom_value(sys, i, v)))
-        .collect()
 }
 
 /// The unwrapped position x + image · L of atom `i` (LAMMPS `domain->unmap`).

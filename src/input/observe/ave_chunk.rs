@@ -1,0 +1,396 @@
+//! `fix ave/chunk` over the bins of a `compute chunk/atom bin/1d`: per-chunk sums of per-atom
+//! values (velocities, forces, densities, temperature, atom-style variables), normalised and
+//! averaged as LAMMPS does, and the lock that keeps the chunks fixed while a fix averages.
+
+use super::average::{Ave, Averager};
+use super::compute::ComputeKind;
+use super::fix::{AveKind, Epoch, FixArgs};
+use super::{Env, Observe, Sample, Source, VarStyle, parse_ref};
+use crate::engine::System;
+use crate::engine::measure;
+use crate::input::format::{FmtArg, sprintf};
+
+#[derive(Clone, Debug, PartialEq)]
+pub(super) enum ChunkValue {
+    V(usize),
+    F(usize),
+    DensityNumber,
+    DensityMass,
+    Mass,
+    Temp,
+    Var(String),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Norm {
+    All,
+    Sample,
+    None,
+}
+
+#[derive(Debug)]
+pub(super) struct AveChunk {
+    pub(super) chunk: String,
+    values: Vec<ChunkValue>,
+    norm: Norm,
+    adof: f64,
+    nchunk: usize,
+    coord: Vec<f64>,
+    count_many: Vec<f64>,
+    values_many: Vec<f64>,
+    count_sum: Vec<f64>,
+    avg: Averager,
+    format: String,
+    lock_forever: bool,
+}
+
+/// The lock a fix holds on a chunk compute, so that the chunks cannot change while it
+/// averages (LAMMPS `ComputeChunkAtom::lock`): fix ID, first step, last step (−1: forever).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct ChunkLock {
+    pub(super) fix: String,
+    start: i64,
+    stop: i64,
+}
+
+/// The part of `fix ave/chunk`'s parsing particular to it: the chunk compute, the values and
+/// the file header.
+pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<String>), String> {
+    let FixArgs {
+        args,
+        id,
+        sys,
+        raw_values,
+        ave,
+        format,
+        titles,
+        norm,
+        ..
+    } = f;
+    let obs = env.observe();
+    let cid = &args[6];
+    match obs.compute(cid) {
+        Some(c) if matches!(c.kind, ComputeKind::Chunk(_)) => {}
+        Some(_) => {
+            return Err(format!(
+                "fix ave/chunk: compute '{cid}' is not a chunk/atom compute"
+            ));
+        }
+        None => {
+            return Err(format!(
+                "fix ave/chunk: chunk/atom compute '{cid}' does not exist"
+            ));
+        }
+    }
+    let mut values = Vec::new();
+    for w in &raw_values {
+        values.push(match *w {
+            "vx" => ChunkValue::V(0),
+            "vy" => ChunkValue::V(1),
+            "vz" => ChunkValue::V(2),
+            "fx" => ChunkValue::F(0),
+            "fy" => ChunkValue::F(1),
+            "fz" => ChunkValue::F(2),
+            "density/number" => ChunkValue::DensityNumber,
+            "density/mass" => ChunkValue::DensityMass,
+            "mass" => ChunkValue::Mass,
+            "temp" => ChunkValue::Temp,
+            w => match parse_ref(w)? {
+                Some((Source::Var(name), None)) => match env.var_style(&name) {
+                    VarStyle::Atom => ChunkValue::Var(name),
+                    VarStyle::Undefined => {
+                        return Err(format!(
+                            "{w}: variable '{name}' for fix ave/chunk does not exist"
+                        ));
+                    }
+                    _ => {
+                        return Err(format!(
+                            "{w}: fix ave/chunk variable '{name}' is not an \
+                             atom-style variable"
+                        ));
+                    }
+                },
+                _ => {
+                    return Err(format!(
+                        "fix ave/chunk value '{w}' not supported (vx vy vz fx fy fz \
+                         density/number density/mass mass temp v_NAME)"
+                    ));
+                }
+            },
+        });
+    }
+    let header = vec![
+        titles[0]
+            .clone()
+            .unwrap_or_else(|| format!("# Chunk-averaged data for fix {id} and group all")),
+        titles[1]
+            .clone()
+            .unwrap_or_else(|| "# Timestep Number-of-chunks Total-count".into()),
+        titles[2]
+            .clone()
+            .unwrap_or_else(|| format!("# Chunk Coord1 Ncount {}", raw_values.join(" "))),
+    ];
+    Ok((
+        AveKind::Chunk(AveChunk {
+            chunk: cid.clone(),
+            values,
+            norm,
+            adof: sys.dim() as f64,
+            nchunk: 0,
+            coord: Vec::new(),
+            count_many: Vec::new(),
+            values_many: Vec::new(),
+            count_sum: Vec::new(),
+            avg: Averager::new(ave),
+            format,
+            lock_forever: false,
+        }),
+        header,
+    ))
+}
+
+/// Phase 2 of `end_of_step` for `fix ave/chunk`: add one sample; at the end of the epoch, the
+/// text to write (None before).
+pub(super) fn accumulate(
+    c: &mut AveChunk,
+    coord: Vec<f64>,
+    volume: f64,
+    count: Vec<f64>,
+    values: Vec<f64>,
+    e: Epoch<'_>,
+) -> Result<Option<String>, String> {
+    let Epoch {
+        id,
+        step,
+        first,
+        done,
+        nrepeat,
+    } = e;
+    let mut text = String::new();
+    let nv = c.values.len();
+    if first {
+        c.nchunk = coord.len();
+        c.coord = coord;
+        c.count_many = vec![0.0; c.nchunk];
+        c.values_many = vec![0.0; c.nchunk * nv];
+        c.count_sum = vec![0.0; c.nchunk];
+    } else if coord.len() != c.nchunk {
+        return Err(format!(
+            "fix ave/chunk '{id}': the number of chunks changed within an Nfreq epoch"
+        ));
+    }
+    let n = c.nchunk;
+    match c.norm {
+        Norm::All => {
+            for m in 0..n {
+                c.count_many[m] += count[m];
+                for j in 0..nv {
+                    c.values_many[m * nv + j] += values[m * nv + j];
+                }
+            }
+        }
+        Norm::Sample | Norm::None => {
+            c.count_many.copy_from_slice(&count);
+            for m in 0..n {
+                let cm = c.count_many[m];
+                if cm > 0.0 {
+                    for j in 0..nv {
+                        let v = values[m * nv + j];
+                        c.values_many[m * nv + j] += match c.values[j] {
+                            ChunkValue::Temp => v / (c.adof * cm),
+                            ChunkValue::DensityNumber | ChunkValue::DensityMass => v,
+                            _ if c.norm == Norm::None => v,
+                            _ => v / cm,
+                        };
+                    }
+                }
+                c.count_sum[m] += cm;
+            }
+        }
+    }
+    if !done {
+        return Ok(None);
+    }
+    // Time average across the Nrepeat samples (LAMMPS's operations, in order).
+    let mut count_sum = vec![0.0; n];
+    let mut values_sum = vec![0.0; n * nv];
+    match c.norm {
+        Norm::All => {
+            count_sum.copy_from_slice(&c.count_many);
+            values_sum.copy_from_slice(&c.values_many);
+            for m in 0..n {
+                if count_sum[m] > 0.0 {
+                    for j in 0..nv {
+                        let v = &mut values_sum[m * nv + j];
+                        match c.values[j] {
+                            ChunkValue::Temp => *v *= 1.0 / (c.adof * count_sum[m]),
+                            ChunkValue::DensityMass => *v *= 1.0 / nrepeat,
+                            ChunkValue::DensityNumber => *v /= nrepeat,
+                            _ => *v /= count_sum[m],
+                        }
+                    }
+                }
+                count_sum[m] /= nrepeat;
+            }
+        }
+        Norm::Sample | Norm::None => {
+            for m in 0..n {
+                for j in 0..nv {
+                    values_sum[m * nv + j] = c.values_many[m * nv + j] / nrepeat;
+                }
+                count_sum[m] = c.count_sum[m] / nrepeat;
+            }
+        }
+    }
+    for j in 0..nv {
+        if matches!(
+            c.values[j],
+            ChunkValue::DensityNumber | ChunkValue::DensityMass
+        ) {
+            for m in 0..n {
+                values_sum[m * nv + j] /= volume;
+            }
+        }
+    }
+    let mut flat = count_sum;
+    flat.extend_from_slice(&values_sum);
+    c.avg.push(&flat);
+    let norm = c.avg.norm as f64;
+    let total: f64 = c.avg.total[..n].iter().sum();
+    text.push_str(&format!(
+        "{step} {n} {}\n",
+        sprintf("%g", &[FmtArg::Float(total)])?
+    ));
+    for m in 0..n {
+        text.push_str(&format!(
+            "  {} {} {}",
+            m + 1,
+            sprintf("%g", &[FmtArg::Float(c.coord[m])])?,
+            sprintf("%g", &[FmtArg::Float(c.avg.total[m] / norm)])?
+        ));
+        for j in 0..nv {
+            let v = c.avg.total[n + m * nv + j] / norm;
+            text.push_str(&sprintf(&c.format, &[FmtArg::Float(v)])?);
+        }
+        text.push('\n');
+    }
+    Ok(Some(text))
+}
+
+impl Observe {
+    /// Lock chunk compute `chunk` for fix `fix` from `start` to `stop` (LAMMPS's rule: a second
+    /// fix may only share the lock with the same steps).
+    fn lock(&mut self, chunk: &str, fix: &str, start: i64, stop: i64) -> Result<(), String> {
+        let new = ChunkLock {
+            fix: fix.to_string(),
+            start,
+            stop,
+        };
+        match self.locks.iter_mut().find(|(c, _)| c == chunk) {
+            None => self.locks.push((chunk.to_string(), new)),
+            Some((_, l)) => {
+                if l.start != start || l.stop != stop {
+                    return Err(format!(
+                        "two fix commands use compute chunk/atom '{chunk}' in incompatible ways: \
+                         fix '{}' keeps its chunks fixed over steps {}..{}, fix '{fix}' over \
+                         {start}..{} (LAMMPS refuses this too)",
+                        l.fix,
+                        l.start,
+                        if l.stop < 0 {
+                            "end".to_string()
+                        } else {
+                            l.stop.to_string()
+                        },
+                        if stop < 0 {
+                            "end".to_string()
+                        } else {
+                            stop.to_string()
+                        },
+                    ));
+                }
+                l.fix = fix.to_string();
+            }
+        }
+        Ok(())
+    }
+
+    fn unlock(&mut self, chunk: &str, fix: &str) {
+        self.locks.retain(|(c, l)| !(c == chunk && l.fix == fix));
+    }
+
+    /// The chunk lock of fix number `k` (`id`) as its sample at `step` is accumulated.
+    pub(super) fn lock_chunk(&mut self, k: usize, id: &str, step: u64) -> Result<(), String> {
+        if let AveKind::Chunk(c) = &self.fixes[k].kind {
+            // LAMMPS locks the chunk compute on the first sample of an epoch.
+            let s = &self.fixes[k].sched;
+            let (chunk, ave, forever) = (c.chunk.clone(), c.avg.ave, c.lock_forever);
+            let step = step as i64;
+            if s.irepeat == 0 {
+                if s.nrepeat > 1 && ave == Ave::One {
+                    let stop = step + (s.nrepeat - 1) * s.nevery;
+                    self.lock(&chunk, id, step, stop)?;
+                } else if ave != Ave::One && !forever {
+                    self.lock(&chunk, id, step, -1)?;
+                    if let AveKind::Chunk(c) = &mut self.fixes[k].kind {
+                        c.lock_forever = true;
+                    }
+                }
+            } else if s.irepeat + 1 == s.nrepeat && s.nrepeat > 1 && ave == Ave::One {
+                self.unlock(&chunk, id);
+            }
+        }
+        Ok(())
+    }
+
+    /// Phase 1 of `end_of_step` for `fix ave/chunk`: one sample of its per-chunk sums.
+    pub(super) fn sample_chunk(
+        &self,
+        c: &AveChunk,
+        env: &dyn Env,
+        sys: &System,
+    ) -> Result<Sample, String> {
+        let Some(ComputeKind::Chunk(b)) = self.compute(&c.chunk).map(|d| &d.kind) else {
+            return Err(format!(
+                "chunk/atom compute '{}' for fix ave/chunk does not exist",
+                c.chunk
+            ));
+        };
+        let layout = b.layout(&sys.bx)?;
+        let bins = layout.assign(sys);
+        let n = layout.len();
+        let nv = c.values.len();
+        let mut count = vec![0.0; n];
+        let mut values = vec![0.0; n * nv];
+        for b in bins.iter().flatten() {
+            count[*b] += 1.0;
+        }
+        for (m, v) in c.values.iter().enumerate() {
+            let per_atom: Vec<f64> = match v {
+                ChunkValue::V(d) => sys.atoms.v.iter().map(|v| v[*d]).collect(),
+                ChunkValue::F(d) => sys.atoms.f.iter().map(|f| f[*d]).collect(),
+                ChunkValue::DensityNumber => vec![1.0; sys.atoms.len()],
+                ChunkValue::DensityMass | ChunkValue::Mass => (0..sys.atoms.len())
+                    .map(|i| measure::mass_of(sys, i))
+                    .collect(),
+                ChunkValue::Temp => (0..sys.atoms.len())
+                    .map(|i| {
+                        let v = sys.atoms.v[i];
+                        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) * measure::mass_of(sys, i)
+                    })
+                    .collect(),
+                ChunkValue::Var(name) => env.atom_variable(name)?,
+            };
+            for (i, b) in bins.iter().enumerate() {
+                if let Some(b) = b {
+                    values[b * nv + m] += per_atom[i];
+                }
+            }
+        }
+        Ok(Sample::Chunk {
+            coord: layout.coord,
+            volume: layout.volume,
+            count,
+            values,
+        })
+    }
+}

@@ -1,0 +1,409 @@
+//! The computes: `temp`, `temp/deform`, `pressure`, `pe`, `ke`, `msd`, `chunk/atom bin/1d` and
+//! the built-in `thermo_temp`, `thermo_press`, `thermo_pe` (parsing, `uncompute`, the thermo
+//! state they give, their global scalars and vectors).
+
+use super::{Env, Observe, arg, parse_num};
+use crate::engine::System;
+use crate::engine::measure::{Bin1d, BinOrigin, Discard, Msd};
+
+/// Names of the computes LAMMPS defines by itself.
+pub const BUILTIN_COMPUTES: [&str; 3] = ["thermo_temp", "thermo_press", "thermo_pe"];
+
+#[derive(Debug)]
+pub(super) enum ComputeKind {
+    /// `temp`: scalar T (dof = dN − d), vector Σ m v_a v_b (xx yy zz xy xz yz).
+    Temp,
+    /// `temp/deform`: as `temp` with the streaming velocity of `fix deform` removed
+    /// (`System::thermo_deform`).
+    TempDeform,
+    /// `pressure TEMP-ID`: scalar P, vector P_ab (kinetic part of TEMP-ID + virial of all pair
+    /// forces).
+    Pressure(String),
+    /// `pe`: total pair energy.
+    Pe,
+    /// `ke`: total kinetic energy.
+    Ke,
+    /// `msd`: vector of 4.
+    Msd(Msd),
+    /// `chunk/atom bin/1d`: per-atom chunk index.
+    Chunk(Bin1d),
+}
+
+impl ComputeKind {
+    pub(super) fn style(&self) -> &'static str {
+        match self {
+            ComputeKind::Temp => "temp",
+            ComputeKind::TempDeform => "temp/deform",
+            ComputeKind::Pressure(_) => "pressure",
+            ComputeKind::Pe => "pe",
+            ComputeKind::Ke => "ke",
+            ComputeKind::Msd(_) => "msd",
+            ComputeKind::Chunk(_) => "chunk/atom",
+        }
+    }
+
+    pub(super) fn has_scalar(&self) -> bool {
+        matches!(
+            self,
+            ComputeKind::Temp
+                | ComputeKind::TempDeform
+                | ComputeKind::Pressure(_)
+                | ComputeKind::Pe
+                | ComputeKind::Ke
+        )
+    }
+
+    pub(super) fn vector_len(&self) -> Option<usize> {
+        match self {
+            ComputeKind::Temp | ComputeKind::TempDeform | ComputeKind::Pressure(_) => Some(6),
+            ComputeKind::Msd(_) => Some(4),
+            _ => None,
+        }
+    }
+
+    pub(super) fn extensive(&self) -> bool {
+        matches!(self, ComputeKind::Pe | ComputeKind::Ke)
+    }
+
+    pub(super) fn is_temperature(&self) -> bool {
+        matches!(self, ComputeKind::Temp | ComputeKind::TempDeform)
+    }
+}
+
+/// A compute: its ID and what it computes.
+#[derive(Debug)]
+pub struct ComputeDef {
+    pub(super) id: String,
+    pub(super) kind: ComputeKind,
+}
+
+impl Observe {
+    // ------------------------------------------------------------------ computes
+
+    /// Parse `compute ID all STYLE ARGS…` (checked against `env`, not yet added).
+    pub fn parse_compute(args: &[String], env: &dyn Env) -> Result<ComputeDef, String> {
+        let usage = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | msd [com yes|no] | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+        if args.len() < 3 {
+            return Err(format!("missing arguments; usage: {usage}"));
+        }
+        let id = &args[0];
+        if !id
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+        {
+            return Err(format!(
+                "compute ID '{id}' must be alphanumeric, '_' or '-'"
+            ));
+        }
+        if env.observe().compute(id).is_some() {
+            return Err(format!("reuse of compute ID '{id}' (uncompute it first)"));
+        }
+        if args[1] != "all" {
+            return Err(format!("group '{}' not supported: only 'all'", args[1]));
+        }
+        let sys = env
+            .system()
+            .ok_or("compute needs a simulation box (create_box or read_data) first")?;
+        let extra = |n: usize| -> Result<(), String> {
+            if args.len() > n {
+                Err(format!(
+                    "compute {} takes no argument '{}'; usage: {usage}",
+                    args[2], args[n]
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        let kind = match args[2].as_str() {
+            "temp" => {
+                extra(3)?;
+                ComputeKind::Temp
+            }
+            "temp/deform" => {
+                extra(3)?;
+                ComputeKind::TempDeform
+            }
+            "pe" => {
+                extra(3)?;
+                ComputeKind::Pe
+            }
+            "ke" => {
+                extra(3)?;
+                ComputeKind::Ke
+            }
+            "pressure" => {
+                let t = arg(args, 3, usage)?;
+                match env.observe().compute(t) {
+                    Some(c) if c.kind.is_temperature() => {}
+                    Some(c) => {
+                        return Err(format!(
+                            "compute pressure: compute '{t}' is a {} compute, not a temperature",
+                            c.kind.style()
+                        ));
+                    }
+                    None => {
+                        return Err(format!(
+                            "compute pressure: temperature compute '{t}' does not exist"
+                        ));
+                    }
+                }
+                if args.len() > 4 {
+                    return Err(format!(
+                        "compute pressure keyword '{}' not supported: the pressure always \
+                         includes the kinetic part and the virial of all pair forces",
+                        args[4]
+                    ));
+                }
+                ComputeKind::Pressure(t.to_string())
+            }
+            "msd" => {
+                let mut com = false;
+                let mut k = 3;
+                while k < args.len() {
+                    let v = arg(args, k + 1, usage)?;
+                    let yes = match v {
+                        "yes" => true,
+                        "no" => false,
+                        o => {
+                            return Err(format!("compute msd {} '{o}' must be yes or no", args[k]));
+                        }
+                    };
+                    match args[k].as_str() {
+                        "com" => com = yes,
+                        "average" if !yes => {}
+                        "average" => {
+                            return Err("compute msd average yes is not supported".into());
+                        }
+                        o => return Err(format!("unknown compute msd keyword '{o}'")),
+                    }
+                    k += 2;
+                }
+                ComputeKind::Msd(Msd::new(sys, com))
+            }
+            "chunk/atom" => ComputeKind::Chunk(Self::parse_chunk(args, sys)?),
+            o => {
+                return Err(format!("compute style '{o}' not supported; usage: {usage}"));
+            }
+        };
+        Ok(ComputeDef {
+            id: id.clone(),
+            kind,
+        })
+    }
+
+    fn parse_chunk(args: &[String], sys: &System) -> Result<Bin1d, String> {
+        let usage = "compute ID all chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+        let style = arg(args, 3, usage)?;
+        if style != "bin/1d" {
+            return Err(format!(
+                "compute chunk/atom style '{style}' not supported: only bin/1d"
+            ));
+        }
+        let axis_of = |t: &str| -> Result<usize, String> {
+            match t {
+                "x" => Ok(0),
+                "y" => Ok(1),
+                "z" => Ok(2),
+                o => Err(format!("chunk/atom dimension '{o}' must be x, y or z")),
+            }
+        };
+        let axis = axis_of(arg(args, 4, usage)?)?;
+        if axis == 2 && sys.dim() == 2 {
+            return Err("cannot use compute chunk/atom bin z for a 2-D model".into());
+        }
+        let origin = match arg(args, 5, usage)? {
+            "lower" => BinOrigin::Lower,
+            "center" => BinOrigin::Center,
+            "upper" => BinOrigin::Upper,
+            t => BinOrigin::Coord(parse_num(t, "bin origin")?),
+        };
+        let delta = parse_num(arg(args, 6, usage)?, "bin width")?;
+        if delta <= 0.0 {
+            return Err(format!("bin width {delta} must be > 0"));
+        }
+        let mut b = Bin1d {
+            axis,
+            origin,
+            delta,
+            reduced: false,
+            min: None,
+            max: None,
+            discard: Discard::Mixed,
+        };
+        let mut k = 7;
+        while k < args.len() {
+            let v = arg(args, k + 1, usage)?;
+            match args[k].as_str() {
+                "units" => {
+                    b.reduced = match v {
+                        // No lattice command: lattice units are box units (LAMMPS's default
+                        // lattice has spacing 1).
+                        "box" | "lattice" => false,
+                        "reduced" => true,
+                        o => return Err(format!("units '{o}' must be box, lattice or reduced")),
+                    }
+                }
+                "discard" => {
+                    b.discard = match v {
+                        "mixed" => Discard::Mixed,
+                        "yes" => Discard::Yes,
+                        "no" => Discard::No,
+                        o => return Err(format!("discard '{o}' must be mixed, yes or no")),
+                    }
+                }
+                "bound" => {
+                    if axis_of(v)? != axis {
+                        return Err(format!(
+                            "bound {v}: only the binned dimension {} can be bounded",
+                            ["x", "y", "z"][axis]
+                        ));
+                    }
+                    let lo = arg(args, k + 2, usage)?;
+                    let hi = arg(args, k + 3, usage)?;
+                    b.min = if lo == "lower" {
+                        None
+                    } else {
+                        Some(parse_num(lo, "bound lo")?)
+                    };
+                    b.max = if hi == "upper" {
+                        None
+                    } else {
+                        Some(parse_num(hi, "bound hi")?)
+                    };
+                    k += 4;
+                    continue;
+                }
+                "nchunk" | "ids" | "compress" | "limit" | "region" | "pbc" => {
+                    return Err(format!(
+                        "compute chunk/atom keyword '{}' not supported (units, discard, bound)",
+                        args[k]
+                    ));
+                }
+                o => return Err(format!("unknown compute chunk/atom keyword '{o}'")),
+            }
+            k += 2;
+        }
+        // Validate now (LAMMPS checks at the first use).
+        b.layout(&sys.bx)?;
+        Ok(b)
+    }
+
+    /// Add a parsed compute.
+    pub fn add_compute(&mut self, c: ComputeDef) {
+        self.computes.push(c);
+    }
+
+    /// The thermodynamic state (temperature, kinetic energy, and the pressure of a `compute
+    /// pressure` that uses it) with the kinetic tensor of temperature compute `id`.
+    pub fn thermo_of_temp(&self, id: &str, sys: &System) -> Result<crate::engine::Thermo, String> {
+        match self.compute(id).map(|c| &c.kind) {
+            Some(ComputeKind::Temp) => Ok(sys.thermo()),
+            Some(ComputeKind::TempDeform) => Ok(sys.thermo_deform()),
+            Some(k) => Err(format!(
+                "compute '{id}' is a {} compute, not a temperature",
+                k.style()
+            )),
+            None => Err(format!("temperature compute '{id}' does not exist")),
+        }
+    }
+
+    /// The state of pressure compute `id` (its temperature's kinetic part + the virial).
+    pub fn thermo_of_press(&self, id: &str, sys: &System) -> Result<crate::engine::Thermo, String> {
+        match self.compute(id).map(|c| &c.kind) {
+            Some(ComputeKind::Pressure(t)) => self.thermo_of_temp(t, sys),
+            Some(k) => Err(format!(
+                "compute '{id}' is a {} compute, not a pressure",
+                k.style()
+            )),
+            None => Err(format!("pressure compute '{id}' does not exist")),
+        }
+    }
+
+    /// `thermo_modify temp ID`: check `id` is a temperature and, as LAMMPS does, make the
+    /// built-in `thermo_press` use it.
+    pub fn set_thermo_temp(&mut self, id: &str) -> Result<(), String> {
+        match self.compute(id).map(|c| c.kind.is_temperature()) {
+            Some(true) => {}
+            Some(false) => {
+                return Err(format!(
+                    "thermo_modify temp: compute '{id}' is not a temperature compute"
+                ));
+            }
+            None => return Err(format!("thermo_modify temp: compute '{id}' does not exist")),
+        }
+        for c in &mut self.computes {
+            if c.id == "thermo_press" {
+                c.kind = ComputeKind::Pressure(id.to_string());
+            }
+        }
+        Ok(())
+    }
+
+    /// True if `id` is a `compute pressure`.
+    pub fn is_pressure(&self, id: &str) -> bool {
+        matches!(
+            self.compute(id).map(|c| &c.kind),
+            Some(ComputeKind::Pressure(_))
+        )
+    }
+
+    /// `uncompute ID`.
+    pub fn uncompute(&mut self, id: &str) -> Result<(), String> {
+        if BUILTIN_COMPUTES.contains(&id) {
+            return Err(format!("the built-in compute '{id}' cannot be deleted"));
+        }
+        let pos = self
+            .computes
+            .iter()
+            .position(|c| c.id == id)
+            .ok_or_else(|| format!("no compute with ID '{id}'"))?;
+        for f in &self.fixes {
+            if f.uses_compute(id) {
+                return Err(format!(
+                    "compute '{id}' is used by fix '{}' (unfix it first)",
+                    f.id
+                ));
+            }
+        }
+        for c in &self.computes {
+            if c.id != id && matches!(&c.kind, ComputeKind::Pressure(t) if t == id) {
+                return Err(format!("compute '{id}' is used by compute '{}'", c.id));
+            }
+        }
+        self.computes.remove(pos);
+        Ok(())
+    }
+
+    pub(super) fn compute_scalar(&self, c: &ComputeDef, sys: &System) -> Result<f64, String> {
+        Ok(match &c.kind {
+            ComputeKind::Temp => sys.thermo().temp,
+            ComputeKind::TempDeform => sys.thermo_deform().temp,
+            ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.press,
+            ComputeKind::Pe => sys.tally.energy,
+            ComputeKind::Ke => sys.thermo().ke,
+            k => {
+                return Err(format!(
+                    "compute {} '{}' does not calculate a global scalar",
+                    k.style(),
+                    c.id
+                ));
+            }
+        })
+    }
+
+    pub(super) fn compute_vector(&self, c: &ComputeDef, sys: &System) -> Result<Vec<f64>, String> {
+        Ok(match &c.kind {
+            ComputeKind::Temp => sys.thermo().ke_tensor.to_vec(),
+            ComputeKind::TempDeform => sys.thermo_deform().ke_tensor.to_vec(),
+            ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.p_tensor.to_vec(),
+            ComputeKind::Msd(m) => m.compute(sys)?.to_vec(),
+            k => {
+                return Err(format!(
+                    "compute {} '{}' does not calculate a global vector",
+                    k.style(),
+                    c.id
+                ));
+            }
+        })
+    }
+}

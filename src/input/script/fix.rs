@@ -1,0 +1,180 @@
+//! `fix` and `unfix`: time integration (`nve`, `nve/euler`), `enforce2d`, `pex/push`, `deform`
+//! (Lees–Edwards), and the averaging fixes, which [`crate::input::observe`] parses.
+
+use super::{CmdResult, Interpreter};
+use crate::engine::lees_edwards::Deform;
+use crate::engine::{Integrator, PexPush, System};
+use crate::grammar::{self, need, parse_f64, parse_int};
+use crate::input::observe::Observe;
+
+#[derive(Clone, Debug, PartialEq)]
+pub(super) enum FixKind {
+    Nve,
+    NveEuler,
+    Enforce2d,
+    Pex,
+    /// `deform … xy erate R remap v` (Lees–Edwards, `engine::lees_edwards`).
+    Deform,
+    /// `ave/time`, `ave/chunk`, `ave/histo` (in `observe`).
+    Observe,
+}
+
+impl Interpreter<'_> {
+    pub(super) fn cmd_fix(&mut self, args: &[String]) -> CmdResult {
+        let usage = "fix ID all nve | nve/euler | enforce2d | pex/push DP [width W] [every N] | ave/time … | ave/chunk … | ave/histo …";
+        need(args, 3, usage)?;
+        if args[1] != "all" {
+            return Err(format!("group '{}' not supported: only 'all'", args[1]));
+        }
+        let id = args[0].clone();
+        if self.fixes.iter().any(|(i, _)| i == &id) {
+            return Err(format!("fix ID '{id}' already exists (unfix it first)"));
+        }
+        if matches!(args[2].as_str(), "ave/time" | "ave/chunk" | "ave/histo") {
+            let f = Observe::parse_fix(args, &*self)?;
+            self.obs.add_fix(f);
+            self.fixes.push((id, FixKind::Observe));
+            return Ok(());
+        }
+        let dim = self.dim;
+        let sys = self.sys_mut()?;
+        let kind = match args[2].as_str() {
+            s @ ("nve" | "nve/euler") => {
+                grammar::fix::integrator(s, &args[3..])?;
+                if sys.integrator.is_some() {
+                    return Err(
+                        "only one time-integration fix (nve or nve/euler) is allowed".into(),
+                    );
+                }
+                if s == "nve" {
+                    sys.integrator = Some(Integrator::VelocityVerlet);
+                    FixKind::Nve
+                } else {
+                    sys.integrator = Some(Integrator::Euler);
+                    FixKind::NveEuler
+                }
+            }
+            "enforce2d" => {
+                if dim != 2 {
+                    return Err("fix enforce2d needs dimension 2".into());
+                }
+                FixKind::Enforce2d
+            }
+            "pex/push" => {
+                let p = grammar::fix::pex_push(&args[3..], dim)?;
+                sys.pex.push(PexPush {
+                    id: id.clone(),
+                    dp: p.dp,
+                    width: p.width,
+                    every: p.every,
+                    total: 0.0,
+                });
+                FixKind::Pex
+            }
+            "deform" => {
+                Self::fix_deform(sys, &id, args)?;
+                FixKind::Deform
+            }
+            o => return Err(format!("fix style '{o}' not supported; {usage}")),
+        };
+        self.fixes.push((id, kind));
+        Ok(())
+    }
+
+    /// `fix ID all deform N xy erate R remap v [flip yes|no] [units box|lattice]`: the only
+    /// form Couette flow needs (Lees–Edwards, `engine::lees_edwards`).
+    fn fix_deform(sys: &mut System, id: &str, args: &[String]) -> CmdResult {
+        let usage = "fix ID all deform N xy erate R remap v [flip yes|no] [units box|lattice]";
+        need(args, 7, usage)?;
+        let every: u64 = parse_int(&args[3], "deform interval N")?;
+        if every == 0 {
+            return Err("fix deform: N must be >= 1".into());
+        }
+        if args[4] != "xy" {
+            return Err(format!(
+                "fix deform parameter '{}' not supported: only 'xy erate R remap v' (Couette flow)",
+                args[4]
+            ));
+        }
+        if args[5] != "erate" {
+            return Err(format!(
+                "fix deform xy style '{}' not supported: only 'erate'",
+                args[5]
+            ));
+        }
+        let erate = parse_f64(&args[6], "erate")?;
+        if !erate.is_finite() {
+            return Err(format!("fix deform: erate '{}' must be finite", args[6]));
+        }
+        let (mut remap_v, mut flip) = (false, true);
+        let mut k = 7;
+        while k < args.len() {
+            need(&args[k..], 2, usage)?;
+            let val = args[k + 1].as_str();
+            match (args[k].as_str(), val) {
+                ("remap", "v") => remap_v = true,
+                ("remap", o) => {
+                    return Err(format!(
+                        "fix deform remap '{o}' not supported: only 'remap v' (Lees–Edwards)"
+                    ));
+                }
+                ("flip", "yes") => flip = true,
+                ("flip", "no") => flip = false,
+                ("flip", o) => return Err(format!("fix deform flip '{o}' must be yes or no")),
+                ("units", "box" | "lattice") => {}
+                (o, _) => {
+                    return Err(format!(
+                        "fix deform keyword '{o}' not supported; usage: {usage}"
+                    ));
+                }
+            }
+            k += 2;
+        }
+        if !remap_v {
+            return Err(
+                "fix deform needs 'remap v' here (LAMMPS's default 'remap x' is not supported)"
+                    .into(),
+            );
+        }
+        let Some(tri) = sys.tri.as_mut() else {
+            return Err(
+                "fix deform xy needs a triclinic box (region … prism … or change_box all triclinic)"
+                    .into(),
+            );
+        };
+        if tri.deform.is_some() {
+            return Err("only one fix deform is allowed".into());
+        }
+        tri.deform = Some(Deform::new(id.to_string(), every, erate, flip));
+        Ok(())
+    }
+
+    pub(super) fn cmd_unfix(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "unfix ID")?;
+        let pos = self
+            .fixes
+            .iter()
+            .position(|(id, _)| id == &args[0])
+            .ok_or_else(|| format!("no fix with ID '{}'", args[0]))?;
+        if let Some(user) = self.obs.fix_user(&args[0]) {
+            return Err(format!("fix '{}' is used by fix '{user}'", args[0]));
+        }
+        let (id, kind) = self.fixes.remove(pos);
+        if let Some(sys) = self.sys.as_mut() {
+            match kind {
+                FixKind::Nve | FixKind::NveEuler => sys.integrator = None,
+                FixKind::Pex => sys.pex.retain(|p| p.id != id),
+                FixKind::Deform => {
+                    if let Some(t) = sys.tri.as_mut() {
+                        t.deform = None;
+                    }
+                }
+                FixKind::Enforce2d => {}
+                FixKind::Observe => {
+                    self.obs.unfix(&id);
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,561 @@
+//! The interpreter of the LAMMPS-input subset (see `docs/input.md` for the full list).
+//!
+//! Every command is parsed and validated once, into the engine's typed values; every error names
+//! the file, the line and the command. Output (what LAMMPS prints to the screen and the log) goes
+//! to a [`Console`] supplied by the caller and to the log file.
+//!
+//! The rooms of this module, by command family:
+//!
+//! - this file: the [`Interpreter`] and its [`Options`], [`Console`] and [`ScriptError`]; reading
+//!   scripts (`include`), variables and `$` substitution, the command dispatch;
+//! - `setup`: the box and the atoms (`units`, `dimension`, `boundary`, `atom_style`, `region`,
+//!   `create_box`, `create_atoms`, `read_data`, `write_data`, `mass`, `neighbor`, `timestep`,
+//!   `change_box`, `reset_timestep`);
+//! - `velocity`: `velocity`;
+//! - `pair`: `pair_style`, `pair_coeff` (parsed by [`crate::grammar`]);
+//! - `fix`: `fix`, `unfix` and `fix deform`;
+//! - `thermo`: `thermo_style`, `thermo_modify` and the thermo output;
+//! - `output`: `dump`, `dump_modify`, `undump`, the dump files, `print`, `log`;
+//! - `run`: `run`, the end-of-step fixes, dry runs and their [`PlannedRun`].
+
+mod fix;
+mod output;
+mod pair;
+mod run;
+mod setup;
+mod thermo;
+mod velocity;
+
+pub use run::PlannedRun;
+
+use super::expr::{AtomBinder, ExprContext, Formula, RefKind, eval_equal};
+use super::format::{FmtArg, sprintf};
+use super::lexer::{logical_lines, split_words, strip_comment};
+use super::observe::{self, Observe, VarStyle};
+use crate::engine::System;
+use std::collections::BTreeMap;
+use std::fmt;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Where the interpreter's screen output goes (the library never prints by itself), and how an
+/// embedding stops a run.
+///
+/// Interrupting (a Python binding's Ctrl-C, a GUI's stop button): [`Console::interrupted`] is
+/// asked at the start of every `run` (before its set-up) and after each of its steps (after the
+/// step's fixes, thermo row and dumps). When it returns true the run stops at that step
+/// boundary: the log is flushed as at the end of a run (dump and `fix ave/*` files are flushed
+/// as they are written), no "Loop time" summary is printed, and the script stops with a
+/// [`ScriptError`] of command `run` and message `interrupted at step N`, N the step reached.
+/// The interpreter stays usable: the system is left at step N and a later `run` continues from
+/// it.
+pub trait Console {
+    /// One line of output (no trailing newline).
+    fn line(&mut self, text: &str);
+    /// Progress of a run: `step` reached, run from `first` to `last`. Called about every second.
+    fn progress(&mut self, _step: u64, _first: u64, _last: u64) {}
+    /// True to stop the current run at this step boundary (see the trait's documentation).
+    /// Called once per step, so it should be cheap (e.g. read a flag). Default: never.
+    fn interrupted(&mut self) -> bool {
+        false
+    }
+}
+
+/// A console that collects lines in memory (tests, library users).
+#[derive(Default, Debug)]
+pub struct Collect(pub Vec<String>);
+
+impl Console for Collect {
+    fn line(&mut self, text: &str) {
+        self.0.push(text.to_string());
+    }
+}
+
+/// An input error: file, line, command and what is wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScriptError {
+    /// Input file (or `-var`/command line).
+    pub file: String,
+    /// 1-based line number (0 when not from a file).
+    pub line: usize,
+    /// The command word.
+    pub command: String,
+    /// The message.
+    pub message: String,
+}
+
+impl fmt::Display for ScriptError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}:{}: {}: {}",
+            self.file, self.line, self.command, self.message
+        )
+    }
+}
+
+impl std::error::Error for ScriptError {}
+
+#[derive(Clone, Debug)]
+enum Var {
+    Index(String),
+    Str(String),
+    Equal(String),
+    /// `variable NAME atom FORMULA` (per-atom values; see `observe`).
+    Atom(String),
+}
+
+/// Commands accepted and ignored: they only matter to LAMMPS (communication, neighbour
+/// bookkeeping, atom maps, Newton's third law flag, processor grids, echo).
+pub const IGNORED_COMMANDS: &[&str] = &[
+    "comm_modify",
+    "neigh_modify",
+    "atom_modify",
+    "newton",
+    "processors",
+    "echo",
+];
+
+/// Run-time options from the command line.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// Log file (None: no log file).
+    pub log: Option<PathBuf>,
+    /// `-var NAME VALUE` definitions (index-style, as LAMMPS's `-var`).
+    pub vars: Vec<(String, String)>,
+    /// Number of threads the caller configured (printed in "Loop time").
+    pub threads: usize,
+}
+
+/// The interpreter state.
+pub struct Interpreter<'c> {
+    console: &'c mut dyn Console,
+    log: Option<BufWriter<File>>,
+    vars: BTreeMap<String, Var>,
+    dim: usize,
+    regions: BTreeMap<String, [[f64; 2]; 3]>,
+    /// Tilt factors (xy, xz, yz) of `region … prism` regions.
+    prisms: BTreeMap<String, [f64; 3]>,
+    sys: Option<System>,
+    skin: f64,
+    dry_run: bool,
+    planned: Vec<PlannedRun>,
+    dt: f64,
+    thermo: ThermoSettings,
+    dumps: Vec<Dump>,
+    fixes: Vec<(String, FixKind)>,
+    threads: usize,
+    depth: usize,
+    run_first: u64,
+    obs: Observe,
+}
+
+type CmdResult = Result<(), String>;
+
+pub use crate::grammar::type_range;
+use crate::grammar::{need, parse_int};
+use fix::FixKind;
+use output::Dump;
+use run::dry_run_skips;
+use thermo::ThermoSettings;
+
+impl<'c> Interpreter<'c> {
+    /// A fresh interpreter writing to `console` (and to `opts.log` when set).
+    pub fn new(console: &'c mut dyn Console, opts: &Options) -> Result<Interpreter<'c>, String> {
+        let log = match &opts.log {
+            Some(p) => {
+                Some(BufWriter::new(File::create(p).map_err(|e| {
+                    format!("cannot open log file {}: {e}", p.display())
+                })?))
+            }
+            None => None,
+        };
+        let mut vars = BTreeMap::new();
+        for (k, v) in &opts.vars {
+            vars.insert(k.clone(), Var::Index(v.clone()));
+        }
+        Ok(Interpreter {
+            console,
+            log,
+            vars,
+            dim: 3,
+            regions: BTreeMap::new(),
+            prisms: BTreeMap::new(),
+            sys: None,
+            skin: 0.3,
+            dry_run: false,
+            planned: Vec::new(),
+            dt: 0.005,
+            thermo: ThermoSettings::default(),
+            dumps: Vec::new(),
+            fixes: Vec::new(),
+            threads: opts.threads.max(1),
+            depth: 0,
+            run_first: 0,
+            obs: Observe::new(),
+        })
+    }
+
+    /// The system, once a box exists.
+    pub fn system(&self) -> Option<&System> {
+        self.sys.as_ref()
+    }
+
+    /// The system, mutably, once a box exists (for embeddings that read or change the state
+    /// between commands; the next `run` checks it and evaluates its forces again in its
+    /// set-up).
+    pub fn system_mut(&mut self) -> Option<&mut System> {
+        self.sys.as_mut()
+    }
+
+    /// The file names of the dumps currently defined, as given to `dump` (after variable
+    /// substitution), in the order they were defined.
+    pub fn dump_files(&self) -> Vec<String> {
+        self.dumps.iter().map(|d| d.path.clone()).collect()
+    }
+
+    fn out(&mut self, text: &str) {
+        self.console.line(text);
+        if let Some(l) = self.log.as_mut() {
+            let _ = writeln!(l, "{text}");
+        }
+    }
+
+    fn warn(&mut self, text: &str) {
+        self.out(&format!("WARNING: {text}"));
+    }
+
+    /// Run a script file.
+    pub fn run_file(&mut self, path: &Path) -> Result<(), ScriptError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| ScriptError {
+            file: name.clone(),
+            line: 0,
+            command: "include".into(),
+            message: format!("cannot read input file: {e}"),
+        })?;
+        self.run_text(&text, &name)
+    }
+
+    /// Run script text; `name` is used in error messages.
+    pub fn run_text(&mut self, text: &str, name: &str) -> Result<(), ScriptError> {
+        for raw in logical_lines(text) {
+            let err = |command: &str, message: String| ScriptError {
+                file: name.to_string(),
+                line: raw.line,
+                command: command.to_string(),
+                message,
+            };
+            let body = strip_comment(&raw.text);
+            if body.trim().is_empty() {
+                continue;
+            }
+            let first = body.split_whitespace().next().unwrap_or("").to_string();
+            let substituted = self.substitute(body).map_err(|m| err(&first, m))?;
+            let words = split_words(strip_comment(&substituted)).map_err(|m| err(&first, m))?;
+            let Some((cmd, args)) = words.split_first() else {
+                continue;
+            };
+            if cmd == "include" {
+                if args.len() != 1 {
+                    return Err(err(cmd, "usage: include FILE".into()));
+                }
+                if self.depth > 16 {
+                    return Err(err(cmd, "include nested more than 16 deep".into()));
+                }
+                self.depth += 1;
+                let r = self.run_file(Path::new(&args[0]));
+                self.depth -= 1;
+                r?;
+                continue;
+            }
+            self.command(cmd, args).map_err(|m| err(cmd, m))?;
+        }
+        if let Some(l) = self.log.as_mut() {
+            let _ = l.flush();
+        }
+        Ok(())
+    }
+
+    // ------------------------------------------------------------------ variables
+
+    fn var_string(&self, name: &str) -> Result<String, String> {
+        match self.vars.get(name) {
+            None => Err(format!("variable '{name}' is not defined")),
+            Some(Var::Index(s)) | Some(Var::Str(s)) => Ok(s.clone()),
+            Some(Var::Equal(e)) => {
+                let v = self.eval(e)?;
+                sprintf("%.15g", &[FmtArg::Float(v)])
+            }
+            Some(Var::Atom(_)) => Err(format!(
+                "variable '{name}' is atom-style: it has no single value to substitute"
+            )),
+        }
+    }
+
+    fn eval(&self, expr: &str) -> Result<f64, String> {
+        eval_equal(expr, &Ctx(self, 0))
+    }
+
+    fn substitute(&self, s: &str) -> Result<String, String> {
+        if !s.contains('$') {
+            return Ok(s.to_string());
+        }
+        let mut out = String::with_capacity(s.len());
+        let mut i = 0;
+        let b = s.as_bytes();
+        let mut in_single = false;
+        let mut in_triple = false;
+        while i < b.len() {
+            if !in_single && s[i..].starts_with("\"\"\"") {
+                in_triple = !in_triple;
+                out.push_str("\"\"\"");
+                i += 3;
+                continue;
+            }
+            let c = b[i];
+            if c == b'\'' && !in_triple {
+                in_single = !in_single;
+            }
+            if c != b'$' || in_single || in_triple || i + 1 >= b.len() {
+                let ch = s[i..].chars().next().unwrap_or(' ');
+                out.push(ch);
+                i += ch.len_utf8();
+                continue;
+            }
+            match b[i + 1] {
+                b'{' => {
+                    let end = s[i + 2..]
+                        .find('}')
+                        .ok_or_else(|| format!("unterminated ${{ in: {s}"))?;
+                    let name = &s[i + 2..i + 2 + end];
+                    out.push_str(&self.var_string(name)?);
+                    i += end + 3;
+                }
+                b'(' => {
+                    let mut level = 0;
+                    let mut end = None;
+                    for (k, ch) in s[i + 1..].char_indices() {
+                        match ch {
+                            '(' => level += 1,
+                            ')' => {
+                                level -= 1;
+                                if level == 0 {
+                                    end = Some(i + 1 + k);
+                                    break;
+                                }
+                            }
+                            _ => {}
+                        }
+                    }
+                    let end = end.ok_or_else(|| format!("unterminated $( in: {s}"))?;
+                    let inner = &s[i + 2..end];
+                    let (expr, fmtstr) = match inner.rsplit_once(":%") {
+                        Some((e, f)) => (e, format!("%{f}")),
+                        None => (inner, "%.20g".to_string()),
+                    };
+                    let v = self.eval(expr)?;
+                    out.push_str(&sprintf(&fmtstr, &[FmtArg::Float(v)])?);
+                    i = end + 1;
+                }
+                other => {
+                    let name = (other as char).to_string();
+                    out.push_str(&self.var_string(&name)?);
+                    i += 2;
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    // ------------------------------------------------------------------ commands
+
+    fn sys_mut(&mut self) -> Result<&mut System, String> {
+        self.sys
+            .as_mut()
+            .ok_or_else(|| "needs a simulation box (create_box or read_data) first".to_string())
+    }
+
+    fn command(&mut self, cmd: &str, args: &[String]) -> CmdResult {
+        if self.dry_run && dry_run_skips(cmd, args) {
+            return Ok(());
+        }
+        match cmd {
+            c if IGNORED_COMMANDS.contains(&c) => Ok(()),
+            "units" => Self::cmd_units(args),
+            "dimension" => self.cmd_dimension(args),
+            "boundary" => Self::cmd_boundary(args),
+            "atom_style" => Self::cmd_atom_style(args),
+            "variable" => self.cmd_variable(args),
+            "region" => self.cmd_region(args),
+            "create_box" => self.cmd_create_box(args),
+            "create_atoms" => self.cmd_create_atoms(args),
+            "read_data" => self.cmd_read_data(args),
+            "write_data" => self.cmd_write_data(args),
+            "mass" => self.cmd_mass(args),
+            "velocity" => self.cmd_velocity(args),
+            "pair_style" => self.cmd_pair_style(args),
+            "pair_coeff" => self.cmd_pair_coeff(args),
+            "neighbor" => self.cmd_neighbor(args),
+            "timestep" => self.cmd_timestep(args),
+            "fix" => self.cmd_fix(args),
+            "unfix" => self.cmd_unfix(args),
+            "compute" => {
+                let c = Observe::parse_compute(args, &*self)?;
+                self.obs.add_compute(c);
+                Ok(())
+            }
+            "uncompute" => {
+                need(args, 1, "uncompute ID")?;
+                self.obs.uncompute(&args[0])
+            }
+            "thermo" => {
+                need(args, 1, "thermo N")?;
+                self.thermo.every = parse_int(&args[0], "thermo interval")?;
+                Ok(())
+            }
+            "thermo_style" => self.cmd_thermo_style(args),
+            "thermo_modify" => self.cmd_thermo_modify(args),
+            "dump" => self.cmd_dump(args),
+            "dump_modify" => self.cmd_dump_modify(args),
+            "undump" => self.cmd_undump(args),
+            "run" => self.cmd_run(args),
+            "change_box" => self.cmd_change_box(args),
+            "reset_timestep" => self.cmd_reset_timestep(args),
+            "print" => self.cmd_print(args),
+            "log" => self.cmd_log(args),
+            "write_restart" | "read_restart" => Err(format!(
+                "'{cmd}' is LAMMPS-only; in the standalone engine use write_data/read_data (state incl. velocities)"
+            )),
+            _ => Err(format!(
+                "unknown command '{cmd}' (see docs/input.md for the supported subset)"
+            )),
+        }
+    }
+
+    fn cmd_variable(&mut self, args: &[String]) -> CmdResult {
+        need(args, 2, "variable NAME STYLE ARGS…")?;
+        let name = args[0].clone();
+        if !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+            return Err(format!("variable name '{name}' must be alphanumeric or _"));
+        }
+        match args[1].as_str() {
+            "delete" => {
+                self.vars.remove(&name);
+            }
+            "index" => {
+                need(args, 3, "variable NAME index VALUE…")?;
+                if args.len() > 3 {
+                    return Err(
+                        "index variables with several values (loops with next) are not supported"
+                            .into(),
+                    );
+                }
+                // As LAMMPS: an index variable already defined (e.g. by -var) is kept.
+                self.vars.entry(name).or_insert(Var::Index(args[2].clone()));
+            }
+            "string" => {
+                need(args, 3, "variable NAME string VALUE")?;
+                self.vars.insert(name, Var::Str(args[2].clone()));
+            }
+            "equal" => {
+                need(args, 3, "variable NAME equal FORMULA")?;
+                self.vars.insert(name, Var::Equal(args[2..].join(" ")));
+            }
+            "atom" => {
+                need(args, 3, "variable NAME atom FORMULA")?;
+                let f = args[2..].join(" ");
+                Formula::parse(&f)?;
+                self.vars.insert(name, Var::Atom(f));
+            }
+            o => {
+                return Err(format!(
+                    "variable style '{o}' not supported (index, string, equal, atom, delete)"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Interpreter<'_> {
+    /// Consume the interpreter, returning the system (if a box was created).
+    pub fn into_system(self) -> Option<System> {
+        self.sys
+    }
+}
+
+/// The formula context of an interpreter: variables, thermo keywords, computes and fixes;
+/// the depth guards against variables that refer to themselves.
+struct Ctx<'a, 'b>(&'a Interpreter<'b>, usize);
+
+impl ExprContext for Ctx<'_, '_> {
+    fn variable(&self, name: &str) -> Result<f64, String> {
+        if self.1 > 64 {
+            return Err(format!("variable '{name}' refers to itself"));
+        }
+        match self.0.vars.get(name) {
+            None => Err(format!("variable '{name}' is not defined")),
+            Some(Var::Index(s)) | Some(Var::Str(s)) => s
+                .trim()
+                .parse::<f64>()
+                .map_err(|_| format!("variable '{name}' = '{s}' is not a number")),
+            Some(Var::Equal(e)) => eval_equal(e, &Ctx(self.0, self.1 + 1)),
+            Some(Var::Atom(_)) => Err(format!(
+                "variable '{name}' is atom-style: not usable in an equal-style formula"
+            )),
+        }
+    }
+    fn thermo(&self, keyword: &str) -> Option<Result<f64, String>> {
+        self.0.thermo_value(keyword)
+    }
+    fn reference(
+        &self,
+        kind: RefKind,
+        id: &str,
+        index: Option<usize>,
+    ) -> Option<Result<f64, String>> {
+        Some(self.0.obs.reference(kind, id, index, self.0))
+    }
+}
+
+impl AtomBinder for Ctx<'_, '_> {
+    fn atom_variable(&self, name: &str) -> Option<Result<Formula, String>> {
+        let Some(Var::Atom(src)) = self.0.vars.get(name) else {
+            return None;
+        };
+        if self.1 > 64 {
+            return Some(Err(format!("variable '{name}' refers to itself")));
+        }
+        let inner = Ctx(self.0, self.1 + 1);
+        Some(Formula::parse(src).and_then(|f| f.bind_atoms(&inner, &inner)))
+    }
+}
+
+impl observe::Env for Interpreter<'_> {
+    fn system(&self) -> Option<&System> {
+        self.sys.as_ref()
+    }
+    fn observe(&self) -> &Observe {
+        &self.obs
+    }
+    fn var_style(&self, name: &str) -> VarStyle {
+        match self.vars.get(name) {
+            None => VarStyle::Undefined,
+            Some(Var::Equal(_)) => VarStyle::Equal,
+            Some(Var::Atom(_)) => VarStyle::Atom,
+            Some(_) => VarStyle::Other,
+        }
+    }
+    fn equal_variable(&self, name: &str) -> Result<f64, String> {
+        Ctx(self, 0).variable(name)
+    }
+    fn atom_variable(&self, name: &str) -> Result<Vec<f64>, String> {
+        let sys = self.sys.as_ref().ok_or("needs a simulation box")?;
+        let f = Ctx(self, 0)
+            .atom_variable(name)
+            .ok_or_else(|| format!("variable '{name}' is not an atom-style variable"))??;
+        observe::eval_atoms(&f, sys).map_err(|e| format!("atom-style variable '{name}': {e}"))
+    }
+}

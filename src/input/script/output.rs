@@ -1,0 +1,267 @@
+//! Files and screen output other than thermo: `dump` (custom style, sorted by atom ID),
+//! `dump_modify`, `undump` and the dump files, `print`, `log`.
+
+use super::{CmdResult, Interpreter};
+use crate::grammar::{need, parse_int};
+use crate::input::format::{FmtArg, sprintf};
+use std::fs::File;
+use std::io::{BufWriter, Write};
+
+pub(super) struct Dump {
+    id: String,
+    every: u64,
+    pub(super) path: String,
+    columns: Vec<String>,
+    fmt_line: Option<Vec<String>>,
+    fmt_int: Option<String>,
+    fmt_float: Option<String>,
+    writer: BufWriter<File>,
+    last: Option<u64>,
+}
+
+impl Interpreter<'_> {
+    pub(super) fn cmd_dump(&mut self, args: &[String]) -> CmdResult {
+        let usage = "dump ID all custom N FILE COLUMNS…";
+        need(args, 6, usage)?;
+        if args[1] != "all" {
+            return Err(format!("group '{}' not supported: only 'all'", args[1]));
+        }
+        if args[2] != "custom" {
+            return Err(format!(
+                "dump style '{}' not supported: only custom",
+                args[2]
+            ));
+        }
+        if self.dumps.iter().any(|d| d.id == args[0]) {
+            return Err(format!("dump ID '{}' already exists", args[0]));
+        }
+        let every: u64 = parse_int(&args[3], "dump interval")?;
+        if every == 0 {
+            return Err("dump interval must be >= 1".into());
+        }
+        let columns = args[5..].to_vec();
+        for c in &columns {
+            if !matches!(
+                c.as_str(),
+                "id" | "type"
+                    | "mass"
+                    | "x"
+                    | "y"
+                    | "z"
+                    | "xu"
+                    | "yu"
+                    | "zu"
+                    | "ix"
+                    | "iy"
+                    | "iz"
+                    | "vx"
+                    | "vy"
+                    | "vz"
+                    | "fx"
+                    | "fy"
+                    | "fz"
+            ) {
+                return Err(format!("unknown dump column '{c}'"));
+            }
+        }
+        let f = File::create(&args[4])
+            .map_err(|e| format!("cannot open dump file {}: {e}", args[4]))?;
+        self.dumps.push(Dump {
+            id: args[0].clone(),
+            every,
+            path: args[4].clone(),
+            columns,
+            fmt_line: None,
+            fmt_int: None,
+            fmt_float: None,
+            writer: BufWriter::new(f),
+            last: None,
+        });
+        Ok(())
+    }
+
+    pub(super) fn cmd_dump_modify(&mut self, args: &[String]) -> CmdResult {
+        let usage = "dump_modify ID sort id|off | format line|int|float FORMAT";
+        need(args, 3, usage)?;
+        let d = self
+            .dumps
+            .iter_mut()
+            .find(|d| d.id == args[0])
+            .ok_or_else(|| format!("no dump with ID '{}'", args[0]))?;
+        let mut k = 1;
+        while k < args.len() {
+            need(&args[k..], 2, usage)?;
+            match args[k].as_str() {
+                // Output is always sorted by id (the engine reorders atoms for locality).
+                "sort" => k += 2,
+                "flush" => k += 2,
+                "format" => {
+                    need(&args[k..], 3, usage)?;
+                    let f = args[k + 2].clone();
+                    match args[k + 1].as_str() {
+                        "line" => {
+                            d.fmt_line = Some(f.split_whitespace().map(String::from).collect())
+                        }
+                        "int" => d.fmt_int = Some(f),
+                        "float" => d.fmt_float = Some(f),
+                        o => {
+                            return Err(format!(
+                                "dump_modify format '{o}' not supported (line, int, float)"
+                            ));
+                        }
+                    }
+                    k += 3;
+                }
+                o => return Err(format!("unknown dump_modify keyword '{o}'")),
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn write_dumps(&mut self, setup: bool) -> CmdResult {
+        let Some(sys) = self.sys.as_ref() else {
+            return Ok(());
+        };
+        let step = sys.step;
+        for d in self.dumps.iter_mut() {
+            if step % d.every != 0 || d.last == Some(step) {
+                continue;
+            }
+            let _ = setup;
+            d.last = Some(step);
+            let n = sys.atoms.len();
+            let mut order: Vec<usize> = (0..n).collect();
+            order.sort_by_key(|&i| sys.atoms.tag[i]);
+            let w = &mut d.writer;
+            let io = |e: std::io::Error| format!("cannot write dump file: {e}");
+            writeln!(
+                w,
+                "ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{n}\nITEM: BOX BOUNDS pp pp pp"
+            )
+            .map_err(io)?;
+            for a in 0..3 {
+                writeln!(w, "{:.16e} {:.16e}", sys.bx.lo[a], sys.bx.hi[a]).map_err(io)?;
+            }
+            writeln!(w, "ITEM: ATOMS {}", d.columns.join(" ")).map_err(io)?;
+            let mut line = String::new();
+            for &i in &order {
+                line.clear();
+                let mut x = sys.atoms.x[i];
+                let mut im = sys.atoms.image[i];
+                sys.bx.wrap(&mut x, &mut im);
+                let xu = sys.bx.unwrap(x, im);
+                for (k, c) in d.columns.iter().enumerate() {
+                    let (int, val) = match c.as_str() {
+                        "id" => (true, f64::from(sys.atoms.tag[i])),
+                        "type" => (true, f64::from(sys.atoms.typ[i])),
+                        "ix" => (true, f64::from(im[0])),
+                        "iy" => (true, f64::from(im[1])),
+                        "iz" => (true, f64::from(im[2])),
+                        "mass" => (false, sys.mass[sys.atoms.typ[i] as usize].unwrap_or(0.0)),
+                        "x" => (false, x[0]),
+                        "y" => (false, x[1]),
+                        "z" => (false, x[2]),
+                        "xu" => (false, xu[0]),
+                        "yu" => (false, xu[1]),
+                        "zu" => (false, xu[2]),
+                        "vx" => (false, sys.atoms.v[i][0]),
+                        "vy" => (false, sys.atoms.v[i][1]),
+                        "vz" => (false, sys.atoms.v[i][2]),
+                        "fx" => (false, sys.atoms.f[i][0]),
+                        "fy" => (false, sys.atoms.f[i][1]),
+                        _ => (false, sys.atoms.f[i][2]),
+                    };
+                    let fmtstr = d
+                        .fmt_line
+                        .as_ref()
+                        .and_then(|l| l.get(k).map(String::as_str))
+                        .or(if int {
+                            d.fmt_int.as_deref()
+                        } else {
+                            d.fmt_float.as_deref()
+                        })
+                        .unwrap_or(if int { "%d" } else { "%g" });
+                    let arg = if int {
+                        FmtArg::Int(val as i64)
+                    } else {
+                        FmtArg::Float(val)
+                    };
+                    if k > 0 {
+                        line.push(' ');
+                    }
+                    line.push_str(&sprintf(fmtstr, &[arg])?);
+                }
+                writeln!(w, "{line}").map_err(io)?;
+            }
+            w.flush().map_err(io)?;
+            let _ = &d.path;
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_undump(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "undump ID")?;
+        let before = self.dumps.len();
+        self.dumps.retain(|d| d.id != args[0]);
+        if self.dumps.len() == before {
+            return Err(format!("no dump with ID '{}'", args[0]));
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_print(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "print TEXT [file F] [append F] [screen yes|no]")?;
+        let mut screen = true;
+        let mut file: Option<(String, bool)> = None;
+        let mut k = 1;
+        while k < args.len() {
+            need(
+                &args[k..],
+                2,
+                "print TEXT [file F] [append F] [screen yes|no]",
+            )?;
+            match args[k].as_str() {
+                "file" => file = Some((args[k + 1].clone(), false)),
+                "append" => file = Some((args[k + 1].clone(), true)),
+                "screen" => screen = args[k + 1] == "yes",
+                o => return Err(format!("unknown print keyword '{o}'")),
+            }
+            k += 2;
+        }
+        if let Some((path, append)) = file {
+            let mut f = std::fs::OpenOptions::new()
+                .create(true)
+                .write(true)
+                .append(append)
+                .truncate(!append)
+                .open(&path)
+                .map_err(|e| format!("cannot open {path}: {e}"))?;
+            writeln!(f, "{}", args[0]).map_err(|e| format!("cannot write {path}: {e}"))?;
+        }
+        if screen {
+            self.out(&args[0]);
+        } else if let Some(l) = self.log.as_mut() {
+            let _ = writeln!(l, "{}", args[0]);
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_log(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "log FILE [append]")?;
+        let append = args.get(1).is_some_and(|a| a == "append");
+        if let Some(mut l) = self.log.take() {
+            let _ = l.flush();
+        }
+        if args[0] != "none" {
+            let f = std::fs::OpenOptions::new()
+                .create(true)
+                .write(true)
+                .append(append)
+                .truncate(!append)
+                .open(&args[0])
+                .map_err(|e| format!("cannot open log file {}: {e}", args[0]))?;
+            self.log = Some(BufWriter::new(f));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,45 @@
+//! `pair_style` and `pair_coeff`: the words are parsed by [`crate::grammar::pair`] (one grammar
+//! for both engines); this file puts the result into the system's force field.
+
+use super::{CmdResult, Interpreter};
+use crate::engine::ForceField;
+use crate::grammar::{self, need};
+
+impl Interpreter<'_> {
+    pub(super) fn cmd_pair_style(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, grammar::pair::PAIR_STYLE.usage)?;
+        if args[0] != "dpd/nonlinear" {
+            return Err(format!(
+                "pair style '{}' not supported: only dpd/nonlinear",
+                grammar::shown(&args[0])
+            ));
+        }
+        let style = grammar::pair::pair_style(&args[1..])?;
+        let dt = self.dt;
+        let sys = self.sys_mut()?;
+        sys.ff = Some(ForceField::new(
+            style.model(dt),
+            style.seed,
+            style.rc,
+            sys.ntypes,
+        ));
+        Ok(())
+    }
+
+    /// `pair_coeff I J a gamma0 gamma1 [rc]` or `I J a eta E sc S [gamma1 G] [rc R]` (γ0 and
+    /// the weight exponent then come from the targets η and Sc at every run's set-up,
+    /// `crate::init::resolve_design`).
+    pub(super) fn cmd_pair_coeff(&mut self, args: &[String]) -> CmdResult {
+        let sys = self.sys_mut()?;
+        let ntypes = sys.ntypes;
+        let ff = sys.ff.as_mut().ok_or("pair_coeff before pair_style")?;
+        let line = grammar::pair::pair_coeff(args, ntypes, ff.model.friction, ff.rc_global)?;
+        for (i, j) in line.pairs() {
+            match line.targets {
+                Some((eta, sc)) => ff.set_targets(i, j, line.coeff, eta, sc),
+                None => ff.set(i, j, line.coeff),
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,235 @@
+//! `run`: the set-up, the time-step loop with its end-of-step fixes, thermo and dump output;
+//! and dry runs, which set every run up and record it as a [`PlannedRun`].
+
+use super::fix::FixKind;
+use super::{CmdResult, Interpreter};
+use crate::engine::{Integrator, SetupNote, System};
+use crate::grammar::{need, parse_int};
+use crate::kernel::{PairCoeff, PairModel};
+use std::io::Write;
+use std::time::Instant;
+
+/// What a `run` command would run, as seen by its set-up (for `dpdnl theory SCRIPT`): the
+/// state point and every pair's resolved coefficients.
+#[derive(Clone, Debug)]
+pub struct PlannedRun {
+    /// Step at which the run starts.
+    pub first_step: u64,
+    /// Number of steps.
+    pub steps: u64,
+    /// Dimension (2 or 3).
+    pub dim: u32,
+    /// Number of atoms.
+    pub natoms: usize,
+    /// Volume (area in 2-D).
+    pub volume: f64,
+    /// Per-type masses (index 0 unused).
+    pub masses: Vec<f64>,
+    /// The pair style's model (kT, friction, noise, weight; δt set).
+    pub model: PairModel,
+    /// Time step.
+    pub dt: f64,
+    /// The integrator, if any.
+    pub integrator: Option<Integrator>,
+    /// (i, j, coefficients) for i ≤ j, after (η, Sc) targets were resolved.
+    pub coeffs: Vec<(usize, usize, PairCoeff)>,
+    /// The set-up's log lines (resolved designs, warnings).
+    pub notes: Vec<SetupNote>,
+}
+
+impl PlannedRun {
+    fn of(sys: &mut System, steps: u64, notes: Vec<SetupNote>) -> Result<PlannedRun, String> {
+        let ff = sys.ff.as_ref().ok_or("no pair style")?;
+        let mut coeffs = Vec::new();
+        for i in 1..=sys.ntypes {
+            for j in i..=sys.ntypes {
+                if let Some(c) = ff.get(i, j) {
+                    coeffs.push((i, j, *c));
+                }
+            }
+        }
+        Ok(PlannedRun {
+            first_step: sys.step,
+            steps,
+            dim: sys.bx.dim as u32,
+            natoms: sys.atoms.len(),
+            volume: sys.bx.volume(),
+            masses: sys.mass.iter().map(|m| m.unwrap_or(0.0)).collect(),
+            model: ff.model,
+            dt: sys.dt,
+            integrator: sys.integrator,
+            coeffs,
+            notes,
+        })
+    }
+}
+
+/// Commands a dry run ([`Interpreter::set_dry_run`]) skips: everything that writes a file or
+/// only matters to the output of a real run.
+pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
+    matches!(
+        cmd,
+        "dump" | "dump_modify" | "undump" | "write_data" | "log" | "print"
+    ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
+}
+
+impl Interpreter<'_> {
+    /// Dry run (for `dpdnl theory SCRIPT`): every `run` does its set-up (checks, (η, Sc)
+    /// resolution, warnings) and is recorded in [`Interpreter::planned_runs`] instead of being
+    /// run; commands that write files (`dump`, `write_data`, `log`, `print`, `fix ave/*`) are
+    /// skipped.
+    pub fn set_dry_run(&mut self, on: bool) {
+        self.dry_run = on;
+    }
+
+    /// The runs a dry run recorded, in script order.
+    pub fn planned_runs(&self) -> &[PlannedRun] {
+        &self.planned
+    }
+
+    /// LAMMPS `end_of_step` (and, at `setup`, the fixes' set-up call): PeX pushes and
+    /// measurements in the order the fixes were defined.
+    fn end_of_step(&mut self, setup: bool) -> CmdResult {
+        for k in 0..self.fixes.len() {
+            let (id, kind) = &self.fixes[k];
+            match kind {
+                FixKind::Pex if !setup => {
+                    let id = id.clone();
+                    let sys = self.sys_mut()?;
+                    if let Some(p) = sys.pex.iter().position(|p| p.id == id) {
+                        sys.apply_pex_push(p);
+                    }
+                }
+                FixKind::Observe => {
+                    if let Some(sample) = self.obs.sample(id, &*self)? {
+                        let (id, step) = (id.clone(), self.sys_mut()?.step);
+                        self.obs.accumulate(&id, sample, step)?;
+                    }
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_run(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "run N [upto] [pre yes|no] [post yes|no]")?;
+        let mut n: u64 = parse_int(&args[0], "number of steps")?;
+        let mut upto = false;
+        let mut k = 1;
+        while k < args.len() {
+            match args[k].as_str() {
+                "upto" => {
+                    upto = true;
+                    k += 1;
+                }
+                "pre" | "post" => k += 2,
+                o => return Err(format!("run keyword '{o}' not supported (upto, pre, post)")),
+            }
+        }
+        let threads = self.threads;
+        let step = self.sys_mut()?.step;
+        if self.console.interrupted() {
+            return Err(self.interrupted_at(step));
+        }
+        let sys = self.sys_mut()?;
+        if upto {
+            n = n
+                .checked_sub(sys.step)
+                .ok_or("run upto: target step is in the past")?;
+        }
+        sys.setup()?;
+        let notes = std::mem::take(&mut sys.setup_notes);
+        let integ = sys.integrator;
+        let first = sys.step;
+        let last = first + n;
+        let natoms = sys.atoms.len();
+        let dt = sys.dt;
+        self.run_first = first;
+        if self.dry_run {
+            let plan = PlannedRun::of(self.sys_mut()?, n, notes)?;
+            self.planned.push(plan);
+            return Ok(());
+        }
+        for note in notes {
+            match note {
+                SetupNote::Info(text) => self.out(&text),
+                SetupNote::Warning(text) => self.warn(&text),
+            }
+        }
+        if integ.is_none() {
+            self.warn("No fixes with time integration, atoms won't move");
+        }
+        let scheme = match integ {
+            Some(Integrator::Euler) => "Euler (nve/euler)",
+            _ => "velocity-Verlet (nve)",
+        };
+        self.out(&format!("Setting up {scheme} run ...\n  Unit style    : lj\n  Current step  : {first}\n  Time step     : {dt}"));
+        self.obs.init(first);
+        self.end_of_step(true)?;
+        let header = self.thermo_header_line();
+        self.out(&header);
+        let row = self.thermo_row()?;
+        self.out(&row);
+        self.write_dumps(true)?;
+        let every = self.thermo.every;
+        let start = Instant::now();
+        let mut last_progress = Instant::now();
+        let measuring = self.obs.has_fixes();
+        for _ in 0..n {
+            let sys = self.sys_mut()?;
+            if measuring {
+                sys.advance();
+            } else {
+                sys.step_once();
+            }
+            let step = sys.step;
+            if measuring {
+                self.end_of_step(false)?;
+            }
+            if (every > 0 && step % every == 0) || step == last {
+                let row = self.thermo_row()?;
+                self.out(&row);
+            }
+            if !self.dumps.is_empty() {
+                self.write_dumps(false)?;
+            }
+            if last_progress.elapsed().as_secs_f64() > 1.0 {
+                last_progress = Instant::now();
+                self.console.progress(step, first, last);
+                if let Some(l) = self.log.as_mut() {
+                    let _ = l.flush();
+                }
+            }
+            if self.console.interrupted() {
+                return Err(self.interrupted_at(step));
+            }
+        }
+        let secs = start.elapsed().as_secs_f64();
+        self.out(&format!(
+            "Loop time of {secs:.6} on {threads} procs for {n} steps with {natoms} atoms\n"
+        ));
+        if secs > 0.0 && n > 0 {
+            let steps_per_s = n as f64 / secs;
+            self.out(&format!(
+                "Performance: {:.3} tau/day, {:.3} timesteps/s, {:.3} katom-step/s",
+                86400.0 * steps_per_s * dt,
+                steps_per_s,
+                steps_per_s * natoms as f64 / 1000.0
+            ));
+        }
+        if let Some(l) = self.log.as_mut() {
+            let _ = l.flush();
+        }
+        Ok(())
+    }
+
+    /// Stop a run that [`super::Console::interrupted`] interrupted at `step`: flush the log as
+    /// at the end of a run; the message of the error the script stops with.
+    fn interrupted_at(&mut self, step: u64) -> String {
+        if let Some(l) = self.log.as_mut() {
+            let _ = l.flush();
+        }
+        format!("interrupted at step {step}")
+    }
+}

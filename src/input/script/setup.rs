@@ -1,0 +1,410 @@
+//! The box and the atoms: `units`, `dimension`, `boundary`, `atom_style`, `region`,
+//! `create_box`, `create_atoms`, `read_data`, `write_data`, `mass`, `neighbor`, `timestep`,
+//! `change_box`, `reset_timestep`.
+
+use super::{CmdResult, Interpreter, type_range};
+use crate::engine::lees_edwards::Triclinic;
+use crate::engine::{SimBox, System};
+use crate::grammar::{need, parse_f64, parse_int};
+use crate::io::data::{DataFile, format_data, parse_data};
+use crate::rng::{STREAM_CREATE_ATOMS, keyed_uniform};
+use std::collections::BTreeMap;
+
+impl Interpreter<'_> {
+    pub(super) fn cmd_units(args: &[String]) -> CmdResult {
+        need(args, 1, "units lj")?;
+        if args[0] != "lj" {
+            return Err(format!("units '{}' not supported: only 'lj'", args[0]));
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_dimension(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "dimension 2|3")?;
+        if self.sys.is_some() {
+            return Err("dimension must be set before the box is created".into());
+        }
+        self.dim = match args[0].as_str() {
+            "2" => 2,
+            "3" => 3,
+            o => return Err(format!("dimension '{o}' must be 2 or 3")),
+        };
+        Ok(())
+    }
+
+    pub(super) fn cmd_boundary(args: &[String]) -> CmdResult {
+        need(args, 3, "boundary p p p")?;
+        if args.iter().take(3).any(|a| a != "p") {
+            return Err(format!(
+                "boundary '{}': only fully periodic boxes ('p p p') are supported",
+                args.join(" ")
+            ));
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_atom_style(args: &[String]) -> CmdResult {
+        need(args, 1, "atom_style atomic")?;
+        if args[0] != "atomic" {
+            return Err(format!(
+                "atom_style '{}' not supported: only 'atomic'",
+                args[0]
+            ));
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_region(&mut self, args: &[String]) -> CmdResult {
+        let usage = "region ID block xlo xhi ylo yhi zlo zhi [units box|lattice] | region ID prism xlo xhi ylo yhi zlo zhi xy xz yz [units box|lattice]";
+        need(args, 8, usage)?;
+        let prism = match args[1].as_str() {
+            "block" => None,
+            "prism" => {
+                need(args, 11, usage)?;
+                let mut t = [0.0; 3];
+                for (k, name) in ["xy", "xz", "yz"].iter().enumerate() {
+                    t[k] = parse_f64(&args[8 + k], name)?;
+                }
+                if t[1] != 0.0 || t[2] != 0.0 {
+                    return Err(format!(
+                        "region prism: tilt xz '{}' yz '{}' not supported: only xy (Lees–Edwards Couette flow)",
+                        args[9], args[10]
+                    ));
+                }
+                Some(t)
+            }
+            o => {
+                return Err(format!(
+                    "region style '{o}' not supported: only 'block' and 'prism'"
+                ));
+            }
+        };
+        let mut k = if prism.is_some() { 11 } else { 8 };
+        while k < args.len() {
+            need(&args[k..], 2, usage)?;
+            match (args[k].as_str(), args[k + 1].as_str()) {
+                ("units", "box") | ("units", "lattice") => {}
+                ("side", "in") => {}
+                (a, b) => return Err(format!("unsupported region keyword '{a} {b}'")),
+            }
+            k += 2;
+        }
+        let mut b = [[0.0; 2]; 3];
+        for d in 0..3 {
+            for s in 0..2 {
+                let tok = &args[2 + 2 * d + s];
+                b[d][s] = match tok.as_str() {
+                    "INF" | "EDGE" => {
+                        let sys = self
+                            .sys
+                            .as_ref()
+                            .ok_or_else(|| format!("'{tok}' in a region needs an existing box"))?;
+                        if s == 0 { sys.bx.lo[d] } else { sys.bx.hi[d] }
+                    }
+                    _ => parse_f64(tok, "region bound")?,
+                };
+            }
+            if b[d][0] >= b[d][1] {
+                return Err(format!(
+                    "region {} bounds in {}: lo {} >= hi {}",
+                    args[0],
+                    ["x", "y", "z"][d],
+                    b[d][0],
+                    b[d][1]
+                ));
+            }
+        }
+        self.regions.insert(args[0].clone(), b);
+        match prism {
+            Some(t) => {
+                self.prisms.insert(args[0].clone(), t);
+            }
+            None => {
+                self.prisms.remove(&args[0]);
+            }
+        }
+        Ok(())
+    }
+
+    fn region(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
+        self.regions
+            .get(id)
+            .copied()
+            .ok_or_else(|| format!("no region with ID '{id}'"))
+    }
+
+    fn new_system(&mut self, ntypes: usize, lo: [f64; 3], hi: [f64; 3]) -> CmdResult {
+        if self.sys.is_some() {
+            return Err("a simulation box already exists".into());
+        }
+        if ntypes == 0 {
+            return Err("the number of atom types must be >= 1".into());
+        }
+        let bx = SimBox::new(self.dim, lo, hi)?;
+        let mut sys = System::new(bx, ntypes);
+        sys.dt = self.dt;
+        sys.neighbor = crate::engine::NeighborList::new(self.skin);
+        self.sys = Some(sys);
+        Ok(())
+    }
+
+    pub(super) fn cmd_create_box(&mut self, args: &[String]) -> CmdResult {
+        need(args, 2, "create_box NTYPES REGION-ID")?;
+        let ntypes: usize = parse_int(&args[0], "number of atom types")?;
+        let r = self.region(&args[1])?;
+        self.new_system(
+            ntypes,
+            [r[0][0], r[1][0], r[2][0]],
+            [r[0][1], r[1][1], r[2][1]],
+        )?;
+        let d = self.dim;
+        if let Some(t) = self.prisms.get(&args[1]).copied() {
+            let sys = self.sys_mut()?;
+            sys.tri = Some(Triclinic::new(t[0]));
+            self.out(&format!(
+                "Created triclinic box = ({} {} {}) to ({} {} {}) with tilt ({} {} {}) in {d}-D",
+                r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1], t[0], t[1], t[2]
+            ));
+            return Ok(());
+        }
+        self.out(&format!(
+            "Created orthogonal box = ({} {} {}) to ({} {} {}) in {d}-D",
+            r[0][0], r[1][0], r[2][0], r[0][1], r[1][1], r[2][1]
+        ));
+        Ok(())
+    }
+
+    pub(super) fn cmd_create_atoms(&mut self, args: &[String]) -> CmdResult {
+        let usage = "create_atoms TYPE random N SEED REGION-ID | create_atoms TYPE single X Y Z";
+        need(args, 2, usage)?;
+        let dim = self.dim;
+        let regions = self.regions.clone();
+        let sys = self.sys_mut()?;
+        let t: u32 = parse_int(&args[0], "atom type")?;
+        if t == 0 || t as usize > sys.ntypes {
+            return Err(format!("atom type {t} out of range 1..{}", sys.ntypes));
+        }
+        let mut next = sys.atoms.max_tag();
+        let mut created = 0usize;
+        match args[1].as_str() {
+            "random" => {
+                need(args, 5, usage)?;
+                if args.len() > 5 {
+                    return Err(format!(
+                        "create_atoms random keyword '{}' not supported",
+                        args[5]
+                    ));
+                }
+                let n: usize = parse_int(&args[2], "number of atoms")?;
+                let seed: u32 = parse_int(&args[3], "seed")?;
+                if seed == 0 {
+                    return Err("seed must be > 0".into());
+                }
+                let r = if args[4] == "NULL" {
+                    [
+                        [sys.bx.lo[0], sys.bx.hi[0]],
+                        [sys.bx.lo[1], sys.bx.hi[1]],
+                        [sys.bx.lo[2], sys.bx.hi[2]],
+                    ]
+                } else {
+                    *regions
+                        .get(&args[4])
+                        .ok_or_else(|| format!("no region with ID '{}'", args[4]))?
+                };
+                let mut lo = [0.0; 3];
+                let mut hi = [0.0; 3];
+                for d in 0..3 {
+                    lo[d] = r[d][0].max(sys.bx.lo[d]);
+                    hi[d] = r[d][1].min(sys.bx.hi[d]);
+                    if lo[d] >= hi[d] {
+                        return Err(format!("region {} does not overlap the box", args[4]));
+                    }
+                }
+                for _ in 0..n {
+                    next = next
+                        .checked_add(1)
+                        .ok_or("atom ids would exceed 2^32 - 1")?;
+                    let mut x = [0.0; 3];
+                    for d in 0..dim {
+                        let u = keyed_uniform(seed, STREAM_CREATE_ATOMS, 0, next, d as u32);
+                        x[d] = lo[d] + u * (hi[d] - lo[d]);
+                    }
+                    sys.atoms.push(next, t, x, [0.0; 3], [0; 3]);
+                    created += 1;
+                }
+            }
+            "single" => {
+                need(args, 5, usage)?;
+                let mut x = [0.0; 3];
+                for d in 0..3 {
+                    x[d] = parse_f64(&args[2 + d], "coordinate")?;
+                }
+                if dim == 2 {
+                    x[2] = 0.0;
+                }
+                next = next
+                    .checked_add(1)
+                    .ok_or("atom ids would exceed 2^32 - 1")?;
+                let mut im = [0; 3];
+                sys.bx.wrap(&mut x, &mut im);
+                sys.atoms.push(next, t, x, [0.0; 3], [0; 3]);
+                created = 1;
+            }
+            o => {
+                return Err(format!(
+                    "create_atoms style '{o}' not supported (random, single)"
+                ));
+            }
+        }
+        self.out(&format!("Created {created} atoms"));
+        Ok(())
+    }
+
+    pub(super) fn cmd_read_data(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "read_data FILE")?;
+        if args.len() > 1 {
+            return Err(format!("read_data keyword '{}' not supported", args[1]));
+        }
+        let text = std::fs::read_to_string(&args[0])
+            .map_err(|e| format!("cannot read data file {}: {e}", args[0]))?;
+        let d = parse_data(&text, &args[0])?;
+        if self.dim == 2 && d.atoms.iter().any(|a| a.2[2] != 0.0) {
+            return Err(format!(
+                "{}: a 2-D system needs z = 0 for every atom",
+                args[0]
+            ));
+        }
+        self.new_system(d.ntypes, d.lo, d.hi)?;
+        let sys = self.sys_mut()?;
+        let mut index = BTreeMap::new();
+        for (k, &(tag, t, x, im)) in d.atoms.iter().enumerate() {
+            sys.atoms.push(tag, t, x, [0.0; 3], im);
+            index.insert(tag, k);
+        }
+        for (tag, v) in &d.velocities {
+            let k = index
+                .get(tag)
+                .ok_or_else(|| format!("{}: Velocities for unknown atom id {tag}", args[0]))?;
+            sys.atoms.v[*k] = *v;
+        }
+        for (t, m) in d.masses.iter().enumerate() {
+            if m.is_some() {
+                sys.mass[t] = *m;
+            }
+        }
+        let n = d.atoms.len();
+        self.out(&format!(
+            "Read data file {}: {n} atoms, {} atom types",
+            args[0], d.ntypes
+        ));
+        Ok(())
+    }
+
+    pub(super) fn cmd_write_data(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "write_data FILE [nocoeff]")?;
+        for a in &args[1..] {
+            if a != "nocoeff" {
+                return Err(format!("write_data keyword '{a}' not supported"));
+            }
+        }
+        let sys = self.sys.as_ref().ok_or("needs a simulation box first")?;
+        if sys.is_triclinic() {
+            return Err(
+                "write_data of a triclinic (Lees–Edwards) box is not supported: read_data could not read its tilt back"
+                    .into(),
+            );
+        }
+        let mut order: Vec<usize> = (0..sys.atoms.len()).collect();
+        order.sort_by_key(|&i| sys.atoms.tag[i]);
+        let mut atoms = Vec::with_capacity(order.len());
+        let mut vels = Vec::with_capacity(order.len());
+        for &i in &order {
+            let mut x = sys.atoms.x[i];
+            let mut im = sys.atoms.image[i];
+            sys.bx.wrap(&mut x, &mut im);
+            atoms.push((sys.atoms.tag[i], sys.atoms.typ[i], x, im));
+            vels.push((sys.atoms.tag[i], sys.atoms.v[i]));
+        }
+        let d = DataFile {
+            ntypes: sys.ntypes,
+            lo: sys.bx.lo,
+            hi: sys.bx.hi,
+            masses: sys.mass.clone(),
+            atoms,
+            velocities: vels,
+        };
+        let title = format!(
+            "LAMMPS data file via write_data (dpdnl), timestep = {}",
+            sys.step
+        );
+        std::fs::write(&args[0], format_data(&d, &title))
+            .map_err(|e| format!("cannot write {}: {e}", args[0]))
+    }
+
+    pub(super) fn cmd_mass(&mut self, args: &[String]) -> CmdResult {
+        need(args, 2, "mass TYPE(S) VALUE")?;
+        let m = parse_f64(&args[1], "mass")?;
+        if m <= 0.0 {
+            return Err(format!("mass {m} must be > 0"));
+        }
+        let sys = self.sys_mut()?;
+        let (lo, hi) = type_range(&args[0], sys.ntypes)?;
+        for t in lo..=hi {
+            sys.mass[t] = Some(m);
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_neighbor(&mut self, args: &[String]) -> CmdResult {
+        need(args, 2, "neighbor SKIN bin")?;
+        let skin = parse_f64(&args[0], "skin")?;
+        if skin < 0.0 {
+            return Err(format!("skin {skin} must be >= 0"));
+        }
+        if !["bin", "nsq", "multi"].contains(&args[1].as_str()) {
+            return Err(format!("unknown neighbor style '{}'", args[1]));
+        }
+        self.skin = skin;
+        if let Some(s) = self.sys.as_mut() {
+            s.neighbor = crate::engine::NeighborList::new(skin);
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_timestep(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "timestep DT")?;
+        let dt = parse_f64(&args[0], "timestep")?;
+        if dt <= 0.0 {
+            return Err(format!("timestep {dt} must be > 0"));
+        }
+        self.dt = dt;
+        if let Some(s) = self.sys.as_mut() {
+            s.dt = dt;
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_change_box(&mut self, args: &[String]) -> CmdResult {
+        need(args, 2, "change_box all triclinic")?;
+        if args[0] != "all" {
+            return Err(format!("group '{}' not supported: only 'all'", args[0]));
+        }
+        if let Some(o) = args[1..].iter().find(|a| *a != "triclinic") {
+            return Err(format!(
+                "change_box keyword '{o}' not supported: only 'change_box all triclinic'"
+            ));
+        }
+        let sys = self.sys_mut()?;
+        if sys.tri.is_none() {
+            sys.tri = Some(Triclinic::new(0.0));
+        }
+        Ok(())
+    }
+
+    pub(super) fn cmd_reset_timestep(&mut self, args: &[String]) -> CmdResult {
+        need(args, 1, "reset_timestep N")?;
+        let n: u64 = parse_int(&args[0], "timestep")?;
+        self.sys_mut()?.step = n;
+        Ok(())
+    }
+}
