@@ -39,6 +39,17 @@ impl Atoms {
         self.image.push(image);
     }
 
+    /// Reserve room for `n` more atoms in every array; an allocation failure is an error, not an
+    /// abort.
+    pub fn try_reserve(&mut self, n: usize) -> Result<(), std::collections::TryReserveError> {
+        self.x.try_reserve(n)?;
+        self.v.try_reserve(n)?;
+        self.f.try_reserve(n)?;
+        self.tag.try_reserve(n)?;
+        self.typ.try_reserve(n)?;
+        self.image.try_reserve(n)
+    }
+
     /// The largest tag, 0 when empty.
     pub fn max_tag(&self) -> u32 {
         self.tag.iter().copied().max().unwrap_or(0)

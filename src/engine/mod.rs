@@ -379,6 +379,49 @@ impl System {
         }
     }
 
+    /// The blow-up check of a run (docs/input.md, "run"): every position, velocity and force
+    /// finite, and no atom moving more than half the box length along any axis in one step
+    /// (|v_k| δt > L_k / 2: the integration no longer resolves anything). The error names the
+    /// step, the atom id and the quantity. O(N); the run loop calls it at thermo output and at
+    /// least every 100 steps.
+    pub fn check_health(&self) -> Result<(), String> {
+        let a = &self.atoms;
+        let len = self.bx.len();
+        let dim = self.dim();
+        let axis = ["x", "y", "z"];
+        for i in 0..a.len() {
+            for (what, q) in [
+                ("position", &a.x[i]),
+                ("velocity", &a.v[i]),
+                ("force", &a.f[i]),
+            ] {
+                if let Some(k) = (0..3).find(|&k| !q[k].is_finite()) {
+                    return Err(format!(
+                        "blow-up at step {}: atom {} has a non-finite {what} ({}{} = {})",
+                        self.step,
+                        a.tag[i],
+                        &what[..1],
+                        axis[k],
+                        q[k]
+                    ));
+                }
+            }
+            if let Some(k) = (0..dim).find(|&k| a.v[i][k].abs() * self.dt > 0.5 * len[k]) {
+                return Err(format!(
+                    "blow-up at step {}: atom {} moves {:.3e} per step along {} (v{} = {:.3e}), more than half the box length {}; reduce the time step or check the force field",
+                    self.step,
+                    a.tag[i],
+                    a.v[i][k].abs() * self.dt,
+                    axis[k],
+                    axis[k],
+                    a.v[i][k],
+                    len[k]
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// The thermodynamic state with LAMMPS's definitions (`docs/models.md` §4.5, P-7–P-9).
     pub fn thermo(&self) -> Thermo {
         let mut kt = [0.0; 6];

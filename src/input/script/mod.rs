@@ -408,10 +408,12 @@ impl<'c> Interpreter<'c> {
             }
             "uncompute" => {
                 need(args, 1, "uncompute ID")?;
+                crate::grammar::at_most(args, 1, "uncompute ID")?;
                 self.obs.uncompute(&args[0])
             }
             "thermo" => {
                 need(args, 1, "thermo N")?;
+                crate::grammar::at_most(args, 1, "thermo N")?;
                 self.thermo.every = parse_int(&args[0], "thermo interval")?;
                 Ok(())
             }

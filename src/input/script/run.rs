@@ -73,6 +73,10 @@ pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
     ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
 }
 
+/// Steps between blow-up checks ([`crate::engine::System::check_health`]) when no thermo
+/// output falls in between.
+const HEALTH_EVERY: u64 = 100;
+
 impl Interpreter<'_> {
     /// Dry run (for `dpdnl theory SCRIPT`): every `run` does its set-up (checks, (η, Sc)
     /// resolution, warnings) and is recorded in [`Interpreter::planned_runs`] instead of being
@@ -165,6 +169,7 @@ impl Interpreter<'_> {
             _ => "velocity-Verlet (nve)",
         };
         self.out(&format!("Setting up {scheme} run ...\n  Unit style    : lj\n  Current step  : {first}\n  Time step     : {dt}"));
+        self.sys_mut()?.check_health()?;
         self.obs.init(first);
         self.end_of_step(true)?;
         let header = self.thermo_header_line();
@@ -184,10 +189,17 @@ impl Interpreter<'_> {
                 sys.step_once();
             }
             let step = sys.step;
+            let thermo_due = (every > 0 && step % every == 0) || step == last;
+            if thermo_due || step % HEALTH_EVERY == 0 {
+                if let Err(e) = sys.check_health() {
+                    self.flush_outputs();
+                    return Err(e);
+                }
+            }
             if measuring {
                 self.end_of_step(false)?;
             }
-            if (every > 0 && step % every == 0) || step == last {
+            if thermo_due {
                 let row = self.thermo_row()?;
                 self.out(&row);
             }
@@ -227,9 +239,14 @@ impl Interpreter<'_> {
     /// Stop a run that [`super::Console::interrupted`] interrupted at `step`: flush the log as
     /// at the end of a run; the message of the error the script stops with.
     fn interrupted_at(&mut self, step: u64) -> String {
+        self.flush_outputs();
+        format!("interrupted at step {step}")
+    }
+
+    /// Flush the log (dumps and averaging files are flushed as each record is written).
+    fn flush_outputs(&mut self) {
         if let Some(l) = self.log.as_mut() {
             let _ = l.flush();
         }
-        format!("interrupted at step {step}")
     }
 }

@@ -5,14 +5,14 @@
 use super::{CmdResult, Interpreter, type_range};
 use crate::engine::lees_edwards::Triclinic;
 use crate::engine::{SimBox, System};
-use crate::grammar::{need, parse_f64, parse_int};
+use crate::grammar::{at_most, need, parse_f64, parse_int};
 use crate::io::data::{DataFile, format_data, parse_data};
 use crate::rng::{STREAM_CREATE_ATOMS, keyed_uniform};
 use std::collections::BTreeMap;
 
 impl Interpreter<'_> {
     pub(super) fn cmd_units(args: &[String]) -> CmdResult {
-        need(args, 1, "units lj")?;
+        exact(args, 1, "units lj")?;
         if args[0] != "lj" {
             return Err(format!("units '{}' not supported: only 'lj'", args[0]));
         }
@@ -20,7 +20,7 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_dimension(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, "dimension 2|3")?;
+        exact(args, 1, "dimension 2|3")?;
         if self.sys.is_some() {
             return Err("dimension must be set before the box is created".into());
         }
@@ -33,7 +33,7 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_boundary(args: &[String]) -> CmdResult {
-        need(args, 3, "boundary p p p")?;
+        exact(args, 3, "boundary p p p")?;
         if args.iter().take(3).any(|a| a != "p") {
             return Err(format!(
                 "boundary '{}': only fully periodic boxes ('p p p') are supported",
@@ -44,7 +44,7 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_atom_style(args: &[String]) -> CmdResult {
-        need(args, 1, "atom_style atomic")?;
+        exact(args, 1, "atom_style atomic")?;
         if args[0] != "atomic" {
             return Err(format!(
                 "atom_style '{}' not supported: only 'atomic'",
@@ -149,7 +149,7 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_create_box(&mut self, args: &[String]) -> CmdResult {
-        need(args, 2, "create_box NTYPES REGION-ID")?;
+        exact(args, 2, "create_box NTYPES REGION-ID")?;
         let ntypes: usize = parse_int(&args[0], "number of atom types")?;
         let r = self.region(&args[1])?;
         self.new_system(
@@ -196,6 +196,10 @@ impl Interpreter<'_> {
                     ));
                 }
                 let n: usize = parse_int(&args[2], "number of atoms")?;
+                memory_guard(n, sys.atoms.len())?;
+                sys.atoms
+                    .try_reserve(n)
+                    .map_err(|e| format!("cannot allocate {n} atoms: {e}"))?;
                 let seed: u32 = parse_int(&args[3], "seed")?;
                 if seed == 0 {
                     return Err("seed must be > 0".into());
@@ -234,7 +238,7 @@ impl Interpreter<'_> {
                 }
             }
             "single" => {
-                need(args, 5, usage)?;
+                exact(args, 5, usage)?;
                 let mut x = [0.0; 3];
                 for d in 0..3 {
                     x[d] = parse_f64(&args[2 + d], "coordinate")?;
@@ -242,13 +246,15 @@ impl Interpreter<'_> {
                 if dim == 2 {
                     x[2] = 0.0;
                 }
-                next = next
-                    .checked_add(1)
-                    .ok_or("atom ids would exceed 2^32 - 1")?;
-                let mut im = [0; 3];
-                sys.bx.wrap(&mut x, &mut im);
-                sys.atoms.push(next, t, x, [0.0; 3], [0; 3]);
-                created = 1;
+                // As LAMMPS (`remap no`): a point outside the box creates no atom.
+                let inside = (0..dim).all(|d| x[d] >= sys.bx.lo[d] && x[d] < sys.bx.hi[d]);
+                if inside {
+                    next = next
+                        .checked_add(1)
+                        .ok_or("atom ids would exceed 2^32 - 1")?;
+                    sys.atoms.push(next, t, x, [0.0; 3], [0; 3]);
+                    created = 1;
+                }
             }
             o => {
                 return Err(format!(
@@ -342,7 +348,7 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_mass(&mut self, args: &[String]) -> CmdResult {
-        need(args, 2, "mass TYPE(S) VALUE")?;
+        exact(args, 2, "mass TYPE(S) VALUE")?;
         let m = parse_f64(&args[1], "mass")?;
         if m <= 0.0 {
             return Err(format!("mass {m} must be > 0"));
@@ -356,7 +362,7 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_neighbor(&mut self, args: &[String]) -> CmdResult {
-        need(args, 2, "neighbor SKIN bin")?;
+        exact(args, 2, "neighbor SKIN bin")?;
         let skin = parse_f64(&args[0], "skin")?;
         if skin < 0.0 {
             return Err(format!("skin {skin} must be >= 0"));
@@ -372,7 +378,7 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_timestep(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, "timestep DT")?;
+        exact(args, 1, "timestep DT")?;
         let dt = parse_f64(&args[0], "timestep")?;
         if dt <= 0.0 {
             return Err(format!("timestep {dt} must be > 0"));
@@ -402,9 +408,47 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_reset_timestep(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, "reset_timestep N")?;
+        exact(args, 1, "reset_timestep N")?;
         let n: u64 = parse_int(&args[0], "timestep")?;
         self.sys_mut()?.step = n;
         Ok(())
     }
+}
+
+/// Bytes per atom the engine needs at least (atom data measured 95–148 B/atom, BENCHMARKS.md;
+/// the neighbour structures come on top).
+const MIN_BYTES_PER_ATOM: u64 = 150;
+
+/// Refuse to create `n` more atoms (beside `have`) when even their atom data would not fit in
+/// the memory this machine has available (`MemAvailable` of /proc/meminfo; no check where that
+/// cannot be read), with the estimate and the available memory in the message.
+fn memory_guard(n: usize, have: usize) -> CmdResult {
+    let need = (n as u64 + have as u64).saturating_mul(MIN_BYTES_PER_ATOM);
+    let Some(avail) = available_memory() else {
+        return Ok(());
+    };
+    if need > avail {
+        return Err(format!(
+            "{} atoms need at least {:.1} GB ({MIN_BYTES_PER_ATOM} B/atom of atom data, before \
+             neighbour lists) but this machine has {:.1} GB available",
+            n as u64 + have as u64,
+            need as f64 / 1e9,
+            avail as f64 / 1e9
+        ));
+    }
+    Ok(())
+}
+
+/// `MemAvailable` from /proc/meminfo, in bytes.
+fn available_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb.saturating_mul(1024))
+}
+
+/// Exactly `n` words: missing ones and trailing ones are errors (LAMMPS's "Illegal … command").
+fn exact(args: &[String], n: usize, usage: &str) -> CmdResult {
+    need(args, n, usage)?;
+    at_most(args, n, usage)
 }
