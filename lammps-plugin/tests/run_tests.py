@@ -6,7 +6,8 @@
     python3 lammps-plugin/tests/run_tests.py [--plugin [--lmp LMP]] [--keep DIR]
 
 Checks, for every input in inputs/ (3-D vv, 2-D vv + enforce2d, 3-D Euler, 3-D PeX):
-newton on vs off and 1 vs 2 MPI ranks give the same thermo and dumps (<= 1e-12 relative);
+newton on vs off and 1 vs 2, 4 (1x2x2) and 3 (uneven 3x1x1) MPI ranks give the same thermo and
+dumps (<= 1e-12 relative);
 total momentum is conserved; the restart continues the run; bad arguments give LAMMPS ERROR
 lines with clear messages; the styles survive `clear`. Prints the measured differences.
 
@@ -60,13 +61,16 @@ def check(ok, what):
 
 
 def run_lammps(workdir, name, script, np=1, newton=True, variables=None, lmp=None, env=None,
-               cwd=None):
+               cwd=None, grid=None):
     """Run `script` (a path) in workdir (or cwd); returns (returncode, log text, output text).
-    `lmp` and `env` replace the LAMMPS under test and its extra environment."""
+    `lmp` and `env` replace the LAMMPS under test and its extra environment; `grid` ("Px Py Pz")
+    sets the processor grid."""
     os.makedirs(workdir, exist_ok=True)
     src = open(script).read()
     if not newton:
         src = "newton off\n" + src
+    if grid:
+        src = f"processors {grid}\n" + src
     path = os.path.join(workdir, name + ".in")
     with open(path, "w") as f:
         f.write(src)
@@ -185,15 +189,20 @@ def consistency(tmp):
         script = os.path.join(INPUTS, name + ".in")
         data = os.path.join(DATA, DATAFILE[name] + ".data")
         runs = {}
-        for label, np, newton in [
-            ("np1_on", 1, True),
-            ("np1_off", 1, False),
-            ("np2_on", 2, True),
-            ("np2_off", 2, False),
+        two_d = name == "dpd2d"
+        for label, np, newton, grid in [
+            ("np1_on", 1, True, None),
+            ("np1_off", 1, False, None),
+            ("np2_on", 2, True, None),
+            ("np2_off", 2, False, None),
+            # 4 ranks on a 1x2x2 grid (2x2x1 in 2-D) and 3 on an uneven 3x1x1 grid.
+            ("np4_on", 4, True, "2 2 1" if two_d else "1 2 2"),
+            ("np3_uneven", 3, True, "3 1 1"),
         ]:
             wd = os.path.join(tmp, name, label)
             dump = os.path.join(wd, "dump")
-            rc, log, out = run_lammps(wd, name, script, np, newton, {"data": data, "dump": dump})
+            rc, log, out = run_lammps(wd, name, script, np, newton, {"data": data, "dump": dump},
+                                      grid=grid)
             check(rc == 0, f"{name} {label} runs" + ("" if rc == 0 else ": " + out[-2000:]))
             if rc != 0:
                 continue
@@ -203,7 +212,7 @@ def consistency(tmp):
         if "np1_on" not in runs:
             continue
         ref_thermo, ref_dump = runs["np1_on"]
-        for label in ["np1_off", "np2_on", "np2_off"]:
+        for label in ["np1_off", "np2_on", "np2_off", "np4_on", "np3_uneven"]:
             if label not in runs:
                 continue
             t, d = runs[label]
