@@ -144,10 +144,6 @@ fn _dpdnl(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("AnalysisError", py.get_type::<AnalysisError>())?;
     m.add("TheoryError", py.get_type::<TheoryError>())?;
     m.add("_source_root", SOURCE_ROOT)?;
-    let features = PyDict::new(py);
-    features.set_item("interrupt_every_step", cfg!(dpdnl_console_interrupted))?;
-    features.set_item("writable_state", cfg!(dpdnl_system_mut))?;
-    m.add("_features", features)?;
     sim::register(m)?;
     files::register(m)?;
     theory::register(m)?;

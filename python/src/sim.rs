@@ -14,13 +14,10 @@ use pyo3::types::{PyDict, PyList};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard};
-#[cfg(dpdnl_console_interrupted)]
-use std::time::Duration;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// How often a run looks for a pending Ctrl-C (Python's signal handlers run only when the
 /// interpreter is attached; attaching costs microseconds, so a run checks at most this often).
-#[cfg(dpdnl_console_interrupted)]
 const SIGNAL_CHECK: Duration = Duration::from_millis(20);
 
 /// What the console shares with the `Simulation` that owns it.
@@ -44,20 +41,17 @@ fn lock(s: &Mutex<State>) -> MutexGuard<'_, State> {
 }
 
 impl PyConsole {
-    /// Runs Python's signal handlers (if `throttle`, at most every [`SIGNAL_CHECK`]); true when
-    /// one raised (the exception is kept in `pending`).
-    fn signalled(&mut self, throttle: bool) -> bool {
+    /// Runs Python's signal handlers (at most every [`SIGNAL_CHECK`]); true when one raised
+    /// (the exception is kept in `pending`).
+    fn signalled(&mut self) -> bool {
         {
             let mut st = lock(&self.state);
             if st.pending.is_some() {
                 return true;
             }
-            #[cfg(dpdnl_console_interrupted)]
-            if throttle && st.last_check.elapsed() < SIGNAL_CHECK {
+            if st.last_check.elapsed() < SIGNAL_CHECK {
                 return false;
             }
-            #[cfg(not(dpdnl_console_interrupted))]
-            let _ = throttle;
             st.last_check = Instant::now();
         }
         // The state is not locked while attaching (no lock is held across the GIL).
@@ -71,11 +65,6 @@ impl PyConsole {
     }
 }
 
-/// Unwinds out of a run when Ctrl-C is seen in [`Console::progress`] (only while the
-/// interpreter has no per-step `Console::interrupted` hook).
-#[cfg(not(dpdnl_console_interrupted))]
-struct Interrupted;
-
 impl Console for PyConsole {
     fn line(&mut self, text: &str) {
         let mut st = lock(&self.state);
@@ -85,19 +74,10 @@ impl Console for PyConsole {
         st.lines.push(text.to_string());
     }
 
-    fn progress(&mut self, _step: u64, _first: u64, _last: u64) {
-        // Without the per-step hook, Ctrl-C is answered here (about once a second, at a step
-        // boundary, after that step's thermo and dump output): unwinding leaves the system as
-        // it was after the step; resume_unwind does not run the panic hook.
-        #[cfg(not(dpdnl_console_interrupted))]
-        if self.signalled(false) {
-            std::panic::resume_unwind(Box::new(Interrupted));
-        }
-    }
-
-    #[cfg(dpdnl_console_interrupted)]
+    /// Asked by the interpreter after every step: a Ctrl-C stops the run there (the run ends
+    /// with `interrupted at step N`, which `Simulation` turns back into the KeyboardInterrupt).
     fn interrupted(&mut self) -> bool {
-        self.signalled(true)
+        self.signalled()
     }
 }
 
@@ -247,44 +227,20 @@ impl Simulation {
     fn exec(&mut self, py: Python<'_>, text: &str, name: &str) -> PyResult<()> {
         lock(&self.state).pending = None;
         let d = Detached(&mut self.engine);
-        let result = py.detach(move || {
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                d.run(|i| i.run_text(text, name))
-            }))
-        });
+        let result = py.detach(move || d.run(|i| i.run_text(text, name)));
         self.finish(py, result)
     }
 
     fn exec_file(&mut self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         lock(&self.state).pending = None;
         let d = Detached(&mut self.engine);
-        let result = py.detach(move || {
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                d.run(|i| i.run_file(&path))
-            }))
-        });
+        let result = py.detach(move || d.run(|i| i.run_file(&path)));
         self.finish(py, result)
     }
 
-    fn finish(
-        &mut self,
-        py: Python<'_>,
-        result: std::thread::Result<Result<(), CoreError>>,
-    ) -> PyResult<()> {
+    fn finish(&mut self, py: Python<'_>, result: Result<(), CoreError>) -> PyResult<()> {
         let pending = lock(&self.state).pending.take();
-        match result {
-            Ok(Ok(())) => Ok(()),
-            Ok(Err(e)) => Err(pending.unwrap_or_else(|| script_error(py, &e))),
-            Err(payload) => {
-                #[cfg(not(dpdnl_console_interrupted))]
-                if payload.is::<Interrupted>()
-                    && let Some(p) = pending
-                {
-                    return Err(p);
-                }
-                std::panic::resume_unwind(payload)
-            }
-        }
+        result.map_err(|e| pending.unwrap_or_else(|| script_error(py, &e)))
     }
 
     fn with_atoms<'py, T>(
@@ -310,7 +266,6 @@ impl Simulation {
         Ok(PyArray1::from_vec(py, flat).reshape([n, k])?.into_any())
     }
 
-    #[cfg(dpdnl_system_mut)]
     fn set_vectors(
         &mut self,
         values: PyReadonlyArray2<'_, f64>,
@@ -351,19 +306,6 @@ impl Simulation {
             set(&mut sys.atoms, i, v);
         }
         Ok(())
-    }
-
-    #[cfg(not(dpdnl_system_mut))]
-    fn set_vectors(
-        &mut self,
-        _values: PyReadonlyArray2<'_, f64>,
-        what: &str,
-        _set: impl Fn(&mut dpdnl::engine::Atoms, usize, [f64; 3]),
-    ) -> PyResult<()> {
-        Err(pyo3::exceptions::PyNotImplementedError::new_err(format!(
-            "setting {what} needs Interpreter::system_mut(), which this build of the dpdnl \
-             crate does not have yet"
-        )))
     }
 }
 

@@ -117,10 +117,6 @@ def test_2d_simulation():
     assert np.all(sim.velocities[:, 2] == 0.0)
 
 
-@pytest.mark.skipif(
-    not dpdnl._dpdnl._features["writable_state"],
-    reason="needs Interpreter::system_mut() in the dpdnl crate (branch split)",
-)
 def test_positions_and_velocities_round_trip():
     sim = _small()
     sim.run(10)
@@ -136,14 +132,6 @@ def test_positions_and_velocities_round_trip():
     assert sim.step == 20
     with pytest.raises(ValueError, match="shape"):
         sim.velocities = v[:10]
-
-
-def test_writes_without_system_mut_say_why():
-    if dpdnl._dpdnl._features["writable_state"]:
-        pytest.skip("this build can write positions")
-    sim = _small()
-    with pytest.raises(NotImplementedError, match="system_mut"):
-        sim.positions = sim.positions
 
 
 def test_bad_command_raises_script_error_with_file_and_line():
@@ -205,10 +193,10 @@ def test_ctrl_c_stops_a_long_run_at_a_step(how):
     with pytest.raises(KeyboardInterrupt):
         sim.run(10_000_000)  # hours at this size
     latency = time.monotonic() - t0 - 0.5
-    # Checked once per step (every 20 ms) with the interpreter's Console::interrupted hook;
-    # without it, at the interpreter's ~1 s progress callback.
-    limit = 0.5 if dpdnl._dpdnl._features["interrupt_every_step"] else 2.5
-    assert latency < limit, latency
+    # Console::interrupted is asked after every step and looks at Python's signals at most
+    # every 20 ms; a step of 200 atoms takes well under a millisecond. 0.5 s leaves room for a
+    # loaded machine.
+    assert latency < 0.5, latency
     stopped = sim.step
     assert 10 < stopped < 10_000_010
     # The state is a step's: finite, and the simulation goes on from it.

@@ -12,7 +12,6 @@ _Series = Mapping[str, npt.ArrayLike]
 _Source = Union[_Path, _Series]
 
 _source_root: str
-_features: Dict[str, bool]
 
 class ScriptError(RuntimeError):
     """An error in a script or command; ``str(e)`` is the CLI's ``file:line: command: message``."""
