@@ -1,10 +1,12 @@
-//! `dpdnl analyze` from Python: the same steps as `src/bin/dpdnl/analyze.rs` (which file kind,
+//! `dpdnl analyze` from Python: the same steps as `src/bin/dpdnl/analyze/` (which file kind,
 //! which columns, which window), calling the same `dpdnl::analysis` functions, returning the
 //! dict that the CLI writes to `PREFIX.json` plus `"table"`: the columns of `PREFIX.csv` as
 //! arrays. No files are written and nothing is plotted. Inputs are paths, or for time series
 //! a dict `{"Step": steps, column: values, …}` (`read_series`, `Simulation.thermo[k]`).
 //!
-//! Keep in step with analyze.rs: python/tests/test_analysis.py compares each result with the
+//! Keep in step with the CLI (`run_mb` in maxwell.rs, `run_nemd` in pex.rs, `run_eh` and
+//! `run_msd` in transport.rs, `run_couette` and `run_flow` in shear.rs, the helpers in
+//! mod.rs): python/tests/test_analysis.py compares each result with the
 //! CLI's JSON on the same input.
 
 use crate::{AnalysisError, arr, json_to_py, read_text};
@@ -113,7 +115,7 @@ fn in_name<T>(name: &str, r: Result<T, String>) -> PyResult<T> {
     r.map_err(|e| aerr(format!("{name}: {e}")))
 }
 
-/// Keeps the rows of a series at or after `from` (analyze.rs `series_from`).
+/// Keeps the rows of a series at or after `from` (analyze/mod.rs `series_from`).
 fn series_from(s: Series, from: u64) -> Series {
     let keep: Vec<bool> = s.steps.iter().map(|&k| k >= from as f64).collect();
     let pick = |v: &Vec<f64>| -> Vec<f64> {
@@ -130,7 +132,7 @@ fn series_from(s: Series, from: u64) -> Series {
     }
 }
 
-/// The uniform step spacing of a series (analyze.rs `step_spacing`).
+/// The uniform step spacing of a series (analyze/mod.rs `step_spacing`).
 fn step_spacing(steps: &[f64], name: &str) -> PyResult<f64> {
     if steps.len() < 2 {
         return Err(aerr(format!("{name}: fewer than two samples")));
