@@ -1,0 +1,555 @@
+//! `Simulation`: the standalone engine's interpreter (`dpdnl::input::Interpreter`) driven from
+//! Python. Commands go through the interpreter exactly as `dpdnl run` sends them, so the same
+//! script gives the same bits; what the interpreter prints goes to an in-memory console, from
+//! which `thermo` is parsed with the crate's own log parser.
+
+use crate::{FormatError, arr, script_error};
+use dpdnl::engine::System;
+use dpdnl::input::{Console, Interpreter, Options, ScriptError as CoreError};
+use dpdnl::io::lammps_log::parse_log;
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
+use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+/// How often a run looks for a pending Ctrl-C (Python's signal handlers run only when the
+/// interpreter is attached; attaching costs microseconds, so a run checks at most this often).
+const SIGNAL_CHECK: Duration = Duration::from_millis(20);
+
+/// What the console shares with the `Simulation` that owns it.
+struct State {
+    /// Every line the interpreter printed, in order.
+    lines: Vec<String>,
+    /// Also print each line to the process's standard output.
+    echo: bool,
+    /// The exception (KeyboardInterrupt) a signal handler raised during a run.
+    pending: Option<PyErr>,
+    last_check: Instant,
+}
+
+/// The interpreter's console: lines into [`State`]; Ctrl-C checks during runs.
+struct PyConsole {
+    state: Arc<Mutex<State>>,
+}
+
+fn lock(s: &Mutex<State>) -> MutexGuard<'_, State> {
+    s.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+impl PyConsole {
+    /// Runs Python's signal handlers (at most every [`SIGNAL_CHECK`]); true when one raised
+    /// (the exception is kept in `pending`).
+    fn signalled(&mut self) -> bool {
+        {
+            let mut st = lock(&self.state);
+            if st.pending.is_some() {
+                return true;
+            }
+            if st.last_check.elapsed() < SIGNAL_CHECK {
+                return false;
+            }
+            st.last_check = Instant::now();
+        }
+        // The state is not locked while attaching (no lock is held across the GIL).
+        match Python::attach(|py| py.check_signals()) {
+            Ok(()) => false,
+            Err(e) => {
+                lock(&self.state).pending = Some(e);
+                true
+            }
+        }
+    }
+}
+
+impl Console for PyConsole {
+    fn line(&mut self, text: &str) {
+        let mut st = lock(&self.state);
+        if st.echo {
+            println!("{text}");
+        }
+        st.lines.push(text.to_string());
+    }
+
+    /// Asked by the interpreter after every step: a Ctrl-C stops the run there (the run ends
+    /// with `interrupted at step N`, which `Simulation` turns back into the KeyboardInterrupt).
+    fn interrupted(&mut self) -> bool {
+        self.signalled()
+    }
+}
+
+/// The interpreter and the console it borrows. The console is boxed and owned here through a
+/// raw pointer so that the interpreter can hold `&'static mut` to it: it is freed only after
+/// the interpreter is dropped (see `Drop`), and never touched through the pointer meanwhile
+/// (the `Simulation` reads the console's [`State`] through its own `Arc`).
+struct Engine {
+    interp: Option<Interpreter<'static>>,
+    console: *mut PyConsole,
+}
+
+impl Drop for Engine {
+    fn drop(&mut self) {
+        self.interp = None;
+        // SAFETY: `console` came from Box::into_raw in `Engine::new`, and the only borrow of it
+        // (the interpreter's) has just been dropped.
+        unsafe { drop(Box::from_raw(self.console)) };
+    }
+}
+
+impl Engine {
+    fn new(state: Arc<Mutex<State>>, opts: &Options) -> Result<Engine, String> {
+        let console = Box::into_raw(Box::new(PyConsole { state }));
+        // SAFETY: the box lives until `Drop` frees it, after the interpreter (see `Engine`).
+        let borrowed: &'static mut PyConsole = unsafe { &mut *console };
+        match Interpreter::new(borrowed, opts) {
+            Ok(i) => Ok(Engine {
+                interp: Some(i),
+                console,
+            }),
+            Err(e) => {
+                // SAFETY: the failed constructor dropped its borrow.
+                unsafe { drop(Box::from_raw(console)) };
+                Err(e)
+            }
+        }
+    }
+
+    fn interp(&self) -> &Interpreter<'static> {
+        self.interp
+            .as_ref()
+            .expect("interpreter present until drop")
+    }
+
+    fn interp_mut(&mut self) -> &mut Interpreter<'static> {
+        self.interp
+            .as_mut()
+            .expect("interpreter present until drop")
+    }
+}
+
+/// Hands a `&mut Engine` to the closure run with the GIL released. `Simulation` is
+/// `unsendable` (PyO3 refuses access from other threads) and `detach` runs the closure on this
+/// same thread, so the engine never crosses threads: the `Send` that `detach` asks for is only
+/// nominal here.
+struct Detached<'a>(&'a mut Engine);
+// SAFETY: see above; the closure runs on the calling thread while `&mut self` is held.
+unsafe impl Send for Detached<'_> {}
+
+impl Detached<'_> {
+    fn run<R>(self, f: impl FnOnce(&mut Interpreter<'static>) -> R) -> R {
+        f(self.0.interp_mut())
+    }
+}
+
+/// The standalone DPD engine, driven by commands of its LAMMPS-style script language.
+///
+/// `Simulation(dimension=3)` starts empty (as a script before its first line);
+/// `Simulation.from_script(path, variables={...})` runs a script as `dpdnl run -var NAME VALUE`
+/// does. Then `command`, `commands`, `file` and `run` issue more commands. Per-atom arrays are
+/// sorted by atom id.
+#[pyclass(unsendable, module = "dpdnl")]
+pub struct Simulation {
+    engine: Engine,
+    state: Arc<Mutex<State>>,
+    threads: usize,
+}
+
+fn new_sim(
+    variables: Option<BTreeMap<String, String>>,
+    log: Option<PathBuf>,
+    threads: Option<usize>,
+    echo: bool,
+) -> PyResult<Simulation> {
+    // The engine's parallel loops use rayon's global pool (the interpreter runs on the calling
+    // thread, so that Python's signal handlers can run from its console). Its size is fixed
+    // once, by the first `threads=` given (or RAYON_NUM_THREADS, else all cores).
+    if let Some(n) = threads.filter(|&n| n > 0) {
+        let _ = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global();
+        let have = rayon::current_num_threads();
+        if have != n {
+            return Err(PyValueError::new_err(format!(
+                "threads={n}: the engine's thread pool was already started with {have} threads \
+                 in this process (the first Simulation fixes it)"
+            )));
+        }
+    }
+    let threads = rayon::current_num_threads();
+    let opts = Options {
+        log,
+        vars: variables.unwrap_or_default().into_iter().collect(),
+        threads,
+    };
+    let state = Arc::new(Mutex::new(State {
+        lines: Vec::new(),
+        echo,
+        pending: None,
+        last_check: Instant::now(),
+    }));
+    let engine = Engine::new(state.clone(), &opts).map_err(PyOSError::new_err)?;
+    Ok(Simulation {
+        engine,
+        state,
+        threads,
+    })
+}
+
+/// A 3-vector as a Python tuple.
+type V3 = (f64, f64, f64);
+
+fn t3(a: [f64; 3]) -> V3 {
+    (a[0], a[1], a[2])
+}
+
+/// Atom `i`'s position and image counters wrapped into the box, as the dump command writes
+/// them (between neighbour-list builds the stored position may have left the box).
+fn wrapped(s: &System, i: usize) -> ([f64; 3], [i32; 3]) {
+    let mut x = s.atoms.x[i];
+    let mut im = s.atoms.image[i];
+    s.bx.wrap(&mut x, &mut im);
+    (x, im)
+}
+
+/// The (internal index) order of the atoms sorted by id.
+fn by_id(tags: &[u32]) -> Vec<usize> {
+    let mut idx: Vec<usize> = (0..tags.len()).collect();
+    idx.sort_by_key(|&i| tags[i]);
+    idx
+}
+
+impl Simulation {
+    /// Runs script text with the GIL released; a Ctrl-C raised during it comes back as
+    /// KeyboardInterrupt, an input error as ScriptError.
+    fn exec(&mut self, py: Python<'_>, text: &str, name: &str) -> PyResult<()> {
+        lock(&self.state).pending = None;
+        let d = Detached(&mut self.engine);
+        let result = py.detach(move || d.run(|i| i.run_text(text, name)));
+        self.finish(py, result)
+    }
+
+    fn exec_file(&mut self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        lock(&self.state).pending = None;
+        let d = Detached(&mut self.engine);
+        let result = py.detach(move || d.run(|i| i.run_file(&path)));
+        self.finish(py, result)
+    }
+
+    fn finish(&mut self, py: Python<'_>, result: Result<(), CoreError>) -> PyResult<()> {
+        let pending = lock(&self.state).pending.take();
+        result.map_err(|e| pending.unwrap_or_else(|| script_error(py, &e)))
+    }
+
+    fn with_atoms<'py, T>(
+        &self,
+        py: Python<'py>,
+        k: usize,
+        get: impl Fn(&System, usize) -> [T; 3],
+    ) -> PyResult<Bound<'py, PyAny>>
+    where
+        T: numpy::Element + Copy,
+    {
+        let (flat, n) = match self.engine.interp().system() {
+            None => (Vec::new(), 0),
+            Some(s) => {
+                let order = by_id(&s.atoms.tag);
+                let mut flat = Vec::with_capacity(order.len() * k);
+                for &i in &order {
+                    flat.extend_from_slice(&get(s, i)[..k]);
+                }
+                (flat, order.len())
+            }
+        };
+        Ok(PyArray1::from_vec(py, flat).reshape([n, k])?.into_any())
+    }
+
+    fn set_vectors(
+        &mut self,
+        values: PyReadonlyArray2<'_, f64>,
+        what: &str,
+        set: impl Fn(&mut dpdnl::engine::Atoms, usize, [f64; 3]),
+    ) -> PyResult<()> {
+        let view = values.as_array();
+        let sys = self
+            .engine
+            .interp_mut()
+            .system_mut()
+            .ok_or_else(|| PyValueError::new_err("no atoms yet: create the box first"))?;
+        let order = by_id(&sys.atoms.tag);
+        if view.nrows() != order.len() || !(view.ncols() == 3 || view.ncols() == sys.bx.dim) {
+            return Err(PyValueError::new_err(format!(
+                "{what}: expected an array of shape ({}, 3), got {:?}",
+                order.len(),
+                view.shape()
+            )));
+        }
+        for (k, &i) in order.iter().enumerate() {
+            let mut v = [0.0; 3];
+            for c in 0..view.ncols() {
+                v[c] = view[[k, c]];
+            }
+            if !v.iter().all(|x| x.is_finite()) {
+                return Err(PyValueError::new_err(format!(
+                    "{what}: row {k} (atom id {}) is not finite",
+                    sys.atoms.tag[i]
+                )));
+            }
+        }
+        for (k, &i) in order.iter().enumerate() {
+            let mut v = [0.0; 3];
+            for c in 0..view.ncols() {
+                v[c] = view[[k, c]];
+            }
+            set(&mut sys.atoms, i, v);
+        }
+        Ok(())
+    }
+}
+
+#[pymethods]
+impl Simulation {
+    /// A fresh engine: `dimension` 2 or 3 (the `dimension` command), `variables` as `-var
+    /// NAME VALUE` (index-style), `log` a log file path (None: no log file), `threads` the
+    /// worker threads (None: all cores; results are bit-identical for any number), `echo`
+    /// also prints the output lines. The thread count is fixed by the first Simulation of the
+    /// process that gives one (a later different number raises ValueError).
+    #[new]
+    #[pyo3(signature = (dimension = 3, *, variables = None, log = None, threads = None, echo = false))]
+    fn new(
+        py: Python<'_>,
+        dimension: u32,
+        variables: Option<BTreeMap<String, String>>,
+        log: Option<PathBuf>,
+        threads: Option<usize>,
+        echo: bool,
+    ) -> PyResult<Simulation> {
+        let mut s = new_sim(variables, log, threads, echo)?;
+        s.exec(
+            py,
+            &format!("dimension {dimension}"),
+            "Simulation(dimension)",
+        )?;
+        Ok(s)
+    }
+
+    /// Runs the script at `path` (as `dpdnl run PATH -var NAME VALUE …`) and returns the
+    /// simulation in the state the script left it. Paths inside the script are relative to
+    /// the current directory, as in LAMMPS.
+    #[staticmethod]
+    #[pyo3(signature = (path, variables = None, *, log = None, threads = None, echo = false))]
+    fn from_script(
+        py: Python<'_>,
+        path: PathBuf,
+        variables: Option<BTreeMap<String, String>>,
+        log: Option<PathBuf>,
+        threads: Option<usize>,
+        echo: bool,
+    ) -> PyResult<Simulation> {
+        let mut s = new_sim(variables, log, threads, echo)?;
+        s.exec_file(py, path)?;
+        Ok(s)
+    }
+
+    /// Runs one command (or several lines) of the script language. Errors raise ScriptError
+    /// with file `<command>` and the line within `text`.
+    fn command(&mut self, py: Python<'_>, text: &str) -> PyResult<()> {
+        self.exec(py, text, "<command>")
+    }
+
+    /// Runs a list of commands in order (as lines of one script named `<commands>`).
+    fn commands(&mut self, py: Python<'_>, lines: Vec<String>) -> PyResult<()> {
+        self.exec(py, &lines.join("\n"), "<commands>")
+    }
+
+    /// Runs a script file in this simulation (as `include PATH`).
+    fn file(&mut self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        self.exec_file(py, path)
+    }
+
+    /// Runs `n` steps (the `run N` command; `upto=True`: `run N upto`). The GIL is released
+    /// while it runs; Ctrl-C stops it at a step boundary with KeyboardInterrupt, the system
+    /// left as it was after that step.
+    #[pyo3(signature = (n, upto = false))]
+    fn run(&mut self, py: Python<'_>, n: u64, upto: bool) -> PyResult<()> {
+        let cmd = if upto {
+            format!("run {n} upto")
+        } else {
+            format!("run {n}")
+        };
+        self.exec(py, &cmd, "<run>")
+    }
+
+    /// The current time step number.
+    #[getter]
+    fn step(&self) -> u64 {
+        self.engine.interp().system().map_or(0, |s| s.step)
+    }
+
+    /// Number of atoms.
+    #[getter]
+    fn natoms(&self) -> usize {
+        self.engine.interp().system().map_or(0, |s| s.atoms.len())
+    }
+
+    /// The dimension of the box (None before the box exists).
+    #[getter]
+    fn dimension(&self) -> Option<usize> {
+        self.engine.interp().system().map(|s| s.bx.dim)
+    }
+
+    /// The time step δt (None before the box exists).
+    #[getter]
+    fn dt(&self) -> Option<f64> {
+        self.engine.interp().system().map(|s| s.dt)
+    }
+
+    /// `(lo, hi, tilt)`: the box bounds as 3-tuples and the tilt factors `(xy, xz, yz)` as
+    /// reported in thermo and dumps (all 0 for an orthogonal box); None before the box exists.
+    #[getter(r#box)]
+    fn get_box(&self) -> Option<(V3, V3, V3)> {
+        self.engine.interp().system().map(|s| {
+            let xy = s.tri.as_ref().map_or(0.0, |t| t.reported_xy(&s.bx));
+            (t3(s.bx.lo), t3(s.bx.hi), (xy, 0.0, 0.0))
+        })
+    }
+
+    /// Per-type masses, index 0 unused (None for a type without a mass).
+    #[getter]
+    fn masses(&self) -> Vec<Option<f64>> {
+        self.engine
+            .interp()
+            .system()
+            .map_or(Vec::new(), |s| s.mass.clone())
+    }
+
+    /// Atom ids, ascending (int64).
+    #[getter]
+    fn ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        let v = match self.engine.interp().system() {
+            None => Vec::new(),
+            Some(s) => by_id(&s.atoms.tag)
+                .iter()
+                .map(|&i| s.atoms.tag[i] as i64)
+                .collect(),
+        };
+        PyArray1::from_vec(py, v)
+    }
+
+    /// Atom types (1-based, int32), by atom id.
+    #[getter]
+    fn types<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i32>> {
+        let v = match self.engine.interp().system() {
+            None => Vec::new(),
+            Some(s) => by_id(&s.atoms.tag)
+                .iter()
+                .map(|&i| s.atoms.typ[i] as i32)
+                .collect(),
+        };
+        PyArray1::from_vec(py, v)
+    }
+
+    /// Positions, shape (N, 3), by atom id, wrapped into the box as dumps write them (`x y z`).
+    /// Settable with an (N, 3) array (or (N, 2) in 2-D), by atom id.
+    #[getter]
+    fn get_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.with_atoms(py, 3, |s, i| wrapped(s, i).0)
+    }
+
+    /// Unwrapped positions x + image · L (dumps' `xu yu zu`), shape (N, 3), by atom id.
+    #[getter]
+    fn unwrapped_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.with_atoms(py, 3, |s, i| {
+            let (x, im) = wrapped(s, i);
+            s.bx.unwrap(x, im)
+        })
+    }
+
+    #[setter]
+    fn set_positions(&mut self, values: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
+        self.set_vectors(values, "positions", |a, i, v| a.x[i] = v)
+    }
+
+    /// Velocities, shape (N, 3), by atom id. Settable like `positions`.
+    #[getter]
+    fn get_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.with_atoms(py, 3, |s, i| s.atoms.v[i])
+    }
+
+    #[setter]
+    fn set_velocities(&mut self, values: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
+        self.set_vectors(values, "velocities", |a, i, v| a.v[i] = v)
+    }
+
+    /// Forces of the last force evaluation, shape (N, 3), by atom id (read only).
+    #[getter]
+    fn forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.with_atoms(py, 3, |s, i| s.atoms.f[i])
+    }
+
+    /// Periodic image counters of `positions` (dumps' `ix iy iz`), shape (N, 3), int32, by id.
+    #[getter]
+    fn images<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.with_atoms(py, 3, |s, i| wrapped(s, i).1)
+    }
+
+    /// Every line the interpreter printed (what `dpdnl run` shows and logs).
+    #[getter]
+    fn output(&self) -> Vec<String> {
+        lock(&self.state).lines.clone()
+    }
+
+    /// The thermo output, one dict per run (per thermo header): column name (as in the log
+    /// header, e.g. `Step`, `Temp`, `Press`) → NumPy array. Parsed from the printed lines with
+    /// the crate's log parser, so it holds exactly what the log holds.
+    #[getter]
+    fn thermo<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let text = {
+            let st = lock(&self.state);
+            let mut t = st.lines.join("\n");
+            t.push('\n');
+            t
+        };
+        let blocks = parse_log(&text).map_err(FormatError::new_err)?;
+        let out = PyList::empty(py);
+        for b in &blocks {
+            let d = PyDict::new(py);
+            for (j, c) in b.columns.iter().enumerate() {
+                let col: Vec<f64> = b.rows.iter().map(|r| r[j]).collect();
+                d.set_item(c, arr(py, &col))?;
+            }
+            out.append(d)?;
+        }
+        Ok(out)
+    }
+
+    /// The file names of the dumps currently defined.
+    #[getter]
+    fn dump_files(&self) -> Vec<String> {
+        self.engine.interp().dump_files()
+    }
+
+    /// Worker threads the runs use.
+    #[getter]
+    fn threads(&self) -> usize {
+        self.threads
+    }
+
+    fn __repr__(&self) -> String {
+        match self.engine.interp().system() {
+            None => "Simulation(no box yet)".to_string(),
+            Some(s) => format!(
+                "Simulation(dimension={}, natoms={}, step={})",
+                s.bx.dim,
+                s.atoms.len(),
+                s.step
+            ),
+        }
+    }
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Simulation>()
+}
