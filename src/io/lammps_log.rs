@@ -55,15 +55,38 @@ fn column_index(columns: &[String], name: &str) -> Option<usize> {
     }
 }
 
-fn parse_numbers(line: &str) -> Option<Vec<f64>> {
-    line.split_whitespace().map(|t| t.parse().ok()).collect()
+/// The values of a line whose tokens are all numbers, else `None`. `nan` and `inf` (any sign
+/// and case) are read as such: LAMMPS prints them when a run blows up. A decimal literal beyond
+/// the range of a double (`1e999`), which LAMMPS never prints, is an error: `(column, token)`.
+fn parse_numbers(line: &str) -> Result<Option<Vec<f64>>, (usize, &str)> {
+    let toks: Vec<&str> = line.split_whitespace().collect();
+    let Some(values) = toks
+        .iter()
+        .map(|t| t.parse::<f64>().ok())
+        .collect::<Option<Vec<f64>>>()
+    else {
+        return Ok(None);
+    };
+    match values
+        .iter()
+        .zip(&toks)
+        .position(|(v, t)| v.is_infinite() && !super::spelled_infinity(t))
+    {
+        Some(i) => Err((i + 1, toks[i])),
+        None => Ok(Some(values)),
+    }
 }
 
 /// All thermo blocks of a log, in order.
 ///
-/// Errors: a row whose number of values differs from its header (with the line number). The
-/// last line of the text is exempt when it does not end in a newline (a log still being
-/// written): it is dropped.
+/// Values `nan`, `inf` and `-inf` (as LAMMPS prints them after a blow-up) are read as NaN and
+/// infinities, not refused: a log that blew up can still be read and compared (two NaNs compare
+/// equal in [`differences`]).
+///
+/// Errors: a row whose number of values differs from its header (with the line number); a
+/// number beyond the range of a double, such as `1e999` (with the line and column). The
+/// last line of the text is exempt from the first check when it does not end in a newline (a
+/// log still being written): it is dropped.
 pub fn parse_log(text: &str) -> Result<Vec<ThermoBlock>, String> {
     let mut blocks = Vec::new();
     let mut current: Option<ThermoBlock> = None;
@@ -75,7 +98,14 @@ pub fn parse_log(text: &str) -> Result<Vec<ThermoBlock>, String> {
             if trimmed.is_empty() || trimmed.starts_with("WARNING") {
                 continue;
             }
-            if let Some(values) = parse_numbers(trimmed) {
+            let parsed = parse_numbers(trimmed).map_err(|(col, tok)| {
+                format!(
+                    "line {}: column {col}: {}; LAMMPS prints an infinite thermo value as 'inf'",
+                    i + 1,
+                    super::NumError::Overflow.describe(tok)
+                )
+            })?;
+            if let Some(values) = parsed {
                 if values.len() == block.columns.len() {
                     block.rows.push(values);
                     continue;
