@@ -39,9 +39,10 @@ pub struct CrosscheckArgs {
     /// under the system's temporary directory).
     #[arg(long)]
     pub workdir: Option<PathBuf>,
-    /// Worker threads of the standalone engine (results are bit-identical for any number).
-    #[arg(long, default_value_t = 0)]
-    pub threads: usize,
+    /// Worker threads of the standalone engine (results are bit-identical for any number). 0:
+    /// one per CPU available; a larger N than that is capped at the CPU count, with a warning.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64))]
+    pub threads: u64,
 }
 
 /// An error that means "cannot run" (exit 2).
@@ -136,6 +137,7 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
             a.rtol
         )));
     }
+    let threads = crate::thread_count(a.threads);
     let lmp = find_lmp(a)?;
     let script = std::fs::canonicalize(&a.script)
         .map_err(|e| CannotRun(format!("cannot open script {}: {e}", a.script.display())))?;
@@ -163,11 +165,6 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
         .map_err(|e| CannotRun(format!("cannot enter {}: {e}", script_dir.display())))?;
 
     // 1. Standalone engine, in-process.
-    let threads = if a.threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        a.threads
-    };
     // A global pool may already exist (e.g. when called twice in one process); that is fine.
     let _ = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
