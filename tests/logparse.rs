@@ -13,8 +13,8 @@
 use dpdnl::io::data::parse_data;
 use dpdnl::io::dump_read::parse_dump;
 use dpdnl::io::lammps_log::{
-    ThermoBlock, Tolerance, compare_dumps_exact, compare_exact, compare_exact_logs, compare_stats,
-    differences, looks_like_dump, parse_log,
+    NeighborSettings, ThermoBlock, Tolerance, compare_dumps_exact, compare_exact,
+    compare_exact_logs, compare_stats, differences, looks_like_dump, neighbor_summary, parse_log,
 };
 
 const LOG_2022: &str = include_str!("data/diff_logs/log_lammps2022.lammps");
@@ -446,4 +446,58 @@ fn stats_comparison() {
     assert!(r.columns[0].z < -3.0);
     let e = compare_stats(&mk(0.0), &mk(0.0), None, 255, 3.0).unwrap_err();
     assert!(e.contains("fewer than 2"), "{e}");
+}
+
+/// The neighbour-list settings and "Dangerous builds" counts of LAMMPS logs, in both layouts
+/// (29Sep2021/2022 and later), as `dpdnl crosscheck` reads them (issue 16, item 11).
+#[test]
+fn neighbor_summary_of_lammps_logs() {
+    let old = neighbor_summary(LOG_2022);
+    let delay10 = NeighborSettings {
+        every: 1,
+        delay: 10,
+        check: true,
+    };
+    assert_eq!(old.settings, [delay10]);
+    assert_eq!(old.dangerous, [Some(0)]);
+    assert_eq!(delay10.keywords(), "every 1 delay 10 check yes");
+    assert!(!delay10.checks_every_step());
+
+    let text = "\
+Neighbor list info ...
+  update: every = 1 steps, delay = 0 steps, check = yes
+  max neighbors/atom: 2000, page size: 100000
+Step Temp
+0 1
+Loop time of 0.1 on 1 procs for 100 steps with 10 atoms
+Neighbor list builds = 12
+Dangerous builds = 2
+Neighbor list info ...
+  update: every = 20 steps, delay = 0 steps, check = no
+Neighbor list builds = 5
+Dangerous builds not checked
+Total wall time: 0:00:01
+";
+    let n = neighbor_summary(text);
+    assert_eq!(
+        n.settings,
+        [
+            NeighborSettings {
+                every: 1,
+                delay: 0,
+                check: true
+            },
+            NeighborSettings {
+                every: 20,
+                delay: 0,
+                check: false
+            }
+        ]
+    );
+    assert!(n.settings[0].checks_every_step());
+    assert_eq!(n.dangerous, [Some(2), None]);
+    assert_eq!((n.dangerous_total(), n.unchecked_runs()), (2, 1));
+    // This project's engine prints neither line.
+    let engine = neighbor_summary("Step Temp\n0 1\nLoop time of 0.1 on 2 procs for 10 steps\n");
+    assert!(engine.settings.is_empty() && engine.dangerous.is_empty());
 }
