@@ -14,6 +14,7 @@
 //!
 //! Nothing here prints: each function returns the text, the caller logs it.
 
+use crate::fmtnum::fmt_g as g;
 use crate::theory::{self, Fluid, Targets, TheoryError};
 
 /// Warn when δt exceeds this fraction of the Euler critical step δt_c (eq. 25).
@@ -47,7 +48,7 @@ pub fn resolve_design(
     eta: f64,
     sc: f64,
 ) -> Result<ResolvedDesign, String> {
-    let fail = |e: TheoryError| format!("pair_coeff {label} eta {eta} sc {sc}: {e}");
+    let fail = |e: TheoryError| format!("pair_coeff {label} eta {} sc {}: {e}", g(eta), g(sc));
     let fluid = Fluid::new(dim, density, rc, mass, kt).map_err(fail)?;
     let design = theory::design_from_targets(&Targets { fluid, eta, sc }).map_err(fail)?;
     let tr = theory::kinetic_theory(&fluid, design.gamma, design.s).map_err(fail)?;

@@ -20,6 +20,7 @@
 
 pub mod analysis;
 pub mod engine;
+pub mod fmtnum;
 pub mod grammar;
 pub mod init;
 pub mod input;

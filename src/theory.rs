@@ -39,6 +39,7 @@
 //! its Tables 4–5) the kinetic-theory Schmidt number is exactly Sc0 + 1/2 (see
 //! [`design_paper_approx`]).
 
+use crate::fmtnum::fmt_g as g;
 use std::f64::consts::PI;
 use std::fmt;
 
@@ -191,6 +192,10 @@ pub enum TheoryError {
     },
     /// The targets would need s ≤ 0, i.e. P_d(s) ≤ P_d(0) (eqs. 54–55 in 3-D, 63–64 in 2-D).
     ExponentNotPositive(Box<Unreachable>),
+    /// The targets need s > 0, but the design (γ, s, or its kinetic theory) is beyond the range
+    /// of a double: η (η0) is below the smallest value reachable for this Sc (Sc0). γ grows as
+    /// η^−(d+1) when η → 0 at fixed Sc, and without bound as Sc → ∞ at fixed η.
+    OutOfReach(Box<OutOfReach>),
     /// Euler: δt ≥ δt_c, the finite-step temperature is infinite or negative (eq. 25).
     EulerUnstable {
         /// The step.
@@ -222,6 +227,22 @@ pub struct Unreachable {
     pub limits: DesignLimits,
 }
 
+/// The details of [`TheoryError::OutOfReach`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutOfReach {
+    /// Exact inversion or the paper's approximation.
+    pub mode: DesignMode,
+    /// The fluid.
+    pub fluid: Fluid,
+    /// The viscosity asked for: η (exact) or η0 (paper).
+    pub eta: f64,
+    /// The Schmidt number asked for: Sc (exact) or Sc0 (paper).
+    pub sc: f64,
+    /// The lower bound: the smallest η (η0) whose design is finite in double precision for this
+    /// Sc (Sc0), found by bisection; `None` when no η is (an extreme fluid).
+    pub eta_min: Option<f64>,
+}
+
 impl fmt::Display for TheoryError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -233,12 +254,17 @@ impl fmt::Display for TheoryError {
                 value,
                 requirement,
             } => {
-                write!(f, "{name} = {value} is invalid: it must be {requirement}")
+                write!(
+                    f,
+                    "{name} = {} is invalid: it must be {requirement}",
+                    g(*value)
+                )
             }
             TheoryError::SchmidtBelowHalf { sc } => write!(
                 f,
-                "Sc = {sc} is unreachable: an ideal DPD fluid has Sc = η/(2 η_K) > 1/2 \
-                 (Sc = 1/2 would mean no dissipative viscosity); raise Sc above 0.5"
+                "Sc = {} is unreachable: an ideal DPD fluid has Sc = η/(2 η_K) > 1/2 \
+                 (Sc = 1/2 would mean no dissipative viscosity); raise Sc above 0.5",
+                g(*sc)
             ),
             TheoryError::ExponentNotPositive(u) => {
                 let Unreachable {
@@ -300,16 +326,65 @@ impl fmt::Display for TheoryError {
                 }
                 Ok(())
             }
+            TheoryError::OutOfReach(o) => {
+                let OutOfReach {
+                    mode,
+                    fluid,
+                    eta,
+                    sc,
+                    eta_min,
+                } = o.as_ref();
+                let (eta_name, sc_name, sc_limits) = match mode {
+                    DesignMode::Exact => ("η", "Sc", "Sc → ∞ or Sc → 1/2"),
+                    DesignMode::PaperApprox => ("η0", "Sc0", "Sc0 → ∞"),
+                };
+                let d = fluid.dim;
+                write!(
+                    f,
+                    "{eta_name} = {} is out of reach for {sc_name} = {} at this density ({d}, \
+                     n = {}, r_c = {}, m = {}, kT = {}): ",
+                    g(*eta),
+                    g(*sc),
+                    g(fluid.density),
+                    g(fluid.cutoff),
+                    g(fluid.mass),
+                    g(fluid.kt),
+                )?;
+                match eta_min {
+                    Some(lo) if lo > eta => write!(
+                        f,
+                        "it is below the lower bound {eta_name}_min = {} for this {sc_name}. \
+                         The weight exponent s and the friction γ of the design grow without \
+                         bound as {eta_name} → 0 (γ ~ {eta_name}^-{} at fixed {sc_name}) and as \
+                         {sc_limits} at fixed {eta_name}; below {eta_name}_min they exceed the \
+                         largest double ({}). Raise {eta_name} above {eta_name}_min; designs \
+                         near the bound need time steps far below any practical one",
+                        g(*lo),
+                        d.get() + 1,
+                        g(f64::MAX)
+                    ),
+                    _ => write!(
+                        f,
+                        "the design's weight exponent s or friction γ exceeds the largest double \
+                         ({}) even at {eta_name} = half its maximum for this {sc_name} (they \
+                         grow without bound as {sc_limits}); bring {sc_name} nearer 1 or change \
+                         the fluid (n, r_c, m, kT)",
+                        g(f64::MAX)
+                    ),
+                }
+            }
             TheoryError::EulerUnstable { dt, dt_c } => write!(
                 f,
-                "δt = {dt} is at or beyond the Euler stability limit δt_c = {} \
+                "δt = {} is at or beyond the Euler stability limit δt_c = {} \
                  (finite-step paper eq. 25): lower δt, γ or n",
+                g(*dt),
                 g(*dt_c)
             ),
             TheoryError::EulerNoStableDensity { dt, dt_max } => write!(
                 f,
-                "δt = {dt} is at or beyond 2 A1 / A2 = {}: no density is stable with the Euler \
+                "δt = {} is at or beyond 2 A1 / A2 = {}: no density is stable with the Euler \
                  integrator (finite-step paper eq. 26 gives n_c <= 0); lower δt or γ",
+                g(*dt),
                 g(*dt_max)
             ),
         }
@@ -317,26 +392,6 @@ impl fmt::Display for TheoryError {
 }
 
 impl std::error::Error for TheoryError {}
-
-/// Six significant digits, for messages.
-fn g(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let e = x.abs().log10().floor();
-    if (-3.0..6.0).contains(&e) {
-        // e ∈ [−3, 5], so 5 − e ∈ [0, 8].
-        let decimals = (5.0 - e) as usize;
-        let s = format!("{x:.decimals$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    } else {
-        format!("{x:.5e}")
-    }
-}
 
 fn positive(name: &'static str, value: f64) -> Result<(), TheoryError> {
     if value.is_finite() && value > 0.0 {
@@ -479,31 +534,123 @@ pub fn gamma_for(fluid: &Fluid, eta0: f64, s: f64) -> Result<f64, TheoryError> {
     Ok(2.0 * f64::from(d + 2) * eta0 * fluid.dim.k(s) / (n * n * fluid.cutoff.powi(d as i32 + 2)))
 }
 
-fn finish(
-    fluid: &Fluid,
-    mode: DesignMode,
-    eta0: f64,
-    eta: f64,
-    sc: f64,
-    p: f64,
-    limits: DesignLimits,
-) -> Result<Design, TheoryError> {
-    match fluid.dim.exponent_for(p) {
-        Some(s) => Ok(Design {
+/// η0, P_d(s) and the limits of a design, without checks (the callers validate).
+fn plan(mode: DesignMode, fluid: &Fluid, eta: f64, sc: f64) -> (f64, f64, DesignLimits) {
+    let (c, x, p0) = (fluid.dim.c(), fluid.x(), fluid.dim.p(0.0));
+    match mode {
+        DesignMode::Exact => {
+            let eta_k = eta / (2.0 * sc);
+            let eta0 = eta * (1.0 - 0.5 / sc); // η (2Sc − 1)/(2Sc), finite for any Sc
+            let p = c * x / (eta0 * eta_k);
+            let q = p0 * eta * eta / (4.0 * c * x);
+            // Q + sqrt(Q² − Q) and its reciprocal partner Q − sqrt(Q² − Q), written so that they
+            // stay finite for a huge Q.
+            let (sc_min, sc_gas_max) = if q > 1.0 {
+                let root = (1.0 - 1.0 / q).sqrt();
+                (q * (1.0 + root), Some(1.0 / (1.0 + root)))
+            } else {
+                (0.5, None)
+            };
+            let ratio = (p0 / p).sqrt();
+            let limits = DesignLimits {
+                p,
+                p0,
+                // sqrt(4 c X Sc² / (P_d(0) (2 Sc − 1))) without forming Sc² (finite for any Sc).
+                eta_max: (4.0 * c * x / p0).sqrt() * sc / (2.0 * sc - 1.0).sqrt(),
+                sc_min,
+                sc_gas_max,
+                density_min: fluid.density * ratio,
+                cutoff_min: fluid.cutoff * ratio,
+            };
+            (eta0, p, limits)
+        }
+        DesignMode::PaperApprox => {
+            let (eta0, sc0) = (eta, sc);
+            let p = 2.0 * c * sc0 * x / (eta0 * eta0);
+            let ratio = (p0 / p).sqrt();
+            let limits = DesignLimits {
+                p,
+                p0,
+                eta_max: (2.0 * c * x * sc0 / p0).sqrt(),
+                sc_min: p0 * eta0 * eta0 / (2.0 * c * x),
+                sc_gas_max: None,
+                density_min: fluid.density * ratio,
+                cutoff_min: fluid.cutoff * ratio,
+            };
+            (eta0, p, limits)
+        }
+    }
+}
+
+/// (s, γ) for P_d(s) = `p` when s > 0 and the design is finite in double precision: s, γ and
+/// every transport coefficient of its kinetic theory finite and > 0.
+fn representable(fluid: &Fluid, eta0: f64, p: f64) -> Option<(f64, f64)> {
+    let s = fluid.dim.exponent_for(p)?;
+    let gamma = gamma_for(fluid, eta0, s).ok()?;
+    let t = kinetic_theory(fluid, gamma, s).ok()?;
+    [t.eta_k, t.eta_d, t.eta, t.diffusion, t.schmidt]
+        .iter()
+        .all(|v| v.is_finite() && *v > 0.0)
+        .then_some((s, gamma))
+}
+
+/// The smallest η (η0 in paper mode) whose design is [`representable`] for this Sc: a bisection
+/// in ln η between the smallest normal double and η_max / 2 (where P_d(s) = 4 P_d(0), a
+/// moderate s). Representability is monotone in η there, since γ and s fall as η grows.
+fn smallest_eta(mode: DesignMode, fluid: &Fluid, sc: f64, eta_max: f64) -> Option<f64> {
+    let ok = |eta: f64| {
+        let (eta0, p, _) = plan(mode, fluid, eta, sc);
+        representable(fluid, eta0, p).is_some()
+    };
+    let (mut lo, mut hi) = (f64::MIN_POSITIVE, 0.5 * eta_max);
+    if !(hi.is_finite() && hi > lo && ok(hi)) {
+        return None;
+    }
+    if ok(lo) {
+        return Some(lo);
+    }
+    for _ in 0..80 {
+        let mid = (0.5 * (lo.ln() + hi.ln())).exp();
+        if !(mid > lo && mid < hi) {
+            break;
+        }
+        if ok(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(hi)
+}
+
+fn finish(fluid: &Fluid, mode: DesignMode, eta: f64, sc: f64) -> Result<Design, TheoryError> {
+    let (eta0, p, limits) = plan(mode, fluid, eta, sc);
+    if let Some((s, gamma)) = representable(fluid, eta0, p) {
+        return Ok(Design {
             mode,
             eta0,
             s,
-            gamma: gamma_for(fluid, eta0, s)?,
+            gamma,
             limits,
-        }),
-        None => Err(TheoryError::ExponentNotPositive(Box::new(Unreachable {
+        });
+    }
+    if p > limits.p0 {
+        // s > 0 exists (P may have overflowed to +inf): the numbers are out of range.
+        return Err(TheoryError::OutOfReach(Box::new(OutOfReach {
             mode,
             fluid: *fluid,
             eta,
             sc,
-            limits,
-        }))),
+            eta_min: smallest_eta(mode, fluid, sc, limits.eta_max),
+        })));
     }
+    Err(TheoryError::ExponentNotPositive(Box::new(Unreachable {
+        mode,
+        fluid: *fluid,
+        eta,
+        sc,
+        limits,
+    })))
 }
 
 /// Exact design from targets (`docs/models.md` §3.4): with X = m kT n² r_c²,
@@ -514,7 +661,9 @@ fn finish(
 ///
 /// Errors: bad fluid or η (not finite and > 0); Sc ≤ 1/2 ([`TheoryError::SchmidtBelowHalf`]);
 /// s ≤ 0, i.e. P_d(s) ≤ P_d(0), the exact form of eqs. 54–55 / 63–64
-/// ([`TheoryError::ExponentNotPositive`], which names the bounds to move). P_d grows with
+/// ([`TheoryError::ExponentNotPositive`], which names the bounds to move); a design beyond the
+/// range of a double, for η too small or Sc too large ([`TheoryError::OutOfReach`], which names
+/// the smallest reachable η). P_d grows with
 /// Sc, n and r_c and falls with η, so s ≤ 0 means η too large or Sc, n or r_c too small: the
 /// Schmidt-number bound is a lower bound (for Q = P_d(0) η² / (4 c_d X) > 1 a second, gas-like
 /// window 1/2 < Sc < Q − sqrt(Q² − Q) also exists; see [`DesignLimits`]).
@@ -526,29 +675,7 @@ pub fn design_from_targets(t: &Targets) -> Result<Design, TheoryError> {
     if t.sc <= 0.5 {
         return Err(TheoryError::SchmidtBelowHalf { sc: t.sc });
     }
-    let (eta, sc) = (t.eta, t.sc);
-    let eta_k = eta / (2.0 * sc);
-    let eta0 = eta * (2.0 * sc - 1.0) / (2.0 * sc);
-    let (c, x, p0) = (fluid.dim.c(), fluid.x(), fluid.dim.p(0.0));
-    let p = c * x / (eta0 * eta_k);
-    let q = p0 * eta * eta / (4.0 * c * x);
-    let (sc_min, sc_gas_max) = if q > 1.0 {
-        let hi = q + (q * q - q).sqrt();
-        (hi, Some(q / hi))
-    } else {
-        (0.5, None)
-    };
-    let ratio = (p0 / p).sqrt();
-    let limits = DesignLimits {
-        p,
-        p0,
-        eta_max: (4.0 * c * x * sc * sc / (p0 * (2.0 * sc - 1.0))).sqrt(),
-        sc_min,
-        sc_gas_max,
-        density_min: fluid.density * ratio,
-        cutoff_min: fluid.cutoff * ratio,
-    };
-    finish(fluid, DesignMode::Exact, eta0, eta, sc, p, limits)
+    finish(fluid, DesignMode::Exact, t.eta, t.sc)
 }
 
 /// The weighting-function paper's own design (labelled its approximation): given the
@@ -563,19 +690,44 @@ pub fn design_paper_approx(fluid: &Fluid, eta0: f64, sc0: f64) -> Result<Design,
     fluid.validate()?;
     positive("dissipative viscosity η0", eta0)?;
     positive("Schmidt number Sc0", sc0)?;
-    let (c, x, p0) = (fluid.dim.c(), fluid.x(), fluid.dim.p(0.0));
-    let p = 2.0 * c * sc0 * x / (eta0 * eta0);
-    let ratio = (p0 / p).sqrt();
-    let limits = DesignLimits {
-        p,
-        p0,
-        eta_max: (2.0 * c * x * sc0 / p0).sqrt(),
-        sc_min: p0 * eta0 * eta0 / (2.0 * c * x),
-        sc_gas_max: None,
-        density_min: fluid.density * ratio,
-        cutoff_min: fluid.cutoff * ratio,
-    };
-    finish(fluid, DesignMode::PaperApprox, eta0, eta0, sc0, p, limits)
+    finish(fluid, DesignMode::PaperApprox, eta0, sc0)
+}
+
+/// [`StepScales::stiff`]: a design is stiff when its Euler critical step δt_c (eq. 25) is below
+/// this fraction of t0 = r_c sqrt(m/kT), the time a particle takes to cross the cut-off at
+/// thermal speed. A run then needs more than 10⁴ steps per t0 (10⁵ at δt = 0.1 δt_c) just to
+/// stay stable; typical DPD designs have δt_c of order t0 (Groot–Warren, γ = 4.5, s = 2, n = 3:
+/// δt_c = 0.45 t0).
+pub const STIFF_DT_C_FRACTION: f64 = 1e-4;
+
+/// The time scales that bound the step of a design (γ, s) in a fluid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepScales {
+    /// The Euler integrator's critical step δt_c (finite-step paper eq. 25): no finite
+    /// temperature at or above it.
+    pub dt_c: f64,
+    /// The velocity relaxation time τ = m D / kT = d m / (n Γ), Γ = γ \[w_D\]: any explicit
+    /// integrator (velocity-Verlet too) needs δt well below it. δt_c ≤ 2τ.
+    pub tau: f64,
+    /// t0 = r_c sqrt(m/kT), the time to cross the cut-off at thermal speed.
+    pub t0: f64,
+}
+
+impl StepScales {
+    /// δt_c < [`STIFF_DT_C_FRACTION`] t0: γ is so large that no practical step is stable.
+    pub fn stiff(&self) -> bool {
+        self.dt_c < STIFF_DT_C_FRACTION * self.t0
+    }
+}
+
+/// [`StepScales`] of friction γ and weight exponent s in `fluid` (ideal fluid, a = 0).
+pub fn step_scales(fluid: &Fluid, gamma: f64, s: f64) -> Result<StepScales, TheoryError> {
+    let t = kinetic_theory(fluid, gamma, s)?;
+    Ok(StepScales {
+        dt_c: euler_critical_dt(fluid, gamma, s)?,
+        tau: fluid.mass * t.diffusion / fluid.kt,
+        t0: fluid.cutoff * (fluid.mass / fluid.kt).sqrt(),
+    })
 }
 
 /// The coefficients of the finite-step paper, eq. 23, for w_D = (1 − r/r_c)^s, w_R² = w_D and

@@ -196,6 +196,58 @@ fn format_errors_name_line_and_token() {
     assert!(e.contains("line 5"), "{e}");
 }
 
+/// NaN and infinities are refused wherever an averaging-fix file holds a number, with the line,
+/// the column and the token (issue 16, item 2). Rust's `f64` parser alone accepts all of them.
+#[test]
+fn formats_refuse_non_finite_numbers() {
+    for tok in ["nan", "NaN", "inf", "-inf", "1e999"] {
+        // fix ave/chunk: a chunk row (line 5, column 4) and a block line (line 4, column 3).
+        let bad = data("prof.ave_chunk").replacen("0.327718", tok, 1);
+        let e = parse_ave_chunk(&bad).expect_err(tok);
+        let want = format!("line 5: column 4: '{tok}' is not a finite number");
+        assert!(e.contains(&want), "{tok}: {e}");
+        let bad = data("prof.ave_chunk").replacen("200.00000000000003", tok, 1);
+        let e = parse_ave_chunk(&bad).expect_err(tok);
+        assert!(
+            e.contains(&format!("line 4: column 3: '{tok}'")),
+            "{tok}: {e}"
+        );
+        // fix ave/time, scalar mode (line 4, column 3), and a series read from it.
+        let bad = data("press.ave_time").replacen("0.788304", tok, 1);
+        let e = parse_ave_time(&bad).expect_err(tok);
+        assert!(
+            e.contains(&format!("line 4: column 3: '{tok}'")),
+            "{tok}: {e}"
+        );
+        assert!(parse_series(&bad).is_err(), "{tok}");
+        // fix ave/time, vector mode.
+        let text = "# Time-averaged data for fix m\n# TimeStep Number-of-rows\n# Row c_msd\n\
+                    10 2\n1 0.5\n2 X\n";
+        let e = parse_ave_time(&text.replace('X', tok)).expect_err(tok);
+        assert!(
+            e.contains(&format!("line 6: column 2: '{tok}'")),
+            "{tok}: {e}"
+        );
+        // fix ave/histo: the header line's Min-value (line 4, column 5) and a bin (line 5).
+        let bad = data("speed_one.ave_histo").replacen("0.33923173612492047", tok, 1);
+        let e = parse_ave_histo(&bad).expect_err(tok);
+        assert!(
+            e.contains(&format!("line 4: column 5: '{tok}'")),
+            "{tok}: {e}"
+        );
+        let bad = data("speed_one.ave_histo").replacen("1 0.05 0 0", &format!("1 {tok} 0 0"), 1);
+        let e = parse_ave_histo(&bad).expect_err(tok);
+        assert!(
+            e.contains(&format!("line 5: column 2: '{tok}'")),
+            "{tok}: {e}"
+        );
+    }
+    let e = parse_ave_time(&data("press.ave_time").replacen("0.788304", "1e999", 1)).unwrap_err();
+    assert!(e.contains("beyond the range of a double"), "{e}");
+    let e = parse_ave_time(&data("press.ave_time").replacen("0.788304", "nan", 1)).unwrap_err();
+    assert!(e.contains("NaN is refused"), "{e}");
+}
+
 #[test]
 fn series_from_log_joins_runs() {
     let log = "LAMMPS (29 Sep 2021)\nStep Temp Pxy Pxz Pyz\n0 1.0 0.1 0.2 0.3\n10 1.1 0.4 0.5 0.6\nLoop time of 0.1\n\

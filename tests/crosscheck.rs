@@ -195,3 +195,104 @@ fn missing_lammps_is_exit_2_with_a_hint() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("lammps-plugin/build.sh"), "{err}");
 }
+
+/// A stand-in for LAMMPS: a shell script that copies `log` to the file after `-log`, as a
+/// LAMMPS that differs from the standalone engine and logged `dangerous` would.
+#[cfg(unix)]
+fn fake_lammps(dir: &Path, name: &str, dangerous: &str) -> PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let log = dir.join(format!("{name}.log"));
+    std::fs::write(
+        &log,
+        format!(
+            "LAMMPS (29 Sep 2021 - Update 2)\n\
+             Neighbor list info ...\n  update every 1 steps, delay 10 steps, check yes\n  \
+             max neighbors/atom: 2000, page size: 100000\n\
+             Step Temp E_pair E_mol TotEng Press\n\
+             0 0 1 0 1 1\n5 0.5 1 0 1.5 1\n10 1 1 0 2 1\n\
+             Loop time of 0.01 on 1 procs for 10 steps with 50 atoms\n\n\
+             Total # of neighbors = 123\nAve neighs/atom = 2.46\n\
+             Neighbor list builds = 3\n{dangerous}\nTotal wall time: 0:00:00\n"
+        ),
+    )
+    .expect("write the fake log");
+    let exe = dir.join(name);
+    std::fs::write(
+        &exe,
+        format!(
+            "#!/bin/sh\nwhile [ $# -gt 0 ]; do\n  if [ \"$1\" = \"-log\" ]; then cp '{}' \"$2\"; fi\n  \
+             shift\ndone\n",
+            log.display()
+        ),
+    )
+    .expect("write the fake LAMMPS");
+    std::fs::set_permissions(&exe, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    exe
+}
+
+/// With "Dangerous builds = 2" in LAMMPS's log, the DIFFER verdict names them, LAMMPS's
+/// neighbour settings and the fix (issue 16, item 11); without dangerous builds it does not.
+/// Runs without LAMMPS: the LAMMPS side is a stand-in that writes a fixed, different log.
+#[cfg(unix)]
+#[test]
+fn differ_verdict_names_dangerous_builds_and_the_fix() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("crosscheck_dangerous");
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let script = dir.join("in.tiny");
+    std::fs::write(
+        &script,
+        "units lj\natom_style atomic\ndimension 2\nboundary p p p\n\
+         region box block 0 5 0 5 -0.5 0.5\ncreate_box 1 box\n\
+         create_atoms 1 random 50 4711 box\nmass 1 1.0\n\
+         pair_style dpd/nonlinear 1.0 1.0 7919\npair_coeff 1 1 25.0 4.5 0.0\n\
+         timestep 0.01\nfix 1 all nve\nthermo 5\nrun 10\n",
+    )
+    .expect("write the script");
+    let crosscheck = |lmp: &Path, work: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+            .arg("crosscheck")
+            .arg(&script)
+            .arg("--lmp")
+            .arg(lmp)
+            .arg("--workdir")
+            .arg(dir.join(work))
+            .output()
+            .expect("run dpdnl crosscheck");
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stdout}\n{stderr}");
+        stdout
+    };
+    let out = crosscheck(
+        &fake_lammps(&dir, "lmp_dangerous", "Dangerous builds = 2"),
+        "w1",
+    );
+    assert!(
+        out.contains(
+            "lammps neighbor lists: neigh_modify every 1 delay 10 check yes; Dangerous builds = 2"
+        ),
+        "{out}"
+    );
+    let verdict = out.lines().last().unwrap_or("");
+    for part in [
+        "CROSSCHECK DIFFER: thermo log not within rtol 1e-09",
+        "LAMMPS logged Dangerous builds = 2 (neigh_modify every 1 delay 10 check yes)",
+        "missed pairs",
+        "add `neigh_modify delay 0 every 1 check yes` to the script",
+        "the standalone engine checks its lists every step",
+    ] {
+        assert!(
+            verdict.contains(part),
+            "'{part}' not in the verdict: {verdict}"
+        );
+    }
+    let out = crosscheck(
+        &fake_lammps(&dir, "lmp_clean", "Dangerous builds = 0"),
+        "w2",
+    );
+    let verdict = out.lines().last().unwrap_or("");
+    assert!(
+        verdict.starts_with("CROSSCHECK DIFFER") && !verdict.contains("neigh_modify"),
+        "{verdict}"
+    );
+}

@@ -6,11 +6,15 @@
 //!
 //! Values read from text are compared exactly with the same decimal literals: both go through
 //! correctly rounded decimal-to-binary conversion.
+//!
+//! Also here: the refusal of non-finite numbers by the data-file, dump and log readers (issue 16,
+//! item 2), and the neighbour-list summary that `dpdnl crosscheck` reads from a LAMMPS log.
 
+use dpdnl::io::data::parse_data;
 use dpdnl::io::dump_read::parse_dump;
 use dpdnl::io::lammps_log::{
-    ThermoBlock, Tolerance, compare_dumps_exact, compare_exact, compare_exact_logs, compare_stats,
-    differences, looks_like_dump, parse_log,
+    NeighborSettings, ThermoBlock, Tolerance, compare_dumps_exact, compare_exact,
+    compare_exact_logs, compare_stats, differences, looks_like_dump, neighbor_summary, parse_log,
 };
 
 const LOG_2022: &str = include_str!("data/diff_logs/log_lammps2022.lammps");
@@ -188,6 +192,90 @@ fn dump_errors() {
     }
 }
 
+/// The spellings of a non-finite number that Rust's `f64` parser accepts.
+const NON_FINITE: [&str; 5] = ["nan", "NaN", "inf", "-inf", "1e999"];
+
+/// A data file whose line 13 (atom 2) is `2 1 X 0.5 0.5` and line 18 (its velocity) `2 0 V 0`.
+fn data_file(x: &str, v: &str, box_hi: &str) -> String {
+    format!(
+        "title\n\n2 atoms\n1 atom types\n\n0 {box_hi} xlo xhi\n0 4 ylo yhi\n0 4 zlo zhi\n\n\
+         Atoms # atomic\n\n1 1 0.5 0.5 0.5\n2 1 {x} 0.5 0.5\n\nVelocities\n\n1 0 0 0\n2 0 {v} 0\n"
+    )
+}
+
+/// read_data refuses NaN and infinite box bounds, masses, coordinates and velocities, naming
+/// the file, the line and the column (issue 16, item 2).
+#[test]
+fn data_file_refuses_non_finite_numbers() {
+    let good = parse_data(&data_file("1.5", "0.25", "4"), "in.data").unwrap();
+    assert_eq!(good.atoms[1].2, [1.5, 0.5, 0.5]);
+    assert_eq!(good.velocities[1].1, [0.0, 0.25, 0.0]);
+    for tok in NON_FINITE {
+        let e = parse_data(&data_file(tok, "0", "4"), "in.data").expect_err(tok);
+        let want =
+            format!("in.data:13: column 3: expected a coordinate: '{tok}' is not a finite number");
+        assert!(e.contains(&want), "{tok}: {e}");
+        let e = parse_data(&data_file("1", tok, "4"), "in.data").expect_err(tok);
+        let want = format!("in.data:18: column 3: expected a velocity: '{tok}'");
+        assert!(e.contains(&want), "{tok}: {e}");
+        let e = parse_data(&data_file("1", "0", tok), "in.data").expect_err(tok);
+        assert!(
+            e.contains("in.data:6: column 2: expected a box bound"),
+            "{tok}: {e}"
+        );
+        let masses = data_file("1", "0", "4")
+            .replace("\n\nAtoms", &format!("\n\nMasses\n\n1 {tok}\n\nAtoms"));
+        let e = parse_data(&masses, "in.data").expect_err(tok);
+        assert!(
+            e.contains("in.data:12: column 2: expected a mass"),
+            "{tok}: {e}"
+        );
+    }
+    let e = parse_data(&data_file("1e999", "0", "4"), "in.data").unwrap_err();
+    assert!(e.contains("beyond the range of a double"), "{e}");
+    let e = parse_data(&data_file("-inf", "0", "4"), "in.data").unwrap_err();
+    assert!(e.contains("an infinity is refused"), "{e}");
+    let e = parse_data(&data_file("1.2.3", "0", "4"), "in.data").unwrap_err();
+    assert!(
+        e.contains("in.data:13: column 3: expected a coordinate, found '1.2.3'"),
+        "{e}"
+    );
+}
+
+/// The dump reader refuses NaN and infinities in atom rows and box bounds, with line and column.
+#[test]
+fn dump_refuses_non_finite_numbers() {
+    for tok in NON_FINITE {
+        let e =
+            parse_dump(&DUMP.replacen("1 1 1.5 2.5 3.5 0.2", &format!("1 1 1.5 {tok} 3.5 0.2"), 1))
+                .expect_err(tok);
+        let want = format!("line 11: atom line: column 4: '{tok}' is not a finite number");
+        assert!(e.contains(&want), "{tok}: {e}");
+        let e = parse_dump(&DUMP.replacen("-1.0 7.0", &format!("-1.0 {tok}"), 1)).expect_err(tok);
+        let want = format!("line 7: box bounds: column 2: '{tok}' is not a finite number");
+        assert!(e.contains(&want), "{tok}: {e}");
+    }
+    let e = parse_dump(&DUMP.replacen("0.0 8.5 0.5", "0.0 8.5 nan", 1)).unwrap_err();
+    assert!(e.contains("box bounds: column 3: 'nan'"), "{e}");
+}
+
+/// Logs keep reading `nan`/`inf` (LAMMPS prints them after a blow-up: see `block_boundaries`),
+/// but a decimal literal beyond the range of a double is refused with line and column.
+#[test]
+fn log_refuses_overflowing_numbers() {
+    let e = parse_log("Step Temp Press\n0 1 2\n10 1e999 2\n").unwrap_err();
+    assert!(
+        e.contains("line 3: column 2: '1e999' is not a finite number")
+            && e.contains("beyond the range of a double"),
+        "{e}"
+    );
+    let e = parse_log("Step Temp Press\n0 1 -2e400\n").unwrap_err();
+    assert!(e.contains("line 2: column 3: '-2e400'"), "{e}");
+    let b = parse_log("Step Temp Press\n0 inf -Inf\n10 NaN -nan\n").unwrap();
+    assert_eq!(b[0].rows[0][1..], [f64::INFINITY, f64::NEG_INFINITY]);
+    assert!(b[0].rows[1][1].is_nan() && b[0].rows[1][2].is_nan());
+}
+
 #[test]
 fn relative_and_absolute_differences() {
     assert_eq!(differences(2.0, 2.0), (0.0, 0.0));
@@ -358,4 +446,58 @@ fn stats_comparison() {
     assert!(r.columns[0].z < -3.0);
     let e = compare_stats(&mk(0.0), &mk(0.0), None, 255, 3.0).unwrap_err();
     assert!(e.contains("fewer than 2"), "{e}");
+}
+
+/// The neighbour-list settings and "Dangerous builds" counts of LAMMPS logs, in both layouts
+/// (29Sep2021/2022 and later), as `dpdnl crosscheck` reads them (issue 16, item 11).
+#[test]
+fn neighbor_summary_of_lammps_logs() {
+    let old = neighbor_summary(LOG_2022);
+    let delay10 = NeighborSettings {
+        every: 1,
+        delay: 10,
+        check: true,
+    };
+    assert_eq!(old.settings, [delay10]);
+    assert_eq!(old.dangerous, [Some(0)]);
+    assert_eq!(delay10.keywords(), "every 1 delay 10 check yes");
+    assert!(!delay10.checks_every_step());
+
+    let text = "\
+Neighbor list info ...
+  update: every = 1 steps, delay = 0 steps, check = yes
+  max neighbors/atom: 2000, page size: 100000
+Step Temp
+0 1
+Loop time of 0.1 on 1 procs for 100 steps with 10 atoms
+Neighbor list builds = 12
+Dangerous builds = 2
+Neighbor list info ...
+  update: every = 20 steps, delay = 0 steps, check = no
+Neighbor list builds = 5
+Dangerous builds not checked
+Total wall time: 0:00:01
+";
+    let n = neighbor_summary(text);
+    assert_eq!(
+        n.settings,
+        [
+            NeighborSettings {
+                every: 1,
+                delay: 0,
+                check: true
+            },
+            NeighborSettings {
+                every: 20,
+                delay: 0,
+                check: false
+            }
+        ]
+    );
+    assert!(n.settings[0].checks_every_step());
+    assert_eq!(n.dangerous, [Some(2), None]);
+    assert_eq!((n.dangerous_total(), n.unchecked_runs()), (2, 1));
+    // This project's engine prints neither line.
+    let engine = neighbor_summary("Step Temp\n0 1\nLoop time of 0.1 on 2 procs for 10 steps\n");
+    assert!(engine.settings.is_empty() && engine.dangerous.is_empty());
 }

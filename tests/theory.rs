@@ -15,6 +15,13 @@ use dpdnl::theory::{
 use std::f64::consts::PI;
 use std::process::Command;
 
+/// Words of a message longer than this many digits in a row: a number not printed %g-style.
+fn long_digit_runs(text: &str) -> Vec<&str> {
+    text.split(|c: char| !c.is_ascii_digit())
+        .filter(|w| w.len() > 12)
+        .collect()
+}
+
 const TABLES_CSV: &str = include_str!("data/weighting_tables_2d.csv");
 
 /// The paper's tables: 2-D, m = 1, kT = 1, n = 4 (`docs/models.md` §3.6).
@@ -774,4 +781,205 @@ fn cli_bad_arguments_fail_clearly() {
     let (ok, _, err) = dpdnl(&["theory", bad.to_str().unwrap()]);
     let _ = std::fs::remove_file(&bad);
     assert!(!ok && err.contains(":2: bogus: unknown command"), "{err}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tiny targets, huge γ and %g messages (issue 16, item 9).
+
+/// `fmt_g` prints as glibc's `%g` (the project's `sprintf`, tested against glibc in
+/// tests/format.rs), except that non-finite values keep Rust's spelling.
+#[test]
+fn fmt_g_is_c_percent_g() {
+    use dpdnl::fmtnum::fmt_g;
+    use dpdnl::input::format::{FmtArg, sprintf};
+    let mut values = vec![
+        0.0,
+        1.0,
+        -1.0,
+        0.5,
+        1.5,
+        100000.0,
+        999999.0,
+        999999.4,
+        999999.5,
+        1e6,
+        1234567.0,
+        0.0001,
+        0.00012345678,
+        9.999995e-5,
+        9.9999949e-5,
+        1e-5,
+        123456.5,
+        2.5e-7,
+        1e300,
+        -1e300,
+        1e-300,
+        5e-324,
+        f64::MAX,
+        f64::MIN_POSITIVE,
+        1.0 / 3.0,
+        -2.0 / 3.0,
+        PI,
+        1e100,
+        4.236586101383762e30,
+        0.1 + 0.2,
+    ];
+    // A spread of magnitudes and mantissas.
+    let mut x = 1.234567890123e-320;
+    while x < 1e305 {
+        values.push(x);
+        values.push(-x * 7.777);
+        x *= 13.37;
+    }
+    for v in values {
+        let c = sprintf("%g", &[FmtArg::Float(v)]).unwrap();
+        assert_eq!(fmt_g(v), c, "{v:e}");
+    }
+    assert_eq!(fmt_g(1e300), "1e+300");
+    assert_eq!(fmt_g(-0.0), "-0");
+    assert_eq!(fmt_g(f64::NAN), "NaN");
+    assert_eq!(fmt_g(f64::INFINITY), "inf");
+    assert_eq!(fmt_g(f64::NEG_INFINITY), "-inf");
+}
+
+/// η = 1e-300 used to be called "too large" and η = 1e-100 failed with "γ = inf is invalid":
+/// both are below the lower bound η_min for this Sc, under which the design overflows a double.
+/// The bound is sharp: just above it the design is finite, just below it is refused.
+#[test]
+fn tiny_targets_are_below_the_lower_bound() {
+    let fluid = Fluid::new(3, 3.0, 1.0, 1.0, 1.0).unwrap();
+    let sc = 2.0;
+    let mut bound = None;
+    for eta in [1e-300, 1e-100, 1e-62] {
+        let err = design_from_targets(&Targets { fluid, eta, sc }).unwrap_err();
+        let TheoryError::OutOfReach(o) = &err else {
+            panic!("eta {eta:e}: wrong error {err}");
+        };
+        let eta_min = o.eta_min.expect("a bound");
+        assert!(eta_min > eta && eta_min < 1e-50, "{eta_min:e}");
+        let msg = err.to_string();
+        for part in [
+            format!(
+                "η = {} is out of reach for Sc = 2",
+                dpdnl::fmtnum::fmt_g(eta)
+            ),
+            format!(
+                "below the lower bound η_min = {}",
+                dpdnl::fmtnum::fmt_g(eta_min)
+            ),
+            "largest double (1.79769e+308)".to_string(),
+            "Raise η above η_min".to_string(),
+        ] {
+            assert!(msg.contains(&part), "{part} not in {msg}");
+        }
+        assert!(!msg.contains("too large"), "{msg}");
+        assert!(long_digit_runs(&msg).is_empty(), "{msg}");
+        bound = Some(eta_min);
+    }
+    let eta_min = bound.unwrap();
+    let just = design_from_targets(&Targets {
+        fluid,
+        eta: eta_min * (1.0 + 1e-9),
+        sc,
+    })
+    .unwrap();
+    assert!(just.gamma.is_finite() && just.s.is_finite());
+    let t = kinetic_theory(&fluid, just.gamma, just.s).unwrap();
+    assert!(rel(t.schmidt, sc) < 1e-9, "Sc {}", t.schmidt);
+    assert!(matches!(
+        design_from_targets(&Targets {
+            fluid,
+            eta: eta_min * (1.0 - 1e-6),
+            sc
+        }),
+        Err(TheoryError::OutOfReach(_))
+    ));
+    // A huge Sc at a moderate η is out of reach the same way (γ grows without bound with Sc).
+    let err = design_from_targets(&Targets {
+        fluid,
+        eta: 1.0,
+        sc: 1e300,
+    })
+    .unwrap_err();
+    assert!(
+        matches!(&err, TheoryError::OutOfReach(o) if o.eta_min.unwrap() > 1.0),
+        "{err}"
+    );
+    // The paper's approximation: η0 below η0_min.
+    let err = design_paper_approx(&fluid, 1e-100, 2.0).unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        matches!(&err, TheoryError::OutOfReach(_)) && msg.contains("below the lower bound η0_min"),
+        "{msg}"
+    );
+    // Large targets keep their diagnosis, printed %g-style.
+    let err = design_from_targets(&Targets {
+        fluid,
+        eta: 1e300,
+        sc,
+    })
+    .unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        matches!(err, TheoryError::ExponentNotPositive(_))
+            && msg.contains("η = 1e+300 is too large"),
+        "{msg}"
+    );
+    assert!(long_digit_runs(&msg).is_empty(), "{msg}");
+    let msg = Fluid::new(3, 1e300, -1e300, 1.0, 1.0)
+        .unwrap_err()
+        .to_string();
+    assert!(msg.contains("cut-off r_c = -1e+300 is invalid"), "{msg}");
+}
+
+#[test]
+fn cli_tiny_targets_and_huge_gamma() {
+    let fluid = ["--density", "3", "--rc", "1"];
+    let design = |eta: &str, sc: &str| {
+        let mut a = vec!["design", "--eta", eta, "--sc", sc];
+        a.extend_from_slice(&fluid);
+        dpdnl(&a)
+    };
+    for eta in ["1e-300", "1e-100"] {
+        let (ok, _, err) = design(eta, "2");
+        assert!(!ok, "{eta}");
+        assert!(
+            err.contains(&format!("ERROR: η = {eta} is out of reach for Sc = 2"))
+                && err.contains("below the lower bound η_min = 1.49"),
+            "{err}"
+        );
+        assert!(!err.contains("too large") && !err.contains("inf"), "{err}");
+    }
+    // Sc = 1e12: a finite but useless design, with a warning naming γ and the step it needs.
+    let (ok, out, err) = design("1", "1e12");
+    assert!(ok, "{err}");
+    let gamma = value(&out, "gamma");
+    assert!(gamma > 1e30, "{gamma}");
+    let want = format!(
+        "WARNING: gamma = {} (s = {}) is huge: it needs a time step below dt_c = ",
+        dpdnl::fmtnum::fmt_g(gamma),
+        dpdnl::fmtnum::fmt_g(value(&out, "s"))
+    );
+    assert!(err.contains(&want), "{want} not in {err}");
+    assert!(
+        err.contains("finite-step paper eq. 25") && err.contains("steps per crossing"),
+        "{err}"
+    );
+    assert!(long_digit_runs(&err).is_empty(), "{err}");
+    // The same warning in JSON mode (stderr), none for an ordinary design.
+    let (ok, _, err) = dpdnl(&[
+        "design",
+        "--eta",
+        "1",
+        "--sc",
+        "1e12",
+        "--density",
+        "3",
+        "--rc",
+        "1",
+        "--json",
+    ]);
+    assert!(ok && err.contains("is huge"), "{err}");
+    let (ok, _, err) = design("1", "3");
+    assert!(ok && err.is_empty(), "{err}");
 }

@@ -19,8 +19,10 @@
 //! Comment lines may reappear later in a file (a fix redefined with `append`, or several runs):
 //! they must name the same columns. Titles changed with `title1/2/3` are accepted when the
 //! data are unambiguous (see [`parse_ave_time`]). YAML output (file names ending in `.yaml`) is
-//! refused with a message. Errors name the line (1-based) and the offending token; callers add
-//! the file name.
+//! refused with a message. Every value must be a finite number: `nan`, `inf` or `1e999` is an
+//! error, as is any unreadable token. Errors name the line (1-based), the column and the
+//! offending token; callers add the file name. (A [`parse_series`] of a log follows
+//! [`parse_log`], which reads the `nan`/`inf` that LAMMPS prints after a blow-up.)
 
 use crate::io::lammps_log::parse_log;
 
@@ -169,11 +171,14 @@ pub(crate) fn column_index(columns: &[String], name: &str) -> Option<usize> {
     }
 }
 
+/// The values of a data line, each a finite number: NaN and infinities (`nan`, `inf`, `1e999`)
+/// are refused with the line and column.
 fn numbers(line: &str, ln: usize) -> Result<Vec<f64>, String> {
     line.split_whitespace()
-        .map(|t| {
-            t.parse::<f64>()
-                .map_err(|_| format!("line {ln}: cannot read '{t}' as a number"))
+        .enumerate()
+        .map(|(i, t)| {
+            crate::io::finite_f64(t)
+                .map_err(|e| format!("line {ln}: column {}: {}", i + 1, e.describe(t)))
         })
         .collect()
 }

@@ -3,7 +3,8 @@
 //! Supported: the header keywords `atoms`, `atom types`, `xlo xhi`, `ylo yhi`, `zlo zhi` (and the
 //! counts of bonds/angles/… when they are 0); the sections `Masses`, `Atoms` (`id type x y z`
 //! with optional image flags `ix iy iz`) and `Velocities` (`id vx vy vz`). Anything else is an
-//! error naming the file and line.
+//! error naming the file and line. Real numbers (box bounds, masses, coordinates, velocities)
+//! must be finite: `nan`, `inf` or `1e999` is an error naming the file, line and column.
 
 use std::fmt::Write as _;
 
@@ -31,13 +32,39 @@ fn strip_comment(line: &str) -> &str {
     }
 }
 
+/// Token `i` of a line read as a `T` (counts, types, ids, image flags); errors name the column.
 fn num<T: std::str::FromStr>(
-    tok: &str,
+    toks: &[&str],
+    i: usize,
     what: &str,
     ctx: &dyn Fn(String) -> String,
 ) -> Result<T, String> {
-    tok.parse::<T>()
-        .map_err(|_| ctx(format!("expected {what}, found '{tok}'")))
+    toks[i].parse::<T>().map_err(|_| {
+        ctx(format!(
+            "column {}: expected {what}, found '{}'",
+            i + 1,
+            toks[i]
+        ))
+    })
+}
+
+/// Token `i` of a line read as a finite real number: NaN and infinities (`nan`, `inf`,
+/// `1e999`) are refused.
+fn real(
+    toks: &[&str],
+    i: usize,
+    what: &str,
+    ctx: &dyn Fn(String) -> String,
+) -> Result<f64, String> {
+    super::finite_f64(toks[i]).map_err(|e| {
+        let tok = toks[i];
+        ctx(match e {
+            super::NumError::NotANumber => {
+                format!("column {}: expected {what}, found '{tok}'", i + 1)
+            }
+            e => format!("column {}: expected {what}: {}", i + 1, e.describe(tok)),
+        })
+    })
 }
 
 /// Parse a data file's text. `name` is used in error messages.
@@ -58,11 +85,11 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
         let ctx = |m: String| err_at(k, m);
         let rest = toks[1..].join(" ");
         match rest.as_str() {
-            "atoms" => natoms = Some(num(toks[0], "an atom count", &ctx)?),
-            "atom types" => d.ntypes = num(toks[0], "a type count", &ctx)?,
+            "atoms" => natoms = Some(num(&toks, 0, "an atom count", &ctx)?),
+            "atom types" => d.ntypes = num(&toks, 0, "a type count", &ctx)?,
             "bonds" | "angles" | "dihedrals" | "impropers" | "bond types" | "angle types"
             | "dihedral types" | "improper types" => {
-                if num::<u64>(toks[0], "a count", &ctx)? != 0 {
+                if num::<u64>(&toks, 0, "a count", &ctx)? != 0 {
                     return Err(ctx(format!(
                         "'{rest}' > 0: atom_style atomic has no topology"
                     )));
@@ -77,8 +104,8 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
                         "ylo" => 1,
                         _ => 2,
                     };
-                    d.lo[a] = num(toks[0], "a box bound", &ctx)?;
-                    d.hi[a] = num(toks[1], "a box bound", &ctx)?;
+                    d.lo[a] = real(&toks, 0, "a box bound", &ctx)?;
+                    d.hi[a] = real(&toks, 1, "a box bound", &ctx)?;
                 } else if toks.len() == 6 && toks[3..] == ["xy", "xz", "yz"] {
                     return Err(ctx("triclinic boxes (xy xz yz) are not supported".into()));
                 } else if toks[0].parse::<f64>().is_ok() {
@@ -138,8 +165,8 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
                     if toks.len() < 2 {
                         return Err(ctx("Masses line needs 'type mass'".into()));
                     }
-                    let t: usize = num(toks[0], "a type", &ctx)?;
-                    let m: f64 = num(toks[1], "a mass", &ctx)?;
+                    let t: usize = num(&toks, 0, "a type", &ctx)?;
+                    let m = real(&toks, 1, "a mass", &ctx)?;
                     if t == 0 || t > d.ntypes {
                         return Err(ctx(format!("type {t} out of range 1..{}", d.ntypes)));
                     }
@@ -155,8 +182,8 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
                             toks.len()
                         )));
                     }
-                    let tag: u32 = num(toks[0], "an atom id", &ctx)?;
-                    let t: u32 = num(toks[1], "an atom type", &ctx)?;
+                    let tag: u32 = num(&toks, 0, "an atom id", &ctx)?;
+                    let t: u32 = num(&toks, 1, "an atom type", &ctx)?;
                     if tag == 0 {
                         return Err(ctx("atom id 0 is not allowed".into()));
                     }
@@ -165,12 +192,12 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
                     }
                     let mut x = [0.0; 3];
                     for a in 0..3 {
-                        x[a] = num(toks[2 + a], "a coordinate", &ctx)?;
+                        x[a] = real(&toks, 2 + a, "a coordinate", &ctx)?;
                     }
                     let mut im = [0; 3];
                     if toks.len() == 8 {
                         for a in 0..3 {
-                            im[a] = num(toks[5 + a], "an image flag", &ctx)?;
+                            im[a] = num(&toks, 5 + a, "an image flag", &ctx)?;
                         }
                     }
                     d.atoms.push((tag, t, x, im));
@@ -179,10 +206,10 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
                     if toks.len() != 4 {
                         return Err(ctx("Velocities line needs 'id vx vy vz'".into()));
                     }
-                    let tag: u32 = num(toks[0], "an atom id", &ctx)?;
+                    let tag: u32 = num(&toks, 0, "an atom id", &ctx)?;
                     let mut v = [0.0; 3];
                     for a in 0..3 {
-                        v[a] = num(toks[1 + a], "a velocity", &ctx)?;
+                        v[a] = real(&toks, 1 + a, "a velocity", &ctx)?;
                     }
                     d.velocities.push((tag, v));
                 }

@@ -3,8 +3,9 @@
 //! A frame is `ITEM: TIMESTEP`, `ITEM: NUMBER OF ATOMS`, `ITEM: BOX BOUNDS …` with three lines
 //! of `lo hi` (or `lo hi tilt` for an orthogonally-stored triclinic box, `ITEM: BOX BOUNDS xy xz
 //! yz …`), then `ITEM: ATOMS <columns>` and that many rows. Other items (`ITEM: UNITS`,
-//! `ITEM: TIME`) are skipped. Values must be numeric (`element` columns are not supported), and
-//! general-triclinic boxes (`ITEM: BOX BOUNDS abc origin`) are refused.
+//! `ITEM: TIME`) are skipped. Values must be finite numbers (`nan`, `inf`, `1e999` are errors
+//! naming the line and column; `element` columns are not supported), and general-triclinic boxes
+//! (`ITEM: BOX BOUNDS abc origin`) are refused.
 
 /// One dump frame. `rows` are sorted by the `id` column when there is one.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,12 +52,16 @@ impl<'a> Lines<'a> {
     }
 }
 
+/// The `n` values of a line, each a finite number (NaN and infinities are refused).
 fn numbers(line: &str, n: usize, ln: usize, what: &str) -> Result<Vec<f64>, String> {
     let v: Vec<f64> = line
         .split_whitespace()
-        .map(|t| t.parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("line {ln}: {what}: cannot read numbers from '{line}'"))?;
+        .enumerate()
+        .map(|(i, t)| {
+            super::finite_f64(t)
+                .map_err(|e| format!("line {ln}: {what}: column {}: {}", i + 1, e.describe(t)))
+        })
+        .collect::<Result<_, _>>()?;
     if v.len() != n {
         return Err(format!(
             "line {ln}: {what}: expected {n} values, found {} in '{line}'",

@@ -7,6 +7,8 @@
 //! block are skipped. A header followed by no rows is not a block. `thermo_style multi` and
 //! `thermo_modify line yaml` output are not recognised.
 //!
+//! [`neighbor_summary`] reads LAMMPS's neighbour-list settings and "Dangerous builds" counts.
+//!
 //! The comparison functions ([`compare_exact`], [`compare_exact_logs`], [`compare_dumps_exact`],
 //! [`compare_stats`]) return reports; the `dpdnl diff` command prints them, and other commands
 //! (`crosscheck`) can use them directly.
@@ -55,15 +57,38 @@ fn column_index(columns: &[String], name: &str) -> Option<usize> {
     }
 }
 
-fn parse_numbers(line: &str) -> Option<Vec<f64>> {
-    line.split_whitespace().map(|t| t.parse().ok()).collect()
+/// The values of a line whose tokens are all numbers, else `None`. `nan` and `inf` (any sign
+/// and case) are read as such: LAMMPS prints them when a run blows up. A decimal literal beyond
+/// the range of a double (`1e999`), which LAMMPS never prints, is an error: `(column, token)`.
+fn parse_numbers(line: &str) -> Result<Option<Vec<f64>>, (usize, &str)> {
+    let toks: Vec<&str> = line.split_whitespace().collect();
+    let Some(values) = toks
+        .iter()
+        .map(|t| t.parse::<f64>().ok())
+        .collect::<Option<Vec<f64>>>()
+    else {
+        return Ok(None);
+    };
+    match values
+        .iter()
+        .zip(&toks)
+        .position(|(v, t)| v.is_infinite() && !super::spelled_infinity(t))
+    {
+        Some(i) => Err((i + 1, toks[i])),
+        None => Ok(Some(values)),
+    }
 }
 
 /// All thermo blocks of a log, in order.
 ///
-/// Errors: a row whose number of values differs from its header (with the line number). The
-/// last line of the text is exempt when it does not end in a newline (a log still being
-/// written): it is dropped.
+/// Values `nan`, `inf` and `-inf` (as LAMMPS prints them after a blow-up) are read as NaN and
+/// infinities, not refused: a log that blew up can still be read and compared (two NaNs compare
+/// equal in [`differences`]).
+///
+/// Errors: a row whose number of values differs from its header (with the line number); a
+/// number beyond the range of a double, such as `1e999` (with the line and column). The
+/// last line of the text is exempt from the first check when it does not end in a newline (a
+/// log still being written): it is dropped.
 pub fn parse_log(text: &str) -> Result<Vec<ThermoBlock>, String> {
     let mut blocks = Vec::new();
     let mut current: Option<ThermoBlock> = None;
@@ -75,7 +100,14 @@ pub fn parse_log(text: &str) -> Result<Vec<ThermoBlock>, String> {
             if trimmed.is_empty() || trimmed.starts_with("WARNING") {
                 continue;
             }
-            if let Some(values) = parse_numbers(trimmed) {
+            let parsed = parse_numbers(trimmed).map_err(|(col, tok)| {
+                format!(
+                    "line {}: column {col}: {}; LAMMPS prints an infinite thermo value as 'inf'",
+                    i + 1,
+                    super::NumError::Overflow.describe(tok)
+                )
+            })?;
+            if let Some(values) = parsed {
                 if values.len() == block.columns.len() {
                     block.rows.push(values);
                     continue;
@@ -107,6 +139,102 @@ pub fn parse_log(text: &str) -> Result<Vec<ThermoBlock>, String> {
         blocks.push(b);
     }
     Ok(blocks)
+}
+
+/// One `Neighbor list info` settings line of a LAMMPS log: `update every 1 steps, delay 10
+/// steps, check yes` (LAMMPS up to 2022) or `update: every = 1 steps, delay = 0 steps, check =
+/// yes` (later), the values of `neigh_modify every/delay/check`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NeighborSettings {
+    pub every: u64,
+    pub delay: u64,
+    pub check: bool,
+}
+
+impl NeighborSettings {
+    /// `every 1 delay 10 check yes`, as `neigh_modify` spells it.
+    pub fn keywords(&self) -> String {
+        format!(
+            "every {} delay {} check {}",
+            self.every,
+            self.delay,
+            if self.check { "yes" } else { "no" }
+        )
+    }
+
+    /// `every 1 delay 0 check yes`: the lists are checked every step, so no build is late.
+    pub fn checks_every_step(&self) -> bool {
+        self.every == 1 && self.delay == 0 && self.check
+    }
+
+    fn parse(line: &str) -> Option<NeighborSettings> {
+        let rest = line.trim().strip_prefix("update")?;
+        let toks: Vec<&str> = rest
+            .split(|c: char| c.is_whitespace() || matches!(c, ':' | '=' | ','))
+            .filter(|t| !t.is_empty())
+            .collect();
+        let after = |key: &str| {
+            toks.iter()
+                .position(|t| *t == key)
+                .and_then(|i| toks.get(i + 1))
+        };
+        Some(NeighborSettings {
+            every: after("every")?.parse().ok()?,
+            delay: after("delay")?.parse().ok()?,
+            check: match *after("check")? {
+                "yes" => true,
+                "no" => false,
+                _ => return None,
+            },
+        })
+    }
+}
+
+/// What a LAMMPS log says about its neighbour lists: the settings printed under `Neighbor list
+/// info ...` at a run's set-up, and the `Dangerous builds = N` line of each run's summary (a
+/// build is dangerous when some atom had moved more than half the skin since the previous one:
+/// pairs may have been missed in between).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct NeighborSummary {
+    /// Each settings line, in log order.
+    pub settings: Vec<NeighborSettings>,
+    /// Each run's dangerous-build count, in log order; `None` where LAMMPS printed `Dangerous
+    /// builds not checked` (`check no`).
+    pub dangerous: Vec<Option<u64>>,
+}
+
+impl NeighborSummary {
+    /// Dangerous builds over all runs.
+    pub fn dangerous_total(&self) -> u64 {
+        self.dangerous.iter().flatten().sum()
+    }
+
+    /// Runs whose dangerous builds LAMMPS did not count.
+    pub fn unchecked_runs(&self) -> usize {
+        self.dangerous.iter().filter(|d| d.is_none()).count()
+    }
+}
+
+/// Reads the neighbour-list settings and dangerous-build counts from a LAMMPS log's text
+/// (empty when there are none, e.g. a log of this project's engine).
+pub fn neighbor_summary(text: &str) -> NeighborSummary {
+    let mut out = NeighborSummary::default();
+    for line in text.lines() {
+        let t = line.trim();
+        if let Some(rest) = t.strip_prefix("Dangerous builds") {
+            let rest = rest.trim();
+            if let Some(n) = rest.strip_prefix('=').and_then(|n| n.trim().parse().ok()) {
+                out.dangerous.push(Some(n));
+            } else if rest == "not checked" {
+                out.dangerous.push(None);
+            }
+        } else if t.starts_with("update")
+            && let Some(s) = NeighborSettings::parse(t)
+        {
+            out.settings.push(s);
+        }
+    }
+    out
 }
 
 /// Whether `text` looks like a LAMMPS text dump (its first non-blank line is `ITEM: TIMESTEP`)

@@ -41,9 +41,10 @@ pub struct BenchArgs {
     /// Interleaved repetitions of every configuration (the table shows medians).
     #[arg(long, default_value_t = 3)]
     pub repeats: usize,
-    /// Threads of the standalone engine and of LAMMPS OpenMP (0: all cores).
-    #[arg(long, default_value_t = 0)]
-    pub threads: usize,
+    /// Threads of the standalone engine and of LAMMPS OpenMP. 0: one per CPU available; a larger
+    /// N than that is capped at the CPU count, with a warning.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64))]
+    pub threads: u64,
     /// Multiply every system's default number of steps (e.g. 0.1 for a quick look).
     #[arg(long, default_value_t = 1.0)]
     pub steps_scale: f64,
@@ -195,11 +196,7 @@ const PAIR_SEED: u32 = 34387;
 const DATA_SEED: u32 = 8675;
 
 pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    let threads = if a.threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        a.threads
-    };
+    let threads = crate::thread_count(a.threads);
     if a.repeats == 0 {
         return Err("--repeats must be >= 1".into());
     }

@@ -6,12 +6,18 @@
 //! relative paths, as in LAMMPS) and with `-var engine standalone` / `-var engine lammps`, so a
 //! dump written to `dump.${engine}` gets one file per engine. The dumps are moved into the work
 //! directory after each run. Exit status: 0 agree, 1 differ, 2 cannot run.
+//!
+//! LAMMPS's neighbour-list settings and its "Dangerous builds = N" count are read from its log
+//! ([`neighbor_summary`]): with dangerous builds (its lists missed pairs, e.g. under the
+//! `neigh_modify delay 10` default of older LAMMPS) a DIFFER verdict says so and names the fix,
+//! `neigh_modify delay 0 every 1 check yes`. The standalone engine checks every step.
 
 use crate::report::{TableStyle, c, write_exact_table};
 use dpdnl::input::{Console, Interpreter, Options};
 use dpdnl::io::dump_read::{DumpFrame, parse_dump};
 use dpdnl::io::lammps_log::{
-    ExactReport, Tolerance, compare_dumps_exact, compare_exact_logs, parse_log,
+    ExactReport, NeighborSummary, Tolerance, compare_dumps_exact, compare_exact_logs,
+    neighbor_summary, parse_log,
 };
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -39,9 +45,10 @@ pub struct CrosscheckArgs {
     /// under the system's temporary directory).
     #[arg(long)]
     pub workdir: Option<PathBuf>,
-    /// Worker threads of the standalone engine (results are bit-identical for any number).
-    #[arg(long, default_value_t = 0)]
-    pub threads: usize,
+    /// Worker threads of the standalone engine (results are bit-identical for any number). 0:
+    /// one per CPU available; a larger N than that is capped at the CPU count, with a warning.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64))]
+    pub threads: u64,
 }
 
 /// An error that means "cannot run" (exit 2).
@@ -136,6 +143,7 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
             a.rtol
         )));
     }
+    let threads = crate::thread_count(a.threads);
     let lmp = find_lmp(a)?;
     let script = std::fs::canonicalize(&a.script)
         .map_err(|e| CannotRun(format!("cannot open script {}: {e}", a.script.display())))?;
@@ -163,11 +171,6 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
         .map_err(|e| CannotRun(format!("cannot enter {}: {e}", script_dir.display())))?;
 
     // 1. Standalone engine, in-process.
-    let threads = if a.threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        a.threads
-    };
     // A global pool may already exist (e.g. when called twice in one process); that is fine.
     let _ = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -257,7 +260,9 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
             .map_err(|e| CannotRun(format!("cannot read {}: {e}", p.display())))
     };
     let blocks_s = parse_log(&read(&log_s)?).map_err(|e| format!("{}: {e}", log_s.display()))?;
-    let blocks_l = parse_log(&read(&log_l)?).map_err(|e| format!("{}: {e}", log_l.display()))?;
+    let text_l = read(&log_l)?;
+    let blocks_l = parse_log(&text_l).map_err(|e| format!("{}: {e}", log_l.display()))?;
+    let neigh = neighbor_summary(&text_l);
     if blocks_s.is_empty() || blocks_l.is_empty() {
         return Err(CannotRun(
             "a log has no thermo block (does the script run any steps?)".into(),
@@ -266,6 +271,9 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
     println!("script: {}", script.display());
     println!("lammps: {}", lmp.display());
     println!("workdir: {}", workdir.display());
+    if let Some(line) = neighbor_line(&neigh) {
+        println!("{line}");
+    }
     let r = compare_exact_logs(&blocks_s, &blocks_l, None, tol)
         .map_err(|e| format!("comparing thermo logs: {e}"))?;
     let mut pass = print_report("thermo (A = standalone.log, B = lammps.log)", &r);
@@ -302,12 +310,74 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
     if pass {
         println!("CROSSCHECK AGREE: {what} within rtol {}", c("%g", a.rtol));
     } else {
-        println!(
-            "CROSSCHECK DIFFER: {what} not within rtol {} (see the table(s) above)",
-            c("%g", a.rtol)
-        );
+        println!("{}", differ_verdict(&what, a.rtol, &neigh));
     }
     Ok(pass)
+}
+
+/// `lammps neighbor lists: neigh_modify every 1 delay 10 check yes; Dangerous builds = 2`, from
+/// the LAMMPS log (None when it has neither line).
+fn neighbor_line(n: &NeighborSummary) -> Option<String> {
+    if n.settings.is_empty() && n.dangerous.is_empty() {
+        return None;
+    }
+    let settings = n
+        .settings
+        .last()
+        .map_or("settings not logged".to_string(), |s| {
+            format!("neigh_modify {}", s.keywords())
+        });
+    let builds = if n.dangerous.is_empty() {
+        String::new()
+    } else if n.unchecked_runs() == n.dangerous.len() {
+        "; Dangerous builds not checked".to_string()
+    } else {
+        format!("; Dangerous builds = {}", dangerous_counts(n))
+    };
+    Some(format!("lammps neighbor lists: {settings}{builds}"))
+}
+
+/// `2`, or per run `0, 2, not checked`.
+fn dangerous_counts(n: &NeighborSummary) -> String {
+    if n.dangerous.len() == 1 {
+        return n.dangerous_total().to_string();
+    }
+    let runs: Vec<String> = n
+        .dangerous
+        .iter()
+        .map(|d| d.map_or("not checked".to_string(), |k| k.to_string()))
+        .collect();
+    format!("{} (per run: {})", n.dangerous_total(), runs.join(", "))
+}
+
+/// The DIFFER verdict line, with the reason LAMMPS's own log gives when it gives one: dangerous
+/// builds (its neighbour lists missed pairs), or lists it rebuilt every N > 1 steps unchecked.
+fn differ_verdict(what: &str, rtol: f64, n: &NeighborSummary) -> String {
+    let mut v = format!(
+        "CROSSCHECK DIFFER: {what} not within rtol {} (see the table(s) above)",
+        c("%g", rtol)
+    );
+    let settings = n.settings.last().map_or(String::new(), |s| {
+        format!(" (neigh_modify {})", s.keywords())
+    });
+    let fix = "add `neigh_modify delay 0 every 1 check yes` to the script and run again to see \
+               what difference remains (the standalone engine checks its lists every step)";
+    if n.dangerous_total() > 0 {
+        let _ = write!(
+            v,
+            "; LAMMPS logged Dangerous builds = {}{settings}: some atom had moved more than half \
+             the skin before LAMMPS rebuilt its neighbor lists, so it missed pairs, enough by \
+             itself to make the engines differ; {fix}",
+            dangerous_counts(n)
+        );
+    } else if n.unchecked_runs() > 0 && n.settings.last().is_none_or(|s| s.every > 1) {
+        let _ = write!(
+            v,
+            "; LAMMPS did not check its neighbor lists (Dangerous builds not checked{settings}), \
+             so missed pairs cannot be ruled out; {fix}"
+        );
+    }
+    v
 }
 
 /// Prints one comparison table; true when it passes (values and rows).

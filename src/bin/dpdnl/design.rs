@@ -5,10 +5,11 @@
 //! design bit for bit. Equation numbers are the papers' own: the weighting-function paper's
 //! ("eqs. 52-53, 65", WF-52 … in `docs/models.md`) and the finite-step paper's (FS-22 …).
 
+use dpdnl::fmtnum::fmt_g;
 use dpdnl::theory::{
-    Design, DesignMode, Dim, Fluid, Targets, TheoryError, Transport, design_from_targets,
-    design_paper_approx, euler_critical_density, euler_critical_dt, euler_temperature_ratio,
-    kinetic_theory,
+    Design, DesignMode, Dim, Fluid, STIFF_DT_C_FRACTION, StepScales, Targets, TheoryError,
+    Transport, design_from_targets, design_paper_approx, euler_critical_density, euler_critical_dt,
+    euler_temperature_ratio, kinetic_theory, step_scales,
 };
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -198,6 +199,25 @@ fn input_lines(f: &Fluid, d: &Design, seed: u32) -> (String, String) {
     )
 }
 
+/// Why a design whose γ needs an impractically small step cannot be run ([`StepScales::stiff`]).
+fn stiff_warning(gamma: f64, s: f64, t: &StepScales) -> String {
+    format!(
+        "gamma = {} (s = {}) is huge: it needs a time step below dt_c = {}, where the Euler \
+         integrator goes unstable (finite-step paper eq. 25; velocity-Verlet has no closed form \
+         but treats the friction explicitly too), and below the velocity relaxation time \
+         m D/kT = {}, against r_c sqrt(m/kT) = {} for a particle to cross the cut-off at \
+         thermal speed: over {} steps per crossing. Raise eta (at fixed Sc, gamma falls as eta \
+         grows) for a design that can be run (this warning: dt_c < {} r_c sqrt(m/kT))",
+        fmt_g(gamma),
+        fmt_g(s),
+        fmt_g(t.dt_c),
+        fmt_g(t.tau),
+        fmt_g(t.t0),
+        fmt_g((t.t0 / t.dt_c).floor()),
+        fmt_g(STIFF_DT_C_FRACTION)
+    )
+}
+
 /// `dpdnl design`.
 pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let fluid = fluid_of(a.dim, a.density, a.rc, a.mass, a.kt)?;
@@ -211,6 +231,13 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
         })?
     };
     let pred = kinetic_theory(&fluid, design.gamma, design.s)?;
+    let scales = step_scales(&fluid, design.gamma, design.s)?;
+    if scales.stiff() {
+        eprintln!(
+            "WARNING: {}",
+            stiff_warning(design.gamma, design.s, &scales)
+        );
+    }
     let (style, coeff) = input_lines(&fluid, &design, a.seed);
     let lim = &design.limits;
     let d = fluid.dim.get();

@@ -16,9 +16,10 @@ pub struct RunArgs {
     /// Log file; `none` for no log.
     #[arg(long, default_value = "log.dpdnl")]
     pub log: String,
-    /// Worker threads (results are bit-identical for any number).
-    #[arg(long, default_value_t = 0)]
-    pub threads: usize,
+    /// Worker threads (results are bit-identical for any number). 0: one per CPU available; a
+    /// larger N than that is capped at the CPU count, with a warning.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64))]
+    pub threads: u64,
     /// Do not echo thermo output to the screen (the log still gets it).
     #[arg(long)]
     pub quiet: bool,
@@ -53,11 +54,7 @@ impl Console for Screen {
 }
 
 pub fn main(a: RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    let threads = if a.threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        a.threads
-    };
+    let threads = crate::thread_count(a.threads);
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build_global()
