@@ -2,7 +2,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use dpdnl::engine::System;
-use dpdnl::input::{Console, Interpreter, Options};
+use dpdnl::input::{Collect, Console, Interpreter, Options};
 
 mod common;
 use common::{run, state_by_tag};
@@ -233,7 +233,7 @@ fn log_shape() {
 struct StopAfter {
     lines: Vec<String>,
     calls: usize,
-    limit: std::rc::Rc<std::cell::Cell<usize>>,
+    limit: std::sync::Arc<std::sync::atomic::AtomicUsize>,
 }
 
 impl Console for StopAfter {
@@ -242,7 +242,7 @@ impl Console for StopAfter {
     }
     fn interrupted(&mut self) -> bool {
         self.calls += 1;
-        self.calls > self.limit.get()
+        self.calls > self.limit.load(std::sync::atomic::Ordering::Relaxed)
     }
 }
 
@@ -260,7 +260,7 @@ fn interrupted_run_stops_at_the_step_boundary() {
             &format!("dump d all custom 5 {dump} id x\nrun 100\n"),
         );
     let nlines = script.lines().count();
-    let limit = std::rc::Rc::new(std::cell::Cell::new(37));
+    let limit = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(37));
     let mut console = StopAfter {
         lines: Vec::new(),
         calls: 0,
@@ -290,11 +290,11 @@ fn interrupted_run_stops_at_the_step_boundary() {
     );
     assert!(!logged.contains("Loop time of"));
     // Running on: the next run continues from step 37.
-    limit.set(usize::MAX);
+    limit.store(usize::MAX, std::sync::atomic::Ordering::Relaxed);
     interp.run_text("run 10\n", "more.in").expect("runs on");
     assert_eq!(interp.system().expect("system").step, 47);
     // Interrupted before the set-up of a run (call 1): nothing is run or printed.
-    limit.set(0);
+    limit.store(0, std::sync::atomic::Ordering::Relaxed);
     let err = interp
         .run_text("run 10\n", "more.in")
         .expect_err("interrupted");
@@ -313,4 +313,24 @@ fn interrupted_run_stops_at_the_step_boundary() {
         .count();
     assert_eq!(setups, 2, "the last run stopped before its set-up");
     assert!(console.lines.iter().any(|l| l.starts_with("Loop time of")));
+}
+
+/// An interpreter can own its console and move to another thread (embeddings release a GIL
+/// around a run): `Interpreter<'static>` is `Send`.
+#[test]
+fn an_interpreter_owning_its_console_is_send() {
+    fn assert_send<T: Send>(_: &T) {}
+    let opts = Options::default();
+    let mut interp =
+        Interpreter::with_console(Box::new(Collect::default()), &opts).expect("no log file");
+    assert_send(&interp);
+    let handle = std::thread::spawn(move || {
+        interp
+            .run_text(
+                "units lj\nregion b block 0 3 0 3 0 3\ncreate_box 1 b\n",
+                "t.in",
+            )
+            .map(|_| interp.system().map(|s| s.ntypes))
+    });
+    assert_eq!(handle.join().expect("thread").expect("runs"), Some(1));
 }

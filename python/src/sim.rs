@@ -81,66 +81,20 @@ impl Console for PyConsole {
     }
 }
 
-/// The interpreter and the console it borrows. The console is boxed and owned here through a
-/// raw pointer so that the interpreter can hold `&'static mut` to it: it is freed only after
-/// the interpreter is dropped (see `Drop`), and never touched through the pointer meanwhile
-/// (the `Simulation` reads the console's [`State`] through its own `Arc`).
-struct Engine {
-    interp: Option<Interpreter<'static>>,
-    console: *mut PyConsole,
-}
-
-impl Drop for Engine {
-    fn drop(&mut self) {
-        self.interp = None;
-        // SAFETY: `console` came from Box::into_raw in `Engine::new`, and the only borrow of it
-        // (the interpreter's) has just been dropped.
-        unsafe { drop(Box::from_raw(self.console)) };
-    }
-}
+/// The interpreter, owning its console (`Interpreter::with_console`).
+struct Engine(Interpreter<'static>);
 
 impl Engine {
     fn new(state: Arc<Mutex<State>>, opts: &Options) -> Result<Engine, String> {
-        let console = Box::into_raw(Box::new(PyConsole { state }));
-        // SAFETY: the box lives until `Drop` frees it, after the interpreter (see `Engine`).
-        let borrowed: &'static mut PyConsole = unsafe { &mut *console };
-        match Interpreter::new(borrowed, opts) {
-            Ok(i) => Ok(Engine {
-                interp: Some(i),
-                console,
-            }),
-            Err(e) => {
-                // SAFETY: the failed constructor dropped its borrow.
-                unsafe { drop(Box::from_raw(console)) };
-                Err(e)
-            }
-        }
+        Interpreter::with_console(Box::new(PyConsole { state }), opts).map(Engine)
     }
 
     fn interp(&self) -> &Interpreter<'static> {
-        self.interp
-            .as_ref()
-            .expect("interpreter present until drop")
+        &self.0
     }
 
     fn interp_mut(&mut self) -> &mut Interpreter<'static> {
-        self.interp
-            .as_mut()
-            .expect("interpreter present until drop")
-    }
-}
-
-/// Hands a `&mut Engine` to the closure run with the GIL released. `Simulation` is
-/// `unsendable` (PyO3 refuses access from other threads) and `detach` runs the closure on this
-/// same thread, so the engine never crosses threads: the `Send` that `detach` asks for is only
-/// nominal here.
-struct Detached<'a>(&'a mut Engine);
-// SAFETY: see above; the closure runs on the calling thread while `&mut self` is held.
-unsafe impl Send for Detached<'_> {}
-
-impl Detached<'_> {
-    fn run<R>(self, f: impl FnOnce(&mut Interpreter<'static>) -> R) -> R {
-        f(self.0.interp_mut())
+        &mut self.0
     }
 }
 
@@ -226,15 +180,17 @@ impl Simulation {
     /// KeyboardInterrupt, an input error as ScriptError.
     fn exec(&mut self, py: Python<'_>, text: &str, name: &str) -> PyResult<()> {
         lock(&self.state).pending = None;
-        let d = Detached(&mut self.engine);
-        let result = py.detach(move || d.run(|i| i.run_text(text, name)));
+        // The interpreter is `Send` (its console is); `detach` runs this on the calling thread,
+        // with the GIL released.
+        let interp = self.engine.interp_mut();
+        let result = py.detach(move || interp.run_text(text, name));
         self.finish(py, result)
     }
 
     fn exec_file(&mut self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         lock(&self.state).pending = None;
-        let d = Detached(&mut self.engine);
-        let result = py.detach(move || d.run(|i| i.run_file(&path)));
+        let interp = self.engine.interp_mut();
+        let result = py.detach(move || interp.run_file(&path));
         self.finish(py, result)
     }
 

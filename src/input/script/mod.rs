@@ -50,7 +50,10 @@ use std::path::{Path, PathBuf};
 /// [`ScriptError`] of command `run` and message `interrupted at step N`, N the step reached.
 /// The interpreter stays usable: the system is left at step N and a later `run` continues from
 /// it.
-pub trait Console {
+///
+/// Consoles are `Send`, so that an [`Interpreter`] can be handed to another thread (e.g. a run
+/// with Python's GIL released).
+pub trait Console: Send {
     /// One line of output (no trailing newline).
     fn line(&mut self, text: &str);
     /// Progress of a run: `step` reached, run from `first` to `last`. Called about every second.
@@ -130,7 +133,7 @@ pub struct Options {
 
 /// The interpreter state.
 pub struct Interpreter<'c> {
-    console: &'c mut dyn Console,
+    console: ConsoleSlot<'c>,
     log: Option<BufWriter<File>>,
     vars: BTreeMap<String, Var>,
     dim: usize,
@@ -153,6 +156,22 @@ pub struct Interpreter<'c> {
 
 type CmdResult = Result<(), String>;
 
+/// The console an interpreter writes to: borrowed from the caller ([`Interpreter::new`]) or
+/// owned ([`Interpreter::with_console`], for embeddings that keep the interpreter alive).
+enum ConsoleSlot<'c> {
+    Borrowed(&'c mut dyn Console),
+    Owned(Box<dyn Console>),
+}
+
+impl ConsoleSlot<'_> {
+    fn get(&mut self) -> &mut dyn Console {
+        match self {
+            ConsoleSlot::Borrowed(c) => &mut **c,
+            ConsoleSlot::Owned(c) => &mut **c,
+        }
+    }
+}
+
 pub use crate::grammar::type_range;
 use crate::grammar::{need, parse_int};
 use fix::FixKind;
@@ -160,9 +179,24 @@ use output::Dump;
 use run::dry_run_skips;
 use thermo::ThermoSettings;
 
+impl Interpreter<'static> {
+    /// A fresh interpreter that owns its console (embeddings: the interpreter can then live as
+    /// long as its owner, and, consoles being `Send`, move between threads).
+    pub fn with_console(
+        console: Box<dyn Console>,
+        opts: &Options,
+    ) -> Result<Interpreter<'static>, String> {
+        Self::with_slot(ConsoleSlot::Owned(console), opts)
+    }
+}
+
 impl<'c> Interpreter<'c> {
     /// A fresh interpreter writing to `console` (and to `opts.log` when set).
     pub fn new(console: &'c mut dyn Console, opts: &Options) -> Result<Interpreter<'c>, String> {
+        Self::with_slot(ConsoleSlot::Borrowed(console), opts)
+    }
+
+    fn with_slot(console: ConsoleSlot<'c>, opts: &Options) -> Result<Interpreter<'c>, String> {
         let log = match &opts.log {
             Some(p) => {
                 Some(BufWriter::new(File::create(p).map_err(|e| {
@@ -197,6 +231,11 @@ impl<'c> Interpreter<'c> {
         })
     }
 
+    /// The console, as [`Interpreter::with_console`] took it (or the caller's, borrowed).
+    pub fn console(&mut self) -> &mut dyn Console {
+        self.console.get()
+    }
+
     /// The system, once a box exists.
     pub fn system(&self) -> Option<&System> {
         self.sys.as_ref()
@@ -216,7 +255,7 @@ impl<'c> Interpreter<'c> {
     }
 
     fn out(&mut self, text: &str) {
-        self.console.line(text);
+        self.console.get().line(text);
         if let Some(l) = self.log.as_mut() {
             let _ = writeln!(l, "{text}");
         }

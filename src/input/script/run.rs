@@ -133,7 +133,7 @@ impl Interpreter<'_> {
         }
         let threads = self.threads;
         let step = self.sys_mut()?.step;
-        if self.console.interrupted() {
+        if self.console.get().interrupted() {
             return Err(self.interrupted_at(step));
         }
         let sys = self.sys_mut()?;
@@ -190,11 +190,11 @@ impl Interpreter<'_> {
             }
             let step = sys.step;
             let thermo_due = (every > 0 && step % every == 0) || step == last;
-            if thermo_due || step % HEALTH_EVERY == 0 {
-                if let Err(e) = sys.check_health() {
-                    self.flush_outputs();
-                    return Err(e);
-                }
+            if (thermo_due || step % HEALTH_EVERY == 0)
+                && let Err(e) = sys.check_health()
+            {
+                self.flush_outputs();
+                return Err(e);
             }
             if measuring {
                 self.end_of_step(false)?;
@@ -208,12 +208,12 @@ impl Interpreter<'_> {
             }
             if last_progress.elapsed().as_secs_f64() > 1.0 {
                 last_progress = Instant::now();
-                self.console.progress(step, first, last);
+                self.console.get().progress(step, first, last);
                 if let Some(l) = self.log.as_mut() {
                     let _ = l.flush();
                 }
             }
-            if self.console.interrupted() {
+            if self.console.get().interrupted() {
                 return Err(self.interrupted_at(step));
             }
         }

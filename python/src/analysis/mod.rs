@@ -1,0 +1,200 @@
+//! `dpdnl analyze` from Python: the same steps as `src/bin/dpdnl/analyze/` (which file kind,
+//! which columns, which window), calling the same `dpdnl::analysis` functions, returning the
+//! dict that the CLI writes to `PREFIX.json` plus `"table"`: the columns of `PREFIX.csv` as
+//! arrays. No files are written and nothing is plotted. Inputs are paths, or for time series
+//! a dict `{"Step": steps, column: values, …}` (`read_series`, `Simulation.thermo[k]`).
+//!
+//! Keep in step with the CLI (`run_mb` in maxwell.rs, `run_nemd` in pex.rs, `run_eh` and
+//! `run_msd` in transport.rs, `run_couette` and `run_flow` in shear.rs, the helpers in
+//! mod.rs): python/tests/test_analysis.py compares each result with the
+//! CLI's JSON on the same input.
+
+use crate::{AnalysisError, arr, json_to_py, read_text};
+use dpdnl::analysis::formats::{
+    FileKind, Series, detect, parse_ave_chunk, parse_ave_histo, parse_series,
+};
+use dpdnl::analysis::is_pos;
+use dpdnl::analysis::{couette as acouette, eh as aeh, mb as amb, msd as amsd, nemd as anemd};
+use dpdnl::io::dump_read::{DumpFrame, parse_dump};
+use numpy::PyReadonlyArray1;
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyMapping, PyString};
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+
+mod maxwell;
+mod pex;
+mod shear;
+mod transport;
+
+use maxwell::{mb, mb_pdf};
+use pex::nemd;
+use shear::{couette, flowcurve};
+use transport::{eh, msd};
+
+fn aerr(e: String) -> PyErr {
+    AnalysisError::new_err(e)
+}
+
+/// A number for JSON: non-finite values become null (as the CLI's `num`).
+fn num(v: f64) -> Value {
+    if v.is_finite() { json!(v) } else { Value::Null }
+}
+
+fn nums(v: &[f64]) -> Value {
+    Value::Array(v.iter().map(|x| num(*x)).collect())
+}
+
+/// The result: the JSON object as a dict, with `table` (CSV columns as arrays) added.
+fn result<'py>(
+    py: Python<'py>,
+    json: &Value,
+    table: &[(&str, &[f64])],
+) -> PyResult<Bound<'py, PyAny>> {
+    let d = json_to_py(py, json)?;
+    let t = PyDict::new(py);
+    for (name, col) in table {
+        t.set_item(*name, arr(py, col))?;
+    }
+    d.set_item("table", t)?;
+    Ok(d)
+}
+
+/// A 1-D float64 vector from any array-like (NumPy array, list).
+pub(crate) fn f64_vec(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
+    let np = obj.py().import("numpy")?;
+    let a = np
+        .call_method1("ascontiguousarray", (obj, "float64"))
+        .and_then(|a| a.extract::<PyReadonlyArray1<'_, f64>>())
+        .map_err(|_| PyTypeError::new_err(format!("{what}: expected a 1-D array of numbers")))?;
+    Ok(a.as_array().to_vec())
+}
+
+/// A time series given as a path or as a mapping name → 1-D array with a `Step` (or
+/// `TimeStep`, `steps`) entry. Returns the series and its name for messages.
+fn series_arg(obj: &Bound<'_, PyAny>) -> PyResult<(Series, String)> {
+    if let Ok(m) = obj.cast::<PyMapping>() {
+        let mut steps: Option<Vec<f64>> = None;
+        let mut columns = Vec::new();
+        let mut data = Vec::new();
+        for item in m.items()?.iter() {
+            let (k, v): (String, Bound<'_, PyAny>) = item.extract()?;
+            let v = f64_vec(&v, &format!("series column '{k}'"))?;
+            if steps.is_none() && matches!(k.as_str(), "Step" | "TimeStep" | "steps" | "step") {
+                steps = Some(v);
+            } else {
+                columns.push(k);
+                data.push(v);
+            }
+        }
+        let steps = steps.ok_or_else(|| {
+            aerr(format!(
+                "<series>: no 'Step' entry (keys: {})",
+                columns.join(" ")
+            ))
+        })?;
+        if let Some((c, _)) = columns
+            .iter()
+            .zip(&data)
+            .find(|(_, d)| d.len() != steps.len())
+        {
+            return Err(aerr(format!(
+                "<series>: column '{c}' does not have one value per step ({} steps)",
+                steps.len()
+            )));
+        }
+        return Ok((
+            Series {
+                columns,
+                steps,
+                data,
+            },
+            "<series>".to_string(),
+        ));
+    }
+    let p: PathBuf = obj.extract().map_err(|_| {
+        PyTypeError::new_err("expected a path or a dict {'Step': steps, column: values, …}")
+    })?;
+    let name = p.display().to_string();
+    let s = in_name(&name, parse_series(&read_text(&p)?))?;
+    Ok((s, name))
+}
+
+fn in_name<T>(name: &str, r: Result<T, String>) -> PyResult<T> {
+    r.map_err(|e| aerr(format!("{name}: {e}")))
+}
+
+/// Keeps the rows of a series at or after `from` (analyze/mod.rs `series_from`).
+fn series_from(s: Series, from: u64) -> Series {
+    let keep: Vec<bool> = s.steps.iter().map(|&k| k >= from as f64).collect();
+    let pick = |v: &Vec<f64>| -> Vec<f64> {
+        v.iter()
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(x, _)| *x)
+            .collect()
+    };
+    Series {
+        steps: pick(&s.steps),
+        data: s.data.iter().map(pick).collect(),
+        columns: s.columns,
+    }
+}
+
+/// The uniform step spacing of a series (analyze/mod.rs `step_spacing`).
+fn step_spacing(steps: &[f64], name: &str) -> PyResult<f64> {
+    if steps.len() < 2 {
+        return Err(aerr(format!("{name}: fewer than two samples")));
+    }
+    let d = steps[1] - steps[0];
+    if let Some(k) = steps.windows(2).position(|w| w[1] - w[0] != d) {
+        return Err(aerr(format!(
+            "{name}: samples are not equally spaced (step {} after {}, spacing {d} before)",
+            steps[k + 1],
+            steps[k]
+        )));
+    }
+    if d <= 0.0 {
+        return Err(aerr(format!("{name}: steps do not increase")));
+    }
+    Ok(d)
+}
+
+/// Columns `c_X[i]` for the given indices, for one X that has them all.
+fn indexed_columns(s: &Series, idx: &[usize]) -> Option<Vec<String>> {
+    for c in &s.columns {
+        if let Some(base) = c.strip_suffix(&format!("[{}]", idx[0])) {
+            let names: Vec<String> = idx.iter().map(|i| format!("{base}[{i}]")).collect();
+            if names.iter().all(|n| s.column_index(n).is_some()) {
+                return Some(names);
+            }
+        }
+    }
+    None
+}
+
+fn paths(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PathBuf>> {
+    if obj.is_instance_of::<PyString>() || obj.hasattr("__fspath__")? {
+        return Ok(vec![obj.extract()?]);
+    }
+    obj.try_iter()?
+        .map(|p| p.and_then(|p| p.extract::<PathBuf>()))
+        .collect()
+}
+
+fn stem(p: &Path, default: &str) -> String {
+    p.file_stem()
+        .map_or(default.into(), |s| s.to_string_lossy().into_owned())
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(mb, m)?)?;
+    m.add_function(wrap_pyfunction!(mb_pdf, m)?)?;
+    m.add_function(wrap_pyfunction!(nemd, m)?)?;
+    m.add_function(wrap_pyfunction!(eh, m)?)?;
+    m.add_function(wrap_pyfunction!(msd, m)?)?;
+    m.add_function(wrap_pyfunction!(couette, m)?)?;
+    m.add_function(wrap_pyfunction!(flowcurve, m)?)?;
+    Ok(())
+}
