@@ -4,6 +4,7 @@ use dpdnl::input::{Console, Interpreter, Options};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Run a LAMMPS-style input script (the subset in docs/input.md).
 #[derive(clap::Args)]
@@ -32,7 +33,17 @@ struct Screen {
     progress_shown: bool,
 }
 
+/// Set by SIGINT/SIGTERM (`ctrlc` handler); read by [`Screen::interrupted`] once per step.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// Exit status of a run stopped by SIGINT/SIGTERM (128 + SIGINT, as shells report it).
+const EXIT_INTERRUPTED: u8 = 130;
+
 impl Console for Screen {
+    fn interrupted(&mut self) -> bool {
+        INTERRUPTED.load(Ordering::Relaxed)
+    }
+
     fn line(&mut self, text: &str) {
         self.lines.push(text.to_string());
         if self.progress_shown {
@@ -75,11 +86,29 @@ pub fn main(a: RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         tty: std::io::stderr().is_terminal(),
         progress_shown: false,
     };
+    // The first SIGINT/SIGTERM stops the run at the next step boundary; a second one exits
+    // at once.
+    ctrlc::set_handler(|| {
+        if INTERRUPTED.swap(true, Ordering::Relaxed) {
+            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+    })
+    .map_err(|e| format!("cannot install the SIGINT/SIGTERM handler: {e}"))?;
     let mut interp = Interpreter::new(&mut screen, &opts)?;
-    interp.run_file(&a.script)?;
+    let result = interp.run_file(&a.script);
+    // Dropping the interpreter flushes the log, dumps and averaging files (whole records).
     drop(interp);
-    summary(&screen.lines);
-    Ok(ExitCode::SUCCESS)
+    match result {
+        Ok(()) => {
+            summary(&screen.lines);
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(e) if INTERRUPTED.load(Ordering::Relaxed) => {
+            eprintln!("dpdnl: {e}; outputs flushed");
+            Ok(ExitCode::from(EXIT_INTERRUPTED))
+        }
+        Err(e) => Err(e.into()),
+    }
 }
 
 /// A short summary of the last run: the mean of each thermo column over its second half, with a
