@@ -144,7 +144,57 @@ pub struct Series {
     pub data: Vec<Vec<f64>>,
 }
 
+/// The uniform step spacing of a series' steps (an error when there are fewer than two, when
+/// they are not equally spaced or do not increase).
+pub fn step_spacing(steps: &[f64]) -> Result<f64, String> {
+    if steps.len() < 2 {
+        return Err("fewer than two samples".into());
+    }
+    let d = steps[1] - steps[0];
+    if let Some(k) = steps.windows(2).position(|w| w[1] - w[0] != d) {
+        return Err(format!(
+            "samples are not equally spaced (step {} after {}, spacing {d} before)",
+            steps[k + 1],
+            steps[k]
+        ));
+    }
+    if d <= 0.0 {
+        return Err("steps do not increase".into());
+    }
+    Ok(d)
+}
+
 impl Series {
+    /// The rows at or after step `from`.
+    pub fn from_step(self, from: u64) -> Series {
+        let keep: Vec<bool> = self.steps.iter().map(|&k| k >= from as f64).collect();
+        let pick = |v: &Vec<f64>| -> Vec<f64> {
+            v.iter()
+                .zip(&keep)
+                .filter(|(_, k)| **k)
+                .map(|(x, _)| *x)
+                .collect()
+        };
+        Series {
+            steps: pick(&self.steps),
+            data: self.data.iter().map(pick).collect(),
+            columns: self.columns,
+        }
+    }
+
+    /// Columns `c_X[i]` for the given indices, for one X that has them all.
+    pub fn indexed_columns(&self, idx: &[usize]) -> Option<Vec<String>> {
+        for c in &self.columns {
+            if let Some(base) = c.strip_suffix(&format!("[{}]", idx[0])) {
+                let names: Vec<String> = idx.iter().map(|i| format!("{base}[{i}]")).collect();
+                if names.iter().all(|n| self.column_index(n).is_some()) {
+                    return Some(names);
+                }
+            }
+        }
+        None
+    }
+
     /// Index of a column: exact name, else the only case-insensitive match.
     pub fn column_index(&self, name: &str) -> Option<usize> {
         column_index(&self.columns, name)

@@ -570,6 +570,48 @@ pub fn analyze(h: &SpeedHistogram, o: &MbOptions) -> Result<MbReport, String> {
     })
 }
 
+/// Speeds of one dump frame (columns vx vy [vz]), and the dimension (given, or 2 when vz is
+/// absent or all 0): the samples of `dpdnl analyze mb` on dumps, for the CLI and Python.
+pub fn frame_speeds(
+    f: &crate::io::dump_read::DumpFrame,
+    dim: Option<usize>,
+) -> Result<(Vec<f64>, usize), String> {
+    let col = |n: &str| f.columns.iter().position(|c| c == n);
+    let (jx, jy) = match (col("vx"), col("vy")) {
+        (Some(x), Some(y)) => (x, y),
+        _ => {
+            return Err(format!(
+                "step {}: the dump needs vx vy [vz] columns (has {})",
+                f.step,
+                f.columns.join(" ")
+            ));
+        }
+    };
+    let jz = col("vz");
+    let d = dim.unwrap_or(match jz {
+        Some(j) if f.rows.iter().any(|r| r[j] != 0.0) => 3,
+        _ => 2,
+    });
+    if d == 3 && jz.is_none() {
+        return Err(format!("step {}: --dim 3 needs a vz column", f.step));
+    }
+    Ok((
+        f.rows
+            .iter()
+            .map(|r| {
+                let mut s = r[jx] * r[jx] + r[jy] * r[jy];
+                if d == 3
+                    && let Some(j) = jz
+                {
+                    s += r[j] * r[j];
+                }
+                s.sqrt()
+            })
+            .collect(),
+        d,
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,44 +2,6 @@
 
 use super::*;
 
-/// Speeds of one dump frame, and the dimension (given, or 2 when vz is absent or all 0).
-pub(super) fn frame_speeds(f: &DumpFrame, dim: Option<usize>) -> Result<(Vec<f64>, usize), String> {
-    let col = |n: &str| f.columns.iter().position(|c| c == n);
-    let (jx, jy) = match (col("vx"), col("vy")) {
-        (Some(x), Some(y)) => (x, y),
-        _ => {
-            return Err(format!(
-                "step {}: the dump needs vx vy [vz] columns (has {})",
-                f.step,
-                f.columns.join(" ")
-            ));
-        }
-    };
-    let jz = col("vz");
-    let d = dim.unwrap_or(match jz {
-        Some(j) if f.rows.iter().any(|r| r[j] != 0.0) => 3,
-        _ => 2,
-    });
-    if d == 3 && jz.is_none() {
-        return Err(format!("step {}: --dim 3 needs a vz column", f.step));
-    }
-    Ok((
-        f.rows
-            .iter()
-            .map(|r| {
-                let mut s = r[jx] * r[jx] + r[jy] * r[jy];
-                if d == 3
-                    && let Some(j) = jz
-                {
-                    s += r[j] * r[j];
-                }
-                s.sqrt()
-            })
-            .collect(),
-        d,
-    ))
-}
-
 /// Speed distribution against Maxwell–Boltzmann (`dpdnl analyze mb`): from `fix ave/histo`
 /// files or dumps with velocities (`files`), or from `speeds` (a list of 1-D arrays of
 /// speeds, one per frame or block).
@@ -92,7 +54,7 @@ pub(super) fn mb<'py>(
             FileKind::Dump => {
                 let frames = in_name(&name, parse_dump(&text))?;
                 for fr in frames.iter().filter(|fr| fr.step >= from_step) {
-                    let (v, d) = in_name(&name, frame_speeds(fr, dim))?;
+                    let (v, d) = in_name(&name, amb::frame_speeds(fr, dim))?;
                     dim.get_or_insert(d);
                     samples.push(v);
                 }

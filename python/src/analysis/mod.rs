@@ -11,7 +11,7 @@
 
 use crate::{AnalysisError, arr, json_to_py, read_text};
 use dpdnl::analysis::formats::{
-    FileKind, Series, detect, parse_ave_chunk, parse_ave_histo, parse_series,
+    FileKind, Series, detect, parse_ave_chunk, parse_ave_histo, parse_series, step_spacing,
 };
 use dpdnl::analysis::is_pos;
 use dpdnl::analysis::{couette as acouette, eh as aeh, mb as amb, msd as amsd, nemd as anemd};
@@ -123,55 +123,6 @@ fn series_arg(obj: &Bound<'_, PyAny>) -> PyResult<(Series, String)> {
 
 fn in_name<T>(name: &str, r: Result<T, String>) -> PyResult<T> {
     r.map_err(|e| aerr(format!("{name}: {e}")))
-}
-
-/// Keeps the rows of a series at or after `from` (analyze/mod.rs `series_from`).
-fn series_from(s: Series, from: u64) -> Series {
-    let keep: Vec<bool> = s.steps.iter().map(|&k| k >= from as f64).collect();
-    let pick = |v: &Vec<f64>| -> Vec<f64> {
-        v.iter()
-            .zip(&keep)
-            .filter(|(_, k)| **k)
-            .map(|(x, _)| *x)
-            .collect()
-    };
-    Series {
-        steps: pick(&s.steps),
-        data: s.data.iter().map(pick).collect(),
-        columns: s.columns,
-    }
-}
-
-/// The uniform step spacing of a series (analyze/mod.rs `step_spacing`).
-fn step_spacing(steps: &[f64], name: &str) -> PyResult<f64> {
-    if steps.len() < 2 {
-        return Err(aerr(format!("{name}: fewer than two samples")));
-    }
-    let d = steps[1] - steps[0];
-    if let Some(k) = steps.windows(2).position(|w| w[1] - w[0] != d) {
-        return Err(aerr(format!(
-            "{name}: samples are not equally spaced (step {} after {}, spacing {d} before)",
-            steps[k + 1],
-            steps[k]
-        )));
-    }
-    if d <= 0.0 {
-        return Err(aerr(format!("{name}: steps do not increase")));
-    }
-    Ok(d)
-}
-
-/// Columns `c_X[i]` for the given indices, for one X that has them all.
-fn indexed_columns(s: &Series, idx: &[usize]) -> Option<Vec<String>> {
-    for c in &s.columns {
-        if let Some(base) = c.strip_suffix(&format!("[{}]", idx[0])) {
-            let names: Vec<String> = idx.iter().map(|i| format!("{base}[{i}]")).collect();
-            if names.iter().all(|n| s.column_index(n).is_some()) {
-                return Some(names);
-            }
-        }
-    }
-    None
 }
 
 fn paths(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PathBuf>> {

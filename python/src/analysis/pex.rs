@@ -55,7 +55,7 @@ pub(super) fn nemd<'py>(
     let measured = match &push {
         Some(p) => {
             let (s, name) = series_arg(p)?;
-            let s = series_from(s, from_step);
+            let s = s.from_step(from_step);
             let col = match &push_col {
                 Some(c) => c.clone(),
                 None => {

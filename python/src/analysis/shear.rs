@@ -20,11 +20,12 @@ pub(super) fn couette<'py>(
     label: Option<String>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let (s, name) = series_arg(&source)?;
-    let s = series_from(s, from_step);
+    let s = s.from_step(from_step);
     let cname = match &col {
         Some(c) => c.clone(),
         None if s.column_index("pxy").is_some() => "pxy".into(),
-        None => indexed_columns(&s, &[4])
+        None => s
+            .indexed_columns(&[4])
             .map(|v| v[0].clone())
             .ok_or_else(|| {
                 aerr(format!(

@@ -27,7 +27,7 @@ pub(super) fn eh<'py>(
         return Err(aerr("box: give 2 (2-D) or 3 (3-D) lengths".into()));
     }
     let (s, name) = series_arg(&source)?;
-    let s = series_from(s, from_step);
+    let s = s.from_step(from_step);
     let dim = r#box.len();
     let names: Vec<String> = match &cols {
         Some(c) => c.clone(),
@@ -39,7 +39,7 @@ pub(super) fn eh<'py>(
             };
             if want.iter().all(|n| s.column_index(n).is_some()) {
                 want.iter().map(|n| n.to_string()).collect()
-            } else if let Some(v) = indexed_columns(&s, if dim == 2 { &[4] } else { &[4, 5, 6] }) {
+            } else if let Some(v) = s.indexed_columns(if dim == 2 { &[4] } else { &[4, 5, 6] }) {
                 v
             } else {
                 return Err(aerr(format!(
@@ -53,7 +53,7 @@ pub(super) fn eh<'py>(
         .iter()
         .map(|n| in_name(&name, s.column(n)))
         .collect::<Result<_, _>>()?;
-    let spacing = step_spacing(&s.steps, &name)?;
+    let spacing = in_name(&name, step_spacing(&s.steps))?;
     let volume: f64 = r#box.iter().product();
     let box_len = r#box.iter().copied().fold(f64::INFINITY, f64::min);
     let mut o = aeh::EhOptions::new(spacing * dt, volume, temp, box_len, density * mass);
@@ -136,7 +136,7 @@ pub(super) fn msd<'py>(
             .collect();
         let (steps, series, note) = in_name(&name, amsd::unwrapped_series(&frames, dim))?;
         let st: Vec<f64> = steps.iter().map(|&k| k as f64).collect();
-        let spacing = step_spacing(&st, &name)?;
+        let spacing = in_name(&name, step_spacing(&st))?;
         let mut r = in_name(
             &name,
             amsd::from_trajectories(&series, dim, spacing * dt, &o),
@@ -145,7 +145,7 @@ pub(super) fn msd<'py>(
         (r, name)
     } else {
         let (s, name) = series_arg(&source)?;
-        let s = series_from(s, from_step);
+        let s = s.from_step(from_step);
         let c = match &col {
             Some(c) => c.clone(),
             None => {

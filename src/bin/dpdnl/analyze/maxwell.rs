@@ -35,7 +35,7 @@ pub(super) fn run_mb(a: MbArgs) -> Result<(), String> {
             FileKind::Dump => {
                 let frames = in_file(f, parse_dump(&text))?;
                 for fr in frames.iter().filter(|fr| fr.step >= a.from) {
-                    let (v, d) = in_file(f, frame_speeds(fr, dim))?;
+                    let (v, d) = in_file(f, mb::frame_speeds(fr, dim))?;
                     dim.get_or_insert(d);
                     speeds.push(v);
                     dump_frames += 1;
@@ -204,43 +204,3 @@ pub(super) fn run_mb(a: MbArgs) -> Result<(), String> {
     print_written(&written);
     Ok(())
 }
-
-/// Speeds of one dump frame, and the dimension (given, or 2 when vz is absent or all 0).
-pub(super) fn frame_speeds(f: &DumpFrame, dim: Option<usize>) -> Result<(Vec<f64>, usize), String> {
-    let col = |n: &str| f.columns.iter().position(|c| c == n);
-    let (jx, jy) = match (col("vx"), col("vy")) {
-        (Some(x), Some(y)) => (x, y),
-        _ => {
-            return Err(format!(
-                "step {}: the dump needs vx vy [vz] columns (has {})",
-                f.step,
-                f.columns.join(" ")
-            ));
-        }
-    };
-    let jz = col("vz");
-    let d = dim.unwrap_or(match jz {
-        Some(j) if f.rows.iter().any(|r| r[j] != 0.0) => 3,
-        _ => 2,
-    });
-    if d == 3 && jz.is_none() {
-        return Err(format!("step {}: --dim 3 needs a vz column", f.step));
-    }
-    Ok((
-        f.rows
-            .iter()
-            .map(|r| {
-                let mut s = r[jx] * r[jx] + r[jy] * r[jy];
-                if d == 3
-                    && let Some(j) = jz
-                {
-                    s += r[j] * r[j];
-                }
-                s.sqrt()
-            })
-            .collect(),
-        d,
-    ))
-}
-
-// ---------------------------------------------------------------- nemd

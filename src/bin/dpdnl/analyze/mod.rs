@@ -5,7 +5,7 @@
 //! are the non-linear paper's, NL-55 … in docs/models.md.
 
 use dpdnl::analysis::formats::{
-    FileKind, Series, detect, parse_ave_chunk, parse_ave_histo, parse_series,
+    FileKind, detect, parse_ave_chunk, parse_ave_histo, parse_series, step_spacing,
 };
 use dpdnl::analysis::{couette, eh, is_pos, mb, msd, nemd};
 use dpdnl::io::dump_read::{DumpFrame, parse_dump};
@@ -358,56 +358,6 @@ fn pm(v: f64, e: f64) -> String {
 fn print_written(files: &[PathBuf]) {
     let names: Vec<String> = files.iter().map(|p| p.display().to_string()).collect();
     println!("wrote {}", names.join(", "));
-}
-
-/// Keeps the rows of a series at or after `from`.
-fn series_from(s: Series, from: u64) -> Series {
-    let keep: Vec<bool> = s.steps.iter().map(|&k| k >= from as f64).collect();
-    let pick = |v: &Vec<f64>| -> Vec<f64> {
-        v.iter()
-            .zip(&keep)
-            .filter(|(_, k)| **k)
-            .map(|(x, _)| *x)
-            .collect()
-    };
-    Series {
-        steps: pick(&s.steps),
-        data: s.data.iter().map(pick).collect(),
-        columns: s.columns,
-    }
-}
-
-/// The uniform step spacing of a series.
-fn step_spacing(steps: &[f64], path: &Path) -> Result<f64, String> {
-    if steps.len() < 2 {
-        return Err(format!("{}: fewer than two samples", path.display()));
-    }
-    let d = steps[1] - steps[0];
-    if let Some(k) = steps.windows(2).position(|w| w[1] - w[0] != d) {
-        return Err(format!(
-            "{}: samples are not equally spaced (step {} after {}, spacing {d} before)",
-            path.display(),
-            steps[k + 1],
-            steps[k]
-        ));
-    }
-    if d <= 0.0 {
-        return Err(format!("{}: steps do not increase", path.display()));
-    }
-    Ok(d)
-}
-
-/// Columns `c_X[i]` for the given indices, for one X that has them all.
-fn indexed_columns(s: &Series, idx: &[usize]) -> Option<Vec<String>> {
-    for c in &s.columns {
-        if let Some(base) = c.strip_suffix(&format!("[{}]", idx[0])) {
-            let names: Vec<String> = idx.iter().map(|i| format!("{base}[{i}]")).collect();
-            if names.iter().all(|n| s.column_index(n).is_some()) {
-                return Some(names);
-            }
-        }
-    }
-    None
 }
 
 // ---------------------------------------------------------------- mb

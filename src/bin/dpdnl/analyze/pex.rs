@@ -34,7 +34,7 @@ pub(super) fn run_nemd(a: NemdArgs) -> Result<(), String> {
         a.dp.map(|dp| nemd::pex_stress_nominal(dp, a.every, a.dt, ly, lz));
     let measured = match &a.push {
         Some(p) => {
-            let s = series_from(in_file(p, parse_series(&read(p)?))?, a.from);
+            let s = in_file(p, parse_series(&read(p)?))?.from_step(a.from);
             let name = match &a.push_col {
                 Some(c) => c.clone(),
                 None => {

@@ -3,11 +3,12 @@
 use super::*;
 
 pub(super) fn run_couette(a: CouetteArgs) -> Result<(), String> {
-    let s = series_from(in_file(&a.file, parse_series(&read(&a.file)?))?, a.from);
+    let s = in_file(&a.file, parse_series(&read(&a.file)?))?.from_step(a.from);
     let name = match &a.col {
         Some(c) => c.clone(),
         None if s.column_index("pxy").is_some() => "pxy".into(),
-        None => indexed_columns(&s, &[4])
+        None => s
+            .indexed_columns(&[4])
             .map(|v| v[0].clone())
             .ok_or(format!(
                 "{}: no pxy column (columns: {}); give --col",

@@ -3,7 +3,7 @@
 use super::*;
 
 pub(super) fn run_eh(a: EhArgs) -> Result<(), String> {
-    let s = series_from(in_file(&a.file, parse_series(&read(&a.file)?))?, a.from);
+    let s = in_file(&a.file, parse_series(&read(&a.file)?))?.from_step(a.from);
     let dim = a.r#box.len();
     let names: Vec<String> = match &a.cols {
         Some(c) => c.clone(),
@@ -15,7 +15,7 @@ pub(super) fn run_eh(a: EhArgs) -> Result<(), String> {
             };
             if want.iter().all(|n| s.column_index(n).is_some()) {
                 want.iter().map(|n| n.to_string()).collect()
-            } else if let Some(v) = indexed_columns(&s, if dim == 2 { &[4] } else { &[4, 5, 6] }) {
+            } else if let Some(v) = s.indexed_columns(if dim == 2 { &[4] } else { &[4, 5, 6] }) {
                 v
             } else {
                 return Err(format!(
@@ -30,7 +30,7 @@ pub(super) fn run_eh(a: EhArgs) -> Result<(), String> {
         .iter()
         .map(|n| in_file(&a.file, s.column(n)))
         .collect::<Result<_, _>>()?;
-    let spacing = step_spacing(&s.steps, &a.file)?;
+    let spacing = in_file(&a.file, step_spacing(&s.steps))?;
     let volume: f64 = a.r#box.iter().product();
     let box_len = a.r#box.iter().copied().fold(f64::INFINITY, f64::min);
     let mut o = eh::EhOptions::new(spacing * a.dt, volume, a.temp, box_len, a.density * a.mass);
@@ -151,7 +151,7 @@ pub(super) fn run_msd(a: MsdArgs) -> Result<(), String> {
             .collect();
         let (steps, series, note) = in_file(&a.file, msd::unwrapped_series(&frames, a.dim))?;
         let st: Vec<f64> = steps.iter().map(|&k| k as f64).collect();
-        let spacing = step_spacing(&st, &a.file)?;
+        let spacing = in_file(&a.file, step_spacing(&st))?;
         let mut r = in_file(
             &a.file,
             msd::from_trajectories(&series, a.dim, spacing * a.dt, &o),
@@ -159,7 +159,7 @@ pub(super) fn run_msd(a: MsdArgs) -> Result<(), String> {
         r.method = format!("{} ({note})", r.method);
         r
     } else {
-        let s = series_from(in_file(&a.file, parse_series(&text))?, a.from);
+        let s = in_file(&a.file, parse_series(&text))?.from_step(a.from);
         let name = match &a.col {
             Some(c) => c.clone(),
             None => {
