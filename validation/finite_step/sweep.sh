@@ -27,9 +27,16 @@ for n in $densities; do
         -e "s/^variable        steps .*/variable steps equal $steps/" \
         "$root/examples/finite_step/in.euler2d" > "$work/in.sweep"
     t0=$(date +%s.%N)
-    "$dpdnl" run "$work/in.sweep" -var dt "$dt" -var n "$n" -var L "$L" -log none > "$work/out.txt"
+    if "$dpdnl" run "$work/in.sweep" -var dt "$dt" -var n "$n" -var L "$L" -log none \
+        > "$work/out.txt" 2> "$work/err.txt"; then
+      read -r T E < <(awk '/^ *Temp = /{print $3, $5}' "$work/out.txt")
+    elif grep -q 'blow-up at step' "$work/err.txt"; then
+      # The engine's blow-up check stopped a run-away point: T is recorded as inf.
+      T=inf; E=nan
+    else
+      cat "$work/err.txt" >&2; exit 1
+    fi
     t1=$(date +%s.%N)
-    read -r T E < <(awk '/^ *Temp = /{print $3, $5}' "$work/out.txt")
     N=$(python3 -c "print(round($n*$L*$L))")
     python3 - "$n" "$dt" "$f" "$N" "$steps" "$T" "$E" "$pred" "$t0" "$t1" >> "$out" <<'PY'
 import math, sys
