@@ -39,7 +39,7 @@ echo "== the same plugin as a CMake project (lammps-plugin/CMakeLists.txt) again
 bash lammps-plugin/tests/cmake-plugin.sh
 echo "== cargo test (workspace; cross-engine golden tests require build/lmp_dpdnl and the plugin)"
 DPDNL_REQUIRE_LAMMPS=1 DPDNL_REQUIRE_PLUGIN=1 cargo test --workspace
-echo "== LAMMPS shim tests (newton on/off, 1 vs 2 ranks, restart, errors)"
+echo "== LAMMPS shim tests (newton on/off, 1, 2, 3 and 4 ranks, restart, errors)"
 bash lammps-plugin/tests/run.sh
 echo "== plugin tests in LAMMPS 22Jul2025 (the same, plus plugin load/unload, Python, examples)"
 bash lammps-plugin/tests/run-plugin.sh
