@@ -151,8 +151,13 @@ pub fn pair_coeff<S: AsRef<str>>(
     };
     need(args, if targets { 7 } else { 5 }, usage)?;
     let word = |k: usize| args[k].as_ref();
-    let i = type_range(word(0), ntypes)?;
-    let j = type_range(word(1), ntypes)?;
+    let mut i = type_range(word(0), ntypes)?;
+    let mut j = type_range(word(1), ntypes)?;
+    // As LAMMPS (since 2022): two plain type numbers with J < I are read as `J I`.
+    let plain = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
+    if plain(word(0)) && plain(word(1)) && j.0 < i.0 {
+        std::mem::swap(&mut i, &mut j);
+    }
     let a = parse_f64(word(2), "a")?;
     let (coeff, targets) = if targets {
         if word(5) != "sc" {
@@ -209,12 +214,21 @@ pub fn pair_coeff<S: AsRef<str>>(
             coeff.gamma1
         ));
     }
-    Ok(DpdCoeffLine {
+    let line = DpdCoeffLine {
         i,
         j,
         coeff,
         targets,
-    })
+    };
+    if line.pairs().next().is_none() {
+        // As LAMMPS: pairs are set for I <= J only, so `pair_coeff 2* 1` sets nothing.
+        return Err(format!(
+            "types '{}' '{}' set no type pair (pairs are I <= J)",
+            shown(word(0)),
+            shown(word(1))
+        ));
+    }
+    Ok(line)
 }
 
 #[cfg(test)]
