@@ -34,7 +34,7 @@ using namespace LAMMPS_NS;
 static_assert(sizeof(tagint) == sizeof(int32_t), "dpd/nonlinear needs 32-bit tags (LAMMPS_SMALLBIG)");
 
 PairDPDNonlinear::PairDPDNonlinear(LAMMPS *lmp) :
-    Pair(lmp), style(), cut_global(0.0), a0(nullptr), gamma0(nullptr), gamma1(nullptr), cut(nullptr), eta_t(nullptr),
+    Pair(lmp), style(), a0(nullptr), gamma0(nullptr), gamma1(nullptr), cut(nullptr), eta_t(nullptr),
     sc_t(nullptr), params(nullptr)
 {
   writedata = 1;
@@ -86,13 +86,12 @@ void PairDPDNonlinear::settings(int narg, char **arg)
 {
   if (dpdnl_parse_pair_style(narg, arg, &style) != DPDNL_STATUS_OK)
     rust_error("Illegal pair_style dpd/nonlinear command");
-  cut_global = style.rc;
 
   // As other pair styles do: a new pair_style resets explicitly set cutoffs to the global one.
   if (allocated) {
     for (int i = 1; i <= atom->ntypes; i++)
       for (int j = i; j <= atom->ntypes; j++)
-        if (setflag[i][j]) cut[i][j] = cut_global;
+        if (setflag[i][j]) cut[i][j] = style.rc;
   }
 }
 
@@ -219,7 +218,7 @@ void PairDPDNonlinear::euler_check()
     if (strcmp(modify->fix[k]->style, "nve/euler") == 0) euler = true;
   if (!euler || atom->natoms == 0) return;
   const int ntypes = atom->ntypes;
-  double gmax = -1.0, rc = cut_global, mass = 0.0;
+  double gmax = -1.0, rc = style.rc, mass = 0.0;
   bool conservative = false;
   for (int i = 1; i <= ntypes; i++)
     for (int j = i; j <= ntypes; j++) {
@@ -333,7 +332,7 @@ void PairDPDNonlinear::write_restart_settings(FILE *fp)
 {
   const bigint seed = style.seed;
   fwrite(&style.kt, sizeof(double), 1, fp);
-  fwrite(&cut_global, sizeof(double), 1, fp);
+  fwrite(&style.rc, sizeof(double), 1, fp);
   fwrite(&seed, sizeof(bigint), 1, fp);
   fwrite(&style.weight_s, sizeof(double), 1, fp);
   write_string(fp, dpdnl_model_keyword(0, style.friction));
@@ -344,23 +343,23 @@ void PairDPDNonlinear::write_restart_settings(FILE *fp)
 void PairDPDNonlinear::read_restart_settings(FILE *fp)
 {
   const int me = comm->me;
-  double kt = 0.0, s = 0.0;
+  double kt = 0.0, rc = 0.0, s = 0.0;
   bigint seed = 0;
   if (me == 0) {
     utils::sfread(FLERR, &kt, sizeof(double), 1, fp, nullptr, error);
-    utils::sfread(FLERR, &cut_global, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &rc, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, &seed, sizeof(bigint), 1, fp, nullptr, error);
     utils::sfread(FLERR, &s, sizeof(double), 1, fp, nullptr, error);
   }
   MPI_Bcast(&kt, 1, MPI_DOUBLE, 0, world);
-  MPI_Bcast(&cut_global, 1, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&rc, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&seed, 1, MPI_LMP_BIGINT, 0, world);
   MPI_Bcast(&s, 1, MPI_DOUBLE, 0, world);
   const std::string friction = read_string(fp, me, world, error);
   const std::string noise = read_string(fp, me, world, error);
   char buf[4][32];
   snprintf(buf[0], sizeof(buf[0]), "%.17g", kt);
-  snprintf(buf[1], sizeof(buf[1]), "%.17g", cut_global);
+  snprintf(buf[1], sizeof(buf[1]), "%.17g", rc);
   snprintf(buf[2], sizeof(buf[2]), BIGINT_FORMAT, seed);
   snprintf(buf[3], sizeof(buf[3]), "%.17g", s);
   const char *words[9] = {buf[0],     buf[1],  buf[2], "friction", friction.c_str(),

@@ -40,9 +40,9 @@ class PairDPDNonlinear : public Pair {
   void write_data_all(FILE *) override;
 
  protected:
-  // pair_style settings, parsed and validated by the Rust side (dpdnl_parse_pair_style).
+  // pair_style settings, parsed and validated by the Rust side (dpdnl_parse_pair_style); the
+  // global cut-off is style.rc.
   DpdnlPairStyle style;
-  double cut_global;
 
   // pair_coeff values per type pair (1-based), kept for init_one, restart and write_data.
   double **a0, **gamma0, **gamma1, **cut;
