@@ -9,7 +9,7 @@
 mod common;
 mod plugin_support;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 struct Case {
@@ -101,21 +101,6 @@ fn check(label: &str, engine: &str, v: &Verdict, expect: &Option<String>, bad: &
     }
 }
 
-fn lmp_dpdnl() -> Option<PathBuf> {
-    let p = plugin_support::root().join("build/lmp_dpdnl");
-    if p.is_file() {
-        return Some(p);
-    }
-    if std::env::var_os("DPDNL_REQUIRE_LAMMPS").is_some() {
-        panic!("DPDNL_REQUIRE_LAMMPS is set but {} is missing", p.display());
-    }
-    eprintln!(
-        "SKIPPED: the LAMMPS half of the bad-input table ({} missing)",
-        p.display()
-    );
-    None
-}
-
 #[test]
 fn same_verdict_and_message_in_both_engines() {
     let root = plugin_support::root();
@@ -127,7 +112,7 @@ fn same_verdict_and_message_in_both_engines() {
         cases.len()
     );
     let tmp = std::env::temp_dir().join(format!("dpdnl-bad-input-{}", std::process::id()));
-    let shim = lmp_dpdnl();
+    let shim = plugin_support::lmp_dpdnl("the LAMMPS half of the bad-input table");
     let plugin = plugin_support::find();
     let mut bad = Vec::new();
     let (mut refused, mut accepted) = (0, 0);

@@ -7,29 +7,17 @@
 //! Without `build/lmp_dpdnl` (build: `bash lammps-plugin/build.sh`) the test prints a skip
 //! message and passes, unless DPDNL_REQUIRE_LAMMPS is set, in which case it fails.
 
+mod plugin_support;
+
 use dpdnl::io::dump_read::{DumpFrame, parse_dump};
 use dpdnl::io::lammps_log::{Tolerance, compare_dumps_exact, compare_exact_logs, parse_log};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use plugin_support::root;
 
 fn lmp() -> Option<PathBuf> {
-    let p = root().join("build/lmp_dpdnl");
-    if p.is_file() {
-        return Some(p);
-    }
-    let msg = format!(
-        "{} not found (build it with `bash lammps-plugin/build.sh`)",
-        p.display()
-    );
-    if std::env::var_os("DPDNL_REQUIRE_LAMMPS").is_some() {
-        panic!("DPDNL_REQUIRE_LAMMPS is set but {msg}");
-    }
-    eprintln!("SKIPPED: cross-engine tests: {msg}");
-    None
+    plugin_support::lmp_dpdnl("cross-engine tests")
 }
 
 fn cases() -> Vec<PathBuf> {

@@ -191,7 +191,6 @@ impl LeWork {
         let (x, v, typ, tag) = (&a.x, &a.v, &a.typ, &a.tag);
         let f = &mut a.f;
         let bt = &mut w.batcher;
-        bt.batch.len = 0;
         // f_i += F, f_j −= F, W_ab += r_a F_b: the same operations as the periodic engine's
         // `neighbor::flush`.
         let mut apply = |b: &PairBatch, l: usize, i: usize, j: usize| {

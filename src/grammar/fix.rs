@@ -1,7 +1,7 @@
 //! The fixes this project defines (`fix nve/euler`, `fix pex/push`; docs/fixes.md), and
 //! `fix nve`, whose words the standalone engine checks the same way.
 
-use super::{INT_MAX, StyleSpec, at_most, keywords, need, parse_f64, parse_int_in, shown};
+use super::{INT_MAX, StyleSpec, keywords, need, parse_f64, parse_int_in, shown};
 
 /// `fix ID group nve`.
 pub const NVE: StyleSpec = StyleSpec {
@@ -30,13 +30,14 @@ pub const PEX_PUSH: StyleSpec = StyleSpec {
 /// Check `fix ID group nve` or `nve/euler` (`args` after the style name): no arguments.
 pub fn integrator<S: AsRef<str>>(style: &str, args: &[S]) -> Result<(), String> {
     let spec = if style == "nve" { NVE } else { NVE_EULER };
-    at_most(args, 0, spec.usage).map_err(|_| {
-        format!(
+    match args.first() {
+        Some(extra) => Err(format!(
             "fix {style} takes no arguments, found '{}'; usage: {}",
-            shown(args[0].as_ref()),
+            shown(extra.as_ref()),
             spec.usage
-        )
-    })
+        )),
+        None => Ok(()),
+    }
 }
 
 /// The arguments of `fix pex/push`.

@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+#[allow(dead_code)]
 pub struct PluginLammps {
     /// The `lmp` executable (the wheel's is a Python launcher that finds its MPI library).
     pub lmp: PathBuf,
@@ -29,6 +30,26 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// `build/lmp_dpdnl` (Debian's LAMMPS with this project's styles, `lammps-plugin/build.sh`), or
+/// None with a SKIPPED note for `what`; a panic when DPDNL_REQUIRE_LAMMPS is set (CI).
+#[allow(dead_code)] // used by some of the tests that include this module
+pub fn lmp_dpdnl(what: &str) -> Option<PathBuf> {
+    let p = root().join("build/lmp_dpdnl");
+    if p.is_file() {
+        return Some(p);
+    }
+    let msg = format!(
+        "{} not found (build it with `bash lammps-plugin/build.sh`)",
+        p.display()
+    );
+    if std::env::var_os("DPDNL_REQUIRE_LAMMPS").is_some() {
+        panic!("DPDNL_REQUIRE_LAMMPS is set but {msg}");
+    }
+    eprintln!("SKIPPED: {what}: {msg}");
+    None
+}
+
+#[allow(dead_code)] // used by the plugin tests, not by every test that includes this module
 pub fn find() -> Option<PluginLammps> {
     let lmp = std::env::var_os("DPDNL_PLUGIN_LMP")
         .map(PathBuf::from)

@@ -311,9 +311,7 @@ impl<'c> Interpreter<'c> {
             }
             self.command(cmd, args).map_err(|m| err(cmd, m))?;
         }
-        if let Some(l) = self.log.as_mut() {
-            let _ = l.flush();
-        }
+        self.flush_outputs();
         Ok(())
     }
 

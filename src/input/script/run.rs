@@ -209,9 +209,7 @@ impl Interpreter<'_> {
             if last_progress.elapsed().as_secs_f64() > 1.0 {
                 last_progress = Instant::now();
                 self.console.get().progress(step, first, last);
-                if let Some(l) = self.log.as_mut() {
-                    let _ = l.flush();
-                }
+                self.flush_outputs();
             }
             if self.console.get().interrupted() {
                 return Err(self.interrupted_at(step));
@@ -230,9 +228,7 @@ impl Interpreter<'_> {
                 steps_per_s * natoms as f64 / 1000.0
             ));
         }
-        if let Some(l) = self.log.as_mut() {
-            let _ = l.flush();
-        }
+        self.flush_outputs();
         Ok(())
     }
 
@@ -244,7 +240,7 @@ impl Interpreter<'_> {
     }
 
     /// Flush the log (dumps and averaging files are flushed as each record is written).
-    fn flush_outputs(&mut self) {
+    pub(super) fn flush_outputs(&mut self) {
         if let Some(l) = self.log.as_mut() {
             let _ = l.flush();
         }
