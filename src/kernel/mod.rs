@@ -591,6 +591,7 @@ pub fn exp(x: f64) -> f64 {
 
 mod batch;
 pub use batch::*;
+pub mod sdpd;
 
 #[cfg(test)]
 mod tests {
