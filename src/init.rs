@@ -65,29 +65,32 @@ pub fn resolve_design(
     })
 }
 
-/// Check that every designed pair implies the same weight exponent (it is global in
-/// `pair_style dpd/nonlinear`). `designs` holds (pair label, s); `current` is the pair style's
-/// exponent. Returns the common s and, when it differs from `current`, the line to log.
+/// Check that every designed pair implies the same exponent (it is global in `pair_style
+/// dpd/nonlinear`'s weight and `pair_style sdpd`'s kernel; `style` names the style).
+/// `designs` holds (pair label, s); `current` is the pair style's exponent. Returns the common
+/// s and, when it differs from `current`, the line to log.
 pub fn common_exponent(
+    style: &str,
     designs: &[(String, f64)],
     current: f64,
 ) -> Result<Option<(f64, Option<String>)>, String> {
+    let what = if style == "sdpd" { "kernel" } else { "weight" };
     let Some((first_label, s0)) = designs.first() else {
         return Ok(None);
     };
     for (label, s) in &designs[1..] {
         if (s - s0).abs() > 1e-12 * s0.abs().max(1.0) {
             return Err(format!(
-                "the (eta, sc) targets of pairs {first_label} and {label} need different weight \
-                 exponents (s = {s0} and s = {s}), but the weight exponent of pair_style \
-                 dpd/nonlinear is one for all pairs: give every pair the same targets and cut-off, \
-                 or set gamma0 explicitly"
+                "the (eta, sc) targets of pairs {first_label} and {label} need different {what} \
+                 exponents (s = {s0} and s = {s}), but the {what} exponent of pair_style \
+                 {style} is one for all pairs: give every pair the same targets and cut-off, \
+                 or set the coefficients explicitly"
             ));
         }
     }
     let note = (current != *s0).then(|| {
         format!(
-            "pair_style dpd/nonlinear: weight exponent s = {s0:.10} from the (eta, sc) design \
+            "pair_style {style}: {what} exponent s = {s0:.10} from the (eta, sc) design \
              replaces {current} for every pair"
         )
     });

@@ -108,7 +108,7 @@ pub unsafe extern "C" fn dpdnl_common_exponent(
                 designs.push((format!("{} {}", it[k], jt[k]), sv[k]));
             }
         }
-        let (value, note) = dpdnl::init::common_exponent(&designs, current)
+        let (value, note) = dpdnl::init::common_exponent("dpd/nonlinear", &designs, current)
             .map_err(Error::invalid)?
             .unwrap_or((current, None));
         // SAFETY: non-null and valid for writing by the caller's contract.

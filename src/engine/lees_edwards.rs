@@ -30,7 +30,8 @@ use super::atoms::Atoms;
 use super::domain::{LeesEdwards, SimBox};
 use super::forcefield::ForceField;
 use super::neighbor::PairTally;
-use super::pair::{Batcher, DpdKernel, lane_force};
+use super::pair::{Batcher, DpdKernel, PairKernel, lane_force};
+use super::sdpd::SdpdField;
 use crate::kernel::{self, Isa, PairBatch, PairCoeff, PairTable};
 
 /// `fix ID all deform N xy erate R remap v [flip yes|no]`.
@@ -167,15 +168,7 @@ impl LeWork {
         dt: f64,
         step: u64,
     ) -> PairTally {
-        tri.set_step(bx, dt, step);
-        let le = tri.le;
-        for ((x, v), im) in a.x.iter_mut().zip(a.v.iter_mut()).zip(a.image.iter_mut()) {
-            bx.wrap_le(x, v, im, &le);
-        }
-        let rc_max = ff.rc_max();
-        let w = self;
-        build_cells(w, bx, &le, &a.x, rc_max);
-        let nt = ff.ntypes() + 1;
+        let le = self.prepare(tri, bx, a, ff.rc_max(), dt, step);
         let table = PairTable::new(&ff.model, coeffs);
         let kernel = DpdKernel {
             model: &ff.model,
@@ -184,13 +177,124 @@ impl LeWork {
             isa: Isa::detect(),
         };
         let rcsq: Vec<f64> = coeffs.iter().map(|c| c.rc * c.rc).collect();
+        self.force_pass(bx, &le, a, &kernel, &rcsq, ff.ntypes() + 1, inv_mass, step)
+    }
+
+    /// `pair_style sdpd` under Lees–Edwards: the wrap and cells of [`LeWork::compute_forces`],
+    /// the density pass over the same pairs, then the force pass with [`SdpdField::kernel`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn compute_sdpd(
+        &mut self,
+        tri: &mut Triclinic,
+        bx: &SimBox,
+        a: &mut Atoms,
+        sd: &mut SdpdField,
+        inv_mass: &[f64],
+        dt: f64,
+        step: u64,
+    ) -> PairTally {
+        let le = self.prepare(tri, bx, a, sd.rc_max(), dt, step);
+        let nt = sd.ntypes() + 1;
+        let rcsq = sd.rcsq().to_vec();
+        let mut dens = std::mem::take(&mut sd.density);
+        dens.clear();
+        dens.resize(a.len(), 0.0);
+        self.for_each_pair(bx, &le, &a.x, &a.typ, nt, &rcsq, |i, j, dr, _, k| {
+            let w = sd.w_pair(k, kernel::dot(dr, dr));
+            dens[i] += w;
+            dens[j] += w;
+        });
+        sd.density = dens;
+        sd.finish_densities(&a.typ, &a.tag);
+        let mut tally = self.force_pass(bx, &le, a, &sd.kernel(), &rcsq, nt, inv_mass, step);
+        tally.energy += sd.energy;
+        tally
+    }
+
+    /// Set the tilt of `step`, wrap the atoms and sort them into cells of side ≥ `rc_max`.
+    fn prepare(
+        &mut self,
+        tri: &mut Triclinic,
+        bx: &SimBox,
+        a: &mut Atoms,
+        rc_max: f64,
+        dt: f64,
+        step: u64,
+    ) -> LeesEdwards {
+        tri.set_step(bx, dt, step);
+        let le = tri.le;
+        for ((x, v), im) in a.x.iter_mut().zip(a.v.iter_mut()).zip(a.image.iter_mut()) {
+            bx.wrap_le(x, v, im, &le);
+        }
+        build_cells(self, bx, &le, &a.x, rc_max);
+        le
+    }
+
+    /// Every pair (i, j > i) within the cut-off of its type pair, once, in a fixed order:
+    /// `visit(i, j, r_ij, Δv_x, k)` with the Lees–Edwards minimum image r_ij, the boundary
+    /// velocity jump Δv_x to add to v_ij (domain.rs `min_image_le`) and the dense type-pair
+    /// index k.
+    #[allow(clippy::too_many_arguments)]
+    fn for_each_pair(
+        &self,
+        bx: &SimBox,
+        le: &LeesEdwards,
+        x: &[[f64; 3]],
+        typ: &[u32],
+        nt: usize,
+        rcsq: &[f64],
+        mut visit: impl FnMut(usize, usize, [f64; 3], f64, usize),
+    ) {
+        let w = self;
+        let ncells = w.cell_start.len() - 1;
+        for c in 0..ncells {
+            let (s0, s1) = (w.stencil_start[c] as usize, w.stencil_start[c + 1] as usize);
+            for ia in w.cell_start[c]..w.cell_start[c + 1] {
+                let i = w.cell_atoms[ia as usize] as usize;
+                let (xi, ti) = (x[i], typ[i] as usize);
+                for &cn in &w.stencil[s0..s1] {
+                    let cn = cn as usize;
+                    for ja in w.cell_start[cn]..w.cell_start[cn + 1] {
+                        let j = w.cell_atoms[ja as usize] as usize;
+                        if j <= i {
+                            continue;
+                        }
+                        let k = ti * nt + typ[j] as usize;
+                        let d = [xi[0] - x[j][0], xi[1] - x[j][1], xi[2] - x[j][2]];
+                        let (dr, dvx) = bx.min_image_le(d, le);
+                        let rsq = kernel::dot(dr, dr);
+                        if !(rsq < rcsq[k]
+                            && rsq >= kernel::MIN_PAIR_DISTANCE * kernel::MIN_PAIR_DISTANCE)
+                        {
+                            continue;
+                        }
+                        visit(i, j, dr, dvx, k);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The pair forces of `kernel` over [`LeWork::for_each_pair`]'s pairs, into `a.f`.
+    #[allow(clippy::too_many_arguments)]
+    fn force_pass(
+        &mut self,
+        bx: &SimBox,
+        le: &LeesEdwards,
+        a: &mut Atoms,
+        kernel: &dyn PairKernel,
+        rcsq: &[f64],
+        nt: usize,
+        inv_mass: &[f64],
+        step: u64,
+    ) -> PairTally {
         for f in a.f.iter_mut() {
             *f = [0.0; 3];
         }
         let mut tally = PairTally::default();
         let (x, v, typ, tag) = (&a.x, &a.v, &a.typ, &a.tag);
         let f = &mut a.f;
-        let bt = &mut w.batcher;
+        let mut bt = std::mem::take(&mut self.batcher);
         // f_i += F, f_j −= F, W_ab += r_a F_b: the same operations as the periodic engine's
         // `neighbor::flush`.
         let mut apply = |b: &PairBatch, l: usize, i: usize, j: usize| {
@@ -201,50 +305,27 @@ impl LeWork {
             }
             tally.add_pair(dr, fv, b.energy[l]);
         };
-        let ncells = w.cell_start.len() - 1;
-        for c in 0..ncells {
-            let (s0, s1) = (w.stencil_start[c] as usize, w.stencil_start[c + 1] as usize);
-            for ia in w.cell_start[c]..w.cell_start[c + 1] {
-                let i = w.cell_atoms[ia as usize] as usize;
-                let (xi, vi, ti) = (x[i], v[i], typ[i] as usize);
-                for &cn in &w.stencil[s0..s1] {
-                    let cn = cn as usize;
-                    for ja in w.cell_start[cn]..w.cell_start[cn + 1] {
-                        let j = w.cell_atoms[ja as usize] as usize;
-                        if j <= i {
-                            continue;
-                        }
-                        let k = ti * nt + typ[j] as usize;
-                        let d = [xi[0] - x[j][0], xi[1] - x[j][1], xi[2] - x[j][2]];
-                        let (dr, dvx) = bx.min_image_le(d, &le);
-                        let rsq = kernel::dot(dr, dr);
-                        if !(rsq < rcsq[k]
-                            && rsq >= kernel::MIN_PAIR_DISTANCE * kernel::MIN_PAIR_DISTANCE)
-                        {
-                            continue;
-                        }
-                        let vj = v[j];
-                        let l = bt.lane();
-                        let b = &mut *bt.batch;
-                        for q in 0..3 {
-                            b.dr[q][l] = dr[q];
-                        }
-                        // v_ij with the boundary velocity jump (domain.rs `min_image_le`).
-                        b.dv[0][l] = vi[0] - vj[0] + dvx;
-                        b.dv[1][l] = vi[1] - vj[1];
-                        b.dv[2][l] = vi[2] - vj[2];
-                        b.inv_mass_sum[l] = inv_mass[ti] + inv_mass[typ[j] as usize];
-                        b.coeff[l] = k as u32;
-                        b.tag_i[l] = tag[i];
-                        b.tag_j[l] = tag[j];
-                        if bt.commit(i as u32, j as u32, true) {
-                            bt.flush(&kernel, step, |_, _, _, _| {}, &mut apply);
-                        }
-                    }
-                }
+        self.for_each_pair(bx, le, x, typ, nt, rcsq, |i, j, dr, dvx, k| {
+            let (vi, vj) = (v[i], v[j]);
+            let l = bt.lane();
+            let b = &mut *bt.batch;
+            for q in 0..3 {
+                b.dr[q][l] = dr[q];
             }
-        }
-        bt.flush(&kernel, step, |_, _, _, _| {}, &mut apply);
+            // v_ij with the boundary velocity jump (domain.rs `min_image_le`).
+            b.dv[0][l] = vi[0] - vj[0] + dvx;
+            b.dv[1][l] = vi[1] - vj[1];
+            b.dv[2][l] = vi[2] - vj[2];
+            b.inv_mass_sum[l] = inv_mass[typ[i] as usize] + inv_mass[typ[j] as usize];
+            b.coeff[l] = k as u32;
+            b.tag_i[l] = tag[i];
+            b.tag_j[l] = tag[j];
+            if bt.commit(i as u32, j as u32, true) {
+                bt.flush(kernel, step, |_, _, _, _| {}, &mut apply);
+            }
+        });
+        bt.flush(kernel, step, |_, _, _, _| {}, &mut apply);
+        self.batcher = bt;
         tally
     }
 }

@@ -10,6 +10,7 @@ pub mod lees_edwards;
 pub mod measure;
 pub mod neighbor;
 pub mod pair;
+pub mod sdpd;
 
 pub use atoms::Atoms;
 pub use domain::SimBox;
@@ -57,8 +58,11 @@ pub struct System {
     pub ntypes: usize,
     /// Per-type masses (index 0 unused).
     pub mass: Vec<Option<f64>>,
-    /// The pair style, once defined.
+    /// The pair style `dpd/nonlinear`, once defined (at most one of `ff` and `sdpd` is set:
+    /// a `pair_style` command replaces the other).
     pub ff: Option<ForceField>,
+    /// The pair style `sdpd`, once defined.
+    pub sdpd: Option<sdpd::SdpdField>,
     /// Neighbour list.
     pub neighbor: NeighborList,
     /// Time step.
@@ -121,6 +125,7 @@ impl System {
             ntypes,
             mass: vec![None; ntypes + 1],
             ff: None,
+            sdpd: None,
             neighbor: NeighborList::new(0.3),
             dt: 0.005,
             step: 0,
@@ -148,14 +153,6 @@ impl System {
     /// Check everything a run needs and evaluate the forces of the current step (LAMMPS's
     /// `Verlet::setup`: forces are keyed with the current step).
     pub fn setup(&mut self) -> Result<(), String> {
-        let Some(ff) = self.ff.as_mut() else {
-            return Err("no pair style defined (pair_style dpd/nonlinear …)".into());
-        };
-        if let Some((i, j)) = ff.missing() {
-            return Err(format!(
-                "pair coefficients for types {i} {j} are not set (pair_coeff)"
-            ));
-        }
         for t in 1..=self.ntypes {
             if self.mass[t].is_none() {
                 return Err(format!("mass of atom type {t} is not set (mass)"));
@@ -164,9 +161,50 @@ impl System {
         if !(self.dt.is_finite() && self.dt > 0.0) {
             return Err(format!("timestep {} must be > 0", self.dt));
         }
+        self.setup_notes.clear();
+        let rc_max = if self.sdpd.is_some() {
+            self.setup_sdpd()?
+        } else {
+            self.setup_dpd()?
+        };
+        for p in &self.pex {
+            crate::grammar::fix::pex_box_check(p.width, self.bx.len()[0], self.tri.is_some(), true)
+                .map_err(|e| format!("fix {} pex/push: {e}", p.id))?;
+        }
+        crate::init::check_box_images(self.bx.len(), [true; 3], self.bx.dim, rc_max)?;
+        self.inv_mass = self
+            .mass
+            .iter()
+            .map(|m| m.map_or(0.0, |m| 1.0 / m))
+            .collect();
+        if self.dim() == 2 {
+            for (x, v) in self.atoms.x.iter_mut().zip(self.atoms.v.iter_mut()) {
+                x[2] = 0.0;
+                v[2] = 0.0;
+            }
+        }
+        if let Some(t) = self.tri.as_mut() {
+            t.start_run(self.step);
+        } else {
+            self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
+        }
+        self.compute_forces();
+        Ok(())
+    }
+
+    /// The `dpd/nonlinear` part of [`System::setup`]: coefficients complete, (η, Sc) targets
+    /// resolved, the Euler warning, the dense table. Returns the largest cut-off.
+    fn setup_dpd(&mut self) -> Result<f64, String> {
+        let Some(ff) = self.ff.as_mut() else {
+            return Err("no pair style defined (pair_style dpd/nonlinear … or sdpd …)".into());
+        };
+        if let Some((i, j)) = ff.missing() {
+            return Err(format!(
+                "pair coefficients for types {i} {j} are not set (pair_coeff)"
+            ));
+        }
         let dim = self.bx.dim as u32;
         let density = self.atoms.len() as f64 / self.bx.volume();
-        self.setup_notes.clear();
         let masses: Vec<f64> = self.mass.iter().flatten().copied().collect();
         let m_min = masses.iter().copied().fold(f64::INFINITY, f64::min);
         if ff.has_targets() {
@@ -187,32 +225,31 @@ impl System {
         {
             self.setup_notes.push(SetupNote::Warning(w));
         }
-        for p in &self.pex {
-            crate::grammar::fix::pex_box_check(p.width, self.bx.len()[0], self.tri.is_some(), true)
-                .map_err(|e| format!("fix {} pex/push: {e}", p.id))?;
-        }
         ff.model.set_timestep(self.dt);
-        let rc_max = ff.rc_max();
-        crate::init::check_box_images(self.bx.len(), [true; 3], self.bx.dim, rc_max)?;
         self.table = ff.dense_table();
-        self.inv_mass = self
-            .mass
-            .iter()
-            .map(|m| m.map_or(0.0, |m| 1.0 / m))
-            .collect();
-        if self.dim() == 2 {
-            for (x, v) in self.atoms.x.iter_mut().zip(self.atoms.v.iter_mut()) {
-                x[2] = 0.0;
-                v[2] = 0.0;
+        Ok(ff.rc_max())
+    }
+
+    /// The `sdpd` part of [`System::setup`]: coefficients complete, targets, kernels and
+    /// equations of state resolved ([`sdpd::SdpdField::resolve`]). Returns the largest cut-off.
+    fn setup_sdpd(&mut self) -> Result<f64, String> {
+        let Some(sd) = self.sdpd.as_mut() else {
+            return Err("no pair style defined".into());
+        };
+        if let Some((i, j)) = sd.missing() {
+            return Err(format!(
+                "pair coefficients for types {i} {j} are not set (pair_coeff)"
+            ));
+        }
+        let dim = self.bx.dim as u32;
+        let density = self.atoms.len() as f64 / self.bx.volume();
+        for line in sd.resolve(dim, density, &self.mass, self.dt)? {
+            match line.strip_prefix("WARNING: ") {
+                Some(w) => self.setup_notes.push(SetupNote::Warning(w.to_string())),
+                None => self.setup_notes.push(SetupNote::Info(line)),
             }
         }
-        if let Some(t) = self.tri.as_mut() {
-            t.start_run(self.step);
-        } else {
-            self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
-        }
-        self.compute_forces();
-        Ok(())
+        Ok(sd.rc_max())
     }
 
     /// The Euler heating warning for the pair with the largest `gamma0` (the worst case).
@@ -253,6 +290,10 @@ impl System {
     }
 
     fn compute_forces(&mut self) {
+        if self.sdpd.is_some() {
+            self.compute_sdpd();
+            return;
+        }
         let Some(ff) = self.ff.as_ref() else { return };
         if let Some(tri) = self.tri.as_mut() {
             self.tally = self.le_work.compute_forces(
@@ -286,6 +327,53 @@ impl System {
             &self.inv_mass,
             self.step,
         );
+    }
+
+    /// `pair_style sdpd`: the density pass, then the force pass over the same pairs
+    /// (`sdpd.rs`), in the periodic or the Lees–Edwards loop.
+    fn compute_sdpd(&mut self) {
+        let Some(sd) = self.sdpd.as_mut() else { return };
+        if let Some(tri) = self.tri.as_mut() {
+            self.tally = self.le_work.compute_sdpd(
+                tri,
+                &self.bx,
+                &mut self.atoms,
+                sd,
+                &self.inv_mass,
+                self.dt,
+                self.step,
+            );
+            return;
+        }
+        if self.neighbor.needs_rebuild(&self.atoms) {
+            self.neighbor.build(&mut self.atoms, &self.bx, sd.rc_max());
+        }
+        let mut dens = std::mem::take(&mut sd.density);
+        {
+            let field = &*sd;
+            let w = |k: usize, rsq: f64| field.w_pair(k, rsq);
+            self.neighbor.pair_sum(
+                &self.atoms,
+                &self.bx,
+                field.rcsq(),
+                field.ntypes(),
+                &w,
+                &mut dens,
+            );
+        }
+        sd.density = dens;
+        sd.finish_densities(&self.atoms.typ, &self.atoms.tag);
+        let kernel = sd.kernel();
+        self.tally = self.neighbor.compute_forces(
+            &mut self.atoms,
+            &self.bx,
+            &kernel,
+            sd.cut_table(),
+            sd.ntypes(),
+            &self.inv_mass,
+            self.step,
+        );
+        self.tally.energy += sd.energy;
     }
 
     /// Advance one step with the configured integrator (after [`System::setup`]), then apply
@@ -385,6 +473,13 @@ impl System {
     /// step, the atom id and the quantity. O(N); the run loop calls it at thermo output and at
     /// least every 100 steps.
     pub fn check_health(&self) -> Result<(), String> {
+        if let Some(e) = self
+            .sdpd
+            .as_ref()
+            .and_then(|sd| sd.fault_message(self.step))
+        {
+            return Err(e);
+        }
         let a = &self.atoms;
         let len = self.bx.len();
         let dim = self.dim();

@@ -18,6 +18,7 @@
 
 pub mod fix;
 pub mod pair;
+pub mod sdpd;
 
 /// The usage line and keywords of one style.
 #[derive(Clone, Copy, Debug)]
@@ -37,6 +38,9 @@ pub const SPECS: &[StyleSpec] = &[
     pair::PAIR_STYLE,
     pair::PAIR_COEFF,
     pair::PAIR_COEFF_TARGETS,
+    sdpd::PAIR_STYLE,
+    sdpd::PAIR_COEFF,
+    sdpd::PAIR_COEFF_TARGETS,
     fix::NVE,
     fix::NVE_EULER,
     fix::PEX_PUSH,

@@ -29,6 +29,7 @@ use rayon::prelude::*;
 #[cfg(target_arch = "x86_64")]
 mod avx512;
 mod build;
+mod density;
 mod slab;
 
 use build::*;
@@ -92,6 +93,8 @@ pub struct NeighborList {
     slabs: Vec<Slab>,
     /// Forces of slab k's task on the atoms of slab k + 1 (slab mode only).
     next_f: Vec<[f64; 3]>,
+    /// The same for the scalar sums of [`NeighborList::pair_sum`] (sDPD densities).
+    next_d: Vec<f64>,
     x_at_build: Vec<[f64; 3]>,
     cell_of: Vec<u32>,
     cell_count: Vec<u32>,
@@ -194,6 +197,7 @@ impl NeighborList {
             })
             .sum();
         rows + self.next_f.capacity() * 24
+            + self.next_d.capacity() * 8
             + self.x_at_build.capacity() * 24
             + self.x_at_inner.capacity() * 24
             + (self.cell_of.capacity() + self.perm.capacity()) * 4

@@ -1,0 +1,99 @@
+//! A scalar sum over the pairs of the list, Σ_j w(r_ij) added to both atoms (sDPD's density
+//! pass, `docs/models.md` §3.7), with the slab decomposition of the force pass: task k adds
+//! into its own slab's entries and into the next slab's, so every atom's sum is `own + next`,
+//! the same bits for any number of threads.
+
+use super::*;
+
+impl NeighborList {
+    /// `out[i] = Σ_j w(k_ij, r_ij²)` over every listed pair (i, j) in range of its type pair,
+    /// added to both atoms, with `k_ij` the dense type-pair index `typ_i · (ntypes + 1) + typ_j`
+    /// and `rcsq` the squared cut-offs by that index. Requires a current list (as
+    /// [`NeighborList::compute_forces`]); `out` is resized to the number of atoms.
+    pub fn pair_sum(
+        &mut self,
+        atoms: &Atoms,
+        bx: &SimBox,
+        rcsq: &[f64],
+        ntypes: usize,
+        w: &(dyn Fn(usize, f64) -> f64 + Sync),
+        out: &mut Vec<f64>,
+    ) {
+        assert_eq!(
+            atoms.len(),
+            self.x_at_build.len(),
+            "neighbour list built for a different number of atoms"
+        );
+        let n = atoms.len();
+        let nt = ntypes + 1;
+        self.refresh_inner(atoms, bx);
+        out.clear();
+        out.resize(n, 0.0);
+        let inner = self.inner_on;
+        let len = bx.len();
+        let quarter = [0.25 * len[0], 0.25 * len[1], 0.25 * len[2]];
+        let (x, typ) = (&atoms.x, &atoms.typ);
+        let row_sum = |s: &Slab, own: &mut [f64], next: &mut [f64]| {
+            own.fill(0.0);
+            next.fill(0.0);
+            let (row_start, nbr) = if inner {
+                (&s.in_row_start, &s.in_nbr)
+            } else {
+                (&s.row_start, &s.nbr)
+            };
+            for i in s.start..s.end {
+                let r = i - s.start;
+                let xi = x[i];
+                let ti = typ[i] as usize * nt;
+                let mut di = 0.0;
+                for &j in &nbr[row_start[r] as usize..row_start[r + 1] as usize] {
+                    let j = j as usize;
+                    let xj = x[j];
+                    let mut d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
+                    if (d[0].abs() >= quarter[0])
+                        | (d[1].abs() >= quarter[1])
+                        | (d[2].abs() >= quarter[2])
+                    {
+                        d = bx.min_image(d);
+                    }
+                    let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                    let k = ti + typ[j] as usize;
+                    if rsq < rcsq[k] {
+                        let wij = w(k, rsq);
+                        di += wij;
+                        match own.get_mut(j.wrapping_sub(s.start)) {
+                            Some(o) => *o += wij,
+                            None => next[j - s.next_start] += wij,
+                        }
+                    }
+                }
+                own[r] += di;
+            }
+        };
+        if self.slabs.len() == 1 {
+            row_sum(&self.slabs[0], &mut out[..], &mut []);
+            return;
+        }
+        self.next_d.clear();
+        self.next_d.resize(n, 0.0);
+        let mut own: Vec<&mut [f64]> = Vec::with_capacity(self.slabs.len());
+        let mut next: Vec<&mut [f64]> = Vec::with_capacity(self.slabs.len());
+        let (mut rest_o, mut rest_n) = (&mut out[..], &mut self.next_d[..]);
+        for s in &self.slabs {
+            let (a, b) = std::mem::take(&mut rest_o).split_at_mut(s.end - s.start);
+            let (c, d) = std::mem::take(&mut rest_n).split_at_mut(s.end - s.start);
+            own.push(a);
+            next.push(c);
+            rest_o = b;
+            rest_n = d;
+        }
+        next.rotate_left(1);
+        self.slabs
+            .par_iter()
+            .zip(own.into_par_iter().zip(next.into_par_iter()))
+            .for_each(|(s, (own, next))| row_sum(s, own, next));
+        out.par_iter_mut()
+            .zip(self.next_d.par_iter())
+            .for_each(|(o, n)| *o += n);
+    }
+}

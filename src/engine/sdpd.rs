@@ -1,0 +1,337 @@
+//! `pair_style sdpd` in the engine: its settings ([`SdpdField`]), their resolution at a run's
+//! set-up (targets → η0 and s, the kernels and equations of state), the per-atom density
+//! state between the two passes, and the [`PairKernel`] of the force pass ([`SdpdKernel`]).
+//!
+//! A force evaluation is two passes over the same pairs (`docs/models.md` §3.7):
+//! 1. densities d_i = W_ii(0) + Σ_j W_ij(r_ij) (the pair loop's `pair_sum`), then per atom
+//!    1/d_i, P_i/d_i² and the Tait energy u(d_i) ([`SdpdField::finish_densities`]);
+//! 2. the pair forces of WF-12/19 through the same batch loop as `dpd/nonlinear`
+//!    ([`SdpdKernel`]), so the forces are central and applied ±, momentum exactly conserved.
+
+use super::pair::PairKernel;
+use crate::grammar::sdpd::{SdpdCoeffLine, SdpdStyle};
+use crate::kernel::PairBatch;
+use crate::kernel::sdpd::{KernelShape, SdpdAtom, SdpdCoeff, Smoothing, Tait, sdpd_pair_force};
+use crate::rng::pair_gaussian;
+
+/// One type pair's `pair_coeff` values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SdpdPair {
+    /// ρ0 (used from the I I line: a per-type property).
+    pub rho0: f64,
+    /// c_s (used from the I I line).
+    pub c0: f64,
+    /// η0 (a placeholder while `targets` is unresolved).
+    pub eta0: f64,
+    /// Kernel support.
+    pub rc: f64,
+    /// (η, Sc) targets.
+    pub targets: Option<(f64, f64)>,
+}
+
+/// `pair_style sdpd` + `pair_coeff`, and the state of the current force evaluation.
+#[derive(Clone, Debug)]
+pub struct SdpdField {
+    /// The style's settings (the kernel is replaced by the designed one at set-up when
+    /// `pair_coeff … eta … sc …` is used).
+    pub style: SdpdStyle,
+    ntypes: usize,
+    pairs: Vec<Option<SdpdPair>>,
+    /// Dense per type-pair coefficients (index ti · (ntypes + 1) + tj), built at set-up.
+    coeff: Vec<SdpdCoeff>,
+    /// Squared cut-offs (0 for unset pairs).
+    rcsq: Vec<f64>,
+    /// The cut-offs as the periodic pair loop's table (only `rc` is read there).
+    cut: Vec<crate::kernel::PairCoeff>,
+    /// Per type: the equation of state and W(0) of the (t, t) kernel.
+    tait: Vec<Option<Tait>>,
+    w0: Vec<f64>,
+    /// Per atom (engine order): the number density of the last evaluation.
+    pub density: Vec<f64>,
+    atoms: Vec<SdpdAtom>,
+    /// Σ_i u(d_i) of the last evaluation.
+    pub energy: f64,
+    /// The first atom whose Tait pressure was not finite in the last evaluation (tag, d).
+    pub fault: Option<(u32, f64)>,
+}
+
+impl SdpdField {
+    /// A field for `ntypes` types with no coefficients yet.
+    pub fn new(style: SdpdStyle, ntypes: usize) -> SdpdField {
+        let n = (ntypes + 1) * (ntypes + 1);
+        SdpdField {
+            style,
+            ntypes,
+            pairs: vec![None; n],
+            coeff: Vec::new(),
+            rcsq: Vec::new(),
+            cut: Vec::new(),
+            tait: Vec::new(),
+            w0: Vec::new(),
+            density: Vec::new(),
+            atoms: Vec::new(),
+            energy: 0.0,
+            fault: None,
+        }
+    }
+
+    /// Number of atom types.
+    pub fn ntypes(&self) -> usize {
+        self.ntypes
+    }
+
+    /// Apply one parsed `pair_coeff` line.
+    pub fn set_line(&mut self, line: &SdpdCoeffLine) {
+        let p = SdpdPair {
+            rho0: line.rho0,
+            c0: line.c0,
+            eta0: line.eta0,
+            rc: line.rc,
+            targets: line.targets,
+        };
+        let n = self.ntypes + 1;
+        for (i, j) in line.pairs() {
+            self.pairs[i * n + j] = Some(p);
+            self.pairs[j * n + i] = Some(p);
+        }
+    }
+
+    /// The values of a type pair, if set.
+    pub fn get(&self, i: usize, j: usize) -> Option<&SdpdPair> {
+        self.pairs.get(i * (self.ntypes + 1) + j)?.as_ref()
+    }
+
+    /// The first type pair without coefficients.
+    pub fn missing(&self) -> Option<(usize, usize)> {
+        (1..=self.ntypes)
+            .flat_map(|i| (i..=self.ntypes).map(move |j| (i, j)))
+            .find(|&(i, j)| self.get(i, j).is_none())
+    }
+
+    /// The largest cut-off.
+    pub fn rc_max(&self) -> f64 {
+        self.pairs
+            .iter()
+            .flatten()
+            .map(|p| p.rc)
+            .fold(0.0, f64::max)
+    }
+
+    /// Set-up of a run: resolve (η, Sc) targets at number density `density` (one mass for
+    /// all types), build every pair's kernel and coefficients for time step `dt` and every
+    /// type's equation of state with its mass. Returns the lines to log.
+    pub fn resolve(
+        &mut self,
+        dim: u32,
+        density: f64,
+        mass: &[Option<f64>],
+        dt: f64,
+    ) -> Result<Vec<String>, String> {
+        let n = self.ntypes + 1;
+        let kt = self.style.kt;
+        let mut notes = Vec::new();
+        let mut exponents: Vec<(String, f64)> = Vec::new();
+        for i in 1..=self.ntypes {
+            for j in i..=self.ntypes {
+                let Some(p) = self.pairs[i * n + j] else {
+                    continue;
+                };
+                let Some((eta, sc)) = p.targets else {
+                    continue;
+                };
+                let m = mass[i].unwrap_or(1.0);
+                if mass[j] != mass[i] {
+                    return Err(format!(
+                        "pair_coeff {i} {j} eta … sc …: the kinetic theory behind the design is for \
+                         one particle mass, but types {i} and {j} have different masses"
+                    ));
+                }
+                let label = format!("{i} {j}");
+                let fail = |e: crate::theory::TheoryError| {
+                    format!(
+                        "pair_coeff {label} eta {} sc {}: {e}",
+                        crate::fmtnum::fmt_g(eta),
+                        crate::fmtnum::fmt_g(sc)
+                    )
+                };
+                let fluid = crate::theory::Fluid::new(dim, density, p.rc, m, kt).map_err(fail)?;
+                let d =
+                    crate::theory::design_from_targets(&crate::theory::Targets { fluid, eta, sc })
+                        .map_err(fail)?;
+                let q = SdpdPair { eta0: d.eta0, ..p };
+                self.pairs[i * n + j] = Some(q);
+                self.pairs[j * n + i] = Some(q);
+                notes.push(format!(
+                    "pair_coeff {label} eta {eta} sc {sc} at n = {density}: eta0 = {}, kernel \
+                     proposed s = {} (sDPD kinetic theory, docs/models.md 3.7)",
+                    d.eta0, d.s
+                ));
+                exponents.push((label, d.s));
+            }
+        }
+        let current = self.style.kernel.exponent().unwrap_or(0.0);
+        if let Some((s, note)) = crate::init::common_exponent("sdpd", &exponents, current)? {
+            self.style.kernel = Smoothing::proposed(s)
+                .ok_or_else(|| format!("designed kernel exponent s = {s} is not > 0"))?;
+            notes.extend(note);
+        }
+        // Per-type equations of state from the (t, t) lines; cross lines' rho0/c0 are not used.
+        self.tait = vec![None; n];
+        self.w0 = vec![0.0; n];
+        for t in 1..=self.ntypes {
+            let p = self.pairs[t * n + t].ok_or_else(|| {
+                format!("pair coefficients for types {t} {t} are not set (pair_coeff)")
+            })?;
+            let m = mass[t].ok_or_else(|| format!("mass of atom type {t} is not set (mass)"))?;
+            let tait =
+                Tait::new(p.rho0, p.c0, m).map_err(|e| format!("pair_coeff {t} {t}: {e}"))?;
+            self.tait[t] = Some(tait);
+            self.w0[t] = KernelShape::new(self.style.kernel, dim, p.rc)?.w0();
+        }
+        for i in 1..=self.ntypes {
+            for j in i + 1..=self.ntypes {
+                if let (Some(p), Some(a), Some(b)) = (
+                    self.pairs[i * n + j],
+                    self.pairs[i * n + i],
+                    self.pairs[j * n + j],
+                ) && (p.rho0, p.c0) != (a.rho0, a.c0)
+                    && (p.rho0, p.c0) != (b.rho0, b.c0)
+                {
+                    notes.push(format!(
+                        "WARNING: pair_coeff {i} {j}: rho0 = {} and c0 = {} are not used: the \
+                         equation of state is per type, from pair_coeff {i} {i} and {j} {j}",
+                        p.rho0, p.c0
+                    ));
+                }
+            }
+        }
+        let placeholder =
+            SdpdCoeff::new(KernelShape::new(Smoothing::Lucy, dim, 1.0)?, 1.0, kt, dt)?;
+        self.coeff = vec![placeholder; n * n];
+        self.rcsq = vec![0.0; n * n];
+        let inert = crate::kernel::PairCoeff {
+            a: 0.0,
+            gamma0: 0.0,
+            gamma1: 0.0,
+            rc: 0.0,
+        };
+        self.cut = vec![inert; n * n];
+        for i in 1..=self.ntypes {
+            for j in 1..=self.ntypes {
+                if let Some(p) = self.pairs[i * n + j] {
+                    let shape = KernelShape::new(self.style.kernel, dim, p.rc)?;
+                    self.coeff[i * n + j] = SdpdCoeff::new(shape, p.eta0, kt, dt)
+                        .map_err(|e| format!("pair_coeff {i} {j}: {e}"))?;
+                    self.rcsq[i * n + j] = p.rc * p.rc;
+                    self.cut[i * n + j].rc = p.rc;
+                }
+            }
+        }
+        Ok(notes)
+    }
+
+    /// Squared cut-offs by dense type-pair index (after [`SdpdField::resolve`]).
+    pub fn rcsq(&self) -> &[f64] {
+        &self.rcsq
+    }
+
+    /// The cut-offs by dense type-pair index, as the pair loop's coefficient table.
+    pub fn cut_table(&self) -> &[crate::kernel::PairCoeff] {
+        &self.cut
+    }
+
+    /// The pair coefficients by dense type-pair index (after [`SdpdField::resolve`]).
+    pub fn coeffs(&self) -> &[SdpdCoeff] {
+        &self.coeff
+    }
+
+    /// W of the pair with dense index `k` at squared distance `rsq` (0 beyond its cut-off).
+    #[inline]
+    pub fn w_pair(&self, k: usize, rsq: f64) -> f64 {
+        if rsq < self.rcsq[k] {
+            self.coeff[k].shape.w(rsq.sqrt())
+        } else {
+            0.0
+        }
+    }
+
+    /// Pass 1's end: `self.density` holds Σ_j W(r_ij) per atom; add the self term and form
+    /// 1/d, P/d² and Σ u(d). A non-finite pressure is recorded in [`SdpdField::fault`].
+    pub fn finish_densities(&mut self, typ: &[u32], tag: &[u32]) {
+        self.atoms.resize(self.density.len(), SdpdAtom::default());
+        self.energy = 0.0;
+        self.fault = None;
+        for (k, (d, a)) in self
+            .density
+            .iter_mut()
+            .zip(self.atoms.iter_mut())
+            .enumerate()
+        {
+            let t = typ[k] as usize;
+            *d += self.w0[t];
+            let Some(tait) = self.tait[t] else { continue };
+            let pterm = tait.pressure_term(*d);
+            *a = SdpdAtom {
+                inv_d: 1.0 / *d,
+                pterm,
+            };
+            self.energy += tait.energy(*d);
+            if !pterm.is_finite() && self.fault.is_none() {
+                self.fault = Some((tag[k], *d));
+            }
+        }
+    }
+
+    /// The kernel of pass 2 (after [`SdpdField::finish_densities`]).
+    pub fn kernel(&self) -> SdpdKernel<'_> {
+        SdpdKernel {
+            coeff: &self.coeff,
+            atoms: &self.atoms,
+            seed: self.style.seed,
+        }
+    }
+
+    /// The error of a non-finite Tait pressure in the last evaluation, if any.
+    pub fn fault_message(&self, step: u64) -> Option<String> {
+        self.fault.map(|(tag, d)| {
+            format!(
+                "sdpd at step {step}: the Tait pressure of atom {tag} is not finite (number \
+                 density d = {d}); reduce the time step or raise c0"
+            )
+        })
+    }
+}
+
+/// Pass 2 of `pair_style sdpd`: the forces of WF-12/19 ([`sdpd_pair_force`]) with the keyed pair
+/// Gaussian of the lane's tags.
+pub struct SdpdKernel<'a> {
+    coeff: &'a [SdpdCoeff],
+    atoms: &'a [SdpdAtom],
+    seed: u32,
+}
+
+impl PairKernel for SdpdKernel<'_> {
+    fn evaluate(&self, step: u64, b: &mut PairBatch, i: &[u32], j: &[u32]) {
+        for l in 0..b.len {
+            let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
+            let dv = [b.dv[0][l], b.dv[1][l], b.dv[2][l]];
+            let xi = pair_gaussian(self.seed, step, b.tag_i[l], b.tag_j[l]);
+            let c = &self.coeff[b.coeff[l] as usize];
+            let f = sdpd_pair_force(
+                c,
+                dr,
+                dv,
+                xi,
+                self.atoms[i[l] as usize],
+                self.atoms[j[l] as usize],
+            );
+            let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+            b.fpair[l] = if rsq > 0.0 {
+                f.total() / rsq.sqrt()
+            } else {
+                0.0
+            };
+            b.energy[l] = 0.0;
+        }
+    }
+}
