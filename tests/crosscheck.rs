@@ -125,7 +125,8 @@ fn golden_cases_agree_between_engines() {
             .filter(|l| {
                 l.starts_with("WARNING: Euler")
                     || l.contains("from the (eta, sc) design")
-                    || (l.starts_with("pair_coeff ") && l.contains(" -> gamma0 = "))
+                    || (l.starts_with("pair_coeff ")
+                        && (l.contains(" -> gamma0 = ") || l.contains(": eta0 = ")))
             })
             .collect();
         for line in &setup_lines {

@@ -25,6 +25,9 @@ typedef enum DpdnlStatus {
 // The validated parameter table of `pair_style dpd/nonlinear` + `pair_coeff` (opaque to C).
 typedef struct DpdnlParams DpdnlParams;
 
+// `pair_style sdpd` and its coefficients (opaque to C).
+typedef struct DpdnlSdpd DpdnlSdpd;
+
 // The four force parts of one pair as projections on e_ij, plus the conservative energy and
 // 1/r (force on i = `(fc + fd + fr + fa) * inv_r * r_ij`). Mirrors `dpdnl::kernel::PairForce`.
 typedef struct DpdnlPairForce {
@@ -337,6 +340,92 @@ enum DpdnlStatus dpdnl_box_check(const double *len,
                                  const int32_t *periodic,
                                  int32_t dimension,
                                  double rc_max);
+
+// Create the style from the words after `pair_style sdpd` for `ntypes` atom types; `*out` gets
+// a handle to release with [`dpdnl_sdpd_free`] (null on failure, the message says why).
+//
+// # Safety
+// `arg` points to `narg` NUL-terminated strings; `out` is valid for writing.
+enum DpdnlStatus dpdnl_sdpd_new(int32_t narg,
+                                const char *const *arg,
+                                int32_t ntypes,
+                                struct DpdnlSdpd **out);
+
+// Release a handle from [`dpdnl_sdpd_new`] (null is ignored).
+//
+// # Safety
+// `h` is null or a live handle, not used afterwards.
+void dpdnl_sdpd_free(struct DpdnlSdpd *h);
+
+// Apply one `pair_coeff` line of `sdpd` (all its words, types first).
+//
+// # Safety
+// `h` is a live handle; `arg` points to `narg` NUL-terminated strings.
+enum DpdnlStatus dpdnl_sdpd_coeff(struct DpdnlSdpd *h, int32_t narg, const char *const *arg);
+
+// Whether type pair (i, j) has coefficients (1) or not (0), and its cut-off in `*rc`.
+//
+// # Safety
+// `h` is a live handle; `rc` is valid for writing.
+enum DpdnlStatus dpdnl_sdpd_pair(struct DpdnlSdpd *h,
+                                 int32_t i,
+                                 int32_t j,
+                                 double *rc,
+                                 int32_t *set);
+
+// Set-up of a run (`Pair::init_style`): every pair set, (η, Sc) targets resolved at number
+// density `density`, kernels and equations of state built for dimension `dim`, per-type masses
+// `mass[0..=ntypes]` (entry 0 unused) and step `dt`. `*rc_max` gets the largest cut-off;
+// [`crate::dpdnl_last_message`] holds the lines to log, one per line, warnings starting
+// with "WARNING: ".
+//
+// # Safety
+// `h` is a live handle; `mass` holds `ntypes + 1` doubles; `rc_max` is valid for writing.
+enum DpdnlStatus dpdnl_sdpd_init(struct DpdnlSdpd *h,
+                                 int32_t dim,
+                                 double density,
+                                 const double *mass,
+                                 double dt,
+                                 double *rc_max);
+
+// Pass 1: `rho[0..nall]` is overwritten with Σ_j W(r_ij) over the half list `list`, added to i
+// and to j (j owned, or any j when `newton_pair` is non-zero). Without the self term.
+//
+// # Safety
+// `h` is a live handle; `atoms` and `list` as for `dpdnl_compute`; `rho` holds `nall` doubles.
+enum DpdnlStatus dpdnl_sdpd_density(struct DpdnlSdpd *h,
+                                    const struct DpdnlAtoms *atoms,
+                                    const struct DpdnlNeighList *list,
+                                    int32_t newton_pair,
+                                    double *rho);
+
+// Pass 1's end for the owned atoms: `rho[i] += W_ii(0)`, and the Tait energy Σ u(d_i) added to
+// `tally->eng_vdwl` (when `eflag_global`) and `tally->eatom[i]` (when not null). A non-finite
+// pressure is an error naming the atom's tag and density (`tag` may be null: the index is
+// named).
+//
+// # Safety
+// `h` is a live handle; `atoms` as for `dpdnl_compute` (types and tags of the owned atoms are
+// read); `rho` holds `nlocal` doubles; `tally` is null or as for `dpdnl_compute`.
+enum DpdnlStatus dpdnl_sdpd_finish(struct DpdnlSdpd *h,
+                                   const struct DpdnlAtoms *atoms,
+                                   int64_t step,
+                                   double *rho,
+                                   const struct DpdnlTally *tally);
+
+// Pass 2: the pair forces of every listed pair from the densities `rho[0..nall]` (owned and
+// ghost atoms, ghosts communicated), accumulated into `f` and `tally` exactly as
+// `dpdnl_compute` does (the same list walk and `ev_tally` conventions).
+//
+// # Safety
+// As `dpdnl_compute`; `h` is a live handle and `rho` holds `nall` doubles.
+enum DpdnlStatus dpdnl_sdpd_compute(struct DpdnlSdpd *h,
+                                    const struct DpdnlAtoms *atoms,
+                                    const struct DpdnlNeighList *list,
+                                    const struct DpdnlStep *step,
+                                    const double *rho,
+                                    double *f,
+                                    struct DpdnlTally *tally);
 
 // Parse `pair_style dpd/nonlinear` arguments (the words after the style name, LAMMPS's
 // `Pair::settings(narg, arg)`) into `*out`. Errors carry the standalone engine's message.

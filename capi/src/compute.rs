@@ -1,7 +1,7 @@
 //! [`dpdnl_compute`]: one LAMMPS neighbour list walked in Rust, its pairs evaluated through the
 //! pair-style seam (`dpdnl::engine::pair`) and added with LAMMPS's `ev_tally` conventions.
 
-use dpdnl::engine::pair::{Batcher, DpdKernel, lane_force};
+use dpdnl::engine::pair::{Batcher, DpdKernel, PairKernel, lane_force};
 use dpdnl::kernel::{Isa, PairBatch, PairTable};
 
 use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
@@ -148,6 +148,48 @@ pub(crate) unsafe fn compute(
         )));
     }
     let model = p.model(st.dt)?;
+    let table = p.dense_table();
+    let ptable = PairTable::new(&model, &table);
+    // In-range pairs are evaluated through the pair-style seam (`DpdKernel`:
+    // `pair_forces_batch`, the same function as `pair_force` for each pair, same bits, in SIMD
+    // lanes).
+    let kernel = DpdKernel {
+        model: &model,
+        table: &ptable,
+        seed: p.seed,
+        isa: Isa::detect(),
+    };
+    let cut: Vec<f64> = table.iter().map(|c| c.rc).collect();
+    // SAFETY: forwarded caller's contract.
+    unsafe { walk_pairs(&kernel, &cut, p.ntypes, atoms, list, st, f, tally) }
+}
+
+/// The list walk of [`dpdnl_compute`] for any pair style: every listed pair within `cut[k]`
+/// (k the dense type-pair index, `ntypes + 1` per row) through `kernel`, forces and tallies
+/// added with LAMMPS's conventions. Checks the step, dimension, counts, types and masses.
+///
+/// # Safety
+/// As [`dpdnl_compute`].
+#[allow(clippy::too_many_arguments)]
+pub(crate) unsafe fn walk_pairs(
+    kernel: &dyn PairKernel,
+    cut: &[f64],
+    ntypes: usize,
+    atoms: &DpdnlAtoms,
+    list: &DpdnlNeighList,
+    st: &DpdnlStep,
+    f: *mut f64,
+    tally: Option<DpdnlTally>,
+) -> Result<(), Error> {
+    if st.step < 0 {
+        return Err(Error::invalid(format!("step = {} must be >= 0", st.step)));
+    }
+    if st.dimension != 2 && st.dimension != 3 {
+        return Err(Error::invalid(format!(
+            "dimension = {} must be 2 or 3",
+            st.dimension
+        )));
+    }
     if atoms.nlocal < 0 || atoms.nall < atoms.nlocal {
         return Err(Error::invalid(format!(
             "nlocal = {} and nall = {} must satisfy 0 <= nlocal <= nall",
@@ -162,7 +204,7 @@ pub(crate) unsafe fn compute(
         atoms.nall as usize,
         list.inum as usize,
     );
-    let nt = p.ntypes;
+    let nt = ntypes;
     // SAFETY: sizes as documented on `DpdnlAtoms`, `DpdnlNeighList` (caller's contract).
     let (x, v, tag, ty, ilist) = unsafe {
         (
@@ -236,24 +278,15 @@ pub(crate) unsafe fn compute(
         || sinks.eatom.is_some()
         || sinks.vatom.is_some();
 
-    let table = p.dense_table();
-    let ptable = PairTable::new(&model, &table);
     let full = list.full != 0;
     let newton = st.newton_pair != 0;
     let mask = list.neighmask as u32 as usize;
     let step = st.step as u64;
 
     // In-range pairs are gathered, in list order, into batches of BATCH (`Batcher`, the driver
-    // the standalone Lees–Edwards loop uses too) evaluated through the pair-style seam
-    // (`DpdKernel`: `pair_forces_batch`, the same function as `pair_force` for each pair, same
-    // bits, in SIMD lanes); `Apply` then adds the forces and tallies in list order as the
-    // pair-by-pair loop did, so every sum is formed in the same order.
-    let kernel = DpdKernel {
-        model: &model,
-        table: &ptable,
-        seed: p.seed,
-        isa: Isa::detect(),
-    };
+    // the standalone Lees–Edwards loop uses too) evaluated through the pair style's kernel;
+    // `Apply` then adds the forces and tallies in list order as the pair-by-pair loop did, so
+    // every sum is formed in the same order.
     let mut bt = Batcher::default();
     // The lanes' v_ij, 1/m_i + 1/m_j and tags (r_ij and the coefficient index are in place).
     let gather = |b: &mut PairBatch, l: usize, i: usize, j: usize| {
@@ -292,7 +325,7 @@ pub(crate) unsafe fn compute(
                 )));
             }
             let k = row + ty[j] as usize;
-            let rc = table[k].rc;
+            let rc = cut[k];
             let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
             let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
             // Every listed pair is written to the next lane, and only a pair in range keeps it
@@ -305,11 +338,11 @@ pub(crate) unsafe fn compute(
             }
             bt.batch.coeff[l] = k as u32;
             if bt.commit(i as u32, j as u32, rsq < rc * rc) {
-                bt.flush(&kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
+                bt.flush(kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
             }
         }
     }
-    bt.flush(&kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
+    bt.flush(kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
     apply.finish_row();
     Ok(())
 }

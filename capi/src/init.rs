@@ -10,7 +10,7 @@ thread_local! {
     static LAST_MESSAGE: RefCell<CString> = RefCell::new(CString::default());
 }
 
-fn set_last_message(message: &str) {
+pub(crate) fn set_last_message(message: &str) {
     let text = CString::new(message.replace('\0', " ")).unwrap_or_default();
     LAST_MESSAGE.with(|e| *e.borrow_mut() = text);
 }

@@ -131,7 +131,10 @@ impl DpdnlPairStyle {
 ///
 /// # Safety
 /// `arg` is null only when `narg == 0`, else it points to `narg` NUL-terminated strings.
-unsafe fn words<'a>(narg: i32, arg: *const *const c_char) -> Result<Vec<&'a str>, Error> {
+pub(crate) unsafe fn words<'a>(
+    narg: i32,
+    arg: *const *const c_char,
+) -> Result<Vec<&'a str>, Error> {
     let n =
         usize::try_from(narg).map_err(|_| Error::invalid(format!("narg = {narg} must be >= 0")))?;
     // SAFETY: `narg` pointers by the caller's contract.
@@ -147,7 +150,7 @@ unsafe fn words<'a>(narg: i32, arg: *const *const c_char) -> Result<Vec<&'a str>
 ///
 /// # Safety
 /// `out` is null or valid for writing.
-unsafe fn put<T>(out: *mut T, value: T) -> Result<(), Error> {
+pub(crate) unsafe fn put<T>(out: *mut T, value: T) -> Result<(), Error> {
     // SAFETY: null or valid for writing by the caller's contract.
     let out = unsafe { out.as_mut() }.ok_or_else(|| Error::null("out"))?;
     *out = value;

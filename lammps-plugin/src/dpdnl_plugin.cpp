@@ -12,6 +12,7 @@
 #include "fix_nve_euler.h"
 #include "fix_pex_push.h"
 #include "pair_dpd_nonlinear.h"
+#include "pair_sdpd.h"
 
 #include "comm.h"
 #include "error.h"
@@ -43,6 +44,10 @@ using HostRegister = void (*)(HostPluginRecord *, void *);
 Pair *make_pair_dpd_nonlinear(LAMMPS *lmp)
 {
   return new PairDPDNonlinear(lmp);
+}
+Pair *make_pair_sdpd(LAMMPS *lmp)
+{
+  return new PairSDPD(lmp);
 }
 template <typename T> Fix *make_fix(LAMMPS *lmp, int narg, char **arg)
 {
@@ -106,6 +111,8 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
       {version, "pair", "dpd/nonlinear",
        "pair_style dpd/nonlinear (dpdnl: DPD with non-linear friction)", AUTHOR,
        reinterpret_cast<void *>(&make_pair_dpd_nonlinear), handle},
+      {version, "pair", "sdpd", "pair_style sdpd (dpdnl: smoothed DPD, Lucy/quintic/proposed)",
+       AUTHOR, reinterpret_cast<void *>(&make_pair_sdpd), handle},
       {version, "fix", "nve/euler", "fix nve/euler (dpdnl: explicit Euler)", AUTHOR,
        reinterpret_cast<void *>(&make_fix<FixNVEEuler>), handle},
       {version, "fix", "pex/push", "fix pex/push (dpdnl: PeX momentum exchange)",

@@ -3,6 +3,7 @@
 #include "fix_nve_euler.h"
 #include "fix_pex_push.h"
 #include "pair_dpd_nonlinear.h"
+#include "pair_sdpd.h"
 
 #include "force.h"
 #include "lammps.h"
@@ -24,6 +25,7 @@ template <typename T> Fix *make_fix(LAMMPS *lmp, int narg, char **arg)
 void dpdnl_register_styles(LAMMPS *lmp)
 {
   (*lmp->force->pair_map)["dpd/nonlinear"] = &make_pair<PairDPDNonlinear>;
+  (*lmp->force->pair_map)["sdpd"] = &make_pair<PairSDPD>;
   (*lmp->modify->fix_map)["nve/euler"] = &make_fix<FixNVEEuler>;
   (*lmp->modify->fix_map)["pex/push"] = &make_fix<FixPexPush>;
 }

@@ -12,6 +12,7 @@
 #ifndef DPDNL_LAMMPS_COMPAT_H
 #define DPDNL_LAMMPS_COMPAT_H
 
+#include "comm.h"
 #include "neighbor.h"
 #include "pair.h"
 
@@ -46,6 +47,26 @@ inline void request_half_list(LAMMPS_NS::Neighbor *neighbor, LAMMPS_NS::Pair *pa
   neighbor->add_request(pair);
 #else
   neighbor->request(pair, instance);
+#endif
+}
+
+// Per-atom communication of a pair style (pack/unpack_*_comm): Comm::forward_comm(Pair *) and
+// reverse_comm(Pair *) replaced forward_comm_pair/reverse_comm_pair in 2022.
+inline void forward_comm_pair(LAMMPS_NS::Comm *comm, LAMMPS_NS::Pair *pair)
+{
+#if DPDNL_LAMMPS_MODERN
+  comm->forward_comm(pair);
+#else
+  comm->forward_comm_pair(pair);
+#endif
+}
+
+inline void reverse_comm_pair(LAMMPS_NS::Comm *comm, LAMMPS_NS::Pair *pair)
+{
+#if DPDNL_LAMMPS_MODERN
+  comm->reverse_comm(pair);
+#else
+  comm->reverse_comm_pair(pair);
 #endif
 }
 

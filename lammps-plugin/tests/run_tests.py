@@ -47,9 +47,11 @@ MASSES = {
     "euler3d": {1: 1.0, 2: 2.0},
     "pex3d": {1: 1.0},
     "lees_edwards3d": {1: 1.0, 2: 2.0},
+    "sdpd2d": {1: 1.0, 2: 1.5},
+    "sdpd_le3d": {1: 1.0, 2: 2.0},
 }
 DATAFILE = {"dpd3d": "dpd3d", "dpd2d": "dpd2d", "euler3d": "dpd3d", "pex3d": "pex3d",
-            "lees_edwards3d": "dpd3d"}
+            "lees_edwards3d": "dpd3d", "sdpd2d": "dpd2d", "sdpd_le3d": "dpd3d"}
 
 failures = []
 
@@ -185,11 +187,11 @@ def momentum(dump, masses):
 def consistency(tmp):
     print("newton on/off and MPI ranks (relative differences of thermo | dumps at steps 0/50/100)")
     results = {}
-    for name in ["dpd3d", "dpd2d", "euler3d", "pex3d", "lees_edwards3d"]:
+    for name in ["dpd3d", "dpd2d", "euler3d", "pex3d", "lees_edwards3d", "sdpd2d", "sdpd_le3d"]:
         script = os.path.join(INPUTS, name + ".in")
         data = os.path.join(DATA, DATAFILE[name] + ".data")
         runs = {}
-        two_d = name == "dpd2d"
+        two_d = name in ("dpd2d", "sdpd2d")
         for label, np, newton, grid in [
             ("np1_on", 1, True, None),
             ("np1_off", 1, False, None),
@@ -236,7 +238,7 @@ def consistency(tmp):
             check(rt <= TOL and rd <= TOL,
                   f"{name}: np1 newton on vs {label}: thermo {rt:.2e} (per value {rv:.2e}), "
                   f"dump {rd:.2e}")
-        if name == "lees_edwards3d":
+        if name in ("lees_edwards3d", "sdpd_le3d"):
             # The boundary velocity jump changes total momentum: nothing more to check here
             # (100 steps are too short for the shear profile to develop).
             continue
@@ -244,7 +246,7 @@ def consistency(tmp):
         p0, p1 = momentum(ref_dump[0], MASSES[name]), momentum(ref_dump[100], MASSES[name])
         dp = max(abs(a - b) for a, b in zip(p0, p1))
         check(dp < 1e-10, f"{name}: total momentum change over 100 steps {dp:.2e}")
-        if name == "dpd2d":
+        if name in ("dpd2d", "sdpd2d"):
             zmax = max(abs(r[c]) for _, (cols, rows, _) in ref_dump.items() for r in rows.values()
                        for c in [cols.index("z"), cols.index("vz"), cols.index("fz")])
             check(zmax == 0.0, f"dpd2d: z, vz, fz stay 0 (max |.| = {zmax})")

@@ -258,35 +258,57 @@ impl SdpdField {
     /// Pass 1's end: `self.density` holds Σ_j W(r_ij) per atom; add the self term and form
     /// 1/d, P/d² and Σ u(d). A non-finite pressure is recorded in [`SdpdField::fault`].
     pub fn finish_densities(&mut self, typ: &[u32], tag: &[u32]) {
-        self.atoms.resize(self.density.len(), SdpdAtom::default());
+        let mut atoms = std::mem::take(&mut self.atoms);
+        atoms.resize(self.density.len(), SdpdAtom::default());
         self.energy = 0.0;
         self.fault = None;
-        for (k, (d, a)) in self
-            .density
-            .iter_mut()
-            .zip(self.atoms.iter_mut())
-            .enumerate()
-        {
+        for (k, a) in atoms.iter_mut().enumerate() {
             let t = typ[k] as usize;
-            *d += self.w0[t];
-            let Some(tait) = self.tait[t] else { continue };
-            let pterm = tait.pressure_term(*d);
-            *a = SdpdAtom {
-                inv_d: 1.0 / *d,
-                pterm,
-            };
-            self.energy += tait.energy(*d);
-            if !pterm.is_finite() && self.fault.is_none() {
-                self.fault = Some((tag[k], *d));
+            let d = self.density[k] + self.w0[t];
+            self.density[k] = d;
+            *a = self.atom_terms(t, d);
+            self.energy += self.atom_energy(t, d);
+            if !a.pterm.is_finite() && self.fault.is_none() {
+                self.fault = Some((tag[k], d));
             }
         }
+        self.atoms = atoms;
+    }
+
+    /// W(0) of type `t`'s kernel: the self term of its density (after [`SdpdField::resolve`]).
+    pub fn self_density(&self, t: usize) -> f64 {
+        self.w0[t]
+    }
+
+    /// 1/d and P/d² of an atom of type `t` at number density `d` (after resolve).
+    #[inline]
+    pub fn atom_terms(&self, t: usize, d: f64) -> SdpdAtom {
+        match self.tait[t] {
+            Some(tait) => SdpdAtom {
+                inv_d: 1.0 / d,
+                pterm: tait.pressure_term(d),
+            },
+            None => SdpdAtom::default(),
+        }
+    }
+
+    /// The Tait energy u(d) of an atom of type `t` (after resolve).
+    #[inline]
+    pub fn atom_energy(&self, t: usize, d: f64) -> f64 {
+        self.tait[t].map_or(0.0, |tait| tait.energy(d))
     }
 
     /// The kernel of pass 2 (after [`SdpdField::finish_densities`]).
     pub fn kernel(&self) -> SdpdKernel<'_> {
+        self.kernel_for(&self.atoms)
+    }
+
+    /// The kernel of pass 2 over per-atom terms held by the caller (the C ABI: owned and ghost
+    /// atoms of one MPI rank).
+    pub fn kernel_for<'a>(&'a self, atoms: &'a [SdpdAtom]) -> SdpdKernel<'a> {
         SdpdKernel {
             coeff: &self.coeff,
-            atoms: &self.atoms,
+            atoms,
             seed: self.style.seed,
         }
     }
