@@ -1,5 +1,7 @@
 //! `pair_style` and `pair_coeff`: the words are parsed by [`crate::grammar::pair`] (one grammar
-//! for both engines); this file puts the result into the system's force field.
+//! for both engines); this file puts the result into the system's force field, and keeps the
+//! accepted lines' words, which a restart file stores and `read_restart` re-issues (a new pair
+//! style defined here is covered without restart code of its own).
 
 use super::{CmdResult, Interpreter};
 use crate::engine::ForceField;
@@ -23,6 +25,7 @@ impl Interpreter<'_> {
             style.rc,
             sys.ntypes,
         ));
+        self.pair_lines = vec![command_words("pair_style", args)];
         Ok(())
     }
 
@@ -40,6 +43,14 @@ impl Interpreter<'_> {
                 None => ff.set(i, j, line.coeff),
             }
         }
+        self.pair_lines.push(command_words("pair_coeff", args));
         Ok(())
     }
+}
+
+/// A command line as words, command first (what a restart file stores to re-issue it).
+fn command_words(cmd: &str, args: &[String]) -> Vec<String> {
+    std::iter::once(cmd.to_string())
+        .chain(args.iter().cloned())
+        .collect()
 }

@@ -69,7 +69,14 @@ impl PlannedRun {
 pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
     matches!(
         cmd,
-        "dump" | "dump_modify" | "undump" | "write_data" | "log" | "print"
+        "dump"
+            | "dump_modify"
+            | "undump"
+            | "write_data"
+            | "write_restart"
+            | "restart"
+            | "log"
+            | "print"
     ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
 }
 
@@ -136,6 +143,7 @@ impl Interpreter<'_> {
         if self.console.get().interrupted() {
             return Err(self.interrupted_at(step));
         }
+        self.drop_unclaimed_fix_state();
         let sys = self.sys_mut()?;
         if upto {
             n = n
@@ -205,6 +213,11 @@ impl Interpreter<'_> {
             }
             if !self.dumps.is_empty() {
                 self.write_dumps(false)?;
+            }
+            if self.restart_due(step) {
+                self.write_scheduled_restart().inspect_err(|_| {
+                    self.flush_outputs();
+                })?;
             }
             if last_progress.elapsed().as_secs_f64() > 1.0 {
                 last_progress = Instant::now();
