@@ -1,8 +1,8 @@
 //! Exact restart (issue 16, "Build"): `run 50` + `run 50` in one interpreter gives the same bits
 //! as `run 50` + `write_restart`, then `read_restart` + `run 50` in a fresh one, for
 //! velocity-Verlet and Euler, periodic and Lees–Edwards boxes, 1 and 2 threads, with
-//! `fix pex/push`; periodic `restart N FILE` (names with `*`, two alternating files); and
-//! refusals of corrupted, truncated, foreign and newer files with the file, line and command.
+//! `fix pex/push`; periodic `restart N FILE` (names with `*`, two alternating files) and the
+//! file written at an interrupt; and refusals of corrupted, truncated, foreign and newer files with the file, line and command.
 
 use dpdnl::engine::System;
 use dpdnl::input::{Collect, Interpreter, Options, ScriptError};
@@ -332,6 +332,57 @@ fn the_file_holds_the_system_in_storage_order() {
     assert_eq!(ff.seed, 9898);
     assert_eq!(ff.get(1, 2).map(|p| p.rc), Some(0.9));
     assert_eq!(back.neighbor.skin, 0.5);
+}
+
+/// A console that answers `interrupted` with true from call `after + 1` on.
+struct StopAfter {
+    calls: usize,
+    after: usize,
+}
+
+impl dpdnl::input::Console for StopAfter {
+    fn line(&mut self, _: &str) {}
+    fn interrupted(&mut self) -> bool {
+        self.calls += 1;
+        self.calls > self.after
+    }
+}
+
+/// An interrupt writes the restart file of the step reached (the next of two alternating
+/// files), unless that step's periodic file was just written; the message names the file.
+#[test]
+fn an_interrupt_writes_the_restart_file() {
+    let dir = scratch("interrupt");
+    let c = periodic("nve");
+    let (a, b) = (dir.join("a.restart"), dir.join("b.restart"));
+    let text = format!(
+        "{}{}restart 10 {} {}\nrun 100\n",
+        c.system,
+        c.settings,
+        a.display(),
+        b.display()
+    );
+    // Asked once before the set-up, then after every step: call K + 1 is after step K.
+    for (stop, file, other_step) in [(20u64, &b, 10), (25, &a, 20)] {
+        let _ = std::fs::remove_file(&a);
+        let _ = std::fs::remove_file(&b);
+        let mut console = StopAfter {
+            calls: 0,
+            after: stop as usize,
+        };
+        let mut interp = Interpreter::new(&mut console, &Options::default()).expect("interp");
+        let err = interp.run_text(&text, "in.stop").expect_err("interrupted");
+        assert_eq!(
+            err.message,
+            format!(
+                "interrupted at step {stop}; restart file {} written",
+                file.display()
+            )
+        );
+        let other = if file == &a { &b } else { &a };
+        assert_eq!(restart::read(file).expect("written").step, stop);
+        assert_eq!(restart::read(other).expect("written").step, other_step);
+    }
 }
 
 // ------------------------------------------------------------------------------- refusals

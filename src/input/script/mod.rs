@@ -50,7 +50,9 @@ use std::path::{Path, PathBuf};
 /// step's fixes, thermo row and dumps). When it returns true the run stops at that step
 /// boundary: the log is flushed as at the end of a run (dump and `fix ave/*` files are flushed
 /// as they are written), no "Loop time" summary is printed, and the script stops with a
-/// [`ScriptError`] of command `run` and message `interrupted at step N`, N the step reached.
+/// [`ScriptError`] of command `run` and message `interrupted at step N`, N the step reached
+/// (with `restart N FILE` configured, the restart file of that step is written first and the
+/// message goes on `; restart file F written`).
 /// The interpreter stays usable: the system is left at step N and a later `run` continues from
 /// it.
 ///
