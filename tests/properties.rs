@@ -1,4 +1,5 @@
-//! Property-based tier (issue 16): the readers and the formula evaluator on generated inputs.
+//! Property-based tier (issue 16): the readers (restart files too) and the formula evaluator on
+//! generated inputs.
 //! Round trips are exact; arbitrary text gives an error or a value, never a panic. Case counts
 //! are proptest's default (256 per property) unless stated.
 
@@ -6,6 +7,7 @@ use dpdnl::input::expr::{ExprContext, eval_equal};
 use dpdnl::io::data::{DataFile, format_data, parse_data};
 use dpdnl::io::dump_read::parse_dump;
 use dpdnl::io::lammps_log::parse_log;
+use dpdnl::io::restart;
 use proptest::prelude::*;
 
 struct Ctx;
@@ -51,7 +53,63 @@ prop_compose! {
     }
 }
 
+/// `payload` in a restart file's header with a matching checksum (so the payload reader, not
+/// the checksum, decides).
+fn restart_file(payload: &[u8]) -> Vec<u8> {
+    let mut b = restart::MAGIC.to_vec();
+    b.extend_from_slice(&restart::FORMAT_VERSION.to_le_bytes());
+    b.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    b.extend_from_slice(payload);
+    let sum = restart::fnv1a64(&b);
+    b.extend_from_slice(&sum.to_le_bytes());
+    b
+}
+
+/// A small valid restart file's payload (two atoms, a pair style line, a fix with state),
+/// written once.
+fn restart_payload() -> Vec<u8> {
+    static PAYLOAD: std::sync::OnceLock<Vec<u8>> = std::sync::OnceLock::new();
+    PAYLOAD.get_or_init(write_restart_payload).clone()
+}
+
+fn write_restart_payload() -> Vec<u8> {
+    let text = "units lj\natom_style atomic\nregion b block 0 3 0 3 0 3\ncreate_box 2 b\n\
+                create_atoms 1 single 1 1 1\ncreate_atoms 2 single 2 2 2\nmass * 1.0\n\
+                pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 25 4.5 0\n\
+                fix 1 all nve\nfix p all pex/push 0.1\n";
+    let mut console = dpdnl::input::Collect::default();
+    let opts = dpdnl::input::Options::default();
+    let mut interp = dpdnl::input::Interpreter::new(&mut console, &opts).expect("interpreter");
+    interp.run_text(text, "prop.in").expect("set-up");
+    let file = std::env::temp_dir().join(format!("dpdnl-prop-{}.restart", std::process::id()));
+    interp
+        .run_text(&format!("write_restart {}\n", file.display()), "prop.in")
+        .expect("written");
+    let bytes = std::fs::read(&file).expect("read back");
+    let _ = std::fs::remove_file(&file);
+    bytes[20..bytes.len() - 8].to_vec()
+}
+
 proptest! {
+    /// Any bytes, and any damage to a valid payload under a matching checksum, give a restart
+    /// or an error from `restart::decode`, never a panic or a huge allocation.
+    #[test]
+    fn restart_reader_never_panics(
+        junk in proptest::collection::vec(any::<u8>(), 0..300),
+        at in 0usize..10_000,
+        byte in any::<u8>(),
+        cut in 0usize..10_000,
+    ) {
+        let _ = restart::decode(&junk);
+        let _ = restart::decode(&restart_file(&junk));
+        let mut p = restart_payload();
+        let k = at % p.len();
+        p[k] = byte;
+        let _ = restart::decode(&restart_file(&p));
+        p.truncate(cut % (p.len() + 1));
+        let _ = restart::decode(&restart_file(&p));
+    }
+
     /// write_data → read_data gives back every number bit for bit.
     #[test]
     fn data_files_round_trip(d in data_file()) {

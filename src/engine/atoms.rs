@@ -2,7 +2,7 @@
 
 /// The atoms of the system. Index order is internal (sorted by cell for locality); `tag` is the
 /// global, user-visible id (LAMMPS's atom ID) that keys the pair noise.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Atoms {
     /// Positions (wrapped into the box at every neighbour-list build).
     pub x: Vec<[f64; 3]>,

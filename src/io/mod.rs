@@ -1,5 +1,5 @@
 //! LAMMPS file formats: data files ([`data`]), text dumps ([`dump_read`]) and logs
-//! ([`lammps_log`]).
+//! ([`lammps_log`]); and the standalone engine's own binary restart files ([`restart`]).
 //!
 //! Every reader refuses non-finite numbers (`nan`, `inf`, `-inf`, and decimal literals beyond
 //! the range of a double such as `1e999`) where it reads a value, naming the line and column
@@ -9,6 +9,7 @@
 pub mod data;
 pub mod dump_read;
 pub mod lammps_log;
+pub mod restart;
 
 /// Why a token is not a finite number ([`finite_f64`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

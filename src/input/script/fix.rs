@@ -20,7 +20,15 @@ pub(super) enum FixKind {
 }
 
 impl Interpreter<'_> {
+    /// `fix ID all STYLE …`: define the fix, keep its words for restart files and give it the
+    /// state of a restart file's fix of the same ID and style.
     pub(super) fn cmd_fix(&mut self, args: &[String]) -> CmdResult {
+        self.define_fix(args)?;
+        self.fix_lines.insert(args[0].clone(), args.to_vec());
+        self.claim_fix_state(&args[0], &args[2])
+    }
+
+    fn define_fix(&mut self, args: &[String]) -> CmdResult {
         let usage = "fix ID all nve | nve/euler | enforce2d | pex/push DP [width W] [every N] | ave/time … | ave/chunk … | ave/histo …";
         need(args, 3, usage)?;
         if args[1] != "all" {
@@ -160,6 +168,7 @@ impl Interpreter<'_> {
             return Err(format!("fix '{}' is used by fix '{user}'", args[0]));
         }
         let (id, kind) = self.fixes.remove(pos);
+        self.fix_lines.remove(&id);
         if let Some(sys) = self.sys.as_mut() {
             match kind {
                 FixKind::Nve | FixKind::NveEuler => sys.integrator = None,

@@ -16,11 +16,14 @@
 //! - `fix`: `fix`, `unfix` and `fix deform`;
 //! - `thermo`: `thermo_style`, `thermo_modify` and the thermo output;
 //! - `output`: `dump`, `dump_modify`, `undump`, the dump files, `print`, `log`;
-//! - `run`: `run`, the end-of-step fixes, dry runs and their [`PlannedRun`].
+//! - `run`: `run`, the end-of-step fixes, dry runs and their [`PlannedRun`];
+//! - `restart`: `write_restart`, `read_restart`, `restart N FILE` (the file format is
+//!   [`crate::io::restart`]).
 
 mod fix;
 mod output;
 mod pair;
+mod restart;
 mod run;
 mod setup;
 mod thermo;
@@ -47,7 +50,9 @@ use std::path::{Path, PathBuf};
 /// step's fixes, thermo row and dumps). When it returns true the run stops at that step
 /// boundary: the log is flushed as at the end of a run (dump and `fix ave/*` files are flushed
 /// as they are written), no "Loop time" summary is printed, and the script stops with a
-/// [`ScriptError`] of command `run` and message `interrupted at step N`, N the step reached.
+/// [`ScriptError`] of command `run` and message `interrupted at step N`, N the step reached
+/// (with `restart N FILE` configured, the restart file of that step is written first and the
+/// message goes on `; restart file F written`).
 /// The interpreter stays usable: the system is left at step N and a later `run` continues from
 /// it.
 ///
@@ -148,6 +153,14 @@ pub struct Interpreter<'c> {
     thermo: ThermoSettings,
     dumps: Vec<Dump>,
     fixes: Vec<(String, FixKind)>,
+    /// The words of each fix's `fix` command, by ID (for restart files).
+    fix_lines: BTreeMap<String, Vec<String>>,
+    /// The `pair_style` line and the `pair_coeff` lines since, as words (for restart files).
+    pair_lines: Vec<Vec<String>>,
+    /// `restart N FILE`, when set.
+    restart: Option<restart::RestartEvery>,
+    /// Fix state read by `read_restart` that no re-defined fix has claimed yet.
+    restart_fixes: Vec<restart::PendingFix>,
     threads: usize,
     depth: usize,
     run_first: u64,
@@ -224,6 +237,10 @@ impl<'c> Interpreter<'c> {
             thermo: ThermoSettings::default(),
             dumps: Vec::new(),
             fixes: Vec::new(),
+            fix_lines: BTreeMap::new(),
+            pair_lines: Vec::new(),
+            restart: None,
+            restart_fixes: Vec::new(),
             threads: opts.threads.max(1),
             depth: 0,
             run_first: 0,
@@ -464,9 +481,9 @@ impl<'c> Interpreter<'c> {
             "reset_timestep" => self.cmd_reset_timestep(args),
             "print" => self.cmd_print(args),
             "log" => self.cmd_log(args),
-            "write_restart" | "read_restart" => Err(format!(
-                "'{cmd}' is LAMMPS-only; in the standalone engine use write_data/read_data (state incl. velocities)"
-            )),
+            "write_restart" => self.cmd_write_restart(args),
+            "read_restart" => self.cmd_read_restart(args),
+            "restart" => self.cmd_restart(args),
             _ => Err(format!(
                 "unknown command '{cmd}' (see docs/input.md for the supported subset)"
             )),

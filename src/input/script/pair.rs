@@ -1,7 +1,8 @@
 //! `pair_style` and `pair_coeff`: the words are parsed by [`crate::grammar::pair`] and
 //! [`crate::grammar::sdpd`] (one grammar for both engines); this file puts the result into the
 //! system's pair style (`dpd/nonlinear` or `sdpd`; a new `pair_style` replaces the old one and
-//! its coefficients, as in LAMMPS).
+//! its coefficients), and keeps the accepted lines' words, which a restart file stores and
+//! `read_restart` re-issues (so every pair style is covered without restart code of its own).
 
 use super::{CmdResult, Interpreter};
 use crate::engine::ForceField;
@@ -37,6 +38,7 @@ impl Interpreter<'_> {
                 ));
             }
         }
+        self.pair_lines = vec![command_words("pair_style", args)];
         Ok(())
     }
 
@@ -50,16 +52,24 @@ impl Interpreter<'_> {
         if let Some(sd) = sys.sdpd.as_mut() {
             let line = grammar::sdpd::pair_coeff(args, ntypes, &sd.style)?;
             sd.set_line(&line);
-            return Ok(());
-        }
-        let ff = sys.ff.as_mut().ok_or("pair_coeff before pair_style")?;
-        let line = grammar::pair::pair_coeff(args, ntypes, ff.model.friction, ff.rc_global)?;
-        for (i, j) in line.pairs() {
-            match line.targets {
-                Some((eta, sc)) => ff.set_targets(i, j, line.coeff, eta, sc),
-                None => ff.set(i, j, line.coeff),
+        } else {
+            let ff = sys.ff.as_mut().ok_or("pair_coeff before pair_style")?;
+            let line = grammar::pair::pair_coeff(args, ntypes, ff.model.friction, ff.rc_global)?;
+            for (i, j) in line.pairs() {
+                match line.targets {
+                    Some((eta, sc)) => ff.set_targets(i, j, line.coeff, eta, sc),
+                    None => ff.set(i, j, line.coeff),
+                }
             }
         }
+        self.pair_lines.push(command_words("pair_coeff", args));
         Ok(())
     }
+}
+
+/// A command line as words, command first (what a restart file stores to re-issue it).
+fn command_words(cmd: &str, args: &[String]) -> Vec<String> {
+    std::iter::once(cmd.to_string())
+        .chain(args.iter().cloned())
+        .collect()
 }

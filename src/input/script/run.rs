@@ -69,7 +69,14 @@ impl PlannedRun {
 pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
     matches!(
         cmd,
-        "dump" | "dump_modify" | "undump" | "write_data" | "log" | "print"
+        "dump"
+            | "dump_modify"
+            | "undump"
+            | "write_data"
+            | "write_restart"
+            | "restart"
+            | "log"
+            | "print"
     ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
 }
 
@@ -134,8 +141,9 @@ impl Interpreter<'_> {
         let threads = self.threads;
         let step = self.sys_mut()?.step;
         if self.console.get().interrupted() {
-            return Err(self.interrupted_at(step));
+            return Err(self.interrupted_at(step, None));
         }
+        self.drop_unclaimed_fix_state();
         let sys = self.sys_mut()?;
         if upto {
             n = n
@@ -206,13 +214,19 @@ impl Interpreter<'_> {
             if !self.dumps.is_empty() {
                 self.write_dumps(false)?;
             }
+            let mut restart_file = None;
+            if self.restart_due(step) {
+                restart_file = self.write_scheduled_restart().inspect_err(|_| {
+                    self.flush_outputs();
+                })?;
+            }
             if last_progress.elapsed().as_secs_f64() > 1.0 {
                 last_progress = Instant::now();
                 self.console.get().progress(step, first, last);
                 self.flush_outputs();
             }
             if self.console.get().interrupted() {
-                return Err(self.interrupted_at(step));
+                return Err(self.interrupted_at(step, restart_file));
             }
         }
         let secs = start.elapsed().as_secs_f64();
@@ -233,10 +247,22 @@ impl Interpreter<'_> {
     }
 
     /// Stop a run that [`super::Console::interrupted`] interrupted at `step`: flush the log as
-    /// at the end of a run; the message of the error the script stops with.
-    fn interrupted_at(&mut self, step: u64) -> String {
+    /// at the end of a run and, with `restart N FILE` set, write the restart file of this step
+    /// (unless `written`, the one this step already wrote); the message of the error the script
+    /// stops with.
+    fn interrupted_at(&mut self, step: u64, written: Option<String>) -> String {
         self.flush_outputs();
-        format!("interrupted at step {step}")
+        let mut message = format!("interrupted at step {step}");
+        let file = match written {
+            Some(f) => Ok(Some(f)),
+            None => self.write_scheduled_restart(),
+        };
+        match file {
+            Ok(Some(f)) => message.push_str(&format!("; restart file {f} written")),
+            Ok(None) => {}
+            Err(e) => message.push_str(&format!("; {e}")),
+        }
+        message
     }
 
     /// Flush the log (dumps and averaging files are flushed as each record is written).

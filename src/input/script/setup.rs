@@ -133,7 +133,7 @@ impl Interpreter<'_> {
             .ok_or_else(|| format!("no region with ID '{id}'"))
     }
 
-    fn new_system(&mut self, ntypes: usize, lo: [f64; 3], hi: [f64; 3]) -> CmdResult {
+    pub(super) fn new_system(&mut self, ntypes: usize, lo: [f64; 3], hi: [f64; 3]) -> CmdResult {
         if self.sys.is_some() {
             return Err("a simulation box already exists".into());
         }
