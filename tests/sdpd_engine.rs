@@ -191,3 +191,63 @@ fn bad_input_is_refused() {
         );
     }
 }
+
+/// `compute sdpd/density`: its vector is [mean d, rms(d − mean)/mean] of the per-atom densities
+/// (thermo), its per-atom values feed `fix ave/chunk` (the bin averages of d, printed with 6
+/// digits, count-weight-average to the mean within 1e-5), and it needs `pair_style sdpd`.
+#[test]
+fn density_compute() {
+    let dir = std::env::temp_dir().join(format!("dpdnl-sdpd-compute-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let prof = dir.join("d.chunk");
+    let extra = format!(
+        "compute d all sdpd/density\ncompute layer all chunk/atom bin/1d y lower 0.25 units reduced\n\
+         fix prof all ave/chunk 1 1 10 layer c_d density/number file {}\n\
+         thermo_style custom step c_d[1] c_d[2]\nthermo_modify format float %.17g\nthermo 10",
+        prof.display()
+    );
+    let text = script(2, 900, "lucy", &extra, 10).replace("thermo 0\n", "");
+    let (lines, sys) = run(&text).expect("runs");
+    let sys = sys.unwrap();
+    let d = &sys.sdpd.as_ref().unwrap().density;
+    let n = d.len() as f64;
+    let mean = d.iter().sum::<f64>() / n;
+    let rms = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt() / mean;
+    let row = lines
+        .iter()
+        .find(|l| l.trim_start().starts_with("10 "))
+        .expect("thermo row at step 10");
+    let v: Vec<f64> = row.split_whitespace().map(|w| w.parse().unwrap()).collect();
+    assert_eq!(v[1], mean, "{row}");
+    assert!((v[2] - rms).abs() <= 1e-15 * rms.max(1.0), "{row} vs {rms}");
+    assert!(
+        rms > 0.0 && rms < 0.5 && (mean - 4.2).abs() < 0.5,
+        "{mean} {rms}"
+    );
+    // The chunk file: 4 bins, the count-weighted mean of c_d is the mean density.
+    let text = std::fs::read_to_string(&prof).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split_whitespace().map(|w| w.parse().unwrap()).collect())
+        .filter(|r: &Vec<f64>| r.len() == 5)
+        .collect();
+    // Frames at steps 0 and 10, 4 bins each; the values are printed with 6 digits.
+    assert_eq!(rows.len(), 8, "{text}");
+    let (mut sum, mut count) = (0.0, 0.0);
+    for r in &rows[4..] {
+        sum += r[2] * r[3];
+        count += r[2];
+    }
+    assert_eq!(count, n);
+    assert!(
+        (sum / count - mean).abs() < 1e-5 * mean,
+        "{sum} {count} {mean}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    // Without pair_style sdpd.
+    let bad = "units lj\nregion box block 0 5 0 5 0 5\ncreate_box 1 box\n\
+               pair_style dpd/nonlinear 1.0 1.0 5\ncompute d all sdpd/density\n";
+    let Err(e) = run(bad) else { panic!("accepted") };
+    assert!(e.to_string().contains("needs pair_style sdpd"), "{e}");
+}

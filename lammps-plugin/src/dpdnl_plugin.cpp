@@ -9,6 +9,7 @@
 
 #include "lammps_compat.h"
 
+#include "compute_sdpd_density.h"
 #include "fix_nve_euler.h"
 #include "fix_pex_push.h"
 #include "pair_dpd_nonlinear.h"
@@ -50,6 +51,10 @@ Pair *make_pair_sdpd(LAMMPS *lmp)
   return new PairSDPD(lmp);
 }
 template <typename T> Fix *make_fix(LAMMPS *lmp, int narg, char **arg)
+{
+  return new T(lmp, narg, arg);
+}
+template <typename T> Compute *make_compute(LAMMPS *lmp, int narg, char **arg)
 {
   return new T(lmp, narg, arg);
 }
@@ -117,6 +122,8 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
        reinterpret_cast<void *>(&make_fix<FixNVEEuler>), handle},
       {version, "fix", "pex/push", "fix pex/push (dpdnl: PeX momentum exchange)",
        AUTHOR, reinterpret_cast<void *>(&make_fix<FixPexPush>), handle},
+      {version, "compute", "sdpd/density", "compute sdpd/density (dpdnl: sDPD number densities)",
+       AUTHOR, reinterpret_cast<void *>(&make_compute<ComputeSDPDDensity>), handle},
   };
   for (auto &r : records) reg(&r, lmp);
 }

@@ -1,5 +1,6 @@
 #include "dpdnl_styles.h"
 
+#include "compute_sdpd_density.h"
 #include "fix_nve_euler.h"
 #include "fix_pex_push.h"
 #include "pair_dpd_nonlinear.h"
@@ -20,6 +21,10 @@ template <typename T> Fix *make_fix(LAMMPS *lmp, int narg, char **arg)
 {
   return new T(lmp, narg, arg);
 }
+template <typename T> Compute *make_compute(LAMMPS *lmp, int narg, char **arg)
+{
+  return new T(lmp, narg, arg);
+}
 }    // namespace
 
 void dpdnl_register_styles(LAMMPS *lmp)
@@ -28,6 +33,7 @@ void dpdnl_register_styles(LAMMPS *lmp)
   (*lmp->force->pair_map)["sdpd"] = &make_pair<PairSDPD>;
   (*lmp->modify->fix_map)["nve/euler"] = &make_fix<FixNVEEuler>;
   (*lmp->modify->fix_map)["pex/push"] = &make_fix<FixPexPush>;
+  (*lmp->modify->compute_map)["sdpd/density"] = &make_compute<ComputeSDPDDensity>;
 }
 
 bool dpdnl_styles_registered(LAMMPS *lmp)

@@ -19,6 +19,8 @@ pub(super) enum ChunkValue {
     Mass,
     Temp,
     Var(String),
+    /// `c_ID`: a compute's per-atom values.
+    Compute(String),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,6 +98,9 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<Strin
             "mass" => ChunkValue::Mass,
             "temp" => ChunkValue::Temp,
             w => match parse_ref(w)? {
+                Some((Source::Compute(id), None)) if env.observe().has_per_atom(&id) => {
+                    ChunkValue::Compute(id)
+                }
                 Some((Source::Var(name), None)) => match env.var_style(&name) {
                     VarStyle::Atom => ChunkValue::Var(name),
                     VarStyle::Undefined => {
@@ -113,7 +118,7 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<Strin
                 _ => {
                     return Err(format!(
                         "fix ave/chunk value '{w}' not supported (vx vy vz fx fy fz \
-                         density/number density/mass mass temp v_NAME)"
+                         density/number density/mass mass temp v_NAME c_ID of a per-atom compute)"
                     ));
                 }
             },
@@ -379,6 +384,7 @@ impl Observe {
                     })
                     .collect(),
                 ChunkValue::Var(name) => env.atom_variable(name)?,
+                ChunkValue::Compute(id) => env.observe().compute_per_atom(id, sys)?,
             };
             for (i, b) in bins.iter().enumerate() {
                 if let Some(b) = b {

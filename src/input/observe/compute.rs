@@ -1,4 +1,5 @@
-//! The computes: `temp`, `temp/deform`, `pressure`, `pe`, `ke`, `msd`, `chunk/atom bin/1d` and
+//! The computes: `temp`, `temp/deform`, `pressure`, `pe`, `ke`, `msd`, `chunk/atom bin/1d`,
+//! `sdpd/density` and
 //! the built-in `thermo_temp`, `thermo_press`, `thermo_pe` (parsing, `uncompute`, the thermo
 //! state they give, their global scalars and vectors).
 
@@ -27,6 +28,9 @@ pub(super) enum ComputeKind {
     Msd(Msd),
     /// `chunk/atom bin/1d`: per-atom chunk index.
     Chunk(Bin1d),
+    /// `sdpd/density`: per atom the number density d_i of `pair_style sdpd`'s last evaluation;
+    /// vector [mean d, rms(d − mean)/mean].
+    SdpdDensity,
 }
 
 impl ComputeKind {
@@ -39,6 +43,7 @@ impl ComputeKind {
             ComputeKind::Ke => "ke",
             ComputeKind::Msd(_) => "msd",
             ComputeKind::Chunk(_) => "chunk/atom",
+            ComputeKind::SdpdDensity => "sdpd/density",
         }
     }
 
@@ -57,12 +62,18 @@ impl ComputeKind {
         match self {
             ComputeKind::Temp | ComputeKind::TempDeform | ComputeKind::Pressure(_) => Some(6),
             ComputeKind::Msd(_) => Some(4),
+            ComputeKind::SdpdDensity => Some(2),
             _ => None,
         }
     }
 
     pub(super) fn extensive(&self) -> bool {
         matches!(self, ComputeKind::Pe | ComputeKind::Ke)
+    }
+
+    /// Whether the compute has per-atom values (`c_ID` in `dump custom` and `fix ave/chunk`).
+    pub(super) fn has_per_atom(&self) -> bool {
+        matches!(self, ComputeKind::SdpdDensity)
     }
 
     pub(super) fn is_temperature(&self) -> bool {
@@ -82,7 +93,7 @@ impl Observe {
 
     /// Parse `compute ID all STYLE ARGS…` (checked against `env`, not yet added).
     pub fn parse_compute(args: &[String], env: &dyn Env) -> Result<ComputeDef, String> {
-        let usage = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | msd [com yes|no] | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+        let usage = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | sdpd/density | msd [com yes|no] | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
         if args.len() < 3 {
             return Err(format!("missing arguments; usage: {usage}"));
         }
@@ -130,6 +141,15 @@ impl Observe {
             "ke" => {
                 extra(3)?;
                 ComputeKind::Ke
+            }
+            "sdpd/density" => {
+                extra(3)?;
+                if sys.sdpd.is_none() {
+                    return Err(
+                        "compute sdpd/density needs pair_style sdpd (define it first)".into(),
+                    );
+                }
+                ComputeKind::SdpdDensity
             }
             "pressure" => {
                 let t = arg(args, 3, usage)?;
@@ -397,6 +417,13 @@ impl Observe {
             ComputeKind::TempDeform => sys.thermo_deform().ke_tensor.to_vec(),
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.p_tensor.to_vec(),
             ComputeKind::Msd(m) => m.compute(sys)?.to_vec(),
+            ComputeKind::SdpdDensity => {
+                let d = sdpd_densities(c, sys)?;
+                let n = d.len().max(1) as f64;
+                let mean = d.iter().sum::<f64>() / n;
+                let var = d.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n;
+                vec![mean, var.sqrt() / mean]
+            }
             k => {
                 return Err(format!(
                     "compute {} '{}' does not calculate a global vector",
@@ -406,4 +433,43 @@ impl Observe {
             }
         })
     }
+}
+
+impl Observe {
+    /// The per-atom values of compute `id` (in the atoms' internal order), for `c_ID` in
+    /// `dump custom` and `fix ave/chunk`.
+    pub fn compute_per_atom(&self, id: &str, sys: &System) -> Result<Vec<f64>, String> {
+        let c = self
+            .compute(id)
+            .ok_or_else(|| format!("compute '{id}' does not exist"))?;
+        match &c.kind {
+            ComputeKind::SdpdDensity => Ok(sdpd_densities(c, sys)?.to_vec()),
+            k => Err(format!(
+                "compute {} '{id}' does not calculate per-atom values",
+                k.style()
+            )),
+        }
+    }
+
+    /// Whether compute `id` exists and has per-atom values.
+    pub fn has_per_atom(&self, id: &str) -> bool {
+        self.compute(id).is_some_and(|c| c.kind.has_per_atom())
+    }
+}
+
+/// The densities of the last `pair_style sdpd` evaluation (one per atom, internal order).
+fn sdpd_densities<'a>(c: &ComputeDef, sys: &'a System) -> Result<&'a [f64], String> {
+    let sd = sys.sdpd.as_ref().ok_or_else(|| {
+        format!(
+            "compute sdpd/density '{}': the pair style is no longer sdpd",
+            c.id
+        )
+    })?;
+    if sd.density.len() != sys.atoms.len() {
+        return Err(format!(
+            "compute sdpd/density '{}': no densities yet (they are computed by a run's set-up)",
+            c.id
+        ));
+    }
+    Ok(&sd.density)
 }

@@ -41,6 +41,15 @@ impl Interpreter<'_> {
         }
         let columns = args[5..].to_vec();
         for c in &columns {
+            if let Some(id) = c.strip_prefix("c_") {
+                if !self.obs.has_per_atom(id) {
+                    return Err(format!(
+                        "dump column '{c}': compute '{id}' does not exist or has no per-atom \
+                         values"
+                    ));
+                }
+                continue;
+            }
             if !matches!(
                 c.as_str(),
                 "id" | "type"
@@ -143,6 +152,15 @@ impl Interpreter<'_> {
                 writeln!(w, "{:.16e} {:.16e}", sys.bx.lo[a], sys.bx.hi[a]).map_err(io)?;
             }
             writeln!(w, "ITEM: ATOMS {}", d.columns.join(" ")).map_err(io)?;
+            let per_atom: Vec<Option<Vec<f64>>> = d
+                .columns
+                .iter()
+                .map(|c| {
+                    c.strip_prefix("c_")
+                        .map(|id| self.obs.compute_per_atom(id, sys))
+                        .transpose()
+                })
+                .collect::<Result<_, _>>()?;
             let mut line = String::new();
             for &i in &order {
                 line.clear();
@@ -152,6 +170,9 @@ impl Interpreter<'_> {
                 let xu = sys.bx.unwrap(x, im);
                 for (k, c) in d.columns.iter().enumerate() {
                     let (int, val) = match c.as_str() {
+                        _ if per_atom[k].is_some() => {
+                            (false, per_atom[k].as_ref().map_or(0.0, |v| v[i]))
+                        }
                         "id" => (true, f64::from(sys.atoms.tag[i])),
                         "type" => (true, f64::from(sys.atoms.typ[i])),
                         "ix" => (true, f64::from(im[0])),
