@@ -6,6 +6,7 @@
 //! - [`design_from_targets`]: the (γ, s) that give a target viscosity η and Schmidt number Sc,
 //!   by the exact closed-form inversion of the kinetic theory; [`design_paper_approx`] is the
 //!   weighting-function paper's own recipe (it fixes η0 and approximates η ≈ η0, eqs. 52–53, 65).
+//! - [`sdpd`]: the same theory for the sDPD kernels (Lucy, quintic, proposed; Table 1).
 //! - [`euler_temperature_ratio`], [`euler_critical_dt`], [`euler_critical_density`]: the
 //!   finite-step equilibrium temperature of the Euler (Hoogerbrugge–Koelman) integrator
 //!   (`docs/models.md` §2.2; finite-step paper eqs. 20–26).
@@ -38,6 +39,8 @@
 //! specified value" holds only for C built from η̄η0; with its approximation C ≈ …/η0² (used in
 //! its Tables 4–5) the kinetic-theory Schmidt number is exactly Sc0 + 1/2 (see
 //! [`design_paper_approx`]).
+
+pub mod sdpd;
 
 use crate::fmtnum::fmt_g as g;
 use std::f64::consts::PI;
