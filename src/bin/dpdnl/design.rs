@@ -6,6 +6,8 @@
 //! ("eqs. 52-53, 65", WF-52 … in `docs/models.md`) and the finite-step paper's (FS-22 …).
 
 use dpdnl::fmtnum::fmt_g;
+use dpdnl::kernel::sdpd::Smoothing;
+use dpdnl::theory::sdpd;
 use dpdnl::theory::{
     Design, DesignMode, Dim, Fluid, STIFF_DT_C_FRACTION, StepScales, Targets, TheoryError,
     Transport, design_from_targets, design_paper_approx, euler_critical_density, euler_critical_dt,
@@ -50,6 +52,14 @@ pub struct DesignArgs {
     /// The seed written into the printed `pair_style` line.
     #[arg(long, default_value_t = 12345)]
     seed: u32,
+    /// `dpd` (γ and the weight exponent of `pair_style dpd/nonlinear`) or `sdpd` (η0 and the
+    /// proposed kernel's s of `pair_style sdpd`: the same kinetic theory, docs/models.md 3.7).
+    #[arg(long, default_value = "dpd", value_parser = ["dpd", "sdpd"])]
+    method: String,
+    /// With --method sdpd: the sound speed c0 written into the printed `pair_coeff` line (the
+    /// design does not choose it; without it the line holds the placeholder C0).
+    #[arg(long, allow_negative_numbers = true)]
+    c0: Option<f64>,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -67,17 +77,24 @@ pub struct TheoryArgs {
     /// Friction amplitude γ (`gamma0` of `pair_coeff`).
     #[arg(
         long,
-        required_unless_present = "script",
+        required_unless_present_any = ["script", "kernel"],
         allow_negative_numbers = true
     )]
     gamma: Option<f64>,
-    /// Weight exponent s of w_D = (1 − r/r_c)^s.
+    /// Weight exponent s of w_D = (1 − r/r_c)^s (with --kernel proposed: the kernel's s).
     #[arg(
         long,
-        required_unless_present = "script",
+        required_unless_present_any = ["script", "kernel"],
         allow_negative_numbers = true
     )]
     s: Option<f64>,
+    /// sDPD instead of DPD (`pair_style sdpd`): the kernel, lucy, quintic or proposed (with
+    /// --s); give --eta0 instead of --gamma (docs/models.md 3.7, Table 1).
+    #[arg(long)]
+    kernel: Option<String>,
+    /// With --kernel: the dissipative viscosity η0 (`eta0` of `pair_coeff … sdpd`).
+    #[arg(long, allow_negative_numbers = true)]
+    eta0: Option<f64>,
     /// Number density n (particles per unit area in 2-D).
     #[arg(
         long,
@@ -199,6 +216,91 @@ fn input_lines(f: &Fluid, d: &Design, seed: u32) -> (String, String) {
     )
 }
 
+/// The two `pair_style sdpd` lines of a design (the proposed kernel with the design's s).
+fn sdpd_input_lines(f: &Fluid, d: &Design, seed: u32, c0: Option<f64>) -> (String, String) {
+    (
+        format!(
+            "pair_style sdpd {} {} {} kernel proposed {}",
+            num(f.kt),
+            num(f.cutoff),
+            seed,
+            num(d.s)
+        ),
+        format!(
+            "pair_coeff * * {} {} {}",
+            num(f.mass * f.density),
+            c0.map_or("C0".to_string(), num),
+            num(d.eta0)
+        ),
+    )
+}
+
+/// `dpdnl theory --kernel …`: the sDPD kinetic theory of one kernel and η0.
+fn sdpd_theory(a: &TheoryArgs, name: &str) -> Result<ExitCode, Box<dyn std::error::Error>> {
+    let kernel = match name {
+        "lucy" => Smoothing::Lucy,
+        "quintic" => Smoothing::Quintic,
+        "proposed" => {
+            let s = a.s.ok_or("--kernel proposed needs --s")?;
+            Smoothing::proposed(s).ok_or_else(|| format!("--s {s} must be > 0"))?
+        }
+        o => return Err(format!("--kernel '{o}' must be lucy, quintic or proposed").into()),
+    };
+    if a.gamma.is_some() {
+        return Err("--gamma is DPD's: with --kernel give --eta0".into());
+    }
+    let eta0 = a.eta0.ok_or("--kernel needs --eta0")?;
+    let density = a.density.ok_or("--density is required")?;
+    let rc = a.rc.ok_or("--rc is required")?;
+    let fluid = fluid_of(a.dim, density, rc, a.mass, a.kt)?;
+    let c = sdpd::kinetic_coefficient(fluid.dim, kernel)?;
+    let t = sdpd::kinetic_theory(&fluid, kernel, eta0)?;
+    let eta_min = sdpd::eta_min(&fluid, kernel)?;
+    if a.json {
+        println!(
+            "{{\"command\":\"theory\",\"method\":\"sdpd\",\"kernel\":{},\"s\":{},\"fluid\":{},\"eta0\":{},\"c\":{},\"eta_min\":{},\"predicted\":{}}}",
+            jstr(kernel.keyword()),
+            kernel.exponent().map_or("null".into(), jnum),
+            fluid_json(&fluid),
+            jnum(eta0),
+            jnum(c),
+            jnum(eta_min),
+            transport_json(&t)
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# fluid: d = {}, n = {}, r_c = {}, m = {}, kT = {}; sDPD kernel {kernel}, eta0 = {}",
+        fluid.dim.get(),
+        num(fluid.density),
+        num(fluid.cutoff),
+        num(fluid.mass),
+        num(fluid.kt),
+        num(eta0)
+    );
+    let _ = writeln!(
+        out,
+        "# kinetic theory of sDPD (docs/models.md 3.7, Table 1): eta = c m kT n^2 r_c^2 / eta0 + eta0"
+    );
+    let _ = writeln!(out, "c = {}", num(c));
+    transport_text(&mut out, &t);
+    let _ = writeln!(
+        out,
+        "# the smallest viscosity of this kernel here, 2 sqrt(c m kT n^2 r_c^2) (eqs. 31, 50, 64)"
+    );
+    let _ = writeln!(out, "eta_min = {}", num(eta_min));
+    if a.dt.is_some() {
+        let _ = writeln!(
+            out,
+            "# --dt: the Euler finite-step theory is DPD's (a pair friction without densities); none for sDPD"
+        );
+    }
+    print!("{out}");
+    Ok(ExitCode::SUCCESS)
+}
+
 /// Why a design whose γ needs an impractically small step cannot be run ([`StepScales::stiff`]).
 fn stiff_warning(gamma: f64, s: f64, t: &StepScales) -> String {
     format!(
@@ -238,7 +340,11 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
             stiff_warning(design.gamma, design.s, &scales)
         );
     }
-    let (style, coeff) = input_lines(&fluid, &design, a.seed);
+    let (style, coeff) = if a.method == "sdpd" {
+        sdpd_input_lines(&fluid, &design, a.seed, a.c0)
+    } else {
+        input_lines(&fluid, &design, a.seed)
+    };
     let lim = &design.limits;
     let d = fluid.dim.get();
     let eqs = match fluid.dim {
@@ -314,12 +420,23 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
     }
     let _ = writeln!(out, "eta0 = {}", num(design.eta0));
     let _ = writeln!(out, "s = {}", num(design.s));
-    let _ = writeln!(out, "gamma = {}", num(design.gamma));
-    let _ = writeln!(
-        out,
-        "# check: kinetic theory of (gamma, s) with w_D = (1 - r/r_c)^s"
-    );
-    transport_text(&mut out, &pred);
+    if a.method == "sdpd" {
+        let kernel = Smoothing::proposed(design.s).ok_or("designed s is not > 0")?;
+        let t = sdpd::kinetic_theory(&fluid, kernel, design.eta0)?;
+        let _ = writeln!(
+            out,
+            "# check: kinetic theory of the proposed sDPD kernel with (eta0, s) (Table 1, eq. {})",
+            if d == 3 { "45" } else { "60" }
+        );
+        transport_text(&mut out, &t);
+    } else {
+        let _ = writeln!(out, "gamma = {}", num(design.gamma));
+        let _ = writeln!(
+            out,
+            "# check: kinetic theory of (gamma, s) with w_D = (1 - r/r_c)^s"
+        );
+        transport_text(&mut out, &pred);
+    }
     let _ = writeln!(
         out,
         "# limits: s > 0 <=> P_{d}(s) > P_{d}(0) ({}{eqs}); P is the paper's C",
@@ -361,7 +478,13 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
     let _ = writeln!(out, "rc_min = {}", num(lim.cutoff_min));
     let _ = writeln!(
         out,
-        "# input lines for LAMMPS and dpdnl (friction none, noise plain; set the seed you want)"
+        "{}",
+        if a.method == "sdpd" {
+            "# input lines for LAMMPS and dpdnl (rho0 = m n; choose the sound speed c0 so that the \
+             density fluctuates little, docs/models.md 3.7; set the seed you want)"
+        } else {
+            "# input lines for LAMMPS and dpdnl (friction none, noise plain; set the seed you want)"
+        }
     );
     let _ = writeln!(out, "{style}");
     let _ = writeln!(out, "{coeff}");
@@ -373,6 +496,9 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
 pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     if let Some(p) = &a.script {
         return theory_of_script(p, &a);
+    }
+    if let Some(k) = a.kernel.clone() {
+        return sdpd_theory(&a, &k);
     }
     let gamma = a.gamma.ok_or("--gamma is required")?;
     let s = a.s.ok_or("--s is required")?;
@@ -516,7 +642,7 @@ fn theory_of_script(
         let _ = writeln!(
             out,
             "# run {} of {}: steps {}..{}, d = {}, N = {}, n = N/V = {}, kT = {}, dt = {}, \
-             integrator {scheme}, friction {}, noise {}, weight s = {}",
+             integrator {scheme}, {}",
             k + 1,
             runs.len(),
             r.first_step,
@@ -526,9 +652,15 @@ fn theory_of_script(
             num(density),
             num(kt),
             num(r.dt),
-            r.model.friction.keyword(),
-            r.model.noise.keyword(),
-            num(s)
+            match &r.sdpd {
+                Some(sd) => format!("pair_style sdpd, kernel {}", sd.kernel),
+                None => format!(
+                    "friction {}, noise {}, weight s = {}",
+                    r.model.friction.keyword(),
+                    r.model.noise.keyword(),
+                    num(s)
+                ),
+            }
         );
         if masses.iter().any(|&x| x != m) {
             let _ = writeln!(
@@ -548,6 +680,37 @@ fn theory_of_script(
             }
         }
         let mut pairs_json = Vec::new();
+        if let Some(sd) = &r.sdpd {
+            for (i, j, p) in &sd.pairs {
+                let _ = writeln!(
+                    out,
+                    "# pair {i} {j} (sdpd, kernel {}): rho0 = {}, c0 = {}, eta0 = {}, rc = {}",
+                    sd.kernel,
+                    num(p.rho0),
+                    num(p.c0),
+                    num(p.eta0),
+                    num(p.rc)
+                );
+                let fluid = Fluid::new(r.dim, density, p.rc, m, sd.kt)?;
+                let t = sdpd::kinetic_theory(&fluid, sd.kernel, p.eta0)?;
+                let _ = writeln!(
+                    out,
+                    "# kinetic theory of sDPD (docs/models.md 3.7, Table 1; the Tait pressure adds a \
+                     conservative viscosity not in it)"
+                );
+                transport_text(&mut out, &t);
+                pairs_json.push(format!(
+                    "{{\"i\":{i},\"j\":{j},\"rho0\":{},\"c0\":{},\"eta0\":{},\"rc\":{},\"kernel\":{},\"fluid\":{},\"predicted\":{}}}",
+                    jnum(p.rho0),
+                    jnum(p.c0),
+                    jnum(p.eta0),
+                    jnum(p.rc),
+                    jstr(sd.kernel.keyword()),
+                    fluid_json(&fluid),
+                    transport_json(&t)
+                ));
+            }
+        }
         for (i, j, c) in &r.coeffs {
             let _ = writeln!(
                 out,

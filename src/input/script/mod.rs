@@ -29,7 +29,7 @@ mod setup;
 mod thermo;
 mod velocity;
 
-pub use run::PlannedRun;
+pub use run::{PlannedRun, PlannedSdpd};
 
 use super::expr::{AtomBinder, ExprContext, Formula, RefKind, eval_equal};
 use super::format::{FmtArg, sprintf};

@@ -31,23 +31,52 @@ pub struct PlannedRun {
     pub dt: f64,
     /// The integrator, if any.
     pub integrator: Option<Integrator>,
-    /// (i, j, coefficients) for i ≤ j, after (η, Sc) targets were resolved.
+    /// (i, j, coefficients) for i ≤ j, after (η, Sc) targets were resolved (`dpd/nonlinear`;
+    /// empty under `sdpd`).
     pub coeffs: Vec<(usize, usize, PairCoeff)>,
+    /// `pair_style sdpd`: its kernel and pairs (then `model` is a default placeholder).
+    pub sdpd: Option<PlannedSdpd>,
     /// The set-up's log lines (resolved designs, warnings).
     pub notes: Vec<SetupNote>,
 }
 
 impl PlannedRun {
     fn of(sys: &mut System, steps: u64, notes: Vec<SetupNote>) -> Result<PlannedRun, String> {
-        let ff = sys.ff.as_ref().ok_or("no pair style")?;
         let mut coeffs = Vec::new();
-        for i in 1..=sys.ntypes {
-            for j in i..=sys.ntypes {
-                if let Some(c) = ff.get(i, j) {
-                    coeffs.push((i, j, *c));
+        let mut sdpd = None;
+        let model = if let Some(sd) = sys.sdpd.as_ref() {
+            let mut pairs = Vec::new();
+            for i in 1..=sys.ntypes {
+                for j in i..=sys.ntypes {
+                    if let Some(p) = sd.get(i, j) {
+                        pairs.push((i, j, *p));
+                    }
                 }
             }
-        }
+            sdpd = Some(PlannedSdpd {
+                kt: sd.style.kt,
+                kernel: sd.style.kernel,
+                pairs,
+            });
+            // Placeholder: a `sdpd` run has no DPD model (see `sdpd`).
+            PairModel::new(
+                sd.style.kt,
+                crate::kernel::Friction::None,
+                crate::kernel::Noise::Plain,
+                crate::kernel::Weight::STANDARD,
+                sys.dt,
+            )
+        } else {
+            let ff = sys.ff.as_ref().ok_or("no pair style")?;
+            for i in 1..=sys.ntypes {
+                for j in i..=sys.ntypes {
+                    if let Some(c) = ff.get(i, j) {
+                        coeffs.push((i, j, *c));
+                    }
+                }
+            }
+            ff.model
+        };
         Ok(PlannedRun {
             first_step: sys.step,
             steps,
@@ -55,13 +84,25 @@ impl PlannedRun {
             natoms: sys.atoms.len(),
             volume: sys.bx.volume(),
             masses: sys.mass.iter().map(|m| m.unwrap_or(0.0)).collect(),
-            model: ff.model,
+            model,
             dt: sys.dt,
             integrator: sys.integrator,
             coeffs,
+            sdpd,
             notes,
         })
     }
+}
+
+/// What a planned run of `pair_style sdpd` holds (targets resolved).
+#[derive(Clone, Debug)]
+pub struct PlannedSdpd {
+    /// kT of the random force.
+    pub kt: f64,
+    /// The kernel (the designed one when targets were given).
+    pub kernel: crate::kernel::sdpd::Smoothing,
+    /// (i, j, values) for i ≤ j.
+    pub pairs: Vec<(usize, usize, crate::engine::sdpd::SdpdPair)>,
 }
 
 /// Commands a dry run ([`Interpreter::set_dry_run`]) skips: everything that writes a file or
