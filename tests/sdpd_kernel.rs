@@ -290,3 +290,93 @@ fn bad_kernel_parameters_are_refused() {
     let e = SdpdCoeff::new(shape, 0.0, 1.0, 0.01).unwrap_err();
     assert!(e.contains("eta0"), "{e}");
 }
+
+/// The batch loop equals the scalar pair force to the bit, with every instruction set, for
+/// every kernel family (the specialised s = 1, s = 2 and quintic loops and the general one),
+/// with lanes in and out of range, mixed coefficient indices and a lane at r < 1e-10.
+#[test]
+fn batch_equals_scalar_to_the_bit() {
+    use dpdnl::kernel::sdpd::sdpd_forces_batch;
+    use dpdnl::kernel::{BATCH, Isa, PairBatch};
+    use dpdnl::rng::pair_gaussian;
+    let mut g = Lcg(99);
+    for k in [
+        Smoothing::Lucy,
+        Smoothing::Quintic,
+        Smoothing::proposed(1.0).unwrap(),
+        Smoothing::proposed(0.37).unwrap(),
+    ] {
+        for dim in [2u32, 3] {
+            let coeff: Vec<SdpdCoeff> = [1.0, 1.3]
+                .iter()
+                .enumerate()
+                .map(|(m, &rc)| {
+                    let shape = KernelShape::new(k, dim, rc).unwrap();
+                    SdpdCoeff::new(shape, 3.0 + m as f64, 1.2, 0.004).unwrap()
+                })
+                .collect();
+            let atoms: Vec<SdpdAtom> = (0..50)
+                .map(|_| SdpdAtom {
+                    inv_d: 1.0 / (2.0 + g.next()),
+                    pterm: g.sym(),
+                })
+                .collect();
+            let mut b = PairBatch::default();
+            let (mut iv, mut jv) = (vec![0u32; BATCH], vec![0u32; BATCH]);
+            for l in 0..BATCH {
+                for c in 0..3 {
+                    b.dr[c][l] = if c == 2 && dim == 2 {
+                        0.0
+                    } else {
+                        0.9 * g.sym()
+                    };
+                    b.dv[c][l] = g.sym();
+                }
+                if l == 5 {
+                    b.dr = b.dr.map(|mut a| {
+                        a[5] = 1e-12;
+                        a
+                    });
+                }
+                b.coeff[l] = (l % 3 == 0) as u32;
+                b.tag_i[l] = 1 + (g.next() * 1000.0) as u32;
+                b.tag_j[l] = 1001 + (g.next() * 1000.0) as u32;
+                iv[l] = (g.next() * 50.0) as u32;
+                jv[l] = (g.next() * 50.0) as u32;
+            }
+            for isa in [Isa::Baseline, Isa::Avx2, Isa::Avx512] {
+                for n in [BATCH, 17] {
+                    let mut bb = b.clone();
+                    bb.len = n;
+                    sdpd_forces_batch(isa, &coeff, &atoms, 7, 42, &mut bb, &iv[..n], &jv[..n]);
+                    for l in 0..n {
+                        let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
+                        let dv = [b.dv[0][l], b.dv[1][l], b.dv[2][l]];
+                        let xi = pair_gaussian(7, 42, b.tag_i[l], b.tag_j[l]);
+                        let c = &coeff[b.coeff[l] as usize];
+                        let f = sdpd_pair_force(
+                            c,
+                            dr,
+                            dv,
+                            xi,
+                            atoms[iv[l] as usize],
+                            atoms[jv[l] as usize],
+                        );
+                        let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+                        let want = if f == Default::default() {
+                            0.0
+                        } else {
+                            f.total() / rsq.sqrt()
+                        };
+                        assert_eq!(
+                            bb.fpair[l].to_bits(),
+                            want.to_bits(),
+                            "{k} {dim}-D {isa:?} lane {l}: {} vs {want}",
+                            bb.fpair[l]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

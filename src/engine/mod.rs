@@ -351,13 +351,13 @@ impl System {
         let mut dens = std::mem::take(&mut sd.density);
         {
             let field = &*sd;
-            let w = |k: usize, rsq: f64| field.w_pair(k, rsq);
             self.neighbor.pair_sum(
                 &self.atoms,
                 &self.bx,
                 field.rcsq(),
                 field.ntypes(),
-                &w,
+                |k, rsq| field.w_pair(k, rsq),
+                |k, rsq, out| field.coeffs()[k].shape.w_of_squares(rsq, out),
                 &mut dens,
             );
         }

@@ -10,9 +10,8 @@
 
 use super::pair::PairKernel;
 use crate::grammar::sdpd::{SdpdCoeffLine, SdpdStyle};
-use crate::kernel::PairBatch;
-use crate::kernel::sdpd::{KernelShape, SdpdAtom, SdpdCoeff, Smoothing, Tait, sdpd_pair_force};
-use crate::rng::pair_gaussian;
+use crate::kernel::sdpd::{KernelShape, SdpdAtom, SdpdCoeff, Smoothing, Tait, sdpd_forces_batch};
+use crate::kernel::{Isa, PairBatch};
 
 /// One type pair's `pair_coeff` values.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -246,7 +245,7 @@ impl SdpdField {
     }
 
     /// W of the pair with dense index `k` at squared distance `rsq` (0 beyond its cut-off).
-    #[inline]
+    #[inline(always)]
     pub fn w_pair(&self, k: usize, rsq: f64) -> f64 {
         if rsq < self.rcsq[k] {
             self.coeff[k].shape.w(rsq.sqrt())
@@ -310,6 +309,7 @@ impl SdpdField {
             coeff: &self.coeff,
             atoms,
             seed: self.style.seed,
+            isa: Isa::detect(),
         }
     }
 
@@ -324,36 +324,19 @@ impl SdpdField {
     }
 }
 
-/// Pass 2 of `pair_style sdpd`: the forces of WF-12/19 ([`sdpd_pair_force`]) with the keyed pair
-/// Gaussian of the lane's tags.
+/// Pass 2 of `pair_style sdpd`: the forces of WF-12/19 with the keyed pair Gaussian of the
+/// lane's tags ([`sdpd_forces_batch`], bit for bit `kernel::sdpd::sdpd_pair_force`).
 pub struct SdpdKernel<'a> {
     coeff: &'a [SdpdCoeff],
     atoms: &'a [SdpdAtom],
     seed: u32,
+    /// The instruction set of the lane loops (the same bits with every one).
+    pub isa: Isa,
 }
 
 impl PairKernel for SdpdKernel<'_> {
+    #[inline]
     fn evaluate(&self, step: u64, b: &mut PairBatch, i: &[u32], j: &[u32]) {
-        for l in 0..b.len {
-            let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
-            let dv = [b.dv[0][l], b.dv[1][l], b.dv[2][l]];
-            let xi = pair_gaussian(self.seed, step, b.tag_i[l], b.tag_j[l]);
-            let c = &self.coeff[b.coeff[l] as usize];
-            let f = sdpd_pair_force(
-                c,
-                dr,
-                dv,
-                xi,
-                self.atoms[i[l] as usize],
-                self.atoms[j[l] as usize],
-            );
-            let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-            b.fpair[l] = if rsq > 0.0 {
-                f.total() / rsq.sqrt()
-            } else {
-                0.0
-            };
-            b.energy[l] = 0.0;
-        }
+        sdpd_forces_batch(self.isa, self.coeff, self.atoms, self.seed, step, b, i, j);
     }
 }

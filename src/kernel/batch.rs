@@ -320,6 +320,32 @@ pub(super) fn fill_coeff(table: &PairTable, b: &mut PairBatch, n: usize) {
     }
 }
 
+/// ξ_ij of every lane into `b.scratch.xi` (all [`BATCH`] lanes: those past `b.len` get
+/// garbage from stale tags that nobody reads): [`crate::rng::pair_gaussian`] of the lane's tags,
+/// in two loops (random bits, then Gaussians) that run in SIMD lanes.
+#[inline(always)]
+pub(crate) fn pair_gaussians(b: &mut PairBatch, seed: u32, step: u64) {
+    let bits = &mut b.scratch.bits;
+    for l in 0..BATCH {
+        let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
+        let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
+        bits[0][l] = o[0];
+        bits[1][l] = o[1];
+        bits[2][l] = o[2];
+        bits[3][l] = o[3];
+    }
+    let xi = &mut b.scratch.xi;
+    for l in 0..BATCH {
+        xi[l] = crate::rng::gaussian_from_bits([bits[0][l], bits[1][l], bits[2][l], bits[3][l]]);
+    }
+}
+
+/// The lane Gaussians left by the last [`pair_gaussians`].
+#[inline(always)]
+pub(crate) fn lane_gaussians(b: &PairBatch) -> &[f64; BATCH] {
+    &b.scratch.xi
+}
+
 /// The per-pair loop of [`pair_forces_batch`], with friction, noise and weight fixed.
 #[inline(always)]
 pub(super) fn lanes<const F: u8, const N: u8, const STD: bool>(
@@ -341,19 +367,7 @@ pub(super) fn lanes<const F: u8, const N: u8, const STD: bool>(
     // Three loops (random bits, Gaussians, forces) rather than one: each body is short enough
     // for the processor to overlap several iterations, which hides the long latency chains of
     // Philox, ln and the divisions. The arithmetic of each pair is unchanged.
-    let bits = &mut b.scratch.bits;
-    for l in 0..n {
-        let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
-        let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
-        bits[0][l] = o[0];
-        bits[1][l] = o[1];
-        bits[2][l] = o[2];
-        bits[3][l] = o[3];
-    }
-    let xi = &mut b.scratch.xi;
-    for l in 0..n {
-        xi[l] = crate::rng::gaussian_from_bits([bits[0][l], bits[1][l], bits[2][l], bits[3][l]]);
-    }
+    pair_gaussians(b, seed, step);
     // The stages of `pair_parts`, one loop each (see there); lane arrays in between.
     let coeff_at = |co: &LaneCoeff, l: usize| {
         (

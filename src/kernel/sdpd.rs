@@ -159,7 +159,7 @@ impl KernelShape {
     }
 
     /// W(r) (0 for r ≥ r_c).
-    #[inline]
+    #[inline(always)]
     pub fn w(&self, r: f64) -> f64 {
         if r >= self.rc {
             return 0.0;
@@ -171,6 +171,39 @@ impl KernelShape {
                 let v = 1.0 - u;
                 self.w_norm * pow_s(v, self.s) * v * (1.0 + (1.0 + self.s) * u)
             }
+        }
+    }
+
+    /// `out[k] = W(sqrt(rsq[k]))` for every k (0 at and beyond r_c): [`KernelShape::w`] in a
+    /// loop without calls or branches for Lucy, the quintic and s = 1 (SIMD lanes), the same bits.
+    pub fn w_of_squares(&self, rsq: &[f64], out: &mut [f64]) {
+        let rcsq = self.rc * self.rc;
+        let (w_norm, inv_rc, s) = (self.w_norm, self.inv_rc, self.s);
+        let n = rsq.len().min(out.len());
+        let (rsq, out) = (&rsq[..n], &mut out[..n]);
+        macro_rules! lanes {
+            ($u:ident, $w:expr) => {
+                for (o, &q) in out.iter_mut().zip(rsq) {
+                    let $u = q.sqrt() * inv_rc;
+                    let w = $w;
+                    *o = if q < rcsq { w } else { 0.0 };
+                }
+            };
+        }
+        match self.kind {
+            Smoothing::Quintic => lanes!(u, w_norm * quintic_sum(3.0 * u, 5)),
+            _ if s == 2.0 => lanes!(u, {
+                let v = 1.0 - u;
+                w_norm * (v * v) * v * (1.0 + (1.0 + s) * u)
+            }),
+            _ if s == 1.0 => lanes!(u, {
+                let v = 1.0 - u;
+                w_norm * v * v * (1.0 + (1.0 + s) * u)
+            }),
+            _ => lanes!(u, {
+                let v = 1.0 - u;
+                w_norm * pow_s(v, s) * v * (1.0 + (1.0 + s) * u)
+            }),
         }
     }
 
@@ -354,4 +387,174 @@ pub fn sdpd_pair_force(
         fd: -c.friction * wd * ev,
         fr: (c.noise_sq * wd).sqrt() * xi,
     }
+}
+
+/// The kernel family as the batch loop specialises it.
+const K_SQUARE: u8 = 0; // (1 − u)² (Lucy, proposed s = 2)
+const K_POW: u8 = 1; // (1 − u)^s
+const K_QUINTIC: u8 = 2;
+const K_LINEAR: u8 = 3; // (1 − u) (proposed s = 1)
+
+/// Evaluate every pair of `b` (lanes `0..b.len`, atoms `i[l]`, `j[l]`) with the sDPD force:
+/// `b.fpair[l]` becomes exactly `sdpd_pair_force(&coeff[b.coeff[l]], r_ij, v_ij, ξ_ij, atoms[i],
+/// atoms[j]).total() / r` (0 out of range), ξ_ij the lane's keyed Gaussian, and `b.energy[l]`
+/// 0 (the Tait energy is per atom). The loops have no calls (for Lucy, quintic and s = 1) and no
+/// branches, so they run in SIMD lanes of the instruction set `isa` (the same bits with each).
+///
+/// All coefficients must share one kernel family and exponent (they do: the kernel is global in
+/// `pair_style sdpd`). Panics if an index is outside `coeff` or `atoms` (a caller bug).
+#[allow(clippy::too_many_arguments)]
+pub fn sdpd_forces_batch(
+    isa: super::Isa,
+    coeff: &[SdpdCoeff],
+    atoms: &[SdpdAtom],
+    seed: u32,
+    step: u64,
+    b: &mut super::PairBatch,
+    i: &[u32],
+    j: &[u32],
+) {
+    let n = b.len.min(super::BATCH).min(i.len()).min(j.len());
+    b.len = n;
+    if n == 0 {
+        return;
+    }
+    let isa = if (isa as u8) > (super::Isa::best_supported() as u8) {
+        super::Isa::Baseline
+    } else {
+        isa
+    };
+    let first = &coeff[b.coeff[0] as usize].shape;
+    let kind = match first.kind {
+        Smoothing::Quintic => K_QUINTIC,
+        _ if first.s == 2.0 => K_SQUARE,
+        _ if first.s == 1.0 => K_LINEAR,
+        _ => K_POW,
+    };
+    let args = (coeff, atoms, seed, step, i, j);
+    match (isa, kind) {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `isa` is at most `Isa::best_supported()` (checked above), so the CPU has every
+        // feature the function is compiled for.
+        (super::Isa::Avx512, K_SQUARE) => unsafe { sdpd_avx512::<K_SQUARE>(args, b) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        (super::Isa::Avx512, K_QUINTIC) => unsafe { sdpd_avx512::<K_QUINTIC>(args, b) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        (super::Isa::Avx512, K_LINEAR) => unsafe { sdpd_avx512::<K_LINEAR>(args, b) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        (super::Isa::Avx2, K_SQUARE) => unsafe { sdpd_avx2::<K_SQUARE>(args, b) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        (super::Isa::Avx2, K_QUINTIC) => unsafe { sdpd_avx2::<K_QUINTIC>(args, b) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        (super::Isa::Avx2, K_LINEAR) => unsafe { sdpd_avx2::<K_LINEAR>(args, b) },
+        (_, K_SQUARE) => sdpd_lanes::<K_SQUARE>(args, b),
+        (_, K_QUINTIC) => sdpd_lanes::<K_QUINTIC>(args, b),
+        (_, K_LINEAR) => sdpd_lanes::<K_LINEAR>(args, b),
+        _ => sdpd_lanes::<K_POW>(args, b),
+    }
+}
+
+/// The inputs of [`sdpd_lanes`] besides the batch.
+type SdpdArgs<'a> = (
+    &'a [SdpdCoeff],
+    &'a [SdpdAtom],
+    u32,
+    u64,
+    &'a [u32],
+    &'a [u32],
+);
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+fn sdpd_avx512<const K: u8>(args: SdpdArgs<'_>, b: &mut super::PairBatch) {
+    sdpd_lanes::<K>(args, b)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+fn sdpd_avx2<const K: u8>(args: SdpdArgs<'_>, b: &mut super::PairBatch) {
+    sdpd_lanes::<K>(args, b)
+}
+
+/// The lane loops of [`sdpd_forces_batch`] for kernel family `K`: the same operations, in the
+/// same order, as [`sdpd_pair_force`] and [`KernelShape::f`].
+#[inline(always)]
+fn sdpd_lanes<const K: u8>(args: SdpdArgs<'_>, b: &mut super::PairBatch) {
+    use super::BATCH;
+    let (coeff, atoms, seed, step, i, j) = args;
+    let n = b.len;
+    super::batch::pair_gaussians(b, seed, step);
+    // Per-lane coefficients and atom terms (a broadcast for one type pair).
+    let mut rcsq = [0.0; BATCH];
+    let mut inv_rc = [0.0; BATCH];
+    let mut f_norm = [0.0; BATCH];
+    let mut fric = [0.0; BATCH];
+    let mut nsq = [0.0; BATCH];
+    let mut ptsum = [0.0; BATCH];
+    let mut idd = [0.0; BATCH];
+    let s = coeff[b.coeff[0] as usize].shape.s;
+    let k0 = b.coeff[0];
+    if b.coeff[..n].iter().all(|&k| k == k0) {
+        let c = &coeff[k0 as usize];
+        rcsq.fill(c.shape.rc * c.shape.rc);
+        inv_rc.fill(c.shape.inv_rc);
+        f_norm.fill(c.shape.f_norm);
+        fric.fill(c.friction);
+        nsq.fill(c.noise_sq);
+    } else {
+        for l in 0..n {
+            let c = &coeff[b.coeff[l] as usize];
+            rcsq[l] = c.shape.rc * c.shape.rc;
+            inv_rc[l] = c.shape.inv_rc;
+            f_norm[l] = c.shape.f_norm;
+            fric[l] = c.friction;
+            nsq[l] = c.noise_sq;
+        }
+    }
+    for l in 0..n {
+        let (ai, aj) = (atoms[i[l] as usize], atoms[j[l] as usize]);
+        ptsum[l] = ai.pterm + aj.pterm;
+        idd[l] = ai.inv_d * aj.inv_d;
+    }
+    let xi = super::batch::lane_gaussians(b);
+    let min_sq = MIN_PAIR_DISTANCE * MIN_PAIR_DISTANCE;
+    let mut out = [0.0; BATCH];
+    for l in 0..BATCH {
+        let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
+        let dv = [b.dv[0][l], b.dv[1][l], b.dv[2][l]];
+        let rsq = dot(dr, dr);
+        let ok = (rsq < rcsq[l]) & (rsq >= min_sq);
+        let r = rsq.sqrt();
+        let u = r * inv_rc[l];
+        let f = match K {
+            K_SQUARE => {
+                let v = 1.0 - u;
+                f_norm[l] * (v * v)
+            }
+            K_LINEAR => f_norm[l] * (1.0 - u),
+            K_QUINTIC => {
+                let big_r = 3.0 * u;
+                let general = f_norm[l] * quintic_sum(big_r, 4) / big_r;
+                if big_r < 1e-8 {
+                    f_norm[l] * 24.0
+                } else {
+                    general
+                }
+            }
+            _ => f_norm[l] * pow_s(1.0 - u, s),
+        };
+        let wd = f * idd[l];
+        let ev = dot(dr, dv) / r;
+        let fc = ptsum[l] * r * f;
+        let fd = -fric[l] * wd * ev;
+        let fr = (nsq[l] * wd).sqrt() * xi[l];
+        out[l] = if ok { (fc + fd + fr) / r } else { 0.0 };
+    }
+    b.fpair[..n].copy_from_slice(&out[..n]);
+    b.energy[..n].fill(0.0);
 }

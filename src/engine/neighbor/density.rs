@@ -8,17 +8,24 @@ use super::*;
 impl NeighborList {
     /// `out[i] = Σ_j w(k_ij, r_ij²)` over every listed pair (i, j) in range of its type pair,
     /// added to both atoms, with `k_ij` the dense type-pair index `typ_i · (ntypes + 1) + typ_j`
-    /// and `rcsq` the squared cut-offs by that index. Requires a current list (as
-    /// [`NeighborList::compute_forces`]); `out` is resized to the number of atoms.
-    pub fn pair_sum(
+    /// and `rcsq` the squared cut-offs by that index. With one atom type, `w_lanes(k, rsq, out)`
+    /// (the same function on a row of squared distances, 0 beyond the cut-off) is used instead,
+    /// a row at a time. Requires a current list (as [`NeighborList::compute_forces`]); `out` is
+    /// resized to the number of atoms.
+    #[allow(clippy::too_many_arguments)]
+    pub fn pair_sum<W, L>(
         &mut self,
         atoms: &Atoms,
         bx: &SimBox,
         rcsq: &[f64],
         ntypes: usize,
-        w: &(dyn Fn(usize, f64) -> f64 + Sync),
+        w: W,
+        w_lanes: L,
         out: &mut Vec<f64>,
-    ) {
+    ) where
+        W: Fn(usize, f64) -> f64 + Sync,
+        L: Fn(usize, &[f64], &mut [f64]) + Sync,
+    {
         assert_eq!(
             atoms.len(),
             self.x_at_build.len(),
@@ -33,6 +40,7 @@ impl NeighborList {
         let len = bx.len();
         let quarter = [0.25 * len[0], 0.25 * len[1], 0.25 * len[2]];
         let (x, typ) = (&atoms.x, &atoms.typ);
+        let one_type = ntypes == 1;
         let row_sum = |s: &Slab, own: &mut [f64], next: &mut [f64]| {
             own.fill(0.0);
             next.fill(0.0);
@@ -41,14 +49,16 @@ impl NeighborList {
             } else {
                 (&s.row_start, &s.nbr)
             };
+            let (mut rsq, mut wv) = (Vec::new(), Vec::new());
             for i in s.start..s.end {
                 let r = i - s.start;
                 let xi = x[i];
                 let ti = typ[i] as usize * nt;
-                let mut di = 0.0;
-                for &j in &nbr[row_start[r] as usize..row_start[r + 1] as usize] {
-                    let j = j as usize;
-                    let xj = x[j];
+                let row = &nbr[row_start[r] as usize..row_start[r + 1] as usize];
+                // Squared minimum-image distances of the row (images only near the boundary).
+                rsq.clear();
+                rsq.extend(row.iter().map(|&j| {
+                    let xj = x[j as usize];
                     let mut d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
                     if (d[0].abs() >= quarter[0])
                         | (d[1].abs() >= quarter[1])
@@ -56,15 +66,26 @@ impl NeighborList {
                     {
                         d = bx.min_image(d);
                     }
-                    let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                    let k = ti + typ[j] as usize;
-                    if rsq < rcsq[k] {
-                        let wij = w(k, rsq);
-                        di += wij;
-                        match own.get_mut(j.wrapping_sub(s.start)) {
-                            Some(o) => *o += wij,
-                            None => next[j - s.next_start] += wij,
-                        }
+                    d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+                }));
+                wv.clear();
+                wv.resize(row.len(), 0.0);
+                if one_type {
+                    w_lanes(ti + 1, &rsq, &mut wv);
+                } else {
+                    for ((wk, &q), &j) in wv.iter_mut().zip(&rsq).zip(row) {
+                        let k = ti + typ[j as usize] as usize;
+                        *wk = if q < rcsq[k] { w(k, q) } else { 0.0 };
+                    }
+                }
+                // Out-of-range entries add +0: the sums are those of the in-range pairs.
+                let mut di = 0.0;
+                for (&wij, &j) in wv.iter().zip(row) {
+                    let j = j as usize;
+                    di += wij;
+                    match own.get_mut(j.wrapping_sub(s.start)) {
+                        Some(o) => *o += wij,
+                        None => next[j - s.next_start] += wij,
                     }
                 }
                 own[r] += di;

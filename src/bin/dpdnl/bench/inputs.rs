@@ -122,10 +122,17 @@ pub(super) fn script(
             "pair_style dpd {} 1.0 {PAIR_SEED}\npair_coeff 1 1 {} {}\n",
             sys.kt, sys.a, sys.gamma0
         )
+    } else if variant == Variant::Sdpd {
+        format!(
+            "pair_style sdpd {} 1.0 {PAIR_SEED} kernel lucy\npair_coeff 1 1 {} {} 1.0\n",
+            sys.kt,
+            sys.density,
+            4.0 * sys.kt.sqrt()
+        )
     } else {
         let (friction, noise, g1) = match variant {
-            Variant::Plain => ("none", "plain", 0.0),
             Variant::DotTwoStep => ("dot", "twostep", sys.gamma1),
+            _ => ("none", "plain", 0.0),
         };
         format!(
             "pair_style dpd/nonlinear {} 1.0 {PAIR_SEED} friction {friction} noise {noise}\n\
