@@ -6,7 +6,7 @@
 //!   normalised to \[W\] = ∫ W d^d r = 1 (WF-7), in 2-D and 3-D, with support r_c.
 //! - [`Tait`]: the equation of state P = P0 \[(ρ/ρ0)⁷ − 1\], P0 = c_s² ρ0 / 7 (WF-10), with the
 //!   per-particle energy u(d) whose derivative is P/d², so that the conservative force is −∇ of
-//!   Σ_i u(d_i) (`docs/models.md` §3.7, "Energy").
+//!   Σ_i u(d_i) (`docs/models.md` §3.7, P-20).
 //! - [`sdpd_pair_force`]: the three central parts of the force on i due to j (WF-12, with the
 //!   random amplitude under the root, WF-19): conservative (P_i/d_i² + P_j/d_j²) r F(r),
 //!   dissipative −2(D+2) η0 F(r)/(d_i d_j) (e·v), random sqrt(2 kT · 2(D+2) η0 F/(d_i d_j)) ξ δt^(−1/2).
