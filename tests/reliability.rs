@@ -88,3 +88,17 @@ fn create_atoms_single_outside_the_box_creates_none() {
     assert!(lines.iter().any(|l| l == "Created 1 atoms"), "{lines:?}");
     assert_eq!(sys.expect("system").atoms.len(), 1);
 }
+
+/// A missing `include` file is an error of the including line: its file and line number and the
+/// missing name (was: the missing file's name at line 0).
+#[test]
+fn a_missing_include_names_the_including_line() {
+    let Err(e) = run("units lj\n\ninclude no_such_file.in\n") else {
+        panic!("accepted")
+    };
+    let e = e.to_string();
+    assert!(
+        e.starts_with("test.in:3: include:") && e.contains("cannot read 'no_such_file.in'"),
+        "{e}"
+    );
+}

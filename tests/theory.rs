@@ -983,3 +983,30 @@ fn cli_tiny_targets_and_huge_gamma() {
     let (ok, _, err) = design("1", "3");
     assert!(ok && err.is_empty(), "{err}");
 }
+
+/// η = 1e300: the refusal names only the bound that exists (lower η); it does not suggest
+/// raising Sc, n or r_c "above inf" nor an empty gas-like window.
+#[test]
+fn huge_eta_refusal_names_only_finite_bounds() {
+    let fluid = Fluid::new(3, 3.0, 1.0, 1.0, 1.0).unwrap();
+    let e = design_from_targets(&Targets {
+        fluid,
+        eta: 1e300,
+        sc: 10.0,
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("lower η below the maximum η 2.38416"), "{e}");
+    assert!(!e.contains("inf") && !e.contains("0.5 < Sc < 0.5"), "{e}");
+    let e = design_from_targets(&Targets {
+        fluid,
+        eta: 10.0,
+        sc: 10.0,
+    })
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("raise Sc above 184.684") && e.contains("raise r_c above"),
+        "{e}"
+    );
+}

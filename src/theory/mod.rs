@@ -303,8 +303,7 @@ impl fmt::Display for TheoryError {
                     "{eta_name} = {} is too large for {sc_name} = {} at this density \
                      ({d}, n = {}, r_c = {}, m = {}, kT = {}): it would need a weight exponent \
                      s <= 0 (s > 0 needs P_{}(s) > P_{}(0) = {}, here P = {}; {eqs}). \
-                     Change one of: lower {eta_name} below the {bound} {} for this {sc_name}; \
-                     or raise {sc_name} above {}; or raise n above {}; or raise r_c above {}",
+                     Change one of: lower {eta_name} below the {bound} {} for this {sc_name}",
                     g(*eta),
                     g(*sc),
                     g(fluid.density),
@@ -316,11 +315,19 @@ impl fmt::Display for TheoryError {
                     g(limits.p0),
                     g(limits.p),
                     g(limits.eta_max),
-                    g(limits.sc_min),
-                    g(limits.density_min),
-                    g(limits.cutoff_min),
                 )?;
-                if let Some(gas) = limits.sc_gas_max {
+                // The other ways out, only where they exist in double precision (for a huge η
+                // every other bound is infinite: only lowering η helps).
+                for (what, v) in [
+                    (sc_name, limits.sc_min),
+                    ("n", limits.density_min),
+                    ("r_c", limits.cutoff_min),
+                ] {
+                    if v.is_finite() {
+                        write!(f, "; or raise {what} above {}", g(v))?;
+                    }
+                }
+                if let Some(gas) = limits.sc_gas_max.filter(|&x| x.is_finite() && x > 0.5) {
                     write!(
                         f,
                         " (a gas-like design, η_K > η_D, also exists for 0.5 < Sc < {})",

@@ -320,8 +320,15 @@ impl<'c> Interpreter<'c> {
                 if self.depth > 16 {
                     return Err(err(cmd, "include nested more than 16 deep".into()));
                 }
+                // A missing file is an error of this line (file and line of the `include`).
+                let text = std::fs::read_to_string(&args[0]).map_err(|e| {
+                    err(
+                        cmd,
+                        format!("cannot read '{}': {e}", crate::grammar::shown(&args[0])),
+                    )
+                })?;
                 self.depth += 1;
-                let r = self.run_file(Path::new(&args[0]));
+                let r = self.run_text(&text, &args[0]);
                 self.depth -= 1;
                 r?;
                 continue;
