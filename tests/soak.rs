@@ -68,9 +68,8 @@ fn soak_dot_twostep_4000_atoms() {
         .map(|b| t[b * per..(b + 1) * per].iter().sum::<f64>() / per as f64)
         .collect();
     let mean = blocks.iter().sum::<f64>() / nb as f64;
-    let err = (blocks.iter().map(|b| (b - mean).powi(2)).sum::<f64>()
-        / ((nb - 1) * nb) as f64)
-        .sqrt();
+    let err =
+        (blocks.iter().map(|b| (b - mean).powi(2)).sum::<f64>() / ((nb - 1) * nb) as f64).sqrt();
     let (r0, r1) = (rss[0], *rss.last().unwrap());
     let rmax = *rss.iter().max().unwrap();
     println!(
@@ -85,7 +84,13 @@ fn soak_dot_twostep_4000_atoms() {
     assert!(pmax < 1e-9 * n, "momentum drift {pmax}");
     // Velocity Verlet at δt = 1e-3 with two-step noise samples T0 to well below 0.1 %
     // (tests/thermostat.rs); 4 block errors plus 0.1 %.
-    assert!((mean - 0.1).abs() < 4.0 * err + 1e-4, "<T> = {mean} +- {err}");
+    assert!(
+        (mean - 0.1).abs() < 4.0 * err + 1e-4,
+        "<T> = {mean} +- {err}"
+    );
     // Flat memory: no growth beyond 2 % (+ 1 MiB) after the first 10^4 steps.
-    assert!(rmax as f64 <= 1.02 * r0 as f64 + 1024.0, "RSS {r0} -> {rmax} KiB");
+    assert!(
+        rmax as f64 <= 1.02 * r0 as f64 + 1024.0,
+        "RSS {r0} -> {rmax} KiB"
+    );
 }

@@ -1,7 +1,8 @@
 //! `pair_style` and `pair_coeff`: the words are parsed by [`crate::grammar::pair`] and
 //! [`crate::grammar::sdpd`] (one grammar for both engines); this file puts the result into the
 //! system's pair style (`dpd/nonlinear` or `sdpd`; a new `pair_style` replaces the old one and
-//! its coefficients), and keeps the accepted lines' words, which a restart file stores and
+//! its coefficients, except that `sdpd` given again keeps its coefficients, as LAMMPS does), and
+//! keeps the accepted lines' words, which a restart file stores and
 //! `read_restart` re-issues (so every pair style is covered without restart code of its own).
 
 use super::{CmdResult, Interpreter};
@@ -27,9 +28,26 @@ impl Interpreter<'_> {
             }
             "sdpd" => {
                 let style = grammar::sdpd::pair_style(&args[1..])?;
+                // As LAMMPS: the same style again keeps its coefficients (they are applied
+                // again under the new settings, so one the new kernel refuses is an error here).
+                let again = self.sys_mut()?.sdpd.is_some();
+                let old: Vec<Vec<String>> = if again {
+                    self.pair_lines
+                        .iter()
+                        .filter(|l| l.first().is_some_and(|w| w == "pair_coeff"))
+                        .cloned()
+                        .collect()
+                } else {
+                    Vec::new()
+                };
                 let sys = self.sys_mut()?;
                 sys.sdpd = Some(SdpdField::new(style, sys.ntypes));
                 sys.ff = None;
+                self.pair_lines = vec![command_words("pair_style", args)];
+                for line in old {
+                    self.cmd_pair_coeff(&line[1..])?;
+                }
+                return Ok(());
             }
             other => {
                 return Err(format!(
