@@ -276,6 +276,22 @@ enum DpdnlStatus dpdnl_compute(const struct DpdnlParams *params,
                                double *f,
                                struct DpdnlTally *tally);
 
+// The blow-up check of the standalone engine (`dpdnl::engine::check_atoms`) on the owned atoms:
+// a non-finite position, velocity or force, or a velocity crossing half the box length `len`
+// (3 doubles) in one step of `dt`, is an error (status and [`crate::dpdnl_last_error`]) naming
+// the step, the atom's tag and the quantity. The LAMMPS pair styles call it at every neighbour
+// rebuild and every 100 steps, after their forces.
+//
+// # Safety
+// `atoms` as for [`dpdnl_compute`] (x, v, tag of the `nlocal` owned atoms are read); `f` holds
+// `3 * nlocal` doubles; `len` 3 doubles.
+enum DpdnlStatus dpdnl_check_health(const struct DpdnlAtoms *atoms,
+                                    const double *f,
+                                    int64_t step,
+                                    double dt,
+                                    const double *len,
+                                    int32_t dimension);
+
 // The line to log left by the last successful [`dpdnl_design_pair`], [`dpdnl_common_exponent`]
 // or [`dpdnl_euler_warning`] on this thread ("" when there is nothing to say). Valid until the
 // next such call on this thread.

@@ -500,3 +500,49 @@ pub(crate) fn tally_pair(
         }
     }
 }
+
+/// The blow-up check of the standalone engine (`dpdnl::engine::check_atoms`) on the owned atoms:
+/// a non-finite position, velocity or force, or a velocity crossing half the box length `len`
+/// (3 doubles) in one step of `dt`, is an error (status and [`crate::dpdnl_last_error`]) naming
+/// the step, the atom's tag and the quantity. The LAMMPS pair styles call it at every neighbour
+/// rebuild and every 100 steps, after their forces.
+///
+/// # Safety
+/// `atoms` as for [`dpdnl_compute`] (x, v, tag of the `nlocal` owned atoms are read); `f` holds
+/// `3 * nlocal` doubles; `len` 3 doubles.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_check_health(
+    atoms: *const DpdnlAtoms,
+    f: *const f64,
+    step: i64,
+    dt: f64,
+    len: *const f64,
+    dimension: i32,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: null or valid (caller's contract).
+        let a = unsafe { atoms.as_ref() }.ok_or_else(|| Error::null("atoms"))?;
+        let n = usize::try_from(a.nlocal)
+            .map_err(|_| Error::invalid(format!("nlocal = {} < 0", a.nlocal)))?;
+        // SAFETY: sizes as documented (caller's contract).
+        let (x, v, tag, f, len) = unsafe {
+            (
+                slice(a.x, 3 * n, "x")?,
+                slice(a.v, 3 * n, "v")?,
+                slice(a.tag, n, "tag")?,
+                slice(f, 3 * n, "f")?,
+                slice(len, 3, "len")?,
+            )
+        };
+        let v3 = |p: &[f64], i: usize| [p[3 * i], p[3 * i + 1], p[3 * i + 2]];
+        dpdnl::engine::check_atoms(
+            step.max(0) as u64,
+            dt,
+            if dimension == 2 { 2 } else { 3 },
+            [len[0], len[1], len[2]],
+            n,
+            |i| (tag[i] as u32, v3(x, i), v3(v, i), v3(f, i)),
+        )
+        .map_err(Error::invalid)
+    })
+}

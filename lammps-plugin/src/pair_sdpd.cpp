@@ -229,6 +229,15 @@ void PairSDPD::compute(int eflag, int vflag)
     error->one(FLERR, std::string("Pair sdpd: ") + dpdnl_last_error());
 
   if (vflag_fdotr) virial_fdotr_compute();
+
+  // The standalone engine's blow-up check (Rust), at every neighbour rebuild and every 100
+  // steps: LAMMPS itself notices only lost atoms, at thermo output.
+  if (neighbor->ago == 0 || update->ntimestep % 100 == 0) {
+    const double len[3] = {domain->xprd, domain->yprd, domain->zprd};
+    if (dpdnl_check_health(&atoms, any ? &atom->f[0][0] : nullptr, update->ntimestep, update->dt,
+                           len, domain->dimension) != DPDNL_STATUS_OK)
+      error->one(FLERR, std::string("Pair sdpd: ") + dpdnl_last_error());
+  }
 }
 
 int PairSDPD::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)

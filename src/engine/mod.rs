@@ -481,40 +481,14 @@ impl System {
             return Err(e);
         }
         let a = &self.atoms;
-        let len = self.bx.len();
-        let dim = self.dim();
-        let axis = ["x", "y", "z"];
-        for i in 0..a.len() {
-            for (what, q) in [
-                ("position", &a.x[i]),
-                ("velocity", &a.v[i]),
-                ("force", &a.f[i]),
-            ] {
-                if let Some(k) = (0..3).find(|&k| !q[k].is_finite()) {
-                    return Err(format!(
-                        "blow-up at step {}: atom {} has a non-finite {what} ({}{} = {})",
-                        self.step,
-                        a.tag[i],
-                        &what[..1],
-                        axis[k],
-                        q[k]
-                    ));
-                }
-            }
-            if let Some(k) = (0..dim).find(|&k| a.v[i][k].abs() * self.dt > 0.5 * len[k]) {
-                return Err(format!(
-                    "blow-up at step {}: atom {} moves {:.3e} per step along {} (v{} = {:.3e}), more than half the box length {}; reduce the time step or check the force field",
-                    self.step,
-                    a.tag[i],
-                    a.v[i][k].abs() * self.dt,
-                    axis[k],
-                    axis[k],
-                    a.v[i][k],
-                    len[k]
-                ));
-            }
-        }
-        Ok(())
+        check_atoms(
+            self.step,
+            self.dt,
+            self.dim(),
+            self.bx.len(),
+            a.len(),
+            |i| (a.tag[i], a.x[i], a.v[i], a.f[i]),
+        )
     }
 
     /// The thermodynamic state with LAMMPS's definitions (`docs/models.md` §4.5, P-7–P-9).
@@ -617,4 +591,43 @@ impl System {
             + a.image.capacity() * 12;
         (atom_bytes, self.neighbor.bytes())
     }
+}
+
+/// The blow-up check of [`System::check_health`] for any atom store (the C ABI passes LAMMPS's
+/// owned atoms): `atom(i)` gives (tag, x, v, f) of atom i < n; `len` the box lengths. The first
+/// non-finite position, velocity or force, or a velocity that crosses half the box length in
+/// one step, is an error naming the step, the atom and the quantity.
+pub fn check_atoms(
+    step: u64,
+    dt: f64,
+    dim: usize,
+    len: [f64; 3],
+    n: usize,
+    atom: impl Fn(usize) -> (u32, [f64; 3], [f64; 3], [f64; 3]),
+) -> Result<(), String> {
+    let axis = ["x", "y", "z"];
+    for i in 0..n {
+        let (tag, x, v, f) = atom(i);
+        for (what, q) in [("position", &x), ("velocity", &v), ("force", &f)] {
+            if let Some(k) = (0..3).find(|&k| !q[k].is_finite()) {
+                return Err(format!(
+                    "blow-up at step {step}: atom {tag} has a non-finite {what} ({}{} = {})",
+                    &what[..1],
+                    axis[k],
+                    q[k]
+                ));
+            }
+        }
+        if let Some(k) = (0..dim).find(|&k| v[k].abs() * dt > 0.5 * len[k]) {
+            return Err(format!(
+                "blow-up at step {step}: atom {tag} moves {:.3e} per step along {} (v{} = {:.3e}), more than half the box length {}; reduce the time step or check the force field",
+                v[k].abs() * dt,
+                axis[k],
+                axis[k],
+                v[k],
+                len[k]
+            ));
+        }
+    }
+    Ok(())
 }
