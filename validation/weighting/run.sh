@@ -10,6 +10,7 @@
 #   validation/weighting/run.sh sdpd-diffusion # sDPD Fig. 4: D from the MSD at rest (in.sdpd2d_eq)
 #   validation/weighting/run.sh sdpd-schmidt   # Fig. 5: Sc = eta/(m n D) against Sc0, sDPD and DPD (s = 1/2, eta0 from eq. 65)
 #   validation/weighting/run.sh sdpd-peer      # LAMMPS's own sdpd/taitwater/isothermal against pair sdpd: <P>, <rho>, T
+#   validation/weighting/run.sh sdpd-analyse   # recompute the block statistics (results/*.obs.txt) of the sDPD Couette runs in work/
 #
 # The paper's eta* comes from Couette flow under Lees-Edwards boundaries (mode couette); mode
 # viscosity gives the zero-shear (equilibrium, Einstein-Helfand) value of the same fluids.
@@ -149,17 +150,17 @@ couette)
         couette1 $j &
     done
     wait ;;
-sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer)
+sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     n="${N:-1600}"; eq="${EQ:-1000}"; par="${PAR:-2}"; c0="${C0:-40}"; dt="${DT:-0.005}"
     engine="${ENGINE:-lammps}"
     LMP="$(realpath "${LMP:-$root/build/lmp_dpdnl}")"
     LMPW="$(realpath "${LMPW:-$root/.venv-lammps/bin/lmp}")"
     L=$(awk -v N="$n" 'BEGIN{printf "%.15g", sqrt(N/4)}')
     kw() { case "$1" in p*) echo "proposed ${1#p}" ;; *) echo "$1" ;; esac; }
-    # blocks FILE COL [FIRST_LINE_SKIP]: mean and standard error of 20 block means of a column.
+    # blocks FILE COL [NB]: mean and standard error of NB (20) block means of a column.
     blocks() {
-        awk -v c="$2" '!/^#/ {k++; t[k] = $c; s += $c}
-             END {nb = 20; bl = int(k / nb); m = s / k
+        awk -v c="$2" -v nb="${3:-20}" '!/^#/ {k++; t[k] = $c; s += $c}
+             END {bl = int(k / nb); m = s / k
                   for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
                   printf "%.6g %.3g %d\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
     }
@@ -191,8 +192,16 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer)
         "$DPDNL" analyze couette "$d/pxy.ave" --col 'c_pdef[4]' --profile "$d/prof.chunk" \
             --y-scale "$L" --label "$name" --out "$work/$name.profile" --no-plot > "$res/$name.profile.txt" || true
         thin_csv "$res/$name.couette.csv" || true
+        couette_obs "$name"
+    }
+    # couette_obs NAME: T, P, d, rms(d - mean)/mean (20 blocks) and P_xy with the standard error of
+    # 10 block means (pxy10; eta* = -P_xy/rate: the summary's error, more conservative than the
+    # analysis's own block choice, which for these 2-D runs often settles on 1-sample blocks).
+    couette_obs() {
+        local d="$work/$1"
         { echo "T $(blocks "$d/pxy.ave" 3)"; echo "P $(blocks "$d/pxy.ave" 4)"
-          echo "d $(blocks "$d/pxy.ave" 5)"; echo "drel $(blocks "$d/pxy.ave" 6)"; } > "$res/$name.obs.txt"
+          echo "d $(blocks "$d/pxy.ave" 5)"; echo "drel $(blocks "$d/pxy.ave" 6)"
+          echo "pxy10 $(blocks "$d/pxy.ave" 2 10)"; } > "$res/$1.obs.txt"
     }
     # sdpd_eq1 NAME ENGINE RC KERNEL ETA0 STEPS: at rest; D (all origins), T, P, d.
     sdpd_eq1() {
@@ -222,10 +231,23 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer)
         "$DPDNL" analyze couette "$work/$name/pxy.ave" --col 'c_pdef[4]' --rate "$rate" --label "$name" \
             --out "$res/$name.couette" --no-plot > "$res/$name.couette.txt" || true
         thin_csv "$res/$name.couette.csv" || true
+        dpd_couette_obs "$name"
+    }
+    dpd_couette_obs() {
+        local d="$work/$1"
+        { echo "T $(blocks "$d/pxy.ave" 3)"; echo "pxy10 $(blocks "$d/pxy.ave" 2 10)"; } > "$res/$1.obs.txt"
     }
     sfx=""; [ "$engine" = lammps ] && sfx="_lmp"
     jobs_list=()
     case "$1" in
+    sdpd-analyse)
+        # Recompute results/NAME.obs.txt of every sDPD Couette run kept in work/ (no simulation).
+        for d in "$work"/sdpd_* "$work"/sdpdcs_* "$work"/sc_sdpd_*_r*; do
+            [ -f "$d/pxy.ave" ] && couette_obs "$(basename "$d")"
+        done
+        for d in "$work"/sc_dpd_*_r*; do
+            [ -f "$d/pxy.ave" ] && dpd_couette_obs "$(basename "$d")"
+        done ;;
     sdpd-cs)
         for k in lucy quintic; do for c in 10 20 40 80; do
             jobs_list+=("c0=$c sdpd_couette1 sdpdcs_${k}_c$c$sfx $engine 2.5 $k 10 0.2 ${STEPS:-2000}")
@@ -302,5 +324,5 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer)
         wait
     fi ;;
 *)
-    sed -n '2,36p' "$0"; exit 2 ;;
+    sed -n '2,38p' "$0"; exit 2 ;;
 esac
