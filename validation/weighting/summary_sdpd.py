@@ -40,6 +40,19 @@ def obs(name):
     return out
 
 
+def eta(name):
+    """(eta*, error) of a Couette run: the analysis's eta*, with the larger of its error and the
+    standard error of 10 block means of P_xy (results/NAME.obs.txt, pxy10) over the rate."""
+    j = jload(name + ".couette.json")
+    if not j:
+        return None
+    e = j["viscosity_err"]
+    o = obs(name)
+    if "pxy10" in o:
+        e = max(e, o["pxy10"][1] / j["shear_rate"])
+    return (j["viscosity"], e)
+
+
 def prate(name):
     p = os.path.join(RES, name + ".profile.txt")
     if not os.path.exists(p):
@@ -111,16 +124,16 @@ def main():
             o = obs(name)
             if not o:
                 continue
-            j = jload(name + ".couette.json")
-            eta = (j["viscosity"], j["viscosity_err"]) if j else None
+            e = eta(name)
             p(f"| {k} | {c} | {pm(o.get('d'), 4)} | {pm(o.get('drel'), 4)} | {pm(o.get('P'), 2)} | "
-              f"{pm(o.get('T'), 4)} | {pm(eta, 2)} | {0.25 * h / float(c):.4f} | {rt.get(name, ('', '–'))[1]} |")
+              f"{pm(o.get('T'), 4)} | {pm(e, 2)} | {0.25 * h / float(c):.4f} | {rt.get(name, ('', '–'))[1]} |")
     p("")
 
     # --- Couette, compact ----------------------------------------------------------------------
     p("## sDPD Couette η* (Tables 2–4): this project / paper, N = 1600 (20 × 20), c0 = 40, δt = 0.005")
     p("")
-    p("Each cell: η* this project ± block error / paper. Runs in `build/lmp_dpdnl` (the LAMMPS shim over "
+    p("Each cell: η* this project ± error / paper; error: the larger of the analysis's block error and the "
+      "standard error of 10 block means of P_xy, over γ̇. Runs in `build/lmp_dpdnl` (the LAMMPS shim over "
       "the same Rust kernel) unless marked.")
     p("")
     p("| fluid | η̄ (kinetic theory) | " + " | ".join(f"γ̇ = {r}" for r in RATES) + " | mean this project | mean ± std paper |")
@@ -135,17 +148,17 @@ def main():
         have = False
         for rate in RATES:
             name = f"sdpd_{tag}_r{rate}_lmp"
-            j = jload(name + ".couette.json")
+            j = eta(name)
             paper = " / ".join(f"{float(r['eta_star_' + rate]):.2f}" for r in rows)
             if j:
                 have = True
-                vals.append(j["viscosity"])
-                cells.append(f"{j['viscosity']:.2f} ± {j['viscosity_err']:.2f} / {paper}")
+                vals.append(j[0])
+                cells.append(f"{j[0]:.2f} ± {j[1]:.2f} / {paper}")
                 o = obs(name)
                 pr = prate(name)
-                z = " / ".join(f"{(j['viscosity'] - float(r['eta_star_' + rate])) / j['viscosity_err']:+.1f}" for r in rows)
+                z = " / ".join(f"{(j[0] - float(r['eta_star_' + rate])) / j[1]:+.1f}" for r in rows)
                 detail.append(
-                    f"| {label} | {rate} | {j['viscosity']:.3f} ± {j['viscosity_err']:.3f} | {paper} | {z} | "
+                    f"| {label} | {rate} | {j[0]:.3f} ± {j[1]:.3f} | {paper} | {z} | "
                     f"{'–' if pr is None else f(pr[0], 4) + ('' if pr[1] is None else ' ± ' + f(pr[1], 4))} | "
                     f"{pm(o.get('T'), 4)} | {pm(o.get('drel'), 4)} | {pm(o.get('P'), 2)} | "
                     f"{rt.get(name, ('–', '–'))[0]} | {rt.get(name, ('–', '–'))[1]} |")
@@ -173,13 +186,13 @@ def main():
     p("| fluid | η* standalone | η* LAMMPS + shim | z | T standalone / LAMMPS | wall s standalone / LAMMPS |")
     p("|---|---|---|---|---|---|")
     for tag, label, _ in fluids():
-        a = jload(f"sdpd_{tag}_r0.2.couette.json")
-        b = jload(f"sdpd_{tag}_r0.2_lmp.couette.json")
+        a = eta(f"sdpd_{tag}_r0.2")
+        b = eta(f"sdpd_{tag}_r0.2_lmp")
         if not a or not b:
             continue
-        z = (a["viscosity"] - b["viscosity"]) / math.hypot(a["viscosity_err"], b["viscosity_err"])
+        z = (a[0] - b[0]) / math.hypot(a[1], b[1])
         oa, ob = obs(f"sdpd_{tag}_r0.2"), obs(f"sdpd_{tag}_r0.2_lmp")
-        p(f"| {label} | {a['viscosity']:.3f} ± {a['viscosity_err']:.3f} | {b['viscosity']:.3f} ± {b['viscosity_err']:.3f} | "
+        p(f"| {label} | {a[0]:.3f} ± {a[1]:.3f} | {b[0]:.3f} ± {b[1]:.3f} | "
           f"{z:+.2f} | {pm(oa.get('T'), 4)} / {pm(ob.get('T'), 4)} | "
           f"{rt.get(f'sdpd_{tag}_r0.2', ('', '–'))[1]} / {rt.get(f'sdpd_{tag}_r0.2_lmp', ('', '–'))[1]} |")
     p("")
@@ -210,18 +223,18 @@ def main():
         ek = X / 42 / e0
         sc_kt = (e0 + ek) / (2 * ek)
         for model in ["sdpd", "dpd"]:
-            jc = jload(f"sc_{model}_{sc}_r0.2_lmp.couette.json")
+            jc = eta(f"sc_{model}_{sc}_r0.2_lmp")
             jd = jload(f"sc_{model}eq_{sc}.msd.json")
             jeh = jload(f"sc_{model}eq_{sc}.eh.json") if model == "dpd" else None
             if not jc and not jd:
                 continue
             s_val = s_err = None
             if jc and jd:
-                s_val = jc["viscosity"] / (4 * jd["diffusion"])
-                s_err = s_val * math.hypot(jc["viscosity_err"] / jc["viscosity"], jd["diffusion_err"] / jd["diffusion"])
-                rows_csv.append((sc, e0, model, jc["viscosity"], jc["viscosity_err"], jd["diffusion"],
+                s_val = jc[0] / (4 * jd["diffusion"])
+                s_err = s_val * math.hypot(jc[1] / jc[0], jd["diffusion_err"] / jd["diffusion"])
+                rows_csv.append((sc, e0, model, jc[0], jc[1], jd["diffusion"],
                                  jd["diffusion_err"], s_val, s_err, sc_kt))
-            p(f"| {sc} | {e0:.4f} | {model} | {pm((jc['viscosity'], jc['viscosity_err']), 3) if jc else '–'} | "
+            p(f"| {sc} | {e0:.4f} | {model} | {pm(jc, 3) if jc else '–'} | "
               f"{pm((jd['diffusion'], jd['diffusion_err']), 4) if jd else '–'} | "
               f"{'–' if s_val is None else f'{s_val:.1f} ± {s_err:.1f}'} | {sc_kt:.1f} | "
               f"{pm((jeh['viscosity'], jeh.get('viscosity_err') or 0), 2) if jeh else '–'} |")
