@@ -28,7 +28,7 @@
 #   sdpd-*:    N [1600]  C0 [40] (sound speed)  DT [0.005]  EQ [1000]  PAR [2]  ENGINE [lammps]
 #              (lammps: build/lmp_dpdnl, the shim over the same Rust kernel, ~2x faster per core under
 #              Lees-Edwards than the standalone's serial sheared pair loop; or standalone)
-#   sdpd-couette: CASES ["<tag>:<rc>:<kernel>:<eta0>:<steps>[:<eq>]" ...] (kernel lucy | quintic | pS for
+#   sdpd-couette: CASES ["<tag>:<rc>:<kernel>:<eta0>:<steps>[:<eq>[:<pre>]]" ...] (kernel lucy | quintic | pS for
 #              "proposed S"; default: every row of SET)  SET [t2 | t3 | t4 (t4a: Sc0 = 400, t4b: 1000) | all]  RATES ["0.05 0.1 0.2 0.5 1"]
 #   sdpd-diffusion: CASES ["f4:2.5:p0.0700:49:8000"]  (equilibrium; MSD with dpdnl analyze msd)
 #   sdpd-schmidt: SC0S ["10 100 1000"]  STEPS [2000] (Couette, gamma-dot = 0.2)  DSTEPS [4000] (at rest)  EQ [700]
@@ -183,10 +183,10 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     }
     # sdpd_couette1 NAME ENGINE RC KERNEL ETA0 RATE STEPS: eta*, rate from the profile, T, P, d.
     sdpd_couette1() {
-        local name=$1 eng=$2 rc=$3 k=$4 eta0=$5 rate=$6 steps=$7 eq=${8:-$eq}
+        local name=$1 eng=$2 rc=$3 k=$4 eta0=$5 rate=$6 steps=$7 eq=${8:-$eq} pre=${9:-0}
         runone "$name" "$eng" "$root/examples/sdpd/in.couette_sdpd2d" -var N "$n" -var rc "$rc" \
             -var kernel "$(kw "$k")" -var eta0 "$eta0" -var c0 "$c0" -var rate "$rate" -var dt "$dt" \
-            -var eq "$eq" -var steps "$steps"
+            -var eq "$eq" -var steps "$steps" -var pre "$pre"
         echo "$eta0 $eq $rate" > "$work/$name/vars"
         couette_analyse "$name"
     }
@@ -282,7 +282,7 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     sdpd-couette)
         t2="t2lucy10:2.5:lucy:10:8000 t2quin10:2.5:quintic:10:8000 t2prop10:2.5:p0.5:10:8000
             t2lucy50:2.5:lucy:50:6000 t2quin50:2.5:quintic:50:6000 t2prop50:2.5:p0.5:50:6000"
-        t3="t3lucy:1.0:lucy:10:12000"
+        t3="t3lucy:1.0:lucy:10:12000:1000:300"   # soft start: r_c = 1 blows up from random positions at c0 = 40
         t4a="t4s400e49:2.5:p0.0700:49:1200:2000 t4s400e43:2.5:p0.5589:43:1200:2000 t4s400e37:2.5:p1.2078:37:1200:2000
              t4s400e31:2.5:p2.1096:31:1200:2000"
         t4b="t4s1000e79:2.5:p0.0025:79:1200:2000 t4s1000e69:2.5:p0.5004:69:1200:2000
@@ -290,9 +290,9 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
         case "${SET:-all}" in t2) def=$t2 ;; t3) def=$t3 ;; t4) def="$t4a $t4b" ;; t4a) def=$t4a ;; t4b) def=$t4b ;;
             *) def="$t2 $t3 $t4a $t4b" ;; esac
         for c in ${CASES:-$def}; do
-            IFS=: read -r tag rc k eta0 steps ceq <<<"$c"
+            IFS=: read -r tag rc k eta0 steps ceq cpre <<<"$c"
             for rate in ${RATES-0.05 0.1 0.2 0.5 1}; do
-                jobs_list+=("c0=$c0 sdpd_couette1 sdpd_${tag}_r${rate}$sfx $engine $rc $k $eta0 $rate $steps ${ceq:-$eq}")
+                jobs_list+=("c0=$c0 sdpd_couette1 sdpd_${tag}_r${rate}$sfx $engine $rc $k $eta0 $rate $steps ${ceq:-$eq} ${cpre:-0}")
             done
         done ;;
     sdpd-diffusion)
