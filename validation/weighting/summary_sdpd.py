@@ -239,7 +239,8 @@ def main():
     # --- Schmidt -------------------------------------------------------------------------------
     p("## Fig. 5: Sc = η/(m n D) against the design Sc0 (s = ½, η0 = sqrt(3 Sc0 X/(4(s+3)(s+4))), X = 100, r_c = 2.5)")
     p("")
-    p("η: Couette η* at γ̇ = 0.2 (LAMMPS + shim); D: all-origin MSD at rest (standalone). Kinetic theory: "
+    p("η: sDPD Couette η* at γ̇ = 0.2 (LAMMPS + shim); DPD Einstein–Helfand of its run at rest (column η*"
+      " then repeats it; errors ±10–50 %, 4000 steps); D: all-origin MSD at rest (standalone, 700 + 4000 steps). Kinetic theory: "
       "η = η0 + η_K, D = 2η_K/(mn), η_K = X/(42 η0).")
     p("")
     p("| Sc0 | η0 | model | η* (γ̇ = 0.2) | D | Sc | Sc kinetic theory | η EH (DPD) |")
@@ -253,9 +254,11 @@ def main():
             jc = eta(f"sc_{model}_{sc}_r0.2_lmp")
             jd = jload(f"sc_{model}eq_{sc}.msd.json")
             jeh = jload(f"sc_{model}eq_{sc}.eh.json") if model == "dpd" else None
-            if not jc and not jd:
+            if not jc and not jd and not jeh:
                 continue
             s_val = s_err = None
+            if not jc and jeh and jd:
+                jc = (jeh["viscosity"], jeh.get("viscosity_err") or 0.0)   # DPD: eta from EH at rest
             if jc and jd:
                 s_val = jc[0] / (4 * jd["diffusion"])
                 s_err = s_val * math.hypot(jc[1] / jc[0], jd["diffusion_err"] / jd["diffusion"])
@@ -294,11 +297,17 @@ def main():
                 z = (a[ka][0] - b[kb][0]) / math.hypot(a[ka][1], b[kb][1])
                 p(f"| {lab} | {pm(a[ka], 4)} | {pm(b[kb], 4)} | {z:+.1f} |")
         p("")
-        for extra in ["peer_lmp_dt0.001", "peer_lmp_dt0.002"]:
+        for extra in sorted(n[:-8] for n in os.listdir(RES) if n.startswith("peer_lmp_dt") and n.endswith(".obs.txt")):
             c = obs(extra)
-            if c:
-                p(f"{extra}: ⟨P⟩ = {pm(c.get('P'), 4)}, ⟨ρ⟩ = {pm(c.get('rho'), 4)}, T = {pm(c.get('T'), 4)}")
-                p("")
+            p(f"The peer at δt = {extra[len('peer_lmp_dt'):]} over the same time span ({extra}), against pair sdpd at δt = 0.005:")
+            p("")
+            p("| quantity | pair sdpd | sdpd/taitwater/isothermal | z |")
+            p("|---|---|---|---|")
+            for ka, kb, lab in rows:
+                if ka in a and kb in c:
+                    z = (a[ka][0] - c[kb][0]) / math.hypot(a[ka][1], c[kb][1])
+                    p(f"| {lab} | {pm(a[ka], 4)} | {pm(c[kb], 4)} | {z:+.1f} |")
+            p("")
     sys.stdout.write("\n".join(out) + "\n")
 
 
