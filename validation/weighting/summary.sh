@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds results/summary.md (this project's numbers beside the weighting-function paper's) from
-# the JSON results of run.sh and ../reference/weighting_tables_2d.csv. Needs jq and awk.
+# the JSON results of run.sh and ../reference/weighting_tables_2d.csv (the sDPD part: summary_sdpd.py,
+# against ../reference/weighting_sdpd_tables_2d.csv; also writes results/schmidt.csv and .svg). Needs jq, awk, python3.
 #   validation/weighting/summary.sh
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -78,4 +79,5 @@ for f in "$res"/couette_*_dpdext.couette.json; do
     echo "| $tag | $rate | $(eta_of "$name") | $(eta_of "$base") | $(eta_of "${base}_lmp") | $(rt "$name") |"
 done
 } > "$res/summary.md"
+python3 "$here/summary_sdpd.py" >> "$res/summary.md"
 cat "$res/summary.md"
