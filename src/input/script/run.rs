@@ -150,6 +150,12 @@ impl Interpreter<'_> {
                 .checked_sub(sys.step)
                 .ok_or("run upto: target step is in the past")?;
         }
+        if let Some(cap) = self.max_steps.filter(|&cap| n > cap) {
+            return Err(format!(
+                "run of {n} steps exceeds the cap of {cap} (Options::max_steps)"
+            ));
+        }
+        let sys = self.sys_mut()?;
         sys.setup()?;
         let notes = std::mem::take(&mut sys.setup_notes);
         let integ = sys.integrator;

@@ -179,6 +179,7 @@ impl Interpreter<'_> {
         need(args, 2, usage)?;
         let dim = self.dim;
         let regions = self.regions.clone();
+        let max_atoms = self.max_atoms;
         let sys = self.sys_mut()?;
         let t: u32 = parse_int(&args[0], "atom type")?;
         if t == 0 || t as usize > sys.ntypes {
@@ -196,6 +197,13 @@ impl Interpreter<'_> {
                     ));
                 }
                 let n: usize = parse_int(&args[2], "number of atoms")?;
+                if let Some(cap) = max_atoms.filter(|&cap| n > cap.saturating_sub(sys.atoms.len()))
+                {
+                    return Err(format!(
+                        "{n} more atoms beside {} exceed the cap of {cap} (Options::max_atoms)",
+                        sys.atoms.len()
+                    ));
+                }
                 memory_guard(n, sys.atoms.len())?;
                 sys.atoms
                     .try_reserve(n)

@@ -1,0 +1,43 @@
+//! Regression tests of the fuzzer's findings (fuzz/README.md): each input that made a target
+//! panic, abort or hang, inline, with the verdict the library now gives. The property is the
+//! fuzzer's: a value or a clear error, never a panic.
+
+mod common;
+
+use dpdnl::input::{Collect, Interpreter, Options};
+
+/// Runs `text` as the `script` fuzz target does (caps on steps and atoms), returning the error
+/// message, if any.
+fn script(text: &str) -> Result<(), String> {
+    let opts = Options {
+        max_steps: Some(200),
+        max_atoms: Some(400),
+        ..Options::default()
+    };
+    let mut console = Collect::default();
+    let mut interp = Interpreter::new(&mut console, &opts).expect("no log file");
+    interp.run_text(text, "fuzz.in").map_err(|e| e.to_string())
+}
+
+/// The fuzzing caps (Options::max_steps, Options::max_atoms) refuse with a message, and a
+/// script within them runs.
+#[test]
+fn fuzzing_caps() {
+    let setup = "region b block 0 5 0 5 0 5\ncreate_box 1 b\nmass 1 1.0\n\
+                 pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 25 4.5 0\nfix 1 all nve\n";
+    let err = script(&format!("{setup}create_atoms 1 random 401 7 NULL\n")).unwrap_err();
+    assert!(err.contains("cap of 400"), "{err}");
+    let err = script(&format!(
+        "{setup}create_atoms 1 random 300 7 NULL\ncreate_atoms 1 random 101 8 NULL\n"
+    ))
+    .unwrap_err();
+    assert!(err.contains("cap of 400"), "{err}");
+    let err = script(&format!(
+        "{setup}create_atoms 1 random 10 7 NULL\nrun 201\n"
+    ))
+    .unwrap_err();
+    assert!(err.contains("cap of 200"), "{err}");
+    script(&format!("{setup}create_atoms 1 random 400 7 NULL\nrun 2\n")).unwrap();
+    // Without caps (the default), the same script is only limited by memory.
+    assert!(common::run(&format!("{setup}create_atoms 1 random 401 7 NULL\nrun 0\n")).is_ok());
+}
