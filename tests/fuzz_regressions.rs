@@ -4,6 +4,7 @@
 
 mod common;
 
+use dpdnl::input::lexer::strip_comment;
 use dpdnl::input::{Collect, Interpreter, Options};
 
 /// Runs `text` as the `script` fuzz target does (caps on steps and atoms), returning the error
@@ -40,4 +41,17 @@ fn fuzzing_caps() {
     script(&format!("{setup}create_atoms 1 random 400 7 NULL\nrun 2\n")).unwrap();
     // Without caps (the default), the same script is only limited by memory.
     assert!(common::run(&format!("{setup}create_atoms 1 random 401 7 NULL\nrun 0\n")).is_ok());
+}
+
+/// Finding 1 (script): `strip_comment` sliced the line at a byte inside a multi-byte character
+/// (`start byte index 18 is not a char boundary`) on any non-ASCII text.
+#[test]
+fn non_ascii_text_in_a_line() {
+    let text =
+        "units lj\natom_style atomic\u{9c412}m_modifplugmass * .0.0\nfix 1 all pex/push -0.1\n";
+    let err = script(text).unwrap_err();
+    assert!(err.starts_with("fuzz.in:2: atom_style"), "{err}");
+    assert_eq!(strip_comment("print \"é\" # ü"), "print \"é\" ");
+    assert_eq!(strip_comment("ü#"), "ü");
+    assert_eq!(strip_comment("'ü # é'"), "'ü # é'");
 }
