@@ -55,3 +55,13 @@ fn non_ascii_text_in_a_line() {
     assert_eq!(strip_comment("ü#"), "ü");
     assert_eq!(strip_comment("'ü # é'"), "'ü # é'");
 }
+
+/// Found reading the code the fuzzer exercises: `$` followed by a multi-byte character named
+/// the variable after the character's first byte ('Ã' for `$é`).
+#[test]
+fn one_character_variable_name_is_a_character() {
+    let err = script("print $é\n").unwrap_err();
+    assert!(err.contains("variable 'é' is not defined"), "{err}");
+    let err = script("variable a index 1\nprint \"$a$ü\"\n").unwrap_err();
+    assert!(err.contains("variable 'ü' is not defined"), "{err}");
+}

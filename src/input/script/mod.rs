@@ -424,10 +424,12 @@ impl<'c> Interpreter<'c> {
                     out.push_str(&sprintf(&fmtstr, &[FmtArg::Float(v)])?);
                     i = end + 1;
                 }
-                other => {
-                    let name = (other as char).to_string();
-                    out.push_str(&self.var_string(&name)?);
-                    i += 2;
+                _ => {
+                    // A one-character name ($x); the character, not its first byte (`$é`
+                    // names 'é').
+                    let ch = s[i + 1..].chars().next().unwrap_or(' ');
+                    out.push_str(&self.var_string(&ch.to_string())?);
+                    i += 1 + ch.len_utf8();
                 }
             }
         }
