@@ -65,3 +65,30 @@ fn one_character_variable_name_is_a_character() {
     let err = script("variable a index 1\nprint \"$a$ü\"\n").unwrap_err();
     assert!(err.contains("variable 'ü' is not defined"), "{err}");
 }
+
+/// Finding 2 (script): a sparse box (side ~5000, cut-off 1.3: 6·10¹⁰ cells) made the neighbour
+/// grid allocation abort the process (`memory allocation … failed`). The grid is now coarsened
+/// to at most max(4·atoms, 2²¹) cells; the run goes on. The fuzzer's input reduced to its core,
+/// and the same in a Lees–Edwards (sheared) box, which has its own grid.
+#[test]
+fn sparse_box_neighbour_grid() {
+    let body = "region box block 0 5000 0 5000 1 5000\ncreate_box 1 box\n\
+                create_atoms 1 random 150 8675 box\nmass 1 1.0\n\
+                velocity all create 0.1 4928 mom yes dist gaussian\n\
+                pair_style dpd/nonlinear 0.1 1.0 34387 friction dot noise twostep\n\
+                pair_coeff 1 1 0.0 5.0 1.0\ntimestep 0.001\nfix 1 all nve\n";
+    let (_, sys) = common::run(&format!("{body}run 20\n")).expect("runs");
+    assert_eq!(sys.expect("system").atoms.len(), 150);
+    script(&format!("{body}run 20\n")).unwrap();
+    // 2-D, one huge axis.
+    let body2d = "dimension 2\nregion box block 0 1e12 0 3 -0.5 0.5\ncreate_box 1 box\n\
+                  create_atoms 1 random 50 1 box\nmass 1 1.0\n\
+                  pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 25 4.5 0\nfix 1 all nve\nrun 5\n";
+    common::run(body2d).expect("runs");
+    // Sheared (triclinic, Lees–Edwards) 2-D box of side 10⁶.
+    let sheared = "dimension 2\nregion box prism 0 1e6 0 1e6 -0.5 0.5 0 0 0\ncreate_box 1 box\n\
+                   create_atoms 1 random 50 1 box\nmass 1 1.0\n\
+                   pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 25 4.5 0\nfix 1 all nve\n\
+                   fix d all deform 1 xy erate 0.1 remap v\nrun 5\n";
+    common::run(sheared).expect("runs");
+}
