@@ -92,3 +92,24 @@ fn sparse_box_neighbour_grid() {
                    fix d all deform 1 xy erate 0.1 remap v\nrun 5\n";
     common::run(sheared).expect("runs");
 }
+
+/// Findings 3 (script) and 4 (readers): `create_box 23333333333333 box`, and a data file with
+/// `26666666666666666 atom types`, allocated per-type tables of that size
+/// (`memory allocation of 373333333333344 bytes failed`, an abort). Atom type counts are now
+/// 1..=1000 in `create_box`, `read_data` (the data file reader itself) and `read_restart`.
+#[test]
+fn atom_type_count_is_bounded() {
+    let err = script("region box block 0 5 0 5 0 5\ncreate_box 23333333333333 box\n").unwrap_err();
+    assert!(
+        err.starts_with("fuzz.in:2: create_box: 23333333333333 atom types: at most 1000"),
+        "{err}"
+    );
+    script("region box block 0 5 0 5 0 5\ncreate_box 1000 box\n").unwrap();
+    let data = "title\n\n1 atoms\n18446744073709551615 atom types\n\n0 1 xlo xhi\n0 1 ylo yhi\n\
+                0 1 zlo zhi\n\nAtoms\n\n1 1 0.5 0.5 0.5\n";
+    let err = dpdnl::io::data::parse_data(data, "big.data").unwrap_err();
+    assert!(
+        err.starts_with("big.data: 18446744073709551615 atom types: at most 1000"),
+        "{err}"
+    );
+}

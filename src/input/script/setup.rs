@@ -137,9 +137,7 @@ impl Interpreter<'_> {
         if self.sys.is_some() {
             return Err("a simulation box already exists".into());
         }
-        if ntypes == 0 {
-            return Err("the number of atom types must be >= 1".into());
-        }
+        crate::engine::check_ntypes(ntypes)?;
         let bx = SimBox::new(self.dim, lo, hi)?;
         let mut sys = System::new(bx, ntypes);
         sys.dt = self.dt;
