@@ -113,3 +113,28 @@ fn atom_type_count_is_bounded() {
         "{err}"
     );
 }
+
+/// Finding 5 (script): with a friction of ~1e12 an atom flew ~2^31 box lengths between two
+/// rebuilds and the image count overflowed (`attempt to add with overflow` in
+/// `SimBox::wrap_le`; the periodic `SimBox::wrap` had the same `+=`). The counts saturate; the
+/// run then stops at the blow-up check with the atom named.
+#[test]
+fn huge_displacement_image_count() {
+    for (region, deform) in [
+        (
+            "prism 0 10 0 10 -0.5 0.5 0 0 0",
+            "fix 3 all deform 1 xy erate 0.5 remap v\n",
+        ),
+        ("block 0 10 0 10 -0.5 0.5", ""),
+    ] {
+        let text = format!(
+            "dimension 2\nregion box {region}\ncreate_box 1 box\n\
+             create_atoms 1 random 150 8675 box\nmass 1 1.0\n\
+             velocity all create 2.0 4928 mom yes dist gaussian\n\
+             pair_style dpd/nonlinear 1.0 1.0 34387 weight 0.5\n\
+             pair_coeff 1 1 0.0 1e12 0.0\nfix 1 all nve\n{deform}thermo 1000\nrun 42\n"
+        );
+        let err = script(&text).unwrap_err();
+        assert!(err.contains("run: blow-up at step"), "{err}");
+    }
+}
