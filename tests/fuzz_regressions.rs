@@ -138,3 +138,18 @@ fn huge_displacement_image_count() {
         assert!(err.contains("run: blow-up at step"), "{err}");
     }
 }
+
+/// Found by hand while the fuzzer ran, in code it exercises: `reset_timestep` near 2^64 and a
+/// `run` past it overflowed the last step (`attempt to add with overflow` in `cmd_run`).
+#[test]
+fn run_past_the_last_step_number() {
+    let setup = "region b block 0 5 0 5 0 5\ncreate_box 1 b\nmass 1 1.0\n\
+                 create_atoms 1 random 10 7 NULL\npair_style dpd/nonlinear 1.0 1.0 5\n\
+                 pair_coeff * * 25 4.5 0\nfix 1 all nve\nreset_timestep 18446744073709551610\n";
+    let err = script(&format!("{setup}run 10\n")).unwrap_err();
+    assert!(
+        err.starts_with("fuzz.in:9: run: run 10 from step 18446744073709551610 would pass"),
+        "{err}"
+    );
+    script(&format!("{setup}run 5\n")).unwrap();
+}

@@ -156,6 +156,13 @@ impl Interpreter<'_> {
             ));
         }
         let sys = self.sys_mut()?;
+        if sys.step.checked_add(n).is_none() {
+            // `first + n` below overflowed (a fuzzed `reset_timestep 18446744073709551610`).
+            return Err(format!(
+                "run {n} from step {} would pass the last step number, 2^64 - 1",
+                sys.step
+            ));
+        }
         sys.setup()?;
         let notes = std::mem::take(&mut sys.setup_notes);
         let integ = sys.integrator;
