@@ -153,3 +153,28 @@ fn run_past_the_last_step_number() {
     );
     script(&format!("{setup}run 5\n")).unwrap();
 }
+
+/// Found by hand while the fuzzer ran, in code it exercises: `fix ave/histo` with 10^11 bins and
+/// `ave window 100000000000000` allocated that many slots up front (aborts in the allocator).
+/// Histogram bins are now 1..10^8 (as compute chunk/atom's), and a window's slots are allocated
+/// as samples arrive.
+#[test]
+fn averaging_sizes_are_bounded() {
+    let setup = "region b block 0 5 0 5 0 5\ncreate_box 1 b\nmass 1 1.0\n\
+                 create_atoms 1 random 10 7 NULL\npair_style dpd/nonlinear 1.0 1.0 5\n\
+                 pair_coeff * * 25 4.5 0\nfix 1 all nve\nvariable v atom vx\n";
+    let err = script(&format!(
+        "{setup}fix h all ave/histo 1 1 1 0 1 100000000000 v_v mode vector\nrun 2\n"
+    ))
+    .unwrap_err();
+    assert!(err.contains("100000000000 bins (need 1 to 10^8)"), "{err}");
+    script(&format!(
+        "{setup}fix a all ave/time 1 1 1 c_thermo_temp ave window 100000000000000\nrun 5\n"
+    ))
+    .unwrap();
+    script(&format!(
+        "{setup}fix h all ave/histo 1 1 1 0 1 10 v_v mode vector ave window 100000000000000\n\
+         run 5\n"
+    ))
+    .unwrap();
+}
