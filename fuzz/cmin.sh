@@ -23,7 +23,7 @@ fi
   trap '' XFSZ
   ulimit -f 200000
   ulimit -v 4000000
-  nice -n 19 "${as_user[@]}" env RAYON_NUM_THREADS=1 "$bin" -merge=1 -timeout=10 \
+  nice -n 19 "${as_user[@]}" env RAYON_NUM_THREADS=1 "$bin" -merge=1 -timeout=10 ${CMIN_FLAGS:--use_counters=0 -use_cmp=0} \
     -rss_limit_mb=2048 ../min ../corpus "$here/corpus/$target" > "$work/$target.cmin.log" 2>&1
 )
 rm -rf "$here/corpus/$target"
