@@ -137,6 +137,7 @@ fn new_sim(
         log,
         vars: variables.unwrap_or_default().into_iter().collect(),
         threads,
+        ..Options::default()
     };
     let state = Arc::new(Mutex::new(State {
         lines: Vec::new(),

@@ -83,11 +83,14 @@ impl SimBox {
             let shift = ((x[k] - self.lo[k]) * self.inv_len[k]).floor();
             if shift != 0.0 {
                 x[k] -= shift * self.len[k];
-                image[k] += shift as i32;
+                // Saturating: an atom blown ~2^31 box lengths away in one rebuild (a fuzzed
+                // friction of 1e12) overflowed the count and panicked; the blow-up check then
+                // names the atom instead.
+                image[k] = image[k].saturating_add(shift as i32);
                 // Round-off can leave x == hi; LAMMPS maps that to lo.
                 if x[k] >= self.hi[k] {
                     x[k] = self.lo[k];
-                    image[k] += 1;
+                    image[k] = image[k].saturating_add(1);
                 }
             }
         }
@@ -175,13 +178,13 @@ impl SimBox {
             x[1] -= ny * self.len[1];
             x[0] -= ny * le.offset;
             v[0] -= ny * le.jump(self);
-            image[1] += ny as i32;
+            image[1] = image[1].saturating_add(ny as i32); // saturating: as in `wrap`
             // Round-off can leave y == hi: that point is the image of lo, one more crossing.
             if x[1] >= self.hi[1] {
                 x[1] = self.lo[1];
                 x[0] -= le.offset;
                 v[0] -= le.jump(self);
-                image[1] += 1;
+                image[1] = image[1].saturating_add(1);
             }
         }
         let mut im = [0; 3];
@@ -190,7 +193,7 @@ impl SimBox {
         x[0] = y[0];
         if self.dim == 3 {
             x[2] = y[2];
-            image[2] += im[2];
+            image[2] = image[2].saturating_add(im[2]);
         }
     }
 }

@@ -337,10 +337,7 @@ impl LeWork {
 /// distance test uses the exact Lees–Edwards minimum image.
 fn build_cells(w: &mut LeWork, bx: &SimBox, le: &LeesEdwards, x: &[[f64; 3]], rc: f64) {
     let len = bx.len();
-    let mut nc = [1usize; 3];
-    for d in 0..bx.dim {
-        nc[d] = ((len[d] / rc).floor() as usize).max(1);
-    }
+    let nc = super::neighbor::cell_grid(len, bx.dim, rc, x.len());
     w.ncell = nc;
     let total = nc[0] * nc[1] * nc[2];
     let cw = [

@@ -115,6 +115,26 @@ pub struct Thermo {
     pub vol: f64,
 }
 
+/// Most atom types a standalone system may have (`create_box`, `read_data`, `read_restart`):
+/// per-type tables hold (N + 1)² entries, rebuilt at every run's set-up, so a count beyond
+/// this is a typing error, not a model (a fuzzed `create_box 23333333333333 box` aborted in the
+/// allocator).
+pub const MAX_ATOM_TYPES: usize = 1000;
+
+/// Refuse an atom type count outside 1..=[`MAX_ATOM_TYPES`], naming it.
+pub fn check_ntypes(ntypes: usize) -> Result<(), String> {
+    if ntypes == 0 {
+        return Err("the number of atom types must be >= 1".into());
+    }
+    if ntypes > MAX_ATOM_TYPES {
+        return Err(format!(
+            "{ntypes} atom types: at most {MAX_ATOM_TYPES} are supported (per-type tables hold \
+             (N + 1)^2 entries)"
+        ));
+    }
+    Ok(())
+}
+
 impl System {
     /// An empty system in `bx` with `ntypes` atom types; δt defaults to 0.005 (LAMMPS `units lj`),
     /// skin to 0.3 (LAMMPS `units lj`).

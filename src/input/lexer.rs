@@ -39,23 +39,27 @@ pub fn logical_lines(text: &str) -> Vec<RawLine> {
 }
 
 /// Remove a `#` comment that is outside quotes.
+///
+/// Scans bytes, not characters: every delimiter is ASCII, so it never matches inside a
+/// multi-byte character, and the cut before `#` is a character boundary (a `&s[i..]` here
+/// panicked on the first non-ASCII character, found by the fuzzer: tests/fuzz_regressions.rs).
 pub fn strip_comment(s: &str) -> &str {
-    let mut quote: Option<&str> = None;
+    let mut quote: Option<&[u8]> = None;
     let b = s.as_bytes();
     let mut i = 0;
     while i < b.len() {
-        let rest = &s[i..];
+        let rest = &b[i..];
         match quote {
             None => {
-                if rest.starts_with("\"\"\"") {
-                    quote = Some("\"\"\"");
+                if rest.starts_with(b"\"\"\"") {
+                    quote = Some(b"\"\"\"");
                     i += 3;
                     continue;
                 }
                 match b[i] {
                     b'#' => return &s[..i],
-                    b'"' => quote = Some("\""),
-                    b'\'' => quote = Some("'"),
+                    b'"' => quote = Some(b"\""),
+                    b'\'' => quote = Some(b"'"),
                     _ => {}
                 }
             }

@@ -123,6 +123,7 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
             "{name}: header has no 'atom types' line (or 0 types)"
         ));
     }
+    crate::engine::check_ntypes(d.ntypes).map_err(|m| format!("{name}: {m}"))?;
     d.masses = vec![None; d.ntypes + 1];
     // Sections.
     while k < lines.len() {

@@ -181,6 +181,7 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
         log: Some(log_s.clone()),
         vars: vars.clone(),
         threads,
+        ..Options::default()
     };
     vars.pop();
     let mut quiet = Quiet;

@@ -79,6 +79,7 @@ pub fn main(a: RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         log: (a.log != "none").then(|| PathBuf::from(&a.log)),
         vars,
         threads,
+        ..Options::default()
     };
     let mut screen = Screen {
         lines: Vec::new(),

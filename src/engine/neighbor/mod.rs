@@ -35,6 +35,46 @@ mod slab;
 use build::*;
 use slab::*;
 
+/// Fewest cells the grid may always have (see [`cell_grid`]).
+const MIN_CELL_CAP: usize = 1 << 21;
+/// Most cells along one axis (the per-axis stencil tables hold one entry per cell).
+const AXIS_CELL_CAP: f64 = 65536.0;
+
+/// Cells per axis of a grid over a box of side lengths `len` (the first `dim` axes) for pair
+/// cut-off `cutoff` and `natoms` atoms: ⌊L/cutoff⌋ per axis, at least 1, so every cell is at
+/// least `cutoff` wide. A sparse box (a huge box, a tiny cut-off) would ask for more cells than
+/// memory holds (a fuzzer's box of side 5000 with cut-off 1.3: 6·10¹⁰ cells, an abort in the
+/// allocator): the grid is then coarsened to at most max(4·natoms, 2²¹) cells in all and 65536
+/// along any axis, the axes with the fewest cells first keeping theirs, the others sharing the
+/// rest evenly. Wider cells only add candidate pairs that the distance test drops, so forces are
+/// unchanged; a grid within both caps is kept as it is, so every dense system keeps its bits.
+/// A non-finite ratio (an infinite length) gives one cell on that axis.
+pub(crate) fn cell_grid(len: [f64; 3], dim: usize, cutoff: f64, natoms: usize) -> [usize; 3] {
+    let mut want = [1.0f64; 3];
+    for d in 0..dim {
+        let q = (len[d] / cutoff).floor();
+        want[d] = if q.is_finite() {
+            q.clamp(1.0, AXIS_CELL_CAP)
+        } else {
+            1.0
+        };
+    }
+    let mut room = natoms
+        .saturating_mul(4)
+        .max(MIN_CELL_CAP)
+        .min(u32::MAX as usize - 1) as f64;
+    if want.iter().product::<f64>() > room {
+        let mut order: Vec<usize> = (0..dim).collect();
+        order.sort_by(|&a, &b| want[a].total_cmp(&want[b]));
+        for (k, &d) in order.iter().enumerate() {
+            let share = room.powf(1.0 / (dim - k) as f64).floor().max(1.0);
+            want[d] = want[d].min(share);
+            room = (room / want[d]).max(1.0);
+        }
+    }
+    want.map(|w| w as usize)
+}
+
 /// The linear index of cell coordinates (x fastest).
 #[inline]
 fn cell_id(c: [usize; 3], ncell: [usize; 3]) -> usize {
@@ -218,10 +258,7 @@ impl NeighborList {
             .for_each(|(x, im)| bx.wrap(x, im));
         let cutoff = rc_max + self.skin;
         let len = bx.len();
-        let mut ncell = [1usize; 3];
-        for d in 0..bx.dim {
-            ncell[d] = ((len[d] / cutoff).floor() as usize).max(1);
-        }
+        let ncell = cell_grid(len, bx.dim, cutoff, n);
         if ncell != self.ncell {
             self.ncell = ncell;
             for d in 0..3 {
@@ -521,5 +558,35 @@ impl NeighborList {
             }
         }
         tally
+    }
+}
+
+#[cfg(test)]
+mod grid_tests {
+    use super::cell_grid;
+
+    #[test]
+    fn dense_grids_are_kept_and_sparse_ones_capped() {
+        // Dense boxes: ⌊L/cutoff⌋ per axis, as before the caps.
+        assert_eq!(cell_grid([20.0, 20.0, 20.0], 3, 1.3, 128_000), [15, 15, 15]);
+        assert_eq!(cell_grid([1.0, 1.0, 1.0], 3, 1.3, 10), [1, 1, 1]);
+        assert_eq!(cell_grid([300.0, 3.0, 0.0], 2, 1.3, 2000), [230, 2, 1]);
+        // Sparse: the total and each axis within the caps, at least one cell per axis.
+        for (len, dim, n) in [
+            ([5000.0, 5000.0, 5000.0], 3, 150),
+            ([1e12, 3.0, 1.0], 2, 50),
+            ([1e6, 1e6, 1.0], 2, 50),
+            ([f64::INFINITY, 1e300, 4.0], 3, 10),
+            ([1e9, 1e9, 1e9], 3, 100_000_000),
+        ] {
+            let g = cell_grid(len, dim, 1.3, n);
+            let total: usize = g.iter().product();
+            assert!(total <= (4 * n).max(1 << 21), "{len:?}: {g:?}");
+            assert!(
+                g.iter().all(|&m| (1..=65536).contains(&m)),
+                "{len:?}: {g:?}"
+            );
+        }
+        assert_eq!(cell_grid([1e12, 3.0, 1.0], 2, 1.3, 50), [65536, 2, 1]);
     }
 }

@@ -51,8 +51,11 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<Strin
     if lo >= hi {
         return Err(format!("illegal fix ave/histo: lo {lo} >= hi {hi}"));
     }
-    if nbins <= 0 {
-        return Err(format!("illegal fix ave/histo: {nbins} bins"));
+    // The upper bound as in compute chunk/atom: 10^11 bins aborted in the allocator.
+    if !(1..100_000_000).contains(&nbins) {
+        return Err(format!(
+            "illegal fix ave/histo: {nbins} bins (need 1 to 10^8)"
+        ));
     }
     let mut inputs = Vec::new();
     for w in &raw_values {
@@ -163,8 +166,9 @@ pub(super) fn accumulate(
         Ave::Window(nw) => {
             // avg.push already advanced its slot: the one just filled is before it.
             let slot = (h.avg.iwindow + nw - 1) % nw;
-            if h.minmax.len() < nw {
-                h.minmax = vec![[0.0, 0.0]; nw];
+            // Slots fill in order 0, 1, …: grown as they come, as the averager's.
+            if h.minmax.len() <= slot {
+                h.minmax.resize(slot + 1, [0.0, 0.0]);
             }
             h.minmax[slot] = [mn, mx];
             let m = if h.avg.full { nw } else { slot + 1 };

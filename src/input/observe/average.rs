@@ -52,8 +52,11 @@ impl Averager {
                 self.norm += 1;
             }
             Ave::Window(n) => {
-                if self.list.len() < n {
-                    self.list = vec![vec![0.0; x.len()]; n];
+                // One slot per sample until the window is full (the old value of a slot is only
+                // read once it is): memory follows the samples taken, not M (`ave window
+                // 100000000000000` aborted in the allocator).
+                if self.list.len() == self.iwindow {
+                    self.list.push(vec![0.0; x.len()]);
                 }
                 let slot = &mut self.list[self.iwindow];
                 for ((t, v), old) in self.total.iter_mut().zip(x).zip(slot.iter_mut()) {

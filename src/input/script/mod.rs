@@ -134,6 +134,12 @@ pub struct Options {
     pub vars: Vec<(String, String)>,
     /// Number of threads the caller configured (printed in "Loop time").
     pub threads: usize,
+    /// Cap on the steps of one `run` (None: none). For scripts from an untrusted source, such
+    /// as the fuzzer (`fuzz/`): a longer run is an error instead of a long computation.
+    pub max_steps: Option<u64>,
+    /// Cap on the number of atoms `create_atoms` may bring the system to (None: only the
+    /// memory check). For untrusted scripts, as `max_steps`.
+    pub max_atoms: Option<usize>,
 }
 
 /// The interpreter state.
@@ -162,6 +168,9 @@ pub struct Interpreter<'c> {
     /// Fix state read by `read_restart` that no re-defined fix has claimed yet.
     restart_fixes: Vec<restart::PendingFix>,
     threads: usize,
+    /// [`Options::max_steps`] and [`Options::max_atoms`].
+    max_steps: Option<u64>,
+    max_atoms: Option<usize>,
     depth: usize,
     run_first: u64,
     obs: Observe,
@@ -242,6 +251,8 @@ impl<'c> Interpreter<'c> {
             restart: None,
             restart_fixes: Vec::new(),
             threads: opts.threads.max(1),
+            max_steps: opts.max_steps,
+            max_atoms: opts.max_atoms,
             depth: 0,
             run_first: 0,
             obs: Observe::new(),
@@ -420,10 +431,12 @@ impl<'c> Interpreter<'c> {
                     out.push_str(&sprintf(&fmtstr, &[FmtArg::Float(v)])?);
                     i = end + 1;
                 }
-                other => {
-                    let name = (other as char).to_string();
-                    out.push_str(&self.var_string(&name)?);
-                    i += 2;
+                _ => {
+                    // A one-character name ($x); the character, not its first byte (`$é`
+                    // names 'é').
+                    let ch = s[i + 1..].chars().next().unwrap_or(' ');
+                    out.push_str(&self.var_string(&ch.to_string())?);
+                    i += 1 + ch.len_utf8();
                 }
             }
         }

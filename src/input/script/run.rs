@@ -191,6 +191,19 @@ impl Interpreter<'_> {
                 .checked_sub(sys.step)
                 .ok_or("run upto: target step is in the past")?;
         }
+        if let Some(cap) = self.max_steps.filter(|&cap| n > cap) {
+            return Err(format!(
+                "run of {n} steps exceeds the cap of {cap} (Options::max_steps)"
+            ));
+        }
+        let sys = self.sys_mut()?;
+        if sys.step.checked_add(n).is_none() {
+            // `first + n` below overflowed (a fuzzed `reset_timestep 18446744073709551610`).
+            return Err(format!(
+                "run {n} from step {} would pass the last step number, 2^64 - 1",
+                sys.step
+            ));
+        }
         sys.setup()?;
         let notes = std::mem::take(&mut sys.setup_notes);
         let integ = sys.integrator;

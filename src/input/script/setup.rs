@@ -137,9 +137,7 @@ impl Interpreter<'_> {
         if self.sys.is_some() {
             return Err("a simulation box already exists".into());
         }
-        if ntypes == 0 {
-            return Err("the number of atom types must be >= 1".into());
-        }
+        crate::engine::check_ntypes(ntypes)?;
         let bx = SimBox::new(self.dim, lo, hi)?;
         let mut sys = System::new(bx, ntypes);
         sys.dt = self.dt;
@@ -179,6 +177,7 @@ impl Interpreter<'_> {
         need(args, 2, usage)?;
         let dim = self.dim;
         let regions = self.regions.clone();
+        let max_atoms = self.max_atoms;
         let sys = self.sys_mut()?;
         let t: u32 = parse_int(&args[0], "atom type")?;
         if t == 0 || t as usize > sys.ntypes {
@@ -196,6 +195,13 @@ impl Interpreter<'_> {
                     ));
                 }
                 let n: usize = parse_int(&args[2], "number of atoms")?;
+                if let Some(cap) = max_atoms.filter(|&cap| n > cap.saturating_sub(sys.atoms.len()))
+                {
+                    return Err(format!(
+                        "{n} more atoms beside {} exceed the cap of {cap} (Options::max_atoms)",
+                        sys.atoms.len()
+                    ));
+                }
                 memory_guard(n, sys.atoms.len())?;
                 sys.atoms
                     .try_reserve(n)

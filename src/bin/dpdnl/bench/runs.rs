@@ -109,6 +109,7 @@ pub(super) fn run_standalone(text: &str, threads: usize) -> Result<(LoopTime, Me
             log: None,
             vars: Vec::new(),
             threads,
+            ..Options::default()
         };
         let mut interp = Interpreter::new(&mut console, &opts)?;
         let body = text.trim_end();
