@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Minimise a target's corpus (libFuzzer -merge=1: the smallest inputs that keep every feature
-# of the working corpus and the committed one) and replace fuzz/corpus/TARGET with it.
+# Minimise a target's corpus (libFuzzer -merge=1 with -use_counters=0 -use_cmp=0, or
+# $CMIN_FLAGS: the fewest inputs that keep every edge covered by the working corpus and the
+# committed one) and replace fuzz/corpus/TARGET with it.
 #
 #   fuzz/cmin.sh TARGET [WORK_DIR]      (the WORK_DIR of fuzz/run.sh, default /tmp/dpdnl-fuzz)
 #
