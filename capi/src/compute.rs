@@ -138,15 +138,7 @@ pub(crate) unsafe fn compute(
     f: *mut f64,
     tally: Option<DpdnlTally>,
 ) -> Result<(), Error> {
-    if st.step < 0 {
-        return Err(Error::invalid(format!("step = {} must be >= 0", st.step)));
-    }
-    if st.dimension != 2 && st.dimension != 3 {
-        return Err(Error::invalid(format!(
-            "dimension = {} must be 2 or 3",
-            st.dimension
-        )));
-    }
+    // The step and dimension are checked by `walk_pairs`.
     let model = p.model(st.dt)?;
     let table = p.dense_table();
     let ptable = PairTable::new(&model, &table);
