@@ -68,7 +68,8 @@ fn one_character_variable_name_is_a_character() {
 
 /// Finding 2 (script): a sparse box (side ~5000, cut-off 1.3: 6·10¹⁰ cells) made the neighbour
 /// grid allocation abort the process (`memory allocation … failed`). The grid is now coarsened
-/// to at most max(4·atoms, 2²¹) cells; the run goes on. The fuzzer's input reduced to its core,
+/// to at most max(4·atoms, 4096) cells (finding 9: the floor was 2²¹, visited at every build of a
+/// sparse sheared 3-D box, a timeout); the run goes on. The fuzzer's input reduced to its core,
 /// and the same in a Lees–Edwards (sheared) box, which has its own grid.
 #[test]
 fn sparse_box_neighbour_grid() {
@@ -91,6 +92,17 @@ fn sparse_box_neighbour_grid() {
                    pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 25 4.5 0\nfix 1 all nve\n\
                    fix d all deform 1 xy erate 0.1 remap v\nrun 5\n";
     common::run(sheared).expect("runs");
+    // Finding 9: a sparse sheared 3-D box, rebuilt often (every step here); 2000 steps visited
+    // 2²¹ cells per build before. The grid-size bound is the unit test in neighbor/mod.rs.
+    let sheared3d = "region box prism 0 300 0 300 0 300 0 0 0\ncreate_box 1 box\n\
+                     create_atoms 1 random 40 7 box\nmass 1 1.0\n\
+                     velocity all create 1.0 4928 mom yes dist gaussian\n\
+                     pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 25 4.5 0\n\
+                     neighbor 0.0 bin\nneigh_modify every 1 delay 0 check no\n\
+                     timestep 0.01\nfix 1 all nve\n\
+                     fix d all deform 1 xy erate 0.1 remap v\nrun 2000\n";
+    let (_, sys) = common::run(sheared3d).expect("runs");
+    assert_eq!(sys.expect("system").atoms.len(), 40);
 }
 
 /// Findings 3 (script) and 4 (readers): `create_box 23333333333333 box`, and a data file with

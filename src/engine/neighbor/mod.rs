@@ -36,7 +36,7 @@ use build::*;
 use slab::*;
 
 /// Fewest cells the grid may always have (see [`cell_grid`]).
-const MIN_CELL_CAP: usize = 1 << 21;
+const MIN_CELL_CAP: usize = 4096;
 /// Most cells along one axis (the per-axis stencil tables hold one entry per cell).
 const AXIS_CELL_CAP: f64 = 65536.0;
 
@@ -44,11 +44,13 @@ const AXIS_CELL_CAP: f64 = 65536.0;
 /// cut-off `cutoff` and `natoms` atoms: ⌊L/cutoff⌋ per axis, at least 1, so every cell is at
 /// least `cutoff` wide. A sparse box (a huge box, a tiny cut-off) would ask for more cells than
 /// memory holds (a fuzzer's box of side 5000 with cut-off 1.3: 6·10¹⁰ cells, an abort in the
-/// allocator): the grid is then coarsened to at most max(4·natoms, 2²¹) cells in all and 65536
-/// along any axis, the axes with the fewest cells first keeping theirs, the others sharing the
-/// rest evenly. Wider cells only add candidate pairs that the distance test drops, so forces are
-/// unchanged; a grid within both caps is kept as it is, so every dense system keeps its bits.
-/// A non-finite ratio (an infinite length) gives one cell on that axis.
+/// allocator), or for far more cells than atoms, every one visited at each build (a fuzzer's
+/// sparse sheared 3-D box under the former floor of 2²¹ cells: a timeout). The grid is then
+/// coarsened to at most max(4·natoms, 4096) cells in all and 65536 along any axis, the axes with
+/// the fewest cells first keeping theirs, the others sharing the rest evenly. Wider cells only
+/// add candidate pairs that the distance test drops, so forces are unchanged; a grid within both
+/// caps is kept as it is, so every dense system keeps its bits. A non-finite ratio (an infinite
+/// length) gives one cell on that axis.
 pub(crate) fn cell_grid(len: [f64; 3], dim: usize, cutoff: f64, natoms: usize) -> [usize; 3] {
     let mut want = [1.0f64; 3];
     for d in 0..dim {
@@ -581,12 +583,14 @@ mod grid_tests {
         ] {
             let g = cell_grid(len, dim, 1.3, n);
             let total: usize = g.iter().product();
-            assert!(total <= (4 * n).max(1 << 21), "{len:?}: {g:?}");
+            assert!(total <= (4 * n).max(4096), "{len:?}: {g:?}");
             assert!(
                 g.iter().all(|&m| (1..=65536).contains(&m)),
                 "{len:?}: {g:?}"
             );
         }
-        assert_eq!(cell_grid([1e12, 3.0, 1.0], 2, 1.3, 50), [65536, 2, 1]);
+        assert_eq!(cell_grid([1e12, 3.0, 1.0], 2, 1.3, 50), [2048, 2, 1]);
+        // A small dense box keeps its grid under the floor of 4096 cells.
+        assert_eq!(cell_grid([21.0, 21.0, 21.0], 3, 1.3, 900), [16, 16, 16]);
     }
 }
