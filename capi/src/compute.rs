@@ -275,8 +275,8 @@ pub(crate) unsafe fn walk_pairs(
     let mask = list.neighmask as u32 as usize;
     let step = st.step as u64;
 
-    // In-range pairs are gathered, in list order, into batches of BATCH (`Batcher`, the driver
-    // the standalone Lees–Edwards loop uses too) evaluated through the pair style's kernel;
+    // In-range pairs are gathered, in list order, into batches of BATCH (`Batcher`, the seam's
+    // driver) evaluated through the pair style's kernel;
     // `Apply` then adds the forces and tallies in list order as the pair-by-pair loop did, so
     // every sum is formed in the same order.
     let mut bt = Batcher::default();

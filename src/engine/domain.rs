@@ -111,8 +111,8 @@ impl SimBox {
 /// weighting-function paper §5): flow along x, gradient along y. The periodic image at +L_y is
 /// displaced by `offset` along x and moves with velocity +γ̇ L_y along x (the image at −L_y by
 /// −offset and −γ̇ L_y). Equivalent to LAMMPS's `fix deform … xy erate γ̇ remap v` on a tilted box,
-/// in the orthogonal-box form. Used by the Lees–Edwards pair loop and wrapping in
-/// `lees_edwards.rs`.
+/// in the orthogonal-box form. Used by the neighbour list (its rows, minimum images and wrapping
+/// under shear, `neighbor/`) and by the deformation in `lees_edwards.rs`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LeesEdwards {
     /// Shear rate γ̇ = ∂v_x/∂y.

@@ -78,9 +78,8 @@ pub struct System {
     /// What the last [`System::setup`] resolved or found worth a warning (the caller logs them).
     pub setup_notes: Vec<SetupNote>,
     /// The tilt and `fix deform` of a triclinic box (None: orthogonal). A triclinic box runs
-    /// the Lees–Edwards pair loop (`lees_edwards.rs`).
+    /// the same neighbour list under Lees–Edwards boundaries (`lees_edwards.rs`).
     pub tri: Option<lees_edwards::Triclinic>,
-    le_work: lees_edwards::LeWork,
     table: Vec<PairCoeff>,
     inv_mass: Vec<f64>,
 }
@@ -154,7 +153,6 @@ impl System {
             tally: PairTally::default(),
             setup_notes: Vec::new(),
             tri: None,
-            le_work: lees_edwards::LeWork::default(),
             table: Vec::new(),
             inv_mass: Vec::new(),
         }
@@ -205,9 +203,11 @@ impl System {
         }
         if let Some(t) = self.tri.as_mut() {
             t.start_run(self.step);
-        } else {
-            self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
         }
+        // Every run starts from a fresh list (so a continuation from a restart file, which
+        // builds one too, gets the same bits).
+        self.set_shear();
+        self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
         self.compute_forces();
         Ok(())
     }
@@ -309,25 +309,23 @@ impl System {
         )
     }
 
+    /// A sheared box: the tilt, offset and rate of the current step, handed to the neighbour
+    /// list (`lees_edwards.rs`); a periodic box: none.
+    fn set_shear(&mut self) {
+        let shear = self.tri.as_mut().map(|t| {
+            t.set_step(&self.bx, self.dt, self.step);
+            (t.le, t.xy)
+        });
+        self.neighbor.set_shear(shear);
+    }
+
     fn compute_forces(&mut self) {
+        self.set_shear();
         if self.sdpd.is_some() {
             self.compute_sdpd();
             return;
         }
         let Some(ff) = self.ff.as_ref() else { return };
-        if let Some(tri) = self.tri.as_mut() {
-            self.tally = self.le_work.compute_forces(
-                tri,
-                &self.bx,
-                &mut self.atoms,
-                ff,
-                &self.table,
-                &self.inv_mass,
-                self.dt,
-                self.step,
-            );
-            return;
-        }
         if self.neighbor.needs_rebuild(&self.atoms) {
             self.neighbor.build(&mut self.atoms, &self.bx, ff.rc_max());
         }
@@ -350,21 +348,9 @@ impl System {
     }
 
     /// `pair_style sdpd`: the density pass, then the force pass over the same pairs
-    /// (`sdpd.rs`), in the periodic or the Lees–Edwards loop.
+    /// (`sdpd.rs`), over the same list (periodic or sheared).
     fn compute_sdpd(&mut self) {
         let Some(sd) = self.sdpd.as_mut() else { return };
-        if let Some(tri) = self.tri.as_mut() {
-            self.tally = self.le_work.compute_sdpd(
-                tri,
-                &self.bx,
-                &mut self.atoms,
-                sd,
-                &self.inv_mass,
-                self.dt,
-                self.step,
-            );
-            return;
-        }
         if self.neighbor.needs_rebuild(&self.atoms) {
             self.neighbor.build(&mut self.atoms, &self.bx, sd.rc_max());
         }

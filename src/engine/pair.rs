@@ -1,6 +1,6 @@
-//! The pair-style seam: how every driver of a pair loop (the periodic slab loop of
-//! `neighbor.rs`, the Lees–Edwards loop of `lees_edwards.rs`, and the LAMMPS neighbour-list
-//! walk of `capi/`) reaches the pair computation.
+//! The pair-style seam: how every driver of a pair loop (the slab loop of `neighbor/`, for
+//! periodic and sheared boxes, and the LAMMPS neighbour-list walk of `capi/`) reaches the pair
+//! computation.
 //!
 //! A driver finds the pairs in range, fills the lanes of a [`PairBatch`] with r_ij and the
 //! coefficient index (and, for the kernels that use them, v_ij, 1/m_i + 1/m_j and the tags),
@@ -9,9 +9,9 @@
 //! whatever the kernel. A second pair style is a second `PairKernel`; it sees the atom indices
 //! of each lane, so a many-body style (sDPD's densities) gathers its per-atom values there.
 //!
-//! [`Batcher`] is the gather → batch → apply driver that the Lees–Edwards and the C ABI paths
-//! share; the periodic path appends lanes from its SIMD distance pass directly and evaluates
-//! through the same kernel.
+//! [`Batcher`] is the gather → batch → apply driver of the C ABI path (a LAMMPS neighbour
+//! list); the standalone slab loop appends lanes from its SIMD distance pass directly and
+//! evaluates through the same kernel.
 
 use crate::kernel::{BATCH, Isa, PairBatch, PairModel, PairTable, pair_forces_batch_isa};
 
@@ -42,8 +42,7 @@ impl PairKernel for DpdKernel<'_> {
     }
 }
 
-/// Pairs gathered into a batch with the atoms they belong to (the shared driver of the
-/// Lees–Edwards and C ABI loops).
+/// Pairs gathered into a batch with the atoms they belong to (the driver of the C ABI loop).
 ///
 /// A caller writes lane [`Batcher::lane`]'s `dr` and `coeff` (and whatever else it has at
 /// hand) into [`Batcher::batch`], then [`Batcher::commit`]s it, kept or not: a lane that is

@@ -41,6 +41,7 @@ impl NeighborList {
         let quarter = [0.25 * len[0], 0.25 * len[1], 0.25 * len[2]];
         let (x, typ) = (&atoms.x, &atoms.typ);
         let one_type = ntypes == 1;
+        let le = self.le;
         let row_sum = |s: &Slab, own: &mut [f64], next: &mut [f64]| {
             own.fill(0.0);
             next.fill(0.0);
@@ -64,7 +65,7 @@ impl NeighborList {
                         | (d[1].abs() >= quarter[1])
                         | (d[2].abs() >= quarter[2])
                     {
-                        d = bx.min_image(d);
+                        d = pair_image(bx, le.as_ref(), d);
                     }
                     d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
                 }));

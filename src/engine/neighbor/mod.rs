@@ -21,7 +21,7 @@
 //! pair is the box's minimum image, computed per pair.
 
 use super::atoms::Atoms;
-use super::domain::SimBox;
+use super::domain::{LeesEdwards, SimBox};
 use super::pair::PairKernel;
 use crate::kernel::{Isa, PairCoeff};
 use rayon::prelude::*;
@@ -75,6 +75,16 @@ pub(crate) fn cell_grid(len: [f64; 3], dim: usize, cutoff: f64, natoms: usize) -
         }
     }
     want.map(|w| w as usize)
+}
+
+/// The minimum image of a separation: the periodic one, or under Lees–Edwards the sliding-brick
+/// one ([`SimBox::min_image_le`], its velocity jump dropped).
+#[inline(always)]
+fn pair_image(bx: &SimBox, le: Option<&LeesEdwards>, d: [f64; 3]) -> [f64; 3] {
+    match le {
+        None => bx.min_image(d),
+        Some(le) => bx.min_image_le(d, le).0,
+    }
 }
 
 /// The linear index of cell coordinates (x fastest).
@@ -161,6 +171,11 @@ pub struct NeighborList {
     cutoff: f64,
     rc_max: f64,
     x_at_inner: Vec<[f64; 3]>,
+    /// Lees–Edwards boundaries of the current step (None: a periodic box), and the tilt xy now
+    /// and at the last build (see [`NeighborList::set_shear`]).
+    le: Option<LeesEdwards>,
+    xy_now: f64,
+    xy_at_build: f64,
 }
 
 /// The working list's margin as a fraction of the skin, and the list lifetime (force
@@ -198,12 +213,41 @@ impl NeighborList {
         }
     }
 
-    /// True when some atom moved more than half the skin since the last build (or never built).
+    /// Lees–Edwards boundaries for the coming builds and force evaluations: `Some((le, xy))`
+    /// with the sliding-brick state of the current step and the tilt xy (unwrapped, continuous
+    /// in time), or None for a periodic box. Set it before [`NeighborList::needs_rebuild`] at
+    /// every step of a sheared run. Pairs through the y boundary are listed with the offset of
+    /// their build, so a list stays valid while 2·(largest displacement) + |xy − xy_build| does
+    /// not exceed the skin (the criterion LAMMPS applies to a changing triclinic box); the force
+    /// and density passes use the current offset and the boundary velocity jump.
+    pub fn set_shear(&mut self, shear: Option<(LeesEdwards, f64)>) {
+        match shear {
+            Some((le, xy)) => {
+                self.le = Some(le);
+                self.xy_now = xy;
+            }
+            None => {
+                self.le = None;
+                self.xy_now = 0.0;
+                self.xy_at_build = 0.0;
+            }
+        }
+    }
+
+    /// True when some atom moved more than half the skin since the last build (or never built);
+    /// under Lees–Edwards, more than half of what the tilt change since the build leaves of it.
     pub fn needs_rebuild(&self, atoms: &Atoms) -> bool {
         if self.x_at_build.len() != atoms.len() || self.builds == 0 {
             return true;
         }
-        let limit = 0.25 * self.skin * self.skin;
+        let mut room = self.skin;
+        if self.le.is_some() {
+            room -= (self.xy_now - self.xy_at_build).abs();
+            if room.is_nan() || room <= 0.0 {
+                return true;
+            }
+        }
+        let limit = 0.25 * room * room;
         atoms
             .x
             .par_iter()
@@ -253,11 +297,21 @@ impl NeighborList {
     /// `rc_max + skin`. Atom order changes; every per-atom array travels with the atoms.
     pub fn build(&mut self, atoms: &mut Atoms, bx: &SimBox, rc_max: f64) {
         let n = atoms.len();
-        atoms
-            .x
-            .par_iter_mut()
-            .zip(atoms.image.par_iter_mut())
-            .for_each(|(x, im)| bx.wrap(x, im));
+        match self.le {
+            None => atoms
+                .x
+                .par_iter_mut()
+                .zip(atoms.image.par_iter_mut())
+                .for_each(|(x, im)| bx.wrap(x, im)),
+            // Crossing the sheared boundary also shifts x by the offset and v_x by the jump.
+            Some(le) => atoms
+                .x
+                .par_iter_mut()
+                .zip(atoms.v.par_iter_mut())
+                .zip(atoms.image.par_iter_mut())
+                .for_each(|((x, v), im)| bx.wrap_le(x, v, im, &le)),
+        }
+        self.xy_at_build = self.xy_now;
         let cutoff = rc_max + self.skin;
         let len = bx.len();
         let ncell = cell_grid(len, bx.dim, cutoff, n);
@@ -368,6 +422,7 @@ impl NeighborList {
             len,
             cutsq: cutoff * cutoff,
             slab_axis: if slab_mode { Some(bx.dim - 1) } else { None },
+            le: self.le,
         };
         let isa = match self.isa {
             Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
@@ -433,6 +488,7 @@ impl NeighborList {
         let len = bx.len();
         let quarter = [0.25 * len[0], 0.25 * len[1], 0.25 * len[2]];
         let x = &atoms.x;
+        let le = self.le;
         self.slabs.par_iter_mut().for_each(|s| {
             s.in_row_start.clear();
             s.in_nbr.clear();
@@ -442,7 +498,9 @@ impl NeighborList {
                 let row = &s.nbr[s.row_start[r] as usize..s.row_start[r + 1] as usize];
                 let xi = x[i];
                 // Branch-free append of the entries within the cut (a subsequence of the row).
-                s.in_nbr.resize(len + row.len(), 0);
+                if s.in_nbr.len() < len + row.len() {
+                    grow_buffer(&mut s.in_nbr, len + row.len());
+                }
                 for &j in row {
                     let xj = x[j as usize];
                     let mut d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
@@ -450,7 +508,7 @@ impl NeighborList {
                         | (d[1].abs() >= quarter[1])
                         | (d[2].abs() >= quarter[2])
                     {
-                        d = bx.min_image(d);
+                        d = pair_image(bx, le.as_ref(), d);
                     }
                     s.in_nbr[len] = j;
                     len += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cutsq);
@@ -458,6 +516,7 @@ impl NeighborList {
                 s.in_nbr.truncate(len);
                 s.in_row_start.push(len as u32);
             }
+            trim_buffer(&mut s.in_nbr);
         });
         self.x_at_inner.clear();
         self.x_at_inner.extend_from_slice(x);
@@ -507,6 +566,7 @@ impl NeighborList {
         self.rcsq.extend(table.iter().map(|c| c.rc * c.rc));
         let isa = self.isa();
         let ctx = Ctx {
+            le: self.le,
             inner: self.inner_on,
             isa,
             bx,

@@ -7,6 +7,8 @@ use crate::kernel::{BATCH, Isa, MIN_PAIR_DISTANCE, PairBatch};
 
 /// Everything a slab task reads.
 pub(super) struct Ctx<'a> {
+    /// Lees–Edwards boundaries of this step (None: periodic).
+    pub(super) le: Option<LeesEdwards>,
     /// Iterate the working list instead of the list.
     pub(super) inner: bool,
     /// The instruction set of the pair loop (supported by this CPU).
@@ -41,6 +43,8 @@ pub(super) struct RowScratch {
     /// Their minimum-image separations and in-range flags.
     pub(super) far_dr: [Vec<f64>; 3],
     pub(super) far_keep: Vec<u32>,
+    /// Under Lees–Edwards, their boundary velocity jumps Δv_x.
+    pub(super) far_dvx: Vec<f64>,
 }
 
 impl Slab {
@@ -252,6 +256,9 @@ pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: boo
             if sc.far_keep.len() < nf {
                 sc.far_keep.resize(nf, 0);
             }
+            if ctx.le.is_some() && sc.far_dvx.len() < nf {
+                sc.far_dvx.resize(nf, 0.0);
+            }
             let (m, last) = (r.row.len(), x.len() - 1);
             let [fx, fy, fz] = &mut sc.far_dr;
             let (fx, fy, fz, fkeep) = (
@@ -261,22 +268,49 @@ pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: boo
                 &mut sc.far_keep[..nf],
             );
             let xi = r.xi;
-            for q in 0..nf {
-                // Clamped indices (no-ops for a valid list): no exits, so the loop vectorises.
-                let j = (r.row[(sc.far[q] as usize).min(m - 1)] as usize).min(last);
-                let xj = x[j];
-                let d = bx.min_image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
-                let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                let rcsq = if ONE_TYPE {
+            let rcsq_of = |j: usize| {
+                if ONE_TYPE {
                     pc.one_rcsq
                 } else {
                     ctx.rcsq[(r.row_t + typ[j] as usize).min(ctx.rcsq.len() - 1)]
-                };
-                fx[q] = d[0];
-                fy[q] = d[1];
-                fz[q] = d[2];
-                fkeep[q] = u32::from((rsq < rcsq) & (rsq >= pc.min_sq));
+                }
+            };
+            match ctx.le {
+                None => {
+                    for q in 0..nf {
+                        // Clamped indices (no-ops for a valid list): no exits, so the loop
+                        // vectorises.
+                        let j = (r.row[(sc.far[q] as usize).min(m - 1)] as usize).min(last);
+                        let xj = x[j];
+                        let d = bx.min_image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
+                        let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                        let rcsq = rcsq_of(j);
+                        fx[q] = d[0];
+                        fy[q] = d[1];
+                        fz[q] = d[2];
+                        fkeep[q] = u32::from((rsq < rcsq) & (rsq >= pc.min_sq));
+                    }
+                }
+                Some(le) => {
+                    // The sliding-brick image of the current offset, and the velocity jump of
+                    // the boundary the pair crosses (domain.rs `min_image_le`).
+                    let fdvx = &mut sc.far_dvx[..nf];
+                    for q in 0..nf {
+                        let j = (r.row[(sc.far[q] as usize).min(m - 1)] as usize).min(last);
+                        let xj = x[j];
+                        let (d, dvx) =
+                            bx.min_image_le([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]], &le);
+                        let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                        let rcsq = rcsq_of(j);
+                        fx[q] = d[0];
+                        fy[q] = d[1];
+                        fz[q] = d[2];
+                        fdvx[q] = dvx;
+                        fkeep[q] = u32::from((rsq < rcsq) & (rsq >= pc.min_sq));
+                    }
+                }
             }
+            let sheared = ctx.le.is_some();
             for q in 0..nf {
                 let j = r.row[sc.far[q] as usize];
                 let b = &mut p.batch;
@@ -284,6 +318,10 @@ pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: boo
                 b.dr[1][len] = fy[q];
                 b.dr[2][len] = fz[q];
                 append_rest::<ONE_TYPE>(&r, &pc, p_lane(&mut p, len), j);
+                if sheared {
+                    // v_ij with the boundary velocity jump.
+                    p.batch.dv[0][len] += sc.far_dvx[q];
+                }
                 len += fkeep[q] as usize;
                 if len == BATCH {
                     sink.evaluate::<ONE_TYPE>(&mut p, &mut len);

@@ -73,17 +73,24 @@ pub(super) fn write_data(dir: &Path, sys: &RefSystem, n: usize) -> Result<(), St
     if n < 100 || n > u32::MAX as usize / 2 {
         return Err(format!("--atoms {n} must be between 100 and 2^31"));
     }
-    let l = (n as f64 / sys.density).cbrt();
+    let dim = sys.dim;
+    let l = (n as f64 / sys.density).powf(1.0 / dim as f64);
     if l < 2.0 * 1.3 {
         return Err(format!(
             "--atoms {n} gives a box of side {l:.2} at n = {}: too small (needs > 2.6)",
             sys.density
         ));
     }
+    // 2-D: a square of side l, z in [−0.5, 0.5), atoms at z = 0.
+    let (lo, hi) = if dim == 2 {
+        ([0.0, 0.0, -0.5], [l, l, 0.5])
+    } else {
+        ([0.0; 3], [l; 3])
+    };
     let mut d = DataFile {
         ntypes: 1,
-        lo: [0.0; 3],
-        hi: [l; 3],
+        lo,
+        hi,
         masses: vec![None, Some(1.0)],
         ..Default::default()
     };
@@ -91,8 +98,20 @@ pub(super) fn write_data(dir: &Path, sys: &RefSystem, n: usize) -> Result<(), St
     let mut vsum = [0.0; 3];
     for k in 0..n {
         let tag = k as u32 + 1;
-        let x = [0, 1, 2].map(|c| l * keyed_uniform(DATA_SEED, STREAM_CREATE_ATOMS, 0, tag, c));
-        let v = [0, 1, 2].map(|c| sd * keyed_gaussian(DATA_SEED, STREAM_VELOCITY, 0, tag, c));
+        let x = [0, 1, 2].map(|c| {
+            if (c as usize) < dim {
+                l * keyed_uniform(DATA_SEED, STREAM_CREATE_ATOMS, 0, tag, c)
+            } else {
+                0.0
+            }
+        });
+        let v = [0, 1, 2].map(|c| {
+            if (c as usize) < dim {
+                sd * keyed_gaussian(DATA_SEED, STREAM_VELOCITY, 0, tag, c)
+            } else {
+                0.0
+            }
+        });
         for c in 0..3 {
             vsum[c] += v[c];
         }
@@ -140,10 +159,24 @@ pub(super) fn script(
             sys.kt, sys.a, sys.gamma0
         )
     };
+    let (dimension, enforce) = if sys.dim == 2 {
+        ("dimension 2\n", "fix 3 all enforce2d\n")
+    } else {
+        ("", "")
+    };
+    let (triclinic, deform) = if variant == Variant::Sheared {
+        (
+            "change_box all triclinic\n".to_string(),
+            format!("fix 2 all deform 1 xy erate {SHEAR_RATE} remap v\n"),
+        )
+    } else {
+        (String::new(), String::new())
+    };
     format!(
-        "# dpdnl bench: {}\nunits lj\natom_style atomic\ncomm_modify vel yes\n\
-         read_data {data}\n{pair}neighbor 0.3 bin\nneigh_modify every 1 delay 0 check yes\n\
-         timestep {}\nfix 1 all nve\nthermo {steps}\nrun {steps}\n",
+        "# dpdnl bench: {}\nunits lj\n{dimension}atom_style atomic\ncomm_modify vel yes\n\
+         read_data {data}\n{triclinic}{pair}neighbor 0.3 bin\n\
+         neigh_modify every 1 delay 0 check yes\ntimestep {}\nfix 1 all nve\n{deform}{enforce}\
+         thermo {steps}\nrun {steps}\n",
         sys.title, sys.dt
     )
 }

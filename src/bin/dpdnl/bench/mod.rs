@@ -38,8 +38,9 @@ pub struct BenchArgs {
     /// `none` to skip).
     #[arg(long)]
     pub shim: Option<String>,
-    /// Systems, comma-separated: n16 (ideal DPD, n = 16), n32 (n = 32), gw (Groot–Warren, n = 3).
-    #[arg(long, value_delimiter = ',', default_value = "n16,n32,gw")]
+    /// Systems, comma-separated: n16 (ideal DPD, n = 16), n32 (n = 32), gw (Groot–Warren, n = 3),
+    /// c2d (2-D ideal DPD, n = 4). Each runs periodic and sheared (Lees–Edwards).
+    #[arg(long, value_delimiter = ',', default_value = "n16,n32,gw,c2d")]
     pub systems: Vec<String>,
     /// Number of atoms of each system.
     #[arg(long, default_value_t = 20000)]
@@ -84,6 +85,8 @@ pub struct BenchArgs {
 struct RefSystem {
     key: &'static str,
     title: &'static str,
+    /// 3: a cube; 2: a square of unit thickness (`dimension 2`, `fix enforce2d`).
+    dim: usize,
     density: f64,
     a: f64,
     gamma0: f64,
@@ -98,6 +101,7 @@ const SYSTEMS: &[RefSystem] = &[
     RefSystem {
         key: "n16",
         title: "ideal DPD, n = 16, kT = 0.1, γ0 = 5, δt = 1e-3 (non-linear paper, Table 1)",
+        dim: 3,
         density: 16.0,
         a: 0.0,
         gamma0: 5.0,
@@ -109,6 +113,7 @@ const SYSTEMS: &[RefSystem] = &[
     RefSystem {
         key: "n32",
         title: "ideal DPD, n = 32, kT = 0.1, γ0 = 5, δt = 1e-3",
+        dim: 3,
         density: 32.0,
         a: 0.0,
         gamma0: 5.0,
@@ -120,6 +125,7 @@ const SYSTEMS: &[RefSystem] = &[
     RefSystem {
         key: "gw",
         title: "Groot–Warren fluid, n = 3, a = 25, γ = 4.5, kT = 1, δt = 0.04",
+        dim: 3,
         density: 3.0,
         a: 25.0,
         gamma0: 4.5,
@@ -128,16 +134,35 @@ const SYSTEMS: &[RefSystem] = &[
         dt: 0.04,
         steps: 300,
     },
+    RefSystem {
+        key: "c2d",
+        title: "2-D ideal DPD, n = 4, kT = 1, γ0 = 4.5, δt = 0.005 (the weighting paper's Couette fluid, s = 2)",
+        dim: 2,
+        density: 4.0,
+        a: 0.0,
+        gamma0: 4.5,
+        gamma1: 1.0,
+        kt: 1.0,
+        dt: 0.005,
+        steps: 600,
+    },
 ];
+
+/// The shear rate of the sheared variant (`fix deform 1 xy erate … remap v`): the middle of
+/// the weighting paper's Couette rates (0.05–1).
+const SHEAR_RATE: f64 = 0.2;
 
 /// Pair-style variant: plain DPD, the non-linear `dot` friction with two-step noise, or
 /// `pair_style sdpd` (Lucy kernel, r_c = 1, ρ0 = n, c0 = 4 sqrt(kT), η0 = 1) on the same atoms:
-/// the two-pass step against the DPD step.
+/// the two-pass step against the DPD step; or plain DPD under Lees–Edwards shear
+/// (`change_box all triclinic`, `fix deform 1 xy erate 0.2 remap v`): the sheared path against
+/// the periodic one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Variant {
     Plain,
     DotTwoStep,
     Sdpd,
+    Sheared,
 }
 
 impl Variant {
@@ -146,6 +171,7 @@ impl Variant {
             Variant::Plain => "none/plain",
             Variant::DotTwoStep => "dot/twostep",
             Variant::Sdpd => "sdpd (lucy)",
+            Variant::Sheared => "none/plain, sheared",
         }
     }
 }
@@ -261,7 +287,7 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             let sys = *SYSTEMS
                 .iter()
                 .find(|s| s.key == key)
-                .ok_or_else(|| format!("unknown system '{key}' (expected n16, n32 or gw)"))?;
+                .ok_or_else(|| format!("unknown system '{key}' (expected n16, n32, gw or c2d)"))?;
             let steps = ((sys.steps as f64 * a.steps_scale).round() as u64).max(1);
             write_data(&dir, &sys, a.atoms)?;
             let mut engines = vec![Engine::Standalone(1)];
@@ -279,9 +305,16 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 // sDPD only on the ideal fluids: the Groot–Warren step (δt = 0.04) is far beyond
                 // its sound-speed limit from a random start.
                 let variants: &[Variant] = match engine {
-                    Engine::Lammps(..) => &[Variant::Plain],
-                    _ if sys.key == "gw" => &[Variant::Plain, Variant::DotTwoStep],
-                    _ => &[Variant::Plain, Variant::DotTwoStep, Variant::Sdpd],
+                    Engine::Lammps(..) => &[Variant::Plain, Variant::Sheared],
+                    _ if sys.key == "gw" || sys.dim == 2 => {
+                        &[Variant::Plain, Variant::DotTwoStep, Variant::Sheared]
+                    }
+                    _ => &[
+                        Variant::Plain,
+                        Variant::DotTwoStep,
+                        Variant::Sdpd,
+                        Variant::Sheared,
+                    ],
                 };
                 for &variant in variants {
                     cases.push(Case {
@@ -449,6 +482,30 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             )?;
         }
         writeln!(out)?;
+        // The sheared (Lees–Edwards) path against the periodic one, per engine.
+        for c in rows
+            .iter()
+            .filter(|c| c.variant == Variant::Sheared)
+            .filter(ok)
+        {
+            if let Some(d) = rows
+                .iter()
+                .filter(ok)
+                .find(|d| d.engine == c.engine && d.variant == Variant::Plain)
+            {
+                writeln!(
+                    out,
+                    "sheared (γ̇ = {SHEAR_RATE}) / periodic atom-steps/s, {}: {:.2}{}\n",
+                    c.engine.label(),
+                    median(&c.rates) / median(&d.rates),
+                    if matches!(c.engine, Engine::Standalone(_)) {
+                        " (target >= 0.8)"
+                    } else {
+                        ""
+                    }
+                )?;
+            }
+        }
         // The sDPD step's cost against the DPD step's (plain), per engine.
         for c in rows
             .iter()
@@ -471,13 +528,14 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         for c in &rows {
             if let (Some(m), Engine::Standalone(t)) = (c.memory, &c.engine)
                 && *t == threads
-                && c.variant == Variant::Plain
+                && matches!(c.variant, Variant::Plain | Variant::Sheared)
             {
                 let n = c.natoms as f64;
                 let lists = 4.0 * (m.pairs + m.working_pairs) as f64 / n;
                 writeln!(
                     out,
-                    "memory (standalone): {:.0} B/atom atom data + {:.0} B/atom neighbour structures, of which {lists:.0} B/atom the lists ({:.1} listed pairs/atom, {:.1} in the working list); {} list builds in {} steps\n",
+                    "memory (standalone, {}): {:.0} B/atom atom data + {:.0} B/atom neighbour structures, of which {lists:.0} B/atom the lists ({:.1} listed pairs/atom, {:.1} in the working list); {} list builds in {} steps\n",
+                    c.variant.label(),
                     m.atom as f64 / n,
                     m.neighbor as f64 / n,
                     m.pairs as f64 / n,

@@ -34,7 +34,11 @@ pub(super) fn run_case(dir: &Path, case: &Case) -> Result<(LoopTime, Memory), St
             run_standalone(&text, *t)
         }
         Engine::Lammps(exe, t) => {
-            let name = format!("in.{}.native", case.sys.key);
+            let name = format!(
+                "in.{}.native.{}",
+                case.sys.key,
+                case.variant.label().replace(['/', ',', ' '], "_")
+            );
             let text = script(
                 &case.sys,
                 &data_name(&case.sys),
@@ -57,7 +61,7 @@ pub(super) fn run_case(dir: &Path, case: &Case) -> Result<(LoopTime, Memory), St
             let name = format!(
                 "in.{}.{}",
                 case.sys.key,
-                case.variant.label().replace('/', "_")
+                case.variant.label().replace(['/', ',', ' '], "_")
             );
             let text = script(
                 &case.sys,
