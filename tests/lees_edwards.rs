@@ -231,18 +231,32 @@ fn a_kept_list_under_a_changing_offset_equals_brute_force() {
         sys.neighbor.skin = 0.5;
         sys.setup().expect("setup");
         let builds = sys.neighbor.builds;
+        let images: Vec<i32> = sys.atoms.image.iter().map(|im| im[1]).collect();
         let mut r = Rng(99);
+        // The 5 highest atoms are also pushed up by 0.015 a step, so some cross y_hi.
+        let mut top: Vec<usize> = (0..sys.atoms.len()).collect();
+        top.sort_by(|&a, &b| sys.atoms.x[b][1].total_cmp(&sys.atoms.x[a][1]));
+        top.truncate(5);
         // Δxy per step: |erate| L_y δt (0.049 in 2-D, 0.018 in 3-D); 4 steps with moves of at
-        // most 0.01 per component and step: 2·0.04·√3 + 0.196 < 0.5.
+        // most 0.01 per component and step (+0.06 in y for the pushed ones):
+        // 2·(0.04·√3 + 0.06) + 0.196 < 0.5.
         for _ in 0..4 {
             for x in sys.atoms.x.iter_mut() {
                 for d in 0..dim {
                     x[d] += 0.01 * (2.0 * r.next() - 1.0);
                 }
             }
+            for &i in &top {
+                sys.atoms.x[i][1] += 0.015;
+            }
             sys.step_once();
         }
         assert_eq!(sys.neighbor.builds, builds, "the list was rebuilt");
+        // Some atoms crossed the sheared boundary and were wrapped under the kept list.
+        let crossed = (sys.atoms.image.iter().zip(&images))
+            .filter(|(im, y0)| im[1] != **y0)
+            .count();
+        assert!(crossed > 0, "no atom crossed y");
         assert_matches_brute(&sys);
         // The tilt moves a skin's worth: rebuilt, and still the brute-force forces.
         let steps = (0.5 / (erate.abs() * ly * 0.01)).ceil() as usize;

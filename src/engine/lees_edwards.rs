@@ -23,10 +23,11 @@
 //! velocity jump included in v_ij), with the same kernel and the same keyed Gaussians (seed,
 //! step, tags) as a periodic box. The list's rows through the y boundary are found with the
 //! offset of its build (`neighbor/build.rs`, `RowBuild::x_runs`); it is rebuilt when
-//! 2·(largest displacement) + |xy − xy_build| exceeds the skin, and atoms are wrapped (x shifted
-//! by the offset, v_x by the jump) at each build, as LAMMPS does at reneighbouring. Pairs that
-//! cross no boundary see raw separations and velocities; the others get the current offset and
-//! jump (`neighbor/slab.rs`, far pass). Same bits for any thread count, F_ji = −F_ij exactly.
+//! 2·(largest displacement) + |xy − xy_build| exceeds the skin. Atoms are wrapped (x shifted by
+//! the offset, v_x by the jump) at every step (`NeighborList::wrap_sheared`, the list kept;
+//! LAMMPS wraps only at reneighbouring). Pairs whose raw separation crosses no boundary see raw
+//! separations and velocities; the others get the current offset and jump
+//! (`neighbor/slab.rs`, far pass). Same bits for any thread count, F_ji = −F_ij exactly.
 
 use super::domain::{LeesEdwards, SimBox};
 

@@ -321,6 +321,7 @@ impl System {
 
     fn compute_forces(&mut self) {
         self.set_shear();
+        self.neighbor.wrap_sheared(&mut self.atoms, &self.bx);
         if self.sdpd.is_some() {
             self.compute_sdpd();
             return;

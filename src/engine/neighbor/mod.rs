@@ -234,6 +234,54 @@ impl NeighborList {
         }
     }
 
+    /// Under Lees–Edwards, wrap every atom that has left the box since the last build
+    /// ([`SimBox::wrap_le`]: x shifted by the offset and v_x by the jump on a y crossing), and
+    /// shift its position at the build (and at the working list's refresh) by the same vector,
+    /// so the displacement checks still see the atom's motion. The list keeps its pairs: a
+    /// wrapped atom's pairs have raw separations of about a box length and go through the far
+    /// pass, which takes the sliding-brick image and the velocity jump of the current offset.
+    /// So measurements at every step see atoms in the box with the velocity of where they are
+    /// (binned velocity profiles have no stray atoms at the y boundary). Periodic boxes: nothing.
+    pub fn wrap_sheared(&mut self, atoms: &mut Atoms, bx: &SimBox) {
+        let Some(le) = self.le else { return };
+        let n = atoms.len();
+        if self.builds == 0 || self.x_at_build.len() != n {
+            return;
+        }
+        // The displacement of one atom's wrap (zero when it stayed in the box).
+        let wrap = |x: &mut [f64; 3], v: &mut [f64; 3], im: &mut [i32; 3]| {
+            let old = *x;
+            bx.wrap_le(x, v, im, &le);
+            [x[0] - old[0], x[1] - old[1], x[2] - old[2]]
+        };
+        let add = |x0: &mut [f64; 3], d: [f64; 3]| {
+            if d != [0.0; 3] {
+                x0[0] += d[0];
+                x0[1] += d[1];
+                x0[2] += d[2];
+            }
+        };
+        let atoms_iter = atoms
+            .x
+            .par_iter_mut()
+            .zip(atoms.v.par_iter_mut())
+            .zip(atoms.image.par_iter_mut());
+        if self.x_at_inner.len() == n {
+            atoms_iter
+                .zip(self.x_at_build.par_iter_mut())
+                .zip(self.x_at_inner.par_iter_mut())
+                .for_each(|((((x, v), im), x0), x1)| {
+                    let d = wrap(x, v, im);
+                    add(x0, d);
+                    add(x1, d);
+                });
+        } else {
+            atoms_iter
+                .zip(self.x_at_build.par_iter_mut())
+                .for_each(|(((x, v), im), x0)| add(x0, wrap(x, v, im)));
+        }
+    }
+
     /// True when some atom moved more than half the skin since the last build (or never built);
     /// under Lees–Edwards, more than half of what the tilt change since the build leaves of it.
     pub fn needs_rebuild(&self, atoms: &Atoms) -> bool {
