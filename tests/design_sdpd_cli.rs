@@ -3,6 +3,9 @@
 
 use std::process::Command;
 
+mod common;
+use common::value;
+
 fn dpdnl(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
         .args(args)
@@ -13,15 +16,6 @@ fn dpdnl(args: &[&str]) -> (i32, String, String) {
         String::from_utf8_lossy(&out.stdout).into_owned(),
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
-}
-
-fn value(text: &str, key: &str) -> f64 {
-    text.lines()
-        .find_map(|l| l.strip_prefix(&format!("{key} = ")))
-        .unwrap_or_else(|| panic!("no '{key} =' in\n{text}"))
-        .trim()
-        .parse()
-        .expect("number")
 }
 
 /// Table 4's first row (Sc0 = 400, η0 = 49 → s = 0.0700, η̄ = 49.0613, exactly 49.06125 = η0 (1 + 1/(2 Sc0))): the design's two lines,

@@ -15,6 +15,9 @@ use dpdnl::theory::{
 use std::f64::consts::PI;
 use std::process::Command;
 
+mod common;
+use common::{agrees, paper_fluid, value};
+
 /// Words of a message longer than this many digits in a row: a number not printed %g-style.
 fn long_digit_runs(text: &str) -> Vec<&str> {
     text.split(|c: char| !c.is_ascii_digit())
@@ -25,23 +28,6 @@ fn long_digit_runs(text: &str) -> Vec<&str> {
 const TABLES_CSV: &str = include_str!("data/weighting_tables_2d.csv");
 
 /// The paper's tables: 2-D, m = 1, kT = 1, n = 4 (`docs/models.md` §3.6).
-fn paper_fluid(rc: f64) -> Fluid {
-    Fluid::new(2, 4.0, rc, 1.0, 1.0).expect("valid fluid")
-}
-
-/// Half a unit in the last digit of a printed decimal, e.g. "0.0700" -> 5e-5, "50" -> 0.5.
-fn half_ulp(printed: &str) -> f64 {
-    let decimals = printed.split_once('.').map_or(0, |(_, f)| f.len());
-    0.5 * 10f64.powi(-(decimals as i32))
-}
-
-/// `computed` agrees with `printed` at its printed precision (with room for a printed value
-/// that sits exactly on a rounding tie, such as η̄ = 49.06125 printed as 49.0613).
-fn agrees(computed: f64, printed: &str) -> bool {
-    let p: f64 = printed.parse().expect("number");
-    (computed - p).abs() <= half_ulp(printed) * (1.0 + 1e-9)
-}
-
 fn rel(a: f64, b: f64) -> f64 {
     ((a - b) / b).abs()
 }
@@ -585,18 +571,6 @@ fn dpdnl(args: &[&str]) -> (bool, String, String) {
         String::from_utf8_lossy(&out.stdout).into_owned(),
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
-}
-
-/// The value of a `key = value` line.
-fn value(text: &str, key: &str) -> f64 {
-    text.lines()
-        .filter(|l| !l.starts_with('#'))
-        .find_map(|l| l.split_once(" = ").filter(|(k, _)| *k == key))
-        .unwrap_or_else(|| panic!("no `{key} = ` in\n{text}"))
-        .1
-        .trim()
-        .parse()
-        .expect("number")
 }
 
 #[test]

@@ -8,22 +8,10 @@ use dpdnl::theory::sdpd::{eta_min, eta0_for, kernel_moment, kinetic_coefficient,
 use dpdnl::theory::{Dim, Fluid, design_paper_approx};
 use std::f64::consts::PI;
 
+mod common;
+use common::{agrees, paper_fluid};
+
 const SDPD_CSV: &str = include_str!("data/weighting_sdpd_tables_2d.csv");
-
-fn paper_fluid(rc: f64) -> Fluid {
-    Fluid::new(2, 4.0, rc, 1.0, 1.0).expect("valid fluid")
-}
-
-fn half_ulp(printed: &str) -> f64 {
-    let decimals = printed.split_once('.').map_or(0, |(_, f)| f.len());
-    0.5 * 10f64.powi(-(decimals as i32))
-}
-
-/// Agreement at the printed precision (rounded, with room for a value on a rounding tie).
-fn agrees(computed: f64, printed: &str) -> bool {
-    let p: f64 = printed.parse().expect("number");
-    (computed - p).abs() <= half_ulp(printed) * (1.0 + 1e-9)
-}
 
 /// Table 1 (and eqs. 29, 37, 45, 60): c of η_K = c m kT n² r_c²/η0, from the closed-form \[F\]
 /// of each kernel, equals the printed fractions to round-off (4 ulp).

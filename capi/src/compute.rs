@@ -156,6 +156,49 @@ pub(crate) unsafe fn compute(
     unsafe { walk_pairs(&kernel, &cut, p.ntypes, atoms, list, st, f, tally) }
 }
 
+/// The rows of a LAMMPS neighbour list, checked: `visit(i, row, mask)` for every i of `ilist`,
+/// in order, with its raw neighbour entries; `j = entry as u32 as usize & mask` (the
+/// special-bond bits off) is < `nall` for every entry, checked before the visit. The list walk of every pass over a LAMMPS list
+/// (forces, sDPD's densities).
+///
+/// # Safety
+/// `list` as documented on [`DpdnlNeighList`]: `ilist` holds `inum` ints, and `numneigh` and
+/// `firstneigh` are valid for every atom index in it.
+pub(crate) unsafe fn for_each_row(
+    list: &DpdnlNeighList,
+    nall: usize,
+    mut visit: impl FnMut(usize, &[i32], usize) -> Result<(), Error>,
+) -> Result<(), Error> {
+    if list.inum < 0 {
+        return Err(Error::invalid(format!("inum = {} must be >= 0", list.inum)));
+    }
+    let inum = list.inum as usize;
+    // SAFETY: `inum` ints (caller's contract).
+    let ilist = unsafe { slice(list.ilist, inum, "ilist")? };
+    if inum > 0 && (list.numneigh.is_null() || list.firstneigh.is_null()) {
+        return Err(Error::null("numneigh/firstneigh"));
+    }
+    let mask = list.neighmask as u32 as usize;
+    for &i in ilist {
+        if i < 0 || i as usize >= nall {
+            return Err(Error::invalid(format!("ilist entry {i} outside 0..{nall}")));
+        }
+        let i = i as usize;
+        // SAFETY: `numneigh` and `firstneigh` are valid for every i in ilist (caller's contract).
+        let (n, first) = unsafe { (*list.numneigh.add(i), *list.firstneigh.add(i)) };
+        // SAFETY: `firstneigh[i]` holds `numneigh[i]` ints (caller's contract).
+        let jlist = unsafe { slice(first, n.max(0) as usize, "firstneigh[i]")? };
+        if let Some(&bad) = jlist.iter().find(|&&j| j as u32 as usize & mask >= nall) {
+            return Err(Error::invalid(format!(
+                "neighbour index {} of atom {i} outside 0..{nall}",
+                bad as u32 as usize & mask
+            )));
+        }
+        visit(i, jlist, mask)?;
+    }
+    Ok(())
+}
+
 /// The list walk of [`dpdnl_compute`] for any pair style: every listed pair within `cut[k]`
 /// (k the dense type-pair index, `ntypes + 1` per row) through `kernel`, forces and tallies
 /// added with LAMMPS's conventions. Checks the step, dimension, counts, types and masses.
@@ -188,23 +231,15 @@ pub(crate) unsafe fn walk_pairs(
             atoms.nlocal, atoms.nall
         )));
     }
-    if list.inum < 0 {
-        return Err(Error::invalid(format!("inum = {} must be >= 0", list.inum)));
-    }
-    let (nlocal, nall, inum) = (
-        atoms.nlocal as usize,
-        atoms.nall as usize,
-        list.inum as usize,
-    );
+    let (nlocal, nall) = (atoms.nlocal as usize, atoms.nall as usize);
     let nt = ntypes;
     // SAFETY: sizes as documented on `DpdnlAtoms`, `DpdnlNeighList` (caller's contract).
-    let (x, v, tag, ty, ilist) = unsafe {
+    let (x, v, tag, ty) = unsafe {
         (
             slice(atoms.x, 3 * nall, "x")?,
             slice(atoms.v, 3 * nall, "v")?,
             slice(atoms.tag, nall, "tag")?,
             slice(atoms.atom_type, nall, "type")?,
-            slice(list.ilist, inum, "ilist")?,
         )
     };
     // SAFETY: `nall * 3` doubles, not aliased by the read-only arrays (caller's contract).
@@ -232,9 +267,6 @@ pub(crate) unsafe fn walk_pairs(
             inv_mass[ty[i] as usize - 1]
         }
     };
-    if inum > 0 && (list.numneigh.is_null() || list.firstneigh.is_null()) {
-        return Err(Error::null("numneigh/firstneigh"));
-    }
 
     let t = tally.unwrap_or(DpdnlTally {
         eflag_global: 0,
@@ -272,7 +304,6 @@ pub(crate) unsafe fn walk_pairs(
 
     let full = list.full != 0;
     let newton = st.newton_pair != 0;
-    let mask = list.neighmask as u32 as usize;
     let step = st.step as u64;
 
     // In-range pairs are gathered, in list order, into batches of BATCH (`Batcher`, the seam's
@@ -298,42 +329,33 @@ pub(crate) unsafe fn walk_pairs(
         nlocal,
         row: None,
     };
-    for &i in ilist {
-        if i < 0 || i as usize >= nall {
-            return Err(Error::invalid(format!("ilist entry {i} outside 0..{nall}")));
-        }
-        let i = i as usize;
-        // SAFETY: `numneigh` and `firstneigh` are valid for every i in ilist (caller's contract).
-        let (n, first) = unsafe { (*list.numneigh.add(i), *list.firstneigh.add(i)) };
-        // SAFETY: `firstneigh[i]` holds `numneigh[i]` ints (caller's contract).
-        let jlist = unsafe { slice(first, n.max(0) as usize, "firstneigh[i]")? };
-        let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
-        let row = ty[i] as usize * (nt + 1);
-        for &jraw in jlist {
-            let j = jraw as u32 as usize & mask;
-            if j >= nall {
-                return Err(Error::invalid(format!(
-                    "neighbour index {j} of atom {i} outside 0..{nall}"
-                )));
+    // SAFETY: `list` as documented (caller's contract).
+    unsafe {
+        for_each_row(list, nall, |i, jlist, mask| {
+            let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
+            let row = ty[i] as usize * (nt + 1);
+            for &jraw in jlist {
+                let j = jraw as u32 as usize & mask;
+                let k = row + ty[j] as usize;
+                let rc = cut[k];
+                let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
+                let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+                // Every listed pair is written to the next lane, and only a pair in range keeps it
+                // (the kernel checks again): with half the listed pairs in range (n = 16, skin 0.3)
+                // a branch here is mispredicted half the time. The rest of the lane (velocities,
+                // masses, tags) is gathered for the kept pairs only, in `gather`.
+                let l = bt.lane();
+                for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
+                    lane[l] = c;
+                }
+                bt.batch.coeff[l] = k as u32;
+                if bt.commit(i as u32, j as u32, rsq < rc * rc) {
+                    bt.flush(kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
+                }
             }
-            let k = row + ty[j] as usize;
-            let rc = cut[k];
-            let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
-            let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-            // Every listed pair is written to the next lane, and only a pair in range keeps it
-            // (the kernel checks again): with half the listed pairs in range (n = 16, skin 0.3)
-            // a branch here is mispredicted half the time. The rest of the lane (velocities,
-            // masses, tags) is gathered for the kept pairs only, in `gather`.
-            let l = bt.lane();
-            for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
-                lane[l] = c;
-            }
-            bt.batch.coeff[l] = k as u32;
-            if bt.commit(i as u32, j as u32, rsq < rc * rc) {
-                bt.flush(kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
-            }
-        }
-    }
+            Ok(())
+        })?
+    };
     bt.flush(kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
     apply.finish_row();
     Ok(())

@@ -16,7 +16,7 @@ use dpdnl::engine::sdpd::SdpdField;
 use dpdnl::grammar;
 use dpdnl::kernel::sdpd::SdpdAtom;
 
-use crate::compute::walk_pairs;
+use crate::compute::{for_each_row, walk_pairs};
 use crate::init::set_last_message;
 use crate::styles::{put, words};
 use crate::{
@@ -243,53 +243,34 @@ pub unsafe extern "C" fn dpdnl_sdpd_density(
         // SAFETY: nall doubles (caller's contract).
         let rho = unsafe { slice_mut(rho, nall, "rho")? };
         rho.fill(0.0);
-        if list.inum < 0 {
-            return Err(Error::invalid(format!("inum = {} must be >= 0", list.inum)));
-        }
-        let inum = list.inum as usize;
-        // SAFETY: inum entries (caller's contract).
-        let ilist = unsafe { slice(list.ilist, inum, "ilist")? };
-        if inum > 0 && (list.numneigh.is_null() || list.firstneigh.is_null()) {
-            return Err(Error::null("numneigh/firstneigh"));
-        }
         if h.field.rcsq().len() != (nt + 1) * (nt + 1) {
             return Err(Error::invalid("dpdnl_sdpd_init has not run"));
         }
         let newton = newton_pair != 0;
-        let mask = list.neighmask as u32 as usize;
         let rcsq = h.field.rcsq();
-        for &i in ilist {
-            if i < 0 || i as usize >= nall {
-                return Err(Error::invalid(format!("ilist entry {i} outside 0..{nall}")));
-            }
-            let i = i as usize;
-            // SAFETY: valid for every i in ilist (caller's contract).
-            let (n, first) = unsafe { (*list.numneigh.add(i), *list.firstneigh.add(i)) };
-            // SAFETY: numneigh[i] ints (caller's contract).
-            let jlist = unsafe { slice(first, n.max(0) as usize, "firstneigh[i]")? };
-            let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
-            let row = ty[i] as usize * (nt + 1);
-            let mut di = 0.0;
-            for &jraw in jlist {
-                let j = jraw as u32 as usize & mask;
-                if j >= nall {
-                    return Err(Error::invalid(format!(
-                        "neighbour index {j} of atom {i} outside 0..{nall}"
-                    )));
-                }
-                let k = row + ty[j] as usize;
-                let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
-                let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-                if rsq < rcsq[k] {
-                    let w = h.field.w_pair(k, rsq);
-                    di += w;
-                    if newton || j < nlocal {
-                        rho[j] += w;
+        // SAFETY: forwarded caller's contract.
+        unsafe {
+            for_each_row(list, nall, |i, jlist, mask| {
+                let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
+                let row = ty[i] as usize * (nt + 1);
+                let mut di = 0.0;
+                for &jraw in jlist {
+                    let j = jraw as u32 as usize & mask;
+                    let k = row + ty[j] as usize;
+                    let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
+                    let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+                    if rsq < rcsq[k] {
+                        let w = h.field.w_pair(k, rsq);
+                        di += w;
+                        if newton || j < nlocal {
+                            rho[j] += w;
+                        }
                     }
                 }
-            }
-            rho[i] += di;
-        }
+                rho[i] += di;
+                Ok(())
+            })?
+        };
         Ok(())
     })
 }

@@ -25,6 +25,7 @@
 #include "utils.h"
 
 #include "dpdnl.h"
+#include "dpdnl_pair_call.h"
 
 #include <cstring>
 #include <vector>
@@ -260,56 +261,15 @@ void PairDPDNonlinear::compute(int eflag, int vflag)
   ev_init(eflag, vflag);
   if (domain->box_change) box_check();
 
-  const int nlocal = atom->nlocal;
-  const int nall = nlocal + atom->nghost;
-  const bool any = nall > 0;
-
-  DpdnlAtoms atoms;
-  atoms.x = any ? &atom->x[0][0] : nullptr;
-  atoms.v = any ? &atom->v[0][0] : nullptr;
-  atoms.tag = atom->tag;
-  atoms.atom_type = atom->type;
-  atoms.mass = atom->mass;
-  atoms.rmass = atom->rmass_flag ? atom->rmass : nullptr;
-  atoms.nlocal = nlocal;
-  atoms.nall = nall;
-
-  DpdnlNeighList nl;
-  nl.inum = list->inum;
-  nl.ilist = list->ilist;
-  nl.numneigh = list->numneigh;
-  nl.firstneigh = list->firstneigh;
-  nl.neighmask = NEIGHMASK;
-  nl.full = 0;
-
-  DpdnlStep st;
-  st.step = update->ntimestep;
-  st.dt = update->dt;
-  st.newton_pair = force->newton_pair;
-  st.dimension = domain->dimension;
-
-  DpdnlTally tally;
-  tally.eflag_global = eflag_global;
-  tally.vflag_global = vflag_global;
-  tally.eng_vdwl = &eng_vdwl;
-  tally.virial = virial;
-  tally.eatom = eflag_atom ? eatom : nullptr;
-  tally.vatom = (vflag_atom && any) ? &vatom[0][0] : nullptr;
-
-  if (dpdnl_compute(params, &atoms, &nl, &st, any ? &atom->f[0][0] : nullptr, &tally) !=
-      DPDNL_STATUS_OK)
+  dpdnl_pair_call::PairCall c =
+      dpdnl_pair_call::fill(lmp, list, true, eflag_global, vflag_global, eflag_atom, vflag_atom,
+                            &eng_vdwl, virial, eatom, vatom);
+  if (dpdnl_compute(params, &c.atoms, &c.nl, &c.st, c.f, &c.tally) != DPDNL_STATUS_OK)
     error->one(FLERR, std::string("Pair dpd/nonlinear: ") + dpdnl_last_error());
 
   if (vflag_fdotr) virial_fdotr_compute();
 
-  // The standalone engine's blow-up check (Rust), at every neighbour rebuild and every 100
-  // steps: LAMMPS itself notices only lost atoms, at thermo output.
-  if (neighbor->ago == 0 || update->ntimestep % 100 == 0) {
-    const double len[3] = {domain->xprd, domain->yprd, domain->zprd};
-    if (dpdnl_check_health(&atoms, any ? &atom->f[0][0] : nullptr, update->ntimestep, update->dt,
-                           len, domain->dimension) != DPDNL_STATUS_OK)
-      error->one(FLERR, std::string("Pair dpd/nonlinear: ") + dpdnl_last_error());
-  }
+  dpdnl_pair_call::check_health(lmp, c, "Pair dpd/nonlinear");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -21,6 +21,7 @@
 #include "utils.h"
 
 #include "dpdnl.h"
+#include "dpdnl_pair_call.h"
 
 #include <sstream>
 
@@ -179,65 +180,26 @@ void PairSDPD::compute(int eflag, int vflag)
     memory->create(rho, nmax, "pair:rho");
   }
 
-  const int nlocal = atom->nlocal;
-  const int nall = nlocal + atom->nghost;
-  const bool any = nall > 0;
-
-  DpdnlAtoms atoms;
-  atoms.x = any ? &atom->x[0][0] : nullptr;
-  atoms.v = any ? &atom->v[0][0] : nullptr;
-  atoms.tag = atom->tag;
-  atoms.atom_type = atom->type;
-  atoms.mass = atom->mass;
-  atoms.rmass = nullptr;
-  atoms.nlocal = nlocal;
-  atoms.nall = nall;
-
-  DpdnlNeighList nl;
-  nl.inum = list->inum;
-  nl.ilist = list->ilist;
-  nl.numneigh = list->numneigh;
-  nl.firstneigh = list->firstneigh;
-  nl.neighmask = NEIGHMASK;
-  nl.full = 0;
-
-  DpdnlStep st;
-  st.step = update->ntimestep;
-  st.dt = update->dt;
-  st.newton_pair = force->newton_pair;
-  st.dimension = domain->dimension;
-
-  DpdnlTally tally;
-  tally.eflag_global = eflag_global;
-  tally.vflag_global = vflag_global;
-  tally.eng_vdwl = &eng_vdwl;
-  tally.virial = virial;
-  tally.eatom = eflag_atom ? eatom : nullptr;
-  tally.vatom = (vflag_atom && any) ? &vatom[0][0] : nullptr;
+  // Per-type masses only (sdpd refuses per-atom masses at init).
+  dpdnl_pair_call::PairCall c =
+      dpdnl_pair_call::fill(lmp, list, false, eflag_global, vflag_global, eflag_atom, vflag_atom,
+                            &eng_vdwl, virial, eatom, vatom);
 
   // Pass 1: densities.
-  if (dpdnl_sdpd_density(handle, &atoms, &nl, force->newton_pair, rho) != DPDNL_STATUS_OK)
+  if (dpdnl_sdpd_density(handle, &c.atoms, &c.nl, force->newton_pair, rho) != DPDNL_STATUS_OK)
     error->one(FLERR, std::string("Pair sdpd: ") + dpdnl_last_error());
   if (force->newton_pair) dpdnl_compat::reverse_comm_pair(comm, this);
-  if (dpdnl_sdpd_finish(handle, &atoms, update->ntimestep, rho, &tally) != DPDNL_STATUS_OK)
+  if (dpdnl_sdpd_finish(handle, &c.atoms, update->ntimestep, rho, &c.tally) != DPDNL_STATUS_OK)
     error->one(FLERR, std::string("Pair sdpd: ") + dpdnl_last_error());
   dpdnl_compat::forward_comm_pair(comm, this);
 
   // Pass 2: forces.
-  if (dpdnl_sdpd_compute(handle, &atoms, &nl, &st, rho, any ? &atom->f[0][0] : nullptr,
-                         &tally) != DPDNL_STATUS_OK)
+  if (dpdnl_sdpd_compute(handle, &c.atoms, &c.nl, &c.st, rho, c.f, &c.tally) != DPDNL_STATUS_OK)
     error->one(FLERR, std::string("Pair sdpd: ") + dpdnl_last_error());
 
   if (vflag_fdotr) virial_fdotr_compute();
 
-  // The standalone engine's blow-up check (Rust), at every neighbour rebuild and every 100
-  // steps: LAMMPS itself notices only lost atoms, at thermo output.
-  if (neighbor->ago == 0 || update->ntimestep % 100 == 0) {
-    const double len[3] = {domain->xprd, domain->yprd, domain->zprd};
-    if (dpdnl_check_health(&atoms, any ? &atom->f[0][0] : nullptr, update->ntimestep, update->dt,
-                           len, domain->dimension) != DPDNL_STATUS_OK)
-      error->one(FLERR, std::string("Pair sdpd: ") + dpdnl_last_error());
-  }
+  dpdnl_pair_call::check_health(lmp, c, "Pair sdpd");
 }
 
 int PairSDPD::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)

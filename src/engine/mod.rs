@@ -312,9 +312,11 @@ impl System {
     /// A sheared box: the tilt, offset and rate of the current step, handed to the neighbour
     /// list (`lees_edwards.rs`); a periodic box: none.
     fn set_shear(&mut self) {
+        let ly = self.bx.len()[1];
+        let dt = self.dt;
         let shear = self.tri.as_mut().map(|t| {
-            t.set_step(&self.bx, self.dt, self.step);
-            (t.le, t.xy)
+            t.set_step(&self.bx, dt, self.step);
+            (t.le, t.xy, t.le.rate * ly * dt)
         });
         self.neighbor.set_shear(shear);
     }

@@ -105,6 +105,39 @@ pub fn need<S: AsRef<str>>(args: &[S], n: usize, usage: &str) -> Result<(), Stri
     }
 }
 
+/// The type ranges I and J of a `pair_coeff` line (its first two words), for every pair style
+/// of this project: as LAMMPS (since 2022), two plain type numbers with J < I are read as `J I`.
+pub fn coeff_types(ti: &str, tj: &str, ntypes: usize) -> Result<TypePairs, String> {
+    let mut i = type_range(ti, ntypes)?;
+    let mut j = type_range(tj, ntypes)?;
+    let plain = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
+    if plain(ti) && plain(tj) && j.0 < i.0 {
+        std::mem::swap(&mut i, &mut j);
+    }
+    Ok((i, j))
+}
+
+/// Type ranges (I, J), 1-based and inclusive.
+pub type TypePairs = ((usize, usize), (usize, usize));
+
+/// The type pairs (i ≤ j) ranges I and J set, as LAMMPS does: i in I, j in J with j ≥ i.
+pub fn type_pairs((i, j): TypePairs) -> impl Iterator<Item = (usize, usize)> {
+    (i.0..=i.1).flat_map(move |a| (j.0.max(a)..=j.1).map(move |b| (a, b)))
+}
+
+/// The error of a `pair_coeff` line whose ranges set no pair (`pair_coeff 2* 1`: pairs are set
+/// for I ≤ J only, as in LAMMPS), naming its two type words.
+pub fn sets_some_pair(types: TypePairs, ti: &str, tj: &str) -> Result<(), String> {
+    if type_pairs(types).next().is_none() {
+        return Err(format!(
+            "types '{}' '{}' set no type pair (pairs are I <= J)",
+            shown(ti),
+            shown(tj)
+        ));
+    }
+    Ok(())
+}
+
 /// A LAMMPS type range: `*`, `n`, `n*`, `*n`, `m*n`, within 1..=ntypes.
 pub fn type_range(tok: &str, ntypes: usize) -> Result<(usize, usize), String> {
     let bad = || {

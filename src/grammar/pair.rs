@@ -1,7 +1,8 @@
 //! `pair_style dpd/nonlinear` and its `pair_coeff` lines (docs/input.md), for both engines.
 
 use super::{
-    INT_MAX, StyleSpec, at_most, keywords, need, parse_f64, parse_int_in, shown, type_range,
+    INT_MAX, StyleSpec, at_most, coeff_types, keywords, need, parse_f64, parse_int_in,
+    sets_some_pair, shown, type_pairs,
 };
 use crate::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
 
@@ -131,7 +132,7 @@ pub struct DpdCoeffLine {
 impl DpdCoeffLine {
     /// The type pairs (i ≤ j) the line sets, as LAMMPS does: i in I, j in J with j ≥ i.
     pub fn pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        (self.i.0..=self.i.1).flat_map(move |i| (self.j.0.max(i)..=self.j.1).map(move |j| (i, j)))
+        type_pairs((self.i, self.j))
     }
 }
 
@@ -151,13 +152,7 @@ pub fn pair_coeff<S: AsRef<str>>(
     };
     need(args, if targets { 7 } else { 5 }, usage)?;
     let word = |k: usize| args[k].as_ref();
-    let mut i = type_range(word(0), ntypes)?;
-    let mut j = type_range(word(1), ntypes)?;
-    // As LAMMPS (since 2022): two plain type numbers with J < I are read as `J I`.
-    let plain = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
-    if plain(word(0)) && plain(word(1)) && j.0 < i.0 {
-        std::mem::swap(&mut i, &mut j);
-    }
+    let (i, j) = coeff_types(word(0), word(1), ntypes)?;
     let a = parse_f64(word(2), "a")?;
     let (coeff, targets) = if targets {
         if word(5) != "sc" {
@@ -220,14 +215,7 @@ pub fn pair_coeff<S: AsRef<str>>(
         coeff,
         targets,
     };
-    if line.pairs().next().is_none() {
-        // As LAMMPS: pairs are set for I <= J only, so `pair_coeff 2* 1` sets nothing.
-        return Err(format!(
-            "types '{}' '{}' set no type pair (pairs are I <= J)",
-            shown(word(0)),
-            shown(word(1))
-        ));
-    }
+    sets_some_pair((line.i, line.j), word(0), word(1))?;
     Ok(line)
 }
 

@@ -1,7 +1,8 @@
 //! `pair_style sdpd` and its `pair_coeff` lines (docs/input.md), for both engines.
 
 use super::{
-    INT_MAX, StyleSpec, at_most, keywords, need, parse_f64, parse_int_in, shown, type_range,
+    INT_MAX, StyleSpec, at_most, coeff_types, keywords, need, parse_f64, parse_int_in,
+    sets_some_pair, shown, type_pairs,
 };
 use crate::kernel::sdpd::Smoothing;
 
@@ -144,7 +145,7 @@ pub struct SdpdCoeffLine {
 impl SdpdCoeffLine {
     /// The type pairs (i ≤ j) the line sets, as LAMMPS does: i in I, j in J with j ≥ i.
     pub fn pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        (self.i.0..=self.i.1).flat_map(move |i| (self.j.0.max(i)..=self.j.1).map(move |j| (i, j)))
+        type_pairs((self.i, self.j))
     }
 }
 
@@ -173,13 +174,7 @@ pub fn pair_coeff<S: AsRef<str>>(
     };
     need(args, if targets { 8 } else { 5 }, usage)?;
     let word = |k: usize| args[k].as_ref();
-    let mut i = type_range(word(0), ntypes)?;
-    let mut j = type_range(word(1), ntypes)?;
-    // As LAMMPS (since 2022): two plain type numbers with J < I are read as `J I`.
-    let plain = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
-    if plain(word(0)) && plain(word(1)) && j.0 < i.0 {
-        std::mem::swap(&mut i, &mut j);
-    }
+    let (i, j) = coeff_types(word(0), word(1), ntypes)?;
     let rho0 = positive(word(2), "rho0")?;
     let c0 = positive(word(3), "c0")?;
     let (eta0, rc, targets) = if targets {
@@ -234,13 +229,7 @@ pub fn pair_coeff<S: AsRef<str>>(
         rc,
         targets,
     };
-    if line.pairs().next().is_none() {
-        return Err(format!(
-            "types '{}' '{}' set no type pair (pairs are I <= J)",
-            shown(word(0)),
-            shown(word(1))
-        ));
-    }
+    sets_some_pair((line.i, line.j), word(0), word(1))?;
     Ok(line)
 }
 

@@ -24,3 +24,37 @@ pub fn state_by_tag(sys: &System) -> Vec<(u32, [u64; 3], [u64; 3])> {
     v.sort_by_key(|e| e.0);
     v
 }
+
+/// Half a unit in the last digit of a printed decimal, e.g. "0.0700" -> 5e-5, "50" -> 0.5.
+#[allow(dead_code)] // not every test crate that includes this module calls it
+pub fn half_ulp(printed: &str) -> f64 {
+    let decimals = printed.split_once('.').map_or(0, |(_, f)| f.len());
+    0.5 * 10f64.powi(-(decimals as i32))
+}
+
+/// `computed` agrees with `printed` at its printed precision (with room for a printed value
+/// that sits exactly on a rounding tie, such as η̄ = 49.06125 printed as 49.0613).
+#[allow(dead_code)] // not every test crate that includes this module calls it
+pub fn agrees(computed: f64, printed: &str) -> bool {
+    let p: f64 = printed.parse().expect("number");
+    (computed - p).abs() <= half_ulp(printed) * (1.0 + 1e-9)
+}
+
+/// The value of a `key = value` line of a command's output (lines starting with `#` skipped).
+#[allow(dead_code)] // not every test crate that includes this module calls it
+pub fn value(text: &str, key: &str) -> f64 {
+    text.lines()
+        .filter(|l| !l.starts_with('#'))
+        .find_map(|l| l.split_once(" = ").filter(|(k, _)| *k == key))
+        .unwrap_or_else(|| panic!("no `{key} = ` in\n{text}"))
+        .1
+        .trim()
+        .parse()
+        .expect("number")
+}
+
+/// The weighting-function paper's 2-D fluid: n = 4, m = kT = 1, cut-off `rc`.
+#[allow(dead_code)] // not every test crate that includes this module calls it
+pub fn paper_fluid(rc: f64) -> dpdnl::theory::Fluid {
+    dpdnl::theory::Fluid::new(2, 4.0, rc, 1.0, 1.0).expect("valid fluid")
+}

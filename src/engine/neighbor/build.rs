@@ -46,34 +46,47 @@ pub(super) struct RowBuild<'a> {
     pub(super) slab_axis: Option<usize>,
     /// Lees–Edwards boundaries of the build (None: periodic).
     pub(super) le: Option<LeesEdwards>,
+    /// The tilt allowance D: rows through the sheared boundary take every pair whose x
+    /// separation is within the cut-off + D (`NeighborList::set_shear`).
+    pub(super) tilt_allow: f64,
 }
 
 impl RowBuild<'_> {
     /// The x cells to scan in a row of cells reached along y with image `iy` (the stencil code
     /// of that axis), as runs (first, last, x image) in a fixed order. Periodic, or not
     /// through the y boundary: the x stencil `xruns[cx]`. Through a sheared y boundary: the
-    /// row's atoms appear displaced by the offset along x, so the partners of an atom of cell
-    /// cx lie in the four cells from ⌊(cx·w − n_y·offset)/w⌋ − 1 (n_y = −iy, the image's
-    /// y shift in boxes; cells of width w ≥ the cut-off), each its own run, with every image
-    /// decided per pair; all cells when the grid has fewer than 4 along x or the y image is
-    /// ambiguous.
+    /// row's atoms appear displaced by n_y·offset along x (n_y = −iy, the image's y shift in
+    /// boxes), so the partners of an atom of cell cx (x − lo in [cx·w, (cx + 1)·w)) within the
+    /// cut-off c for an offset within ±D of the build's lie in the cells covering
+    /// [cx·w − n_y·offset − c − D, (cx + 1)·w − n_y·offset + c + D] (padded by 10⁻⁶ w against
+    /// the round-off of the cell index): one run, or two where it wraps, every image decided
+    /// per pair; all cells when that covers the row or the y image is ambiguous.
     #[inline(always)]
     fn x_runs(&self, cx: usize, iy: i8, out: &mut [(usize, usize, i8); 4]) -> usize {
         let m = self.cells.ncell[0];
         match self.le {
             Some(le) if iy != 0 => {
-                if iy == AMBIGUOUS || m < 4 {
+                let w = self.len[0] / m as f64;
+                let reach = self.cutsq.sqrt() + self.tilt_allow + 1e-6 * w;
+                let shift = -f64::from(iy) * le.offset;
+                let lo = ((cx as f64 * w - shift - reach) / w).floor();
+                let hi = (((cx + 1) as f64 * w - shift + reach) / w).floor();
+                // A NaN window (no finite offset) also scans every cell.
+                let narrow = hi - lo + 1.0 < m as f64;
+                if iy == AMBIGUOUS || !narrow {
                     out[0] = (0, m - 1, AMBIGUOUS);
                     return 1;
                 }
-                let w = self.len[0] / m as f64;
-                let ny = -f64::from(iy);
-                let base = ((cx as f64 * w - ny * le.offset) / w).floor() as i64;
-                for (k, o) in out.iter_mut().enumerate() {
-                    let c = (base - 1 + k as i64).rem_euclid(m as i64) as usize;
-                    *o = (c, c, AMBIGUOUS);
+                let a = (lo as i64).rem_euclid(m as i64) as usize;
+                let b = a + (hi - lo) as usize;
+                if b < m {
+                    out[0] = (a, b, AMBIGUOUS);
+                    1
+                } else {
+                    out[0] = (0, b - m, AMBIGUOUS);
+                    out[1] = (a, m - 1, AMBIGUOUS);
+                    2
                 }
-                4
             }
             _ => {
                 let runs = &self.xruns[cx];
@@ -142,6 +155,9 @@ pub(super) fn build_rows<const AVX512: bool>(rb: &RowBuild, s: &mut Slab) {
             }
             let mut l = len;
             if img.contains(&AMBIGUOUS) {
+                // Under Lees–Edwards the x separation counts less the tilt allowance (0 in a
+                // periodic box, where this is the plain test).
+                let allow = rb.tilt_allow;
                 for j in lo..hi {
                     let xj = x[j];
                     let d = pair_image(
@@ -149,8 +165,9 @@ pub(super) fn build_rows<const AVX512: bool>(rb: &RowBuild, s: &mut Slab) {
                         rb.le.as_ref(),
                         [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]],
                     );
+                    let dx = (d[0].abs() - allow).max(0.0);
                     s.nbr[l] = j as u32;
-                    l += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < rb.cutsq);
+                    l += usize::from(dx * dx + d[1] * d[1] + d[2] * d[2] < rb.cutsq);
                 }
                 len = l;
                 return;

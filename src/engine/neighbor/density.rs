@@ -98,18 +98,7 @@ impl NeighborList {
         }
         self.next_d.clear();
         self.next_d.resize(n, 0.0);
-        let mut own: Vec<&mut [f64]> = Vec::with_capacity(self.slabs.len());
-        let mut next: Vec<&mut [f64]> = Vec::with_capacity(self.slabs.len());
-        let (mut rest_o, mut rest_n) = (&mut out[..], &mut self.next_d[..]);
-        for s in &self.slabs {
-            let (a, b) = std::mem::take(&mut rest_o).split_at_mut(s.end - s.start);
-            let (c, d) = std::mem::take(&mut rest_n).split_at_mut(s.end - s.start);
-            own.push(a);
-            next.push(c);
-            rest_o = b;
-            rest_n = d;
-        }
-        next.rotate_left(1);
+        let (own, next) = own_next_slices(&self.slabs, out, &mut self.next_d);
         self.slabs
             .par_iter()
             .zip(own.into_par_iter().zip(next.into_par_iter()))

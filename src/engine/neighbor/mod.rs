@@ -77,6 +77,29 @@ pub(crate) fn cell_grid(len: [f64; 3], dim: usize, cutoff: f64, natoms: usize) -
     want.map(|w| w as usize)
 }
 
+/// The per-slab output slices of a slab-parallel pass over per-atom arrays `own` and `next`
+/// (both of the atoms' length): slab k gets `own[slab k]` and `next[slab k + 1]`
+/// (periodically), disjoint slices, so the tasks write without sharing.
+fn own_next_slices<'a, T>(
+    slabs: &[Slab],
+    own: &'a mut [T],
+    next: &'a mut [T],
+) -> (Vec<&'a mut [T]>, Vec<&'a mut [T]>) {
+    let mut own_k: Vec<&mut [T]> = Vec::with_capacity(slabs.len());
+    let mut next_k: Vec<&mut [T]> = Vec::with_capacity(slabs.len());
+    let (mut rest_o, mut rest_n) = (own, next);
+    for s in slabs {
+        let (a, b) = std::mem::take(&mut rest_o).split_at_mut(s.end - s.start);
+        let (c, d) = std::mem::take(&mut rest_n).split_at_mut(s.end - s.start);
+        own_k.push(a);
+        next_k.push(c);
+        rest_o = b;
+        rest_n = d;
+    }
+    next_k.rotate_left(1);
+    (own_k, next_k)
+}
+
 /// The minimum image of a separation: the periodic one, or under Lees–Edwards the sliding-brick
 /// one ([`SimBox::min_image_le`], its velocity jump dropped).
 #[inline(always)]
@@ -176,6 +199,13 @@ pub struct NeighborList {
     le: Option<LeesEdwards>,
     xy_now: f64,
     xy_at_build: f64,
+    /// The tilt at the working list's last refresh.
+    xy_at_inner: f64,
+    /// The tilt's mean change per step (|γ̇| L_y δt), and the tilt allowance D of the last
+    /// build: its rows through the y boundary hold every pair within the list cut-off for any
+    /// offset within ±D of the build's (see [`NeighborList::set_shear`]).
+    tilt_drift: f64,
+    tilt_allow: f64,
 }
 
 /// The working list's margin as a fraction of the skin, and the list lifetime (force
@@ -213,23 +243,33 @@ impl NeighborList {
         }
     }
 
-    /// Lees–Edwards boundaries for the coming builds and force evaluations: `Some((le, xy))`
-    /// with the sliding-brick state of the current step and the tilt xy (unwrapped, continuous
-    /// in time), or None for a periodic box. Set it before [`NeighborList::needs_rebuild`] at
-    /// every step of a sheared run. Pairs through the y boundary are listed with the offset of
-    /// their build, so a list stays valid while 2·(largest displacement) + |xy − xy_build| does
-    /// not exceed the skin (the criterion LAMMPS applies to a changing triclinic box); the force
-    /// and density passes use the current offset and the boundary velocity jump.
-    pub fn set_shear(&mut self, shear: Option<(LeesEdwards, f64)>) {
+    /// Lees–Edwards boundaries for the coming builds and force evaluations: `Some((le, xy,
+    /// drift))` with the sliding-brick state of the current step, the tilt xy (unwrapped,
+    /// continuous in time) and its mean change per step |γ̇| L_y δt; or None for a periodic box.
+    /// Set it before [`NeighborList::needs_rebuild`] at every step of a sheared run.
+    ///
+    /// A build lists the pairs through the y boundary for every offset within ±D of its own
+    /// (the tilt allowance D: x separations within the list cut-off + D; D = drift × (the
+    /// previous list's lifetime + 2), at most L_x/2 − cut-off, so no other x image can come in
+    /// range), so a list stays valid while 2·(largest displacement) + max(0, |xy − xy_build| − D)
+    /// does not exceed the skin (with D = 0, the criterion LAMMPS applies to a changing
+    /// triclinic box). Fast shear of a wide box (2-D, L = 70, γ̇ = 0.2, δt = 0.005: 0.07 a step
+    /// against a skin of 0.3) then keeps a list as long as the atoms' motion allows, for a few
+    /// more candidates in the boundary rows. The force and density passes use the current
+    /// offset and the boundary velocity jump.
+    pub fn set_shear(&mut self, shear: Option<(LeesEdwards, f64, f64)>) {
         match shear {
-            Some((le, xy)) => {
+            Some((le, xy, drift)) => {
                 self.le = Some(le);
                 self.xy_now = xy;
+                self.tilt_drift = if drift.is_finite() { drift.abs() } else { 0.0 };
             }
             None => {
                 self.le = None;
                 self.xy_now = 0.0;
                 self.xy_at_build = 0.0;
+                self.tilt_drift = 0.0;
+                self.tilt_allow = 0.0;
             }
         }
     }
@@ -283,14 +323,15 @@ impl NeighborList {
     }
 
     /// True when some atom moved more than half the skin since the last build (or never built);
-    /// under Lees–Edwards, more than half of what the tilt change since the build leaves of it.
+    /// under Lees–Edwards, more than half of what the tilt change beyond the build's allowance
+    /// leaves of it.
     pub fn needs_rebuild(&self, atoms: &Atoms) -> bool {
         if self.x_at_build.len() != atoms.len() || self.builds == 0 {
             return true;
         }
         let mut room = self.skin;
         if self.le.is_some() {
-            room -= (self.xy_now - self.xy_at_build).abs();
+            room -= ((self.xy_now - self.xy_at_build).abs() - self.tilt_allow).max(0.0);
             if room.is_nan() || room <= 0.0 {
                 return true;
             }
@@ -362,6 +403,12 @@ impl NeighborList {
         self.xy_at_build = self.xy_now;
         let cutoff = rc_max + self.skin;
         let len = bx.len();
+        self.tilt_allow = if self.le.is_some() {
+            let life = self.evals_since_build as f64 + 2.0;
+            (self.tilt_drift * life).min(0.5 * len[0] - cutoff).max(0.0)
+        } else {
+            0.0
+        };
         let ncell = cell_grid(len, bx.dim, cutoff, n);
         if ncell != self.ncell {
             self.ncell = ncell;
@@ -471,6 +518,7 @@ impl NeighborList {
             cutsq: cutoff * cutoff,
             slab_axis: if slab_mode { Some(bx.dim - 1) } else { None },
             le: self.le,
+            tilt_allow: self.tilt_allow,
         };
         let isa = match self.isa {
             Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
@@ -518,7 +566,14 @@ impl NeighborList {
         }
         let margin = INNER_MARGIN * self.skin;
         if !self.inner_stale {
-            let limit = 0.25 * margin * margin;
+            // Under Lees–Edwards the tilt's change since the refresh moves the pairs through
+            // the y boundary by as much: it takes its part of the margin first.
+            let room = if self.le.is_some() {
+                margin - (self.xy_now - self.xy_at_inner).abs()
+            } else {
+                margin
+            };
+            let limit = 0.25 * room * room;
             let moved = atoms
                 .x
                 .par_iter()
@@ -527,10 +582,11 @@ impl NeighborList {
                     let d = [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]];
                     d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > limit
                 });
-            if !moved {
+            if !moved && room > 0.0 {
                 return;
             }
         }
+        self.xy_at_inner = self.xy_now;
         let cut = self.rc_max + margin;
         let cutsq = cut * cut;
         let len = bx.len();
@@ -633,19 +689,7 @@ impl NeighborList {
             let s = &mut self.slabs[0];
             s.compute(&ctx, f, &mut []);
         } else {
-            // Slab k writes f[slab k] and next_f[slab k + 1] (periodically): disjoint slices.
-            let mut own: Vec<&mut [[f64; 3]]> = Vec::with_capacity(self.slabs.len());
-            let mut next: Vec<&mut [[f64; 3]]> = Vec::with_capacity(self.slabs.len());
-            let (mut rest_f, mut rest_n) = (&mut f[..], &mut self.next_f[..]);
-            for s in &self.slabs {
-                let (a, b) = std::mem::take(&mut rest_f).split_at_mut(s.end - s.start);
-                let (c, d) = std::mem::take(&mut rest_n).split_at_mut(s.end - s.start);
-                own.push(a);
-                next.push(c);
-                rest_f = b;
-                rest_n = d;
-            }
-            next.rotate_left(1);
+            let (own, next) = own_next_slices(&self.slabs, f, &mut self.next_f);
             self.slabs
                 .par_iter_mut()
                 .zip(own.into_par_iter().zip(next.into_par_iter()))

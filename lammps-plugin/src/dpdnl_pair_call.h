@@ -1,0 +1,92 @@
+// The C ABI structs of one pair-style call, filled from LAMMPS's state, and the blow-up check
+// after it: shared by pair_style dpd/nonlinear and pair_style sdpd (their compute() only adds
+// the calls of their own passes). Marshalling only: every check and number is in Rust.
+
+#ifndef DPDNL_PAIR_CALL_H
+#define DPDNL_PAIR_CALL_H
+
+#include "atom.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "lammps.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
+
+#include "dpdnl.h"
+
+#include <string>
+
+namespace dpdnl_pair_call {
+
+// Everything a dpdnl_compute-style entry point reads, for the owned and ghost atoms of this
+// rank, its half neighbour list, the step, and the pair style's tallies.
+struct PairCall {
+  DpdnlAtoms atoms;
+  DpdnlNeighList nl;
+  DpdnlStep st;
+  DpdnlTally tally;
+  double *f;
+};
+
+// `rmass`: pass per-atom masses when the atom style has them (dpd/nonlinear), or per-type masses
+// only (sdpd). The tally pointers are the Pair's own (eng_vdwl, virial, eatom, vatom), used when
+// its flags ask for them.
+inline PairCall fill(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::NeighList *list, bool rmass,
+                     int eflag_global, int vflag_global, int eflag_atom, int vflag_atom,
+                     double *eng_vdwl, double *virial, double *eatom, double **vatom)
+{
+  LAMMPS_NS::Atom *atom = lmp->atom;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const bool any = nall > 0;
+  PairCall c;
+  c.atoms.x = any ? &atom->x[0][0] : nullptr;
+  c.atoms.v = any ? &atom->v[0][0] : nullptr;
+  c.atoms.tag = atom->tag;
+  c.atoms.atom_type = atom->type;
+  c.atoms.mass = atom->mass;
+  c.atoms.rmass = (rmass && atom->rmass_flag) ? atom->rmass : nullptr;
+  c.atoms.nlocal = nlocal;
+  c.atoms.nall = nall;
+
+  c.nl.inum = list->inum;
+  c.nl.ilist = list->ilist;
+  c.nl.numneigh = list->numneigh;
+  c.nl.firstneigh = list->firstneigh;
+  c.nl.neighmask = NEIGHMASK;
+  c.nl.full = 0;
+
+  c.st.step = lmp->update->ntimestep;
+  c.st.dt = lmp->update->dt;
+  c.st.newton_pair = lmp->force->newton_pair;
+  c.st.dimension = lmp->domain->dimension;
+
+  c.tally.eflag_global = eflag_global;
+  c.tally.vflag_global = vflag_global;
+  c.tally.eng_vdwl = eng_vdwl;
+  c.tally.virial = virial;
+  c.tally.eatom = eflag_atom ? eatom : nullptr;
+  c.tally.vatom = (vflag_atom && any) ? &vatom[0][0] : nullptr;
+
+  c.f = any ? &atom->f[0][0] : nullptr;
+  return c;
+}
+
+// The standalone engine's blow-up check (Rust), at every neighbour rebuild and every 100 steps:
+// LAMMPS itself notices only lost atoms, at thermo output. `style` names the pair style in the
+// error.
+inline void check_health(LAMMPS_NS::LAMMPS *lmp, const PairCall &c, const char *style)
+{
+  if (lmp->neighbor->ago != 0 && lmp->update->ntimestep % 100 != 0) return;
+  LAMMPS_NS::Domain *domain = lmp->domain;
+  const double len[3] = {domain->xprd, domain->yprd, domain->zprd};
+  if (dpdnl_check_health(&c.atoms, c.f, lmp->update->ntimestep, lmp->update->dt, len,
+                         domain->dimension) != DPDNL_STATUS_OK)
+    lmp->error->one(FLERR, std::string(style) + ": " + dpdnl_last_error());
+}
+
+}    // namespace dpdnl_pair_call
+
+#endif
