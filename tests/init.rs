@@ -193,3 +193,82 @@ fn theory_of_a_script() {
     assert!(!dir.join("dump.design_euler_2d.standalone").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `dpdnl theory SCRIPT` with `fix nve` (issue 14 section 4): the velocity-Verlet heating is
+/// reported as a MEASUREMENT of the nearest measured fluid, never as theory. The finite-step
+/// paper's 2-D fluid at n = 4 (13 neighbours, the measured family itself) at δt = 0.03 δt_c:
+/// the interpolated T/T0 lies between the measured points at 0.02 and 0.05 δt_c, and the
+/// verdict says where that family reaches 1 % heating; the JSON carries the same verdict.
+#[test]
+fn theory_of_a_velocity_verlet_script_is_labelled_measured() {
+    use dpdnl::theory::vv_measured::vv_verdict;
+    let dir = std::env::temp_dir().join(format!("dpdnl-theory-vv-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // δt_c of this fluid (eq. 25) from the library, then a script at 0.03 δt_c.
+    let fluid = dpdnl::theory::Fluid::new(2, 4.0, 1.0, 1.0, 0.5).unwrap();
+    let dt_c = dpdnl::theory::euler_critical_dt(&fluid, 1.0, 2.0).unwrap();
+    let dt = 0.03 * dt_c;
+    let script = format!(
+        "units lj\ndimension 2\natom_style atomic\nregion box block 0 20 0 20 -0.5 0.5\n\
+         create_box 1 box\ncreate_atoms 1 random 1600 2468 box\nmass 1 1.0\n\
+         pair_style dpd/nonlinear 0.5 1.0 97531\npair_coeff 1 1 0.0 1.0 0.0\n\
+         timestep {dt}\nfix 1 all nve\nfix 2 all enforce2d\nrun 100\n"
+    );
+    std::fs::write(dir.join("in.vv"), script).unwrap();
+    let run = |json: bool| {
+        let mut args = vec!["theory", "in.vv"];
+        if json {
+            args.push("--json");
+        }
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+            .current_dir(&dir)
+            .args(&args)
+            .output()
+            .expect("run dpdnl theory");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let text = run(false);
+    assert!(text.contains("MEASURED, not theory"), "{text}");
+    assert!(text.contains("measured family: 2d-ideal (n = 4,"), "{text}");
+    let t: f64 = text
+        .lines()
+        .find_map(|l| l.strip_prefix("T/T0 (velocity-Verlet, measured, interpolated) = "))
+        .expect("T/T0 line")
+        .parse()
+        .unwrap();
+    let v = vv_verdict(2, 4.0 * std::f64::consts::PI, 0.03).expect("2-D family");
+    let at = |x: f64| {
+        v.points
+            .iter()
+            .find(|p| (p.0 - x).abs() < 1e-12)
+            .expect("point")
+            .1
+    };
+    assert!(
+        t > at(0.02) && t < at(0.05),
+        "{t} not between the measured points"
+    );
+    let verdict = text
+        .lines()
+        .find(|l| l.starts_with("velocity-Verlet verdict (measured, not theory): "))
+        .expect("verdict line");
+    let one = v.one_percent_at.expect("the family reaches 1 %");
+    assert!(
+        verdict.contains(if 0.03 >= one {
+            "heating >= 1 %"
+        } else {
+            "heating < 1 %"
+        }),
+        "{verdict}"
+    );
+    let json: serde_json::Value = serde_json::from_str(run(true).trim()).expect("JSON");
+    let pair = &json["runs"][0]["pairs"][0];
+    assert!(pair["euler"].is_null(), "{pair}");
+    assert_eq!(pair["vv_measured"]["verdict"]["family"], "2d-ideal");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -41,6 +41,7 @@
 //! [`design_paper_approx`]).
 
 pub mod sdpd;
+pub mod vv_measured;
 
 use crate::fmtnum::fmt_g as g;
 use std::f64::consts::PI;

@@ -8,6 +8,7 @@
 use dpdnl::fmtnum::fmt_g;
 use dpdnl::kernel::sdpd::Smoothing;
 use dpdnl::theory::sdpd;
+use dpdnl::theory::vv_measured::vv_verdict;
 use dpdnl::theory::{
     Design, DesignMode, Dim, Fluid, STIFF_DT_C_FRACTION, StepScales, Targets, TheoryError,
     Transport, design_from_targets, design_paper_approx, euler_critical_density, euler_critical_dt,
@@ -741,8 +742,7 @@ fn theory_of_script(
                 }
             );
             transport_text(&mut out, &t);
-            let mut euler_json = "null".to_string();
-            match r.integrator {
+            let (euler_json, vv_json_text) = match r.integrator {
                 Some(Integrator::Euler) => {
                     let dt_c = euler_critical_dt(&fluid, c.gamma0, s)?;
                     let ratio = euler_temperature_ratio(&fluid, c.gamma0, s, r.dt).ok();
@@ -760,21 +760,26 @@ fn theory_of_script(
                     }
                     let _ = writeln!(out, "dt_c = {}", num(dt_c));
                     let _ = writeln!(out, "dt/dt_c = {}", num(r.dt / dt_c));
-                    euler_json = format!(
+                    let e = format!(
                         "{{\"t_ratio\":{},\"dt_c\":{}}}",
                         ratio.map_or("null".to_string(), jnum),
                         jnum(dt_c)
                     );
+                    (e, "null".to_string())
                 }
                 _ => {
-                    let _ = writeln!(
-                        out,
-                        "# velocity-Verlet: the finite-step paper gives no closed form; none is computed"
+                    let dt_c = euler_critical_dt(&fluid, c.gamma0, s)?;
+                    vv_text(&mut out, &fluid, r.dt / dt_c);
+                    let v = format!(
+                        "{{\"verdict\":{},\"dt_over_dtc\":{}}}",
+                        vv_json(&fluid, r.dt / dt_c),
+                        jnum(r.dt / dt_c)
                     );
+                    ("null".to_string(), v)
                 }
-            }
+            };
             pairs_json.push(format!(
-                "{{\"i\":{i},\"j\":{j},\"a\":{},\"gamma0\":{},\"gamma1\":{},\"rc\":{},\"fluid\":{},\"predicted\":{},\"euler\":{euler_json}}}",
+                "{{\"i\":{i},\"j\":{j},\"a\":{},\"gamma0\":{},\"gamma1\":{},\"rc\":{},\"fluid\":{},\"predicted\":{},\"euler\":{euler_json},\"vv_measured\":{vv_json_text}}}",
                 jnum(c.a),
                 jnum(c.gamma0),
                 jnum(c.gamma1),
@@ -807,4 +812,97 @@ fn theory_of_script(
         print!("{out}");
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Mean number of neighbours within r_c: n π r_c² (2-D) or n (4/3) π r_c³ (3-D).
+fn neighbours(fluid: &Fluid) -> f64 {
+    let pi = std::f64::consts::PI;
+    match fluid.dim {
+        Dim::Two => fluid.density * pi * fluid.cutoff * fluid.cutoff,
+        Dim::Three => fluid.density * 4.0 / 3.0 * pi * fluid.cutoff.powi(3),
+    }
+}
+
+/// The measured velocity-Verlet heating (issue 14 section 4; `dpdnl::theory::vv_measured`) of
+/// the family nearest to `fluid`, at δt/δt_c: labelled as a measurement, never as theory.
+fn vv_text(out: &mut String, fluid: &Fluid, dt_over_dtc: f64) {
+    let dim = match fluid.dim {
+        Dim::Two => 2,
+        Dim::Three => 3,
+    };
+    let _ = writeln!(
+        out,
+        "# velocity-Verlet (fix nve): no closed form; MEASURED, not theory (validation/finite_step, \
+         velocity-Verlet section), on the measured fluid nearest to this one"
+    );
+    let Some(v) = vv_verdict(dim, neighbours(fluid), dt_over_dtc) else {
+        let _ = writeln!(out, "# no measurement of a {dim}-D fluid");
+        return;
+    };
+    let _ = writeln!(
+        out,
+        "# measured family: {} (n = {}, {} neighbours within r_c; this fluid: {}); \
+         scale dt_c of eq. 25 (Euler), used only to compare steps",
+        v.family,
+        num(v.density),
+        num((v.neighbours * 10.0).round() / 10.0),
+        num((neighbours(fluid) * 10.0).round() / 10.0)
+    );
+    let pts: Vec<String> = v
+        .points
+        .iter()
+        .map(|(x, y, e)| format!("{}: {} +- {}", num(*x), num(*y), num(*e)))
+        .collect();
+    let _ = writeln!(out, "# measured T/T0 at dt/dt_c = {}", pts.join("; "));
+    let _ = writeln!(out, "dt/dt_c = {}", num(dt_over_dtc));
+    match v.t_ratio {
+        Some(t) => {
+            let _ = writeln!(
+                out,
+                "T/T0 (velocity-Verlet, measured, interpolated) = {}",
+                num((t * 1e4).round() / 1e4)
+            );
+        }
+        None => {
+            let _ = writeln!(
+                out,
+                "T/T0 (velocity-Verlet, measured) = beyond the measured range"
+            );
+        }
+    }
+    let verdict = match (v.one_percent_at, v.t_ratio) {
+        (Some(x), _) if dt_over_dtc >= x => format!(
+            "heating >= 1 % (measured: the family reaches 1 % at dt/dt_c = {}; take dt <= {} dt_c)",
+            fmt_g(x),
+            fmt_g(x)
+        ),
+        (Some(x), _) => format!(
+            "heating < 1 % (measured: the family reaches 1 % at dt/dt_c = {})",
+            fmt_g(x)
+        ),
+        (None, Some(_)) => "heating < 1 % over the whole measured range (measured)".to_string(),
+        (None, None) => "beyond the measured range: no verdict".to_string(),
+    };
+    let _ = writeln!(
+        out,
+        "velocity-Verlet verdict (measured, not theory): {verdict}"
+    );
+}
+
+/// The same as JSON.
+fn vv_json(fluid: &Fluid, dt_over_dtc: f64) -> String {
+    let dim = match fluid.dim {
+        Dim::Two => 2,
+        Dim::Three => 3,
+    };
+    match vv_verdict(dim, neighbours(fluid), dt_over_dtc) {
+        None => "null".to_string(),
+        Some(v) => format!(
+            "{{\"family\":{},\"density\":{},\"t_ratio\":{},\"one_percent_at\":{}}}",
+            jstr(&v.family),
+            jnum(v.density),
+            v.t_ratio.map_or("null".to_string(), jnum),
+            v.one_percent_at.map_or("null".to_string(), jnum)
+        ),
+    }
 }
