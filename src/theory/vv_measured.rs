@@ -7,11 +7,19 @@
 //! `vv_measured.csv` beside this file is a copy of the committed results) on
 //! - the 2-D ideal fluid of the finite-step paper (a = 0, γ = σ = 1, w_D = (1 − r)², r_c = 1,
 //!   N = 1600) at n = 1, 4, 16, and
+//! - the weighting paper's Table 3 fluid (2-D, n = 4, s = ½, γ = 15.67, the fluid of its Couette
+//!   runs), and
 //! - the non-linear paper's 3-D fluid (n = 16, kT = 0.1, γ0 = 5, r_c = 1) for each of its models,
 //!
-//! as a function of δt/δt_c, with δt_c the Euler critical step of eq. 25 used only as a scale.
+//! as a function of x = δt √(kT/m) / r_c, the distance a thermal particle moves in one step in
+//! units of the cut-off. That variable, not δt/δt_c (δt_c the Euler critical step of eq. 25),
+//! brings the measured families together: velocity-Verlet's heating follows the displacement
+//! per step, Euler's the friction per step.
 //! [`vv_verdict`] interpolates the measured family nearest to a fluid (same dimension, nearest
-//! number of neighbours within r_c); the answer is a measurement on that family, labelled so.
+//! number of neighbours within r_c and weight exponent); the answer is a measurement on that
+//! family, labelled so. At δt/δt_c = 0.18 the s = 2, γ = 1 fluid at n = 4 heats by 7 % and the
+//! s = ½, γ = 15.7 fluid at the same n by 0.2 ± 0.2 %; at x ≈ 0.14 the three s = 2 families
+//! heat by 7–10 % (see the validation report).
 
 /// One measured point.
 #[derive(Clone, Debug, PartialEq)]
@@ -24,6 +32,14 @@ pub struct VvPoint {
     pub density: f64,
     /// Mean number of neighbours within r_c (n V_d r_c^d).
     pub neighbours: f64,
+    /// Weight exponent s of w_D = (1 − r/r_c)^s, and the friction γ (γ0).
+    pub s: f64,
+    pub gamma: f64,
+    /// kT and the step δt (m = r_c = 1 in every measured fluid).
+    pub kt: f64,
+    pub dt: f64,
+    /// x = δt √(kT/m) / r_c, the interpolation variable.
+    pub x: f64,
     /// δt / δt_c (eq. 25).
     pub dt_over_dtc: f64,
     /// Measured T/T0 and its standard error (block averages).
@@ -48,9 +64,14 @@ pub fn vv_points() -> Vec<VvPoint> {
                 dim: f.get(1)?.parse().ok()?,
                 density: num(2)?,
                 neighbours: num(3)?,
-                dt_over_dtc: num(4)?,
-                t_ratio: num(5)?,
-                err: num(6)?,
+                s: num(4)?,
+                gamma: num(5)?,
+                kt: num(6)?,
+                dt: num(7)?,
+                x: num(8)?,
+                dt_over_dtc: num(9)?,
+                t_ratio: num(10)?,
+                err: num(11)?,
             })
         })
         .collect()
@@ -59,45 +80,46 @@ pub fn vv_points() -> Vec<VvPoint> {
 /// What the measurements say of a fluid's velocity-Verlet step.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VvVerdict {
-    /// The measured family used, its density and neighbour count.
+    /// The measured family used, its density, neighbour count, weight exponent and friction.
     pub family: String,
     pub density: f64,
     pub neighbours: f64,
-    /// The family's measured points (δt/δt_c, T/T0, error).
+    pub s: f64,
+    pub gamma: f64,
+    /// The family's measured points (x, T/T0, error).
     pub points: Vec<(f64, f64, f64)>,
-    /// T/T0 interpolated linearly in δt/δt_c between the measured points (from T/T0 = 1 at
-    /// δt = 0); None beyond the largest measured δt/δt_c.
+    /// T/T0 interpolated linearly in x between the measured points (from T/T0 = 1 at δt = 0);
+    /// None beyond the largest measured x.
     pub t_ratio: Option<f64>,
-    /// The δt/δt_c where the family's measured heating first reaches 1 % (linear
-    /// interpolation between points, from 0 at δt = 0); None if it never does in range.
+    /// The x where the family's measured heating first reaches 1 % (linear interpolation
+    /// between points, from 0 at δt = 0); None if it never does in range.
     pub one_percent_at: Option<f64>,
 }
 
 /// The measured velocity-Verlet heating of the family nearest to a fluid of dimension `dim`
-/// with `neighbours` neighbours within r_c, at `dt_over_dtc`. For the non-linear paper's
-/// fluid the family `nonlinear-ref` (no friction non-linearity) is the one used for any other
-/// 3-D fluid. None if no family of that dimension was measured.
-pub fn vv_verdict(dim: u32, neighbours: f64, dt_over_dtc: f64) -> Option<VvVerdict> {
+/// with `neighbours` neighbours within r_c and weight exponent `s`, at step `x` = δt √(kT/m) /
+/// r_c: nearest
+/// by |ln(neighbours ratio)| + |ln(s ratio)|. Of the non-linear paper's fluid only the `ref`
+/// family (no friction non-linearity, plain noise) stands for other fluids. None if no family
+/// of that dimension was measured.
+pub fn vv_verdict(dim: u32, neighbours: f64, s: f64, x: f64) -> Option<VvVerdict> {
     let pts = vv_points();
     let candidates: Vec<&VvPoint> = pts
         .iter()
-        .filter(|p| p.dim == dim && (dim == 2 || p.family == "nonlinear-ref"))
+        .filter(|p| {
+            p.dim == dim && (!p.family.starts_with("nonlinear-") || p.family == "nonlinear-ref")
+        })
         .collect();
-    // The nearest family by neighbour count on a log scale.
-    let near = candidates.iter().min_by(|a, b| {
-        let da = (a.neighbours / neighbours).ln().abs();
-        let db = (b.neighbours / neighbours).ln().abs();
-        da.total_cmp(&db)
-    })?;
+    let distance = |p: &VvPoint| (p.neighbours / neighbours).ln().abs() + (p.s / s).ln().abs();
+    let near = candidates
+        .iter()
+        .min_by(|a, b| distance(a).total_cmp(&distance(b)))?;
     let fam: Vec<&VvPoint> = candidates
         .iter()
-        .filter(|p| p.family == near.family && p.density == near.density)
+        .filter(|p| p.family == near.family && p.density == near.density && p.s == near.s)
         .copied()
         .collect();
-    let mut points: Vec<(f64, f64, f64)> = fam
-        .iter()
-        .map(|p| (p.dt_over_dtc, p.t_ratio, p.err))
-        .collect();
+    let mut points: Vec<(f64, f64, f64)> = fam.iter().map(|p| (p.x, p.t_ratio, p.err)).collect();
     points.sort_by(|a, b| a.0.total_cmp(&b.0));
     // Piecewise linear through (0, 1) and the measured points.
     let mut line = vec![(0.0, 1.0)];
@@ -117,9 +139,11 @@ pub fn vv_verdict(dim: u32, neighbours: f64, dt_over_dtc: f64) -> Option<VvVerdi
         family: near.family.clone(),
         density: near.density,
         neighbours: near.neighbours,
+        s: near.s,
+        gamma: near.gamma,
         points,
-        t_ratio: if dt_over_dtc.is_finite() && dt_over_dtc >= 0.0 {
-            interp(dt_over_dtc)
+        t_ratio: if x.is_finite() && x >= 0.0 {
+            interp(x)
         } else {
             None
         },
@@ -141,13 +165,13 @@ mod tests {
 
     #[test]
     fn interpolation_goes_through_the_points() {
-        let v = vv_verdict(2, 12.0, 0.0).expect("2-D family");
+        let v = vv_verdict(2, 12.0, 2.0, 0.0).expect("2-D family");
         assert_eq!(v.t_ratio, Some(1.0));
         for &(x, y, _) in &v.points {
-            let w = vv_verdict(2, 12.0, x).expect("2-D family");
+            let w = vv_verdict(2, 12.0, 2.0, x).expect("2-D family");
             assert!((w.t_ratio.unwrap() - y).abs() < 1e-12);
         }
         let last = v.points.last().unwrap().0;
-        assert_eq!(vv_verdict(2, 12.0, last * 1.5).unwrap().t_ratio, None);
+        assert_eq!(vv_verdict(2, 12.0, 2.0, last * 1.5).unwrap().t_ratio, None);
     }
 }

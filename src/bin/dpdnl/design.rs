@@ -769,10 +769,12 @@ fn theory_of_script(
                 }
                 _ => {
                     let dt_c = euler_critical_dt(&fluid, c.gamma0, s)?;
-                    vv_text(&mut out, &fluid, r.dt / dt_c);
+                    vv_text(&mut out, &fluid, s, c.gamma0, r.dt, dt_c);
+                    let x = step_x(&fluid, r.dt);
                     let v = format!(
-                        "{{\"verdict\":{},\"dt_over_dtc\":{}}}",
-                        vv_json(&fluid, r.dt / dt_c),
+                        "{{\"verdict\":{},\"x\":{},\"dt_over_dtc\":{}}}",
+                        vv_json(&fluid, s, x),
+                        jnum(x),
                         jnum(r.dt / dt_c)
                     );
                     ("null".to_string(), v)
@@ -823,38 +825,58 @@ fn neighbours(fluid: &Fluid) -> f64 {
     }
 }
 
+/// x = δt √(kT/m) / r_c: a thermal particle's displacement per step in cut-offs.
+fn step_x(fluid: &Fluid, dt: f64) -> f64 {
+    dt * (fluid.kt / fluid.mass).sqrt() / fluid.cutoff
+}
+
 /// The measured velocity-Verlet heating (issue 14 section 4; `dpdnl::theory::vv_measured`) of
-/// the family nearest to `fluid`, at δt/δt_c: labelled as a measurement, never as theory.
-fn vv_text(out: &mut String, fluid: &Fluid, dt_over_dtc: f64) {
+/// the family nearest to `fluid` (weight exponent `s`, friction `gamma`) at step `dt`: labelled
+/// as a measurement, never as theory.
+fn vv_text(out: &mut String, fluid: &Fluid, s: f64, gamma: f64, dt: f64, dt_c: f64) {
     let dim = match fluid.dim {
         Dim::Two => 2,
         Dim::Three => 3,
     };
+    let x = step_x(fluid, dt);
     let _ = writeln!(
         out,
         "# velocity-Verlet (fix nve): no closed form; MEASURED, not theory (validation/finite_step, \
-         velocity-Verlet section), on the measured fluid nearest to this one"
+         velocity-Verlet section), on the measured fluid nearest to this one, against \
+         x = dt sqrt(kT/m)/r_c (a thermal particle's step in cut-offs)"
     );
-    let Some(v) = vv_verdict(dim, neighbours(fluid), dt_over_dtc) else {
+    let Some(v) = vv_verdict(dim, neighbours(fluid), s, x) else {
         let _ = writeln!(out, "# no measurement of a {dim}-D fluid");
         return;
     };
     let _ = writeln!(
         out,
-        "# measured family: {} (n = {}, {} neighbours within r_c; this fluid: {}); \
-         scale dt_c of eq. 25 (Euler), used only to compare steps",
+        "# measured family: {} (n = {}, {} neighbours within r_c, s = {}, gamma = {}; this \
+         fluid: {} neighbours, s = {}, gamma = {})",
         v.family,
         num(v.density),
         num((v.neighbours * 10.0).round() / 10.0),
-        num((neighbours(fluid) * 10.0).round() / 10.0)
+        num(v.s),
+        fmt_g(v.gamma),
+        num((neighbours(fluid) * 10.0).round() / 10.0),
+        num(s),
+        fmt_g(gamma)
     );
+    if v.s != s {
+        let _ = writeln!(
+            out,
+            "# CAUTION: this fluid's weight exponent differs from the family's: a rough indication \
+             only; measure this fluid (validation/finite_step/README.md)"
+        );
+    }
     let pts: Vec<String> = v
         .points
         .iter()
-        .map(|(x, y, e)| format!("{}: {} +- {}", num(*x), num(*y), num(*e)))
+        .map(|(x, y, e)| format!("{}: {} +- {}", fmt_g(*x), num(*y), num(*e)))
         .collect();
-    let _ = writeln!(out, "# measured T/T0 at dt/dt_c = {}", pts.join("; "));
-    let _ = writeln!(out, "dt/dt_c = {}", num(dt_over_dtc));
+    let _ = writeln!(out, "# measured T/T0 at x = {}", pts.join("; "));
+    let _ = writeln!(out, "x = {}", num(x));
+    let _ = writeln!(out, "dt/dt_c = {}", num(dt / dt_c));
     match v.t_ratio {
         Some(t) => {
             let _ = writeln!(
@@ -870,15 +892,18 @@ fn vv_text(out: &mut String, fluid: &Fluid, dt_over_dtc: f64) {
             );
         }
     }
+    let dt_of = |x1: f64| x1 * fluid.cutoff / (fluid.kt / fluid.mass).sqrt();
     let verdict = match (v.one_percent_at, v.t_ratio) {
-        (Some(x), _) if dt_over_dtc >= x => format!(
-            "heating >= 1 % (measured: the family reaches 1 % at dt/dt_c = {}; take dt <= {} dt_c)",
-            fmt_g(x),
-            fmt_g(x)
+        (Some(x1), _) if x >= x1 => format!(
+            "heating >= 1 % (measured: the family reaches 1 % at x = {}, i.e. dt = {} here; take a \
+             smaller dt)",
+            fmt_g(x1),
+            fmt_g(dt_of(x1))
         ),
-        (Some(x), _) => format!(
-            "heating < 1 % (measured: the family reaches 1 % at dt/dt_c = {})",
-            fmt_g(x)
+        (Some(x1), _) => format!(
+            "heating < 1 % (measured: the family reaches 1 % at x = {}, i.e. dt = {} here)",
+            fmt_g(x1),
+            fmt_g(dt_of(x1))
         ),
         (None, Some(_)) => "heating < 1 % over the whole measured range (measured)".to_string(),
         (None, None) => "beyond the measured range: no verdict".to_string(),
@@ -890,12 +915,12 @@ fn vv_text(out: &mut String, fluid: &Fluid, dt_over_dtc: f64) {
 }
 
 /// The same as JSON.
-fn vv_json(fluid: &Fluid, dt_over_dtc: f64) -> String {
+fn vv_json(fluid: &Fluid, s: f64, x: f64) -> String {
     let dim = match fluid.dim {
         Dim::Two => 2,
         Dim::Three => 3,
     };
-    match vv_verdict(dim, neighbours(fluid), dt_over_dtc) {
+    match vv_verdict(dim, neighbours(fluid), s, x) {
         None => "null".to_string(),
         Some(v) => format!(
             "{{\"family\":{},\"density\":{},\"t_ratio\":{},\"one_percent_at\":{}}}",
