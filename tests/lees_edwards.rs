@@ -203,14 +203,11 @@ fn forces_equal_brute_force_in_a_box_of_few_cells() {
     check_against_brute(bx, 60, 0.9, 1.3, 5);
 }
 
-/// The list is kept while 2·(largest displacement) + |xy − xy_build| stays within the skin:
-/// after several steps of a changing offset with moving atoms, the forces from a list built
-/// steps earlier (at another offset, atoms since then neither wrapped nor re-sorted) equal the
-/// brute-force sum at the current offset; and the list is rebuilt once the tilt has moved by a
-/// skin.
-#[test]
-fn a_kept_list_under_a_changing_offset_equals_brute_force() {
-    let cases = [
+/// The two sheared systems of the kept-list tests, (box, atoms, tilt, rate): the 2-D box of
+/// `forces_equal_brute_force_sum_over_sheared_images_2d` at rate 0.7, and the 3-D one of its
+/// 3-D twin at rate `erate_3d`.
+fn sheared_boxes(erate_3d: f64) -> [(SimBox, usize, f64, f64); 2] {
+    [
         (
             SimBox::new(2, [0.0, -3.5, -0.5], [9.0, 3.5, 0.5]).unwrap(),
             500,
@@ -221,10 +218,19 @@ fn a_kept_list_under_a_changing_offset_equals_brute_force() {
             SimBox::new(3, [-1.0, 0.0, 0.0], [5.5, 4.5, 4.0]).unwrap(),
             700,
             -2.2,
-            -0.4,
+            erate_3d,
         ),
-    ];
-    for (bx, n, xy, erate) in cases {
+    ]
+}
+
+/// The list is kept while 2·(largest displacement) + |xy − xy_build| stays within the skin:
+/// after several steps of a changing offset with moving atoms, the forces from a list built
+/// steps earlier (at another offset, atoms since then neither wrapped nor re-sorted) equal the
+/// brute-force sum at the current offset; and the list is rebuilt once the tilt has moved by a
+/// skin.
+#[test]
+fn a_kept_list_under_a_changing_offset_equals_brute_force() {
+    for (bx, n, xy, erate) in sheared_boxes(-0.4) {
         let dim = bx.dim;
         let ly = bx.len()[1];
         let mut sys = system(bx, n, xy, erate, 31);
@@ -275,21 +281,7 @@ fn a_kept_list_under_a_changing_offset_equals_brute_force() {
 /// of 80, with at most half the builds of a list rebuilt at every skin's worth of tilt.
 #[test]
 fn the_tilt_allowance_keeps_lists_and_forces() {
-    let cases = [
-        (
-            SimBox::new(2, [0.0, -3.5, -0.5], [9.0, 3.5, 0.5]).unwrap(),
-            500,
-            13.3,
-            0.7,
-        ),
-        (
-            SimBox::new(3, [-1.0, 0.0, 0.0], [5.5, 4.5, 4.0]).unwrap(),
-            700,
-            -2.2,
-            -4.0,
-        ),
-    ];
-    for (bx, n, xy, erate) in cases {
+    for (bx, n, xy, erate) in sheared_boxes(-4.0) {
         let mut sys = system(bx, n, xy, erate, 53);
         sys.neighbor.skin = 0.5;
         sys.neighbor.set_working_list(Some(false));

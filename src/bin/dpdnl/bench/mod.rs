@@ -482,48 +482,41 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             )?;
         }
         writeln!(out)?;
-        // The sheared (Lees–Edwards) path against the periodic one, per engine.
-        for c in rows
-            .iter()
-            .filter(|c| c.variant == Variant::Sheared)
-            .filter(ok)
-        {
-            if let Some(d) = rows
-                .iter()
+        // Each variant against plain DPD on the same engine: (case, plain median / its median).
+        let against_plain = |v: Variant| -> Vec<(&Case, f64)> {
+            rows.iter()
+                .filter(|c| c.variant == v)
                 .filter(ok)
-                .find(|d| d.engine == c.engine && d.variant == Variant::Plain)
-            {
-                writeln!(
-                    out,
-                    "sheared (γ̇ = {SHEAR_RATE}) / periodic atom-steps/s, {}: {:.2}{}\n",
-                    c.engine.label(),
-                    median(&c.rates) / median(&d.rates),
-                    if matches!(c.engine, Engine::Standalone(_)) {
-                        " (target >= 0.8)"
-                    } else {
-                        ""
-                    }
-                )?;
-            }
+                .filter_map(|c| {
+                    rows.iter()
+                        .filter(ok)
+                        .find(|d| d.engine == c.engine && d.variant == Variant::Plain)
+                        .map(|d| (*c, median(&d.rates) / median(&c.rates)))
+                })
+                .collect()
+        };
+        // The sheared (Lees–Edwards) path against the periodic one, per engine.
+        for (c, cost) in against_plain(Variant::Sheared) {
+            writeln!(
+                out,
+                "sheared (γ̇ = {SHEAR_RATE}) / periodic atom-steps/s, {}: {:.2}{}\n",
+                c.engine.label(),
+                1.0 / cost,
+                if matches!(c.engine, Engine::Standalone(_)) {
+                    " (target >= 0.8)"
+                } else {
+                    ""
+                }
+            )?;
         }
         // The sDPD step's cost against the DPD step's (plain), per engine.
-        for c in rows
-            .iter()
-            .filter(|c| c.variant == Variant::Sdpd)
-            .filter(ok)
-        {
-            if let Some(d) = rows
-                .iter()
-                .filter(ok)
-                .find(|d| d.engine == c.engine && d.variant == Variant::Plain)
-            {
-                writeln!(
-                    out,
-                    "sdpd step cost / dpd step cost, {}: {:.2} (target <= 1.6)\n",
-                    c.engine.label(),
-                    median(&d.rates) / median(&c.rates)
-                )?;
-            }
+        for (c, cost) in against_plain(Variant::Sdpd) {
+            writeln!(
+                out,
+                "sdpd step cost / dpd step cost, {}: {:.2} (target <= 1.6)\n",
+                c.engine.label(),
+                cost
+            )?;
         }
         for c in &rows {
             if let (Some(m), Engine::Standalone(t)) = (c.memory, &c.engine)
