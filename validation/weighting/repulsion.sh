@@ -10,11 +10,11 @@
 #                for kappa^-1 = 16 from the measured slope (results/eos_rc*_a*.txt)
 #   t3           Table 3 (rc = 1, eta0 = 10, s = 1/2), 5 rates, standalone and LAMMPS
 #   t5           Table 5, 3 rows of Sc0 = 400 and 3 of Sc0 = 1000 spanning s, 5 rates standalone,
-#                gamma-dot = 0.2 in LAMMPS
+#                gamma-dot = 0.2 in LAMMPS for the smallest s of each Sc0
 #   diffusion    Fig. 4 (Sc0 = 400, eta0 = 49) at rest
-#   schmidt      Fig. 5's DPD: Sc = eta/(m n D) for Sc0 = 10, 30, 100, 300, 1000 (s = 1/2)
-#   sensitivity  eta*(a) of the Table 3 fluid at gamma-dot = 0.2, a = 0 ... 2 a_derived in quarters, plus the
-#                3-D readings a = 75 kT/n = 18.75 and a = 25
+#   schmidt      Fig. 5's DPD: Sc = eta*/(m n D) for Sc0 in SC0S ["10 100 1000"] (s = 1/2), standalone
+#   sensitivity  eta*(a) of the Table 3 fluid at gamma-dot = 0.2 for a = 0, a_derived/2, 2 a_derived (a_derived
+#                itself is the t3 step's run) and the 3-D readings a = 75 kT/n = 18.75 and a = 25
 #   summary      results/repulsion.md (no simulation)
 # Environment: A1, A25 (the repulsions at rc = 1 and 2.5; default: read from the eos results,
 # rounded to 4 digits), PAR [2], and what run.sh reads (DPDNL, LMP, N ...).
@@ -42,16 +42,19 @@ for st in "${steps[@]}"; do
         A="${A1:-$(derived 1)}" CASES="t3:1.0:10:0.5:60000" LMP_RATES="0.05 0.1 0.2 0.5 1" EXT_RATES="" \
             "$run" couette ;;
     t5)
-        A="${A25:-$(derived 2.5)}" LMP_RATES="0.2" EXT_RATES="" \
-            CASES="t5a:2.5:49:0.0700:20000 t5s400e39:2.5:39:0.9692:20000 t5s400e31:2.5:31:2.1096:20000
-                   t5s1000e79:2.5:79:0.0025:20000 t5s1000e59:2.5:59:1.1686:20000 t5s1000e49:2.5:49:2.1113:20000" \
-            "$run" couette ;;
+        # LAMMPS at gamma-dot = 0.2 for the smallest s of each Sc0 (LMP5 ["0.2"]; "" for none).
+        a25="${A25:-$(derived 2.5)}"
+        A="$a25" LMP_RATES="${LMP5-0.2}" EXT_RATES="" CASES="t5a:2.5:49:0.0700:20000 t5s1000e79:2.5:79:0.0025:20000" \
+            RATES="${RATES5-0.05 0.1 0.2 0.5 1}" "$run" couette
+        A="$a25" LMP_RATES="" EXT_RATES="" RATES="${RATES5-0.05 0.1 0.2 0.5 1}" \
+            CASES="t5s400e39:2.5:39:0.9692:20000 t5s400e31:2.5:31:2.1096:20000 t5s1000e59:2.5:59:1.1686:20000
+                   t5s1000e49:2.5:49:2.1113:20000" "$run" couette ;;
     diffusion) A="${A25:-$(derived 2.5)}" "$run" diffusion ;;
-    schmidt) A="${A25:-$(derived 2.5)}" SDPD=0 SC0S="10 30 100 300 1000" "$run" sdpd-schmidt ;;
+    schmidt) A="${A25:-$(derived 2.5)}" SDPD=0 ENGINE=standalone SC0S="${SC0S:-10 100 1000}" "$run" sdpd-schmidt ;;
     sensitivity)
         a1="${A1:-$(derived 1)}"
         # a = 0.0 (not 0) names the runs _a0.0, apart from the committed a = 0 results.
-        for a in 0.0 $(awk -v a="$a1" 'BEGIN {printf "%.4g %.4g %.4g %.4g %.4g", a/4, a/2, 3*a/4, 3*a/2, 2*a}') 18.75 25; do
+        for a in 0.0 $(awk -v a="$a1" 'BEGIN {printf "%.4g %.4g", a/2, 2*a}') 18.75 25; do
             while [ "$(jobs -rp | wc -l)" -ge "$PAR" ]; do wait -n; done
             A="$a" CASES="t3:1.0:10:0.5:60000" RATES="0.2" LMP_RATES="" EXT_RATES="" "$run" couette &
         done

@@ -222,8 +222,9 @@ def main():
     if a25:
         p(f"## Table 5 (r_c = 2.5), Couette η* with a = {a25}")
         p("")
-        p("| Sc0 | η0 | s | η* at γ̇ = 0.05 / 0.1 / 0.2 / 0.5 / 1 (standalone) | mean | LAMMPS at 0.2 | a = 0 mean (committed) | paper mean ± std | (ours − paper)/paper |")
-        p("|---|---|---|---|---|---|---|---|---|")
+        p("| Sc0 | η0 | s | η* at γ̇ = 0.05 / 0.1 / 0.2 / 0.5 / 1 (standalone) | mean | LAMMPS at 0.2 | a = 0 mean (committed) | paper mean ± std | (ours − paper)/paper | at γ̇ = 1: ours / paper |")
+        p("|---|---|---|---|---|---|---|---|---|---|")
+        zs_all = []
         rows = [("t5a", 400, 49), ("t5s400e39", 400, 39), ("t5s400e31", 400, 31),
                 ("t5s1000e79", 1000, 79), ("t5s1000e59", 1000, 59), ("t5s1000e49", 1000, 49)]
         for tag, sc, e0 in rows:
@@ -242,9 +243,18 @@ def main():
             zs = [z for z in zs if z]
             zm = f"{sum(z[0] for z in zs) / len(zs):.2f}" if zs else "–"
             pm = float(w[11]) if w else math.nan
+            if w:
+                zs_all += [(v[0] - float(w[6 + i])) / v[1] for i, v in enumerate(vals) if v]
+            last = f"{vals[-1][0]:.2f} / {float(w[10]):.2f}" if w and vals[-1] else "–"
             p(f"| {sc} | {e0} | {w[4] if w else '?'} | " + " / ".join(f"{v[0]:.2f} ± {v[1]:.2f}" if v else "–" for v in vals)
-              + f" | {m:.2f} ± {me:.2f} | {fmt(lm)} | {zm} | {pm:.2f} ± {float(w[12]) if w else math.nan:.2f} | {(m - pm) / pm * 100:+.1f} % |")
+              + f" | {m:.2f} ± {me:.2f} | {fmt(lm)} | {zm} | {pm:.2f} ± {float(w[12]) if w else math.nan:.2f} | {(m - pm) / pm * 100:+.1f} % | {last} |")
         p("")
+        if zs_all:
+            zm_ = sum(zs_all) / len(zs_all)
+            chi = sum(z * z for z in zs_all) / len(zs_all)
+            p(f"Over the {len(zs_all)} (row, rate) points: mean of (ours − paper)/σ_ours = {zm_:+.2f}, "
+              f"mean of its square = {chi:.2f} (the paper's own scatter not included).")
+            p("")
     # 4. diffusion
     if a25:
         j = jload(f"diff_a{a25}_N1600.msd.json")
@@ -271,11 +281,16 @@ def main():
         if rows:
             p(f"## Fig. 5 (DPD, s = ½, r_c = 2.5, a = {a25}): Sc = η*/(m n D), η* at γ̇ = 0.2, D at rest")
             p("")
-            p("| Sc0 | η0 (eq. 65) | η* | D | Sc | Sc/Sc0 |")
-            p("|---|---|---|---|---|---|")
+            p("| Sc0 | η0 (eq. 65) | η* | D | Sc | Sc/Sc0 | a = 0 (committed; η by EH at rest): η, D, Sc |")
+            p("|---|---|---|---|---|---|---|")
             for sc, c, d, S, Se in rows:
                 e0 = math.sqrt(3 * float(sc) * 100 / (4 * 3.5 * 4.5))
-                p(f"| {sc} | {e0:.3f} | {c[0]:.2f} ± {c[1]:.2f} | {d['diffusion']:.5f} ± {d['diffusion_err']:.5f} | {S:.1f} ± {Se:.1f} | {S / float(sc):.2f} |")
+                zeh, zd = jload(f"sc_dpdeq_{sc}.eh.json"), jload(f"sc_dpdeq_{sc}.msd.json")
+                zero = "–"
+                if zeh and zd:
+                    zero = (f"{zeh['viscosity']:.2f} ± {zeh.get('viscosity_err') or 0:.2f}, {zd['diffusion']:.5f}, "
+                            f"{zeh['viscosity'] / (4 * zd['diffusion']):.1f}")
+                p(f"| {sc} | {e0:.3f} | {c[0]:.2f} ± {c[1]:.2f} | {d['diffusion']:.5f} ± {d['diffusion_err']:.5f} | {S:.1f} ± {Se:.1f} | {S / float(sc):.2f} | {zero} |")
             p("")
     # 6. sensitivity
     pts = []
