@@ -16,6 +16,8 @@
 #            L [3.5]  STEPS [40000]  FROM [20000] (steps discarded as the start-up of the profile)
 #   engines: N [1000]  STEPS [10000]  SCHEME [ref]
 #            DENSITY [16]: 32 runs Tables 5-7 (push rescaled from the paper's L = 6.79), results nemd32_*
+#            DT [0.001]: the time step (Appendix B, Table 8); when set, STEPS and FROM default to the
+#            same times (40 and 20) and the names get _dt<DT>; the profile is sampled once per time unit
 #   size:    SIZES ["3 4 5"]  STEPS [40000]  FROM [20000]: the Ref point at Pi = 3.42 (dp_paper = 0.05)
 #            in boxes 2L x L x L, to show how the NEMD viscosity depends on the box
 # Raw outputs go to validation/nonlinear/work/ (ignored by git); summaries, CSV and figures to
@@ -78,7 +80,12 @@ engines)
     run_eq "engines_${s}_lammps" "$s" lammps "${N:-1000}" "${STEPS:-10000}" 1000
     run_eq "engines_${s}_standalone" "$s" standalone "${N:-1000}" "${STEPS:-10000}" 1000 ;;
 nemd|size)
-    mode=$1; steps="${STEPS:-40000}"; from="${FROM:-20000}"
+    mode=$1; dt="${DT:-0.001}"; dsfx=""; [ -n "${DT:-}" ] && dsfx="_dt$DT"
+    steps="${STEPS:-$(awk -v d="$dt" 'BEGIN{printf "%d", 40/d + 0.5}')}"
+    from="${FROM:-$(awk -v d="$dt" 'BEGIN{printf "%d", 20/d + 0.5}')}"
+    # profile sampling: one output per time unit, at most 100 samples each
+    read -r every repeat freq <<<"$(awk -v d="$dt" 'BEGIN{f = int(1/d + 0.5); e = int(f/100 + 0.5); if (e < 1) e = 1
+        printf "%d %d %d", e, int(f/e), f}')"
     # The paper's box side: 8.55 at n = 16, 6.79 at n = 32 (Tables 5-7); results at n = 32 are
     # named nemd32_*.
     dens="${DENSITY:-16}"; tag=""; lpaper=8.55
@@ -90,22 +97,23 @@ nemd|size)
         s="${p%%:*}"; rest="${p#*:}"; dpp="${rest%%:*}"
         if [ "$mode" = size ]; then L="${rest#*:}"; else L="${L:-3.5}"; fi
         read -r fr no g1 <<<"$(scheme_vars "$s")"
-        dp=$(awk -v d="$dpp" -v L="$L" -v Lp="$lpaper" 'BEGIN{printf "%.10g", d*(L/Lp)^2*(1e-3/1e-4)}')
-        name="nemd${tag}_${s}_dp${dpp}"; if [ "$mode" = size ]; then name="size_${s}_dp${dpp}_L${L}"; fi
+        dp=$(awk -v d="$dpp" -v L="$L" -v Lp="$lpaper" -v t="$dt" 'BEGIN{printf "%.10g", d*(L/Lp)^2*(t/1e-4)}')
+        name="nemd${tag}_${s}_dp${dpp}${dsfx}"; if [ "$mode" = size ]; then name="size_${s}_dp${dpp}_L${L}"; fi
         d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.nemd" "$d/"
         t0=$SECONDS
         ( cd "$d" && "$DPDNL" run in.nemd --threads "$THREADS" --log log.dpdnl -var friction "$fr" \
-            -var noise "$no" -var gamma1 "$g1" -var L "$L" -var dp "$dp" -var n "$dens" -var steps "$steps" > screen.txt )
+            -var noise "$no" -var gamma1 "$g1" -var L "$L" -var dp "$dp" -var n "$dens" -var steps "$steps" -var dt "$dt" -var every "$every" \
+            -var repeat "$repeat" -var freq "$freq" > screen.txt )
         natoms=$(awk -v L="$L" -v n="$dens" 'BEGIN{printf "%d", n*2*L^3+0.5}')
         echo "$name,standalone,$natoms,$steps,$((SECONDS - t0))" >> "$res/runtimes.csv"
         "$DPDNL" analyze nemd "$d/prof.chunk" --box "$(awk -v L="$L" 'BEGIN{print 2*L}')" "$L" "$L" \
-            --dt 0.001 --dp "$dp" --push "$d/push.ave" --from "$from" --label "$s" \
+            --dt "$dt" --dp "$dp" --push "$d/push.ave" --from "$from" --label "$s" \
             --out "$res/$name" > "$res/$name.txt"
         results+=("$res/$name.json")
     done
     if [ "$mode" = nemd ]; then
-        "$DPDNL" analyze flowcurve "$res"/nemd${tag}_*.json --out "$res/flowcurve${tag}" > "$res/flowcurve${tag}.txt"
+        "$DPDNL" analyze flowcurve $(ls "$res"/nemd${tag}_*.json | grep -v _dt) --out "$res/flowcurve${tag}" > "$res/flowcurve${tag}.txt"
     fi ;;
 *)
-    sed -n '2,20p' "$0"; exit 2 ;;
+    sed -n '2,/^set -euo/p' "$0" | sed '$d'; exit 2 ;;
 esac

@@ -36,7 +36,8 @@ echo "| scheme | paper Δp (its box) | Π_xz | shear rate this | shear rate pape
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for f in "$res"/nemd_*.json; do
     [ -f "$f" ] || continue
-    b=$(basename "$f" .json); s=${b#nemd_}; dpp=${s##*_dp}; s=${s%_dp*}
+    b=$(basename "$f" .json); case "$b" in *_dt*) continue ;; esac
+    s=${b#nemd_}; dpp=${s##*_dp}; s=${s%_dp*}
     pc=$(paper_case "$s")
     line=$(awk -F, -v c="$pc" -v d="$dpp" '$1 == c && $2 == 16 && $3+0 == d+0 {print $5"±"$6, $11"±"$12, $7"±"$8, $9"±"$10}' "$ref/nonlinear_tables3to7_nemd.csv")
     if [ -z "$line" ] && [ "$pc" = Dot ]; then # Dot16 is not in Tables 3-4; Table 8 has its Pi = 13.68 point
@@ -46,6 +47,32 @@ for f in "$res"/nemd_*.json; do
     jq -r --arg s "$s" --arg d "$dpp" --arg pr "$prate" --arg pm "$pmu" --arg pt "$ptd" --arg pn "$pn" --arg rt "$(rt "$b")" '
       def r(n): (.*n|round/n);
       "| \($s) | \($d) | \(.stress|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \($pr) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pm) | \(.density_centre|r(100)) ± \((.density_centre_err // 0)|r(100)) | \($pn) | \((.viscosity*256/(.density_centre*.density_centre))|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($pt) | \($rt) |"' "$f"
+done
+echo
+echo "## Table 2's N-EQ column: NEMD at the paper's Δp = 0.01 (Π_xz = 0.68), n = 16"
+echo
+echo "| scheme | μ_NEQ this project | paper μ_NEQ | (this − paper)/σ | paper μ_EH | shear rate | T_d | wall s |"
+echo "|---|---|---|---|---|---|---|---|"
+for s in ref cross dot_corrected twostep_dot; do
+    f="$res/nemd_${s}_dp0.01.json"; [ -f "$f" ] || continue
+    pc=$(paper_case "$s")
+    read -r pe pn pne <<<"$(awk -F, -v c="$pc" '$1 == c && $2 == 16 {print $3, $5, $6}' "$ref/nonlinear_table2_zero_shear.csv")"
+    jq -r --arg s "$s" --arg pe "$pe" --arg pn "$pn" --arg pne "$pne" --arg rt "$(rt "nemd_${s}_dp0.01")" '
+      def r(n): (.*n|round/n);
+      "| \($s) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pn) ± \($pne) | \(((.viscosity - ($pn|tonumber))/((pow(.viscosity_err;2) + pow($pne|tonumber;2))|sqrt))*10|round/10) | \($pe) | \(.shear_rate|r(10000)) ± \(.shear_rate_err|r(10000)) | \(.td_centre|r(10000)) | \($rt) |"' "$f"
+done
+echo
+echo "## Appendix B (Table 8): the time step at Π_xz = 13.68 (paper Δp = 0.2 at δt = 10⁻⁴), n = 16, L = 3.5"
+echo
+echo "| scheme | δt | steps (profiles from) | shear rate this | μ this | paper shear rate (DT / TS) | paper μ (DT / TS) | T_d this | wall s |"
+echo "|---|---|---|---|---|---|---|---|---|"
+for f in "$res"/nemd_*_dp0.2_dt*.json; do
+    [ -f "$f" ] || continue
+    b=$(basename "$f" .json); dt=${b##*_dt}; s=${b#nemd_}; s=${s%_dp0.2_dt*}
+    read -r pr pm <<<"$(awk -F, -v d="$dt" '!/^#/ && $1+0 == d+0 && $1 != "dt" {print $4" / "$5, $6" / "$7}' "$ref/nonlinear_table8_dt.csv" | sed 's| / |/|g')"
+    jq -r --arg s "$s" --arg dt "$dt" --arg pr "${pr:-—}" --arg pm "${pm:-—}" --arg rt "$(rt "$b")" '
+      def r(n): (.*n|round/n);
+      "| \($s) | \($dt) | \(.last_step) (\(.from_step)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pr) | \($pm) | \(.td_centre|r(10000)) | \($rt) |"' "$f"
 done
 echo
 echo "## Reverse NEMD at n = 32, Tables 5–7 (box 6 × 3 × 3, N = 1728; paper L = 6.79)"
