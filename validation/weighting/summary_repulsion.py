@@ -10,10 +10,11 @@ block means of the P_xy series (results/NAME.obs.txt, written by run.sh), since 
 settles on one-sample blocks for these runs."""
 import csv
 import glob
-import json
 import math
 import os
 import re
+
+from summary_sdpd import eta as couette_eta, jload
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RES = os.path.join(HERE, "results")
@@ -21,38 +22,12 @@ REF = os.path.join(HERE, "..", "reference", "weighting_tables_2d.csv")
 RATES = ["0.05", "0.1", "0.2", "0.5", "1"]
 
 
-def jload(name):
-    p = os.path.join(RES, name)
-    if not os.path.exists(p):
-        return None
-    with open(p) as f:
-        return json.load(f)
-
-
-def obs(name):
-    """results/NAME.obs.txt: lines 'key mean err [count]'."""
-    out = {}
-    p = os.path.join(RES, name + ".obs.txt")
-    if os.path.exists(p):
-        for line in open(p):
-            w = line.split()
-            if len(w) >= 3:
-                try:
-                    out[w[0]] = (float(w[1]), float(w[2]))
-                except ValueError:
-                    pass
-    return out
-
-
 def eta(name):
-    """(eta*, err, T, T err) of a Couette run, or None."""
-    j = jload(name + ".couette.json")
-    if j is None:
+    """(eta*, err, T, T err) of a Couette run, or None (eta* and its error as summary_sdpd's)."""
+    v = couette_eta(name)
+    if v is None:
         return None
-    e, err, rate = j["viscosity"], j["viscosity_err"], j["shear_rate"]
-    o = obs(name)
-    if "pxy10" in o:
-        err = max(err, o["pxy10"][1] / rate)
+    e, err = v
     t = (math.nan, math.nan)
     tp = os.path.join(RES, name + ".temp.txt")
     if os.path.exists(tp):
