@@ -16,6 +16,8 @@
 #            L [3.5]  STEPS [40000]  FROM [20000] (steps discarded as the start-up of the profile)
 #   engines: N [1000]  STEPS [10000]  SCHEME [ref]
 #            DENSITY [16]: 32 runs Tables 5-7 (push rescaled from the paper's L = 6.79), results nemd32_*
+#            SEEDS [""]: independent repeats with these pair seeds (names get _s<seed>; the start is
+#            the same, the noise differs), PAR [1] runs at a time
 #            DT [0.001]: the time step (Appendix B, Table 8); when set, STEPS and FROM default to the
 #            same times (40 and 20) and the names get _dt<DT>; the profile is sampled once per time unit
 #   size:    SIZES ["3 4 5"]  STEPS [40000]  FROM [20000]: the Ref point at Pi = 3.42 (dp_paper = 0.05)
@@ -90,29 +92,38 @@ nemd|size)
     # named nemd32_*.
     dens="${DENSITY:-16}"; tag=""; lpaper=8.55
     if [ "$dens" = 32 ]; then tag=32; lpaper=6.79; elif [ "$dens" != 16 ]; then echo "DENSITY must be 16 or 32" >&2; exit 2; fi
-    results=()
     if [ "$mode" = size ]; then runs=""; for l in ${SIZES:-3 4 5}; do runs+=" ref:0.05:$l"; done
     else runs="${POINTS:-ref:0.05 ref:0.2 cross:0.05 cross:0.1 cross:0.2 dot_corrected:0.05 dot_corrected:0.2}"; fi
-    for p in $runs; do
-        s="${p%%:*}"; rest="${p#*:}"; dpp="${rest%%:*}"
-        if [ "$mode" = size ]; then L="${rest#*:}"; else L="${L:-3.5}"; fi
+    # nemd1 SCHEME DP_PAPER L SEED: one run and its analysis (SEED "" = the scripts' own seed).
+    nemd1() {
+        local s=$1 dpp=$2 L=$3 seed=$4 fr no g1 dp name d t0 natoms sfx="" sv=()
         read -r fr no g1 <<<"$(scheme_vars "$s")"
         dp=$(awk -v d="$dpp" -v L="$L" -v Lp="$lpaper" -v t="$dt" 'BEGIN{printf "%.10g", d*(L/Lp)^2*(t/1e-4)}')
-        name="nemd${tag}_${s}_dp${dpp}${dsfx}"; if [ "$mode" = size ]; then name="size_${s}_dp${dpp}_L${L}"; fi
+        [ -n "$seed" ] && { sfx="_s$seed"; sv=(-var seed "$seed"); }
+        name="nemd${tag}_${s}_dp${dpp}${dsfx}${sfx}"; if [ "$mode" = size ]; then name="size_${s}_dp${dpp}_L${L}"; fi
         d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.nemd" "$d/"
         t0=$SECONDS
         ( cd "$d" && "$DPDNL" run in.nemd --threads "$THREADS" --log log.dpdnl -var friction "$fr" \
             -var noise "$no" -var gamma1 "$g1" -var L "$L" -var dp "$dp" -var n "$dens" -var steps "$steps" -var dt "$dt" -var every "$every" \
-            -var repeat "$repeat" -var freq "$freq" > screen.txt )
+            -var repeat "$repeat" -var freq "$freq" "${sv[@]}" > screen.txt )
         natoms=$(awk -v L="$L" -v n="$dens" 'BEGIN{printf "%d", n*2*L^3+0.5}')
         echo "$name,standalone,$natoms,$steps,$((SECONDS - t0))" >> "$res/runtimes.csv"
         "$DPDNL" analyze nemd "$d/prof.chunk" --box "$(awk -v L="$L" 'BEGIN{print 2*L}')" "$L" "$L" \
             --dt "$dt" --dp "$dp" --push "$d/push.ave" --from "$from" --label "$s" \
             --out "$res/$name" > "$res/$name.txt"
-        results+=("$res/$name.json")
+    }
+    for p in $runs; do
+        s="${p%%:*}"; rest="${p#*:}"; dpp="${rest%%:*}"
+        if [ "$mode" = size ]; then L="${rest#*:}"; else L="${L:-3.5}"; fi
+        for seed in ${SEEDS:-""}; do
+            while [ "$(jobs -rp | wc -l)" -ge "${PAR:-1}" ]; do wait -n; done
+            nemd1 "$s" "$dpp" "$L" "$seed" &
+        done
+        [ -n "${SEEDS:-}" ] || { while [ "$(jobs -rp | wc -l)" -ge "${PAR:-1}" ]; do wait -n; done; nemd1 "$s" "$dpp" "$L" "" & }
     done
+    wait
     if [ "$mode" = nemd ]; then
-        "$DPDNL" analyze flowcurve $(ls "$res"/nemd${tag}_*.json | grep -v _dt) --out "$res/flowcurve${tag}" > "$res/flowcurve${tag}.txt"
+        "$DPDNL" analyze flowcurve $(ls "$res"/nemd${tag}_*.json | grep -v -e _dt -e '_s[0-9]') --out "$res/flowcurve${tag}" > "$res/flowcurve${tag}.txt"
     fi ;;
 *)
     sed -n '2,/^set -euo/p' "$0" | sed '$d'; exit 2 ;;

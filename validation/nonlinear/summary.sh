@@ -36,7 +36,7 @@ echo "| scheme | paper Δp (its box) | Π_xz | shear rate this | shear rate pape
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for f in "$res"/nemd_*.json; do
     [ -f "$f" ] || continue
-    b=$(basename "$f" .json); case "$b" in *_dt*) continue ;; esac
+    b=$(basename "$f" .json); case "$b" in *_dt*|*_s[0-9]*) continue ;; esac
     s=${b#nemd_}; dpp=${s##*_dp}; s=${s%_dp*}
     pc=$(paper_case "$s")
     line=$(awk -F, -v c="$pc" -v d="$dpp" '$1 == c && $2 == 16 && $3+0 == d+0 {print $5"±"$6, $11"±"$12, $7"±"$8, $9"±"$10}' "$ref/nonlinear_tables3to7_nemd.csv")
@@ -68,11 +68,25 @@ echo "| scheme | δt | steps (profiles from) | shear rate this | μ this | paper
 echo "|---|---|---|---|---|---|---|---|---|"
 for f in "$res"/nemd_*_dp0.2_dt*.json; do
     [ -f "$f" ] || continue
-    b=$(basename "$f" .json); dt=${b##*_dt}; s=${b#nemd_}; s=${s%_dp0.2_dt*}
+    b=$(basename "$f" .json); case "$b" in *_s[0-9]*) continue ;; esac
+    dt=${b##*_dt}; s=${b#nemd_}; s=${s%_dp0.2_dt*}
     read -r pr pm <<<"$(awk -F, -v d="$dt" '!/^#/ && $1+0 == d+0 && $1 != "dt" {print $4" / "$5, $6" / "$7}' "$ref/nonlinear_table8_dt.csv" | sed 's| / |/|g')"
     jq -r --arg s "$s" --arg dt "$dt" --arg pr "${pr:-—}" --arg pm "${pm:-—}" --arg rt "$(rt "$b")" '
       def r(n): (.*n|round/n);
       "| \($s) | \($dt) | \(.last_step) (\(.from_step)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pr) | \($pm) | \(.td_centre|r(10000)) | \($rt) |"' "$f"
+done
+echo
+echo "## Seed repeats (run.sh nemd SEEDS=…): the run-to-run scatter beside the block errors"
+echo
+echo "| point | seeds | μ mean | std over seeds | std/√n | mean block error | std / block error | μ per seed |"
+echo "|---|---|---|---|---|---|---|---|"
+for base in $(ls "$res"/nemd*_s[0-9]*.json 2>/dev/null | sed 's/_s[0-9]*\.json$//' | sort -u); do
+    jq -rs --arg b "$(basename "$base")" '
+      def r(n): (.*n|round/n);
+      (map(.viscosity)) as $v | ($v | length) as $n | ($v | add / $n) as $m
+      | (if $n > 1 then ($v | map((. - $m) * (. - $m)) | add / ($n - 1) | sqrt) else 0 end) as $sd
+      | (map(.viscosity_err) | add / $n) as $be
+      | "| \($b) | \($n) | \($m|r(1000)) | \($sd|r(1000)) | \(($sd / ($n|sqrt))|r(1000)) | \($be|r(1000)) | \(($sd / $be)|r(10)) | \($v | map(r(100)|tostring) | join(", ")) |"' "$base"_s[0-9]*.json
 done
 echo
 echo "## Reverse NEMD at n = 32, Tables 5–7 (box 6 × 3 × 3, N = 1728; paper L = 6.79)"
