@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# Regenerates the committed validation results from one commit's binaries (issue 14, section 3).
+#
+#   validation/run-all.sh [full|quick] [--dry-run] [--only GROUP ...]
+#
+#   full   (default) every documented command of every case, in place: the results/ of
+#          nonlinear/, finite_step/ and weighting/, their summaries and figures. Hours on a 2-core
+#          machine (the per-run wall times are in each case's results/runtimes.csv).
+#   quick  a subset (estimated 10-15 minutes on 2 idle cores from the per-run wall times; not yet
+#          timed as a whole) that reruns the headline runs in place and
+#          checks them against the documented bands of validation/bands.csv
+#          (validation/check_bands.py). A slow tier: not part of .ci/run.
+#   --dry-run  print the commands only.
+#   --only GROUP ...  (full) only these groups: nonlinear finite_step weighting sdpd repulsion
+#
+# Before running it builds the release binary and the LAMMPS shim from the working tree and
+# writes validation/BINARIES (commit, dirty flag, date, host); it refuses a tree with uncommitted
+# changes outside validation/ (the binaries would not be a commit's) unless FORCE=1. Runs are
+# deterministic: with the same commit's binaries the rerun results equal the committed ones bit
+# for bit wherever the run and its thread count are the same, so `git diff --stat validation/`
+# after a run shows what a change of code moved.
+# Environment: PAR [2] (runs at a time where a case allows it), FORCE [0].
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+cd "$root"
+mode=full; dry=0; only=()
+while [ $# -gt 0 ]; do
+    case "$1" in
+        full|quick) mode=$1 ;;
+        --dry-run) dry=1 ;;
+        --only) shift; while [ $# -gt 0 ] && [ "${1#--}" = "$1" ]; do only+=("$1"); shift; done; continue ;;
+        *) sed -n '2,/^set -euo/p' "$0" | sed '$d'; exit 2 ;;
+    esac
+    shift
+done
+export PAR="${PAR:-2}"
+v=validation
+
+# run [VAR=value ...] command args...: print, then run unless --dry-run; the wall time goes to
+# the log line.
+run() {
+    echo "+ $*"
+    [ "$dry" = 1 ] && return 0
+    local t0=$SECONDS
+    env "$@"
+    echo "  ($((SECONDS - t0)) s)"
+}
+want() { [ ${#only[@]} -eq 0 ] && return 0; local g; for g in "${only[@]}"; do [ "$g" = "$1" ] && return 0; done; return 1; }
+
+# --- binaries ---------------------------------------------------------------------------------
+if [ "$dry" = 0 ]; then
+    if [ -n "$(git status --porcelain -- . ':!validation' 2>/dev/null)" ] && [ "${FORCE:-0}" != 1 ]; then
+        echo "run-all.sh: uncommitted changes outside validation/ (the binaries would not be a commit's):" >&2
+        git status --short -- . ':!validation' >&2
+        echo "commit them, or FORCE=1" >&2
+        exit 1
+    fi
+fi
+run cargo build --release --bin dpdnl
+run bash lammps-plugin/build.sh
+if [ "$dry" = 0 ]; then
+    dirty=$([ -n "$(git status --porcelain -- . ':!validation')" ] && echo yes || echo no)
+    { echo "commit $(git rev-parse HEAD)"; echo "dirty (outside validation/) $dirty"
+      echo "date $(date -u +%Y-%m-%dT%H:%M:%SZ)"; echo "host $(uname -n), $(nproc) CPUs, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
+      echo "tier $mode"; echo "binaries target/release/dpdnl, build/lmp_dpdnl"; } > "$v/BINARIES"
+fi
+
+# --- quick ------------------------------------------------------------------------------------
+if [ "$mode" = quick ]; then
+    run SCHEMES="ref dot_plain twostep_dot" $v/nonlinear/run.sh eq
+    run POINTS="ref:0.05" $v/nonlinear/run.sh nemd
+    run A=14.72 CASES="t3:1.0:10:0.5:60000" RATES="0.2" LMP_RATES="0.2" EXT_RATES="" $v/weighting/run.sh couette
+    run A=0.9324 CASES="t5a:2.5:49:0.0700:20000" RATES="1" LMP_RATES="" EXT_RATES="" $v/weighting/run.sh couette
+    run python3 $v/check_bands.py quick
+    exit 0
+fi
+
+# --- full -------------------------------------------------------------------------------------
+if want nonlinear; then
+    run $v/nonlinear/run.sh eq
+    run N=6000 STEPS=100000 SUFFIX=_N6000 SCHEMES="ref cross" $v/nonlinear/run.sh eq
+    run PAR="$PAR" POINTS="ref:0.01 ref:0.025 ref:0.05 ref:0.075 ref:0.1 ref:0.15 ref:0.2
+        cross:0.01 cross:0.025 cross:0.05 cross:0.075 cross:0.1 cross:0.15 cross:0.2
+        dot_corrected:0.01 dot_corrected:0.05 dot_corrected:0.2 twostep_dot:0.01 twostep_dot:0.05" \
+        $v/nonlinear/run.sh nemd
+    run PAR="$PAR" DENSITY=32 L=3 POINTS="ref:0.075 dot_corrected:0.075 twostep_dot:0.075 dot_corrected:0.3
+        twostep_dot:0.3 dot_corrected:0.55 twostep_dot:0.55" $v/nonlinear/run.sh nemd
+    for dt in 0.005 0.01 0.05; do
+        run PAR="$PAR" DT=$dt POINTS="dot_corrected:0.2 twostep_dot:0.2" $v/nonlinear/run.sh nemd
+    done
+    run SIZES="3 4" $v/nonlinear/run.sh size
+    run SIZES="5 6" STEPS=80000 FROM=40000 $v/nonlinear/run.sh size
+    run $v/nonlinear/run.sh engines
+    run $v/nonlinear/summary.sh
+fi
+if want finite_step; then
+    fs=$v/finite_step
+    run $fs/sweep.sh $fs/results/sweep_300tau.csv
+    run FRACS="0.25 0.3 0.4 0.45" $fs/sweep.sh $fs/results/sweep_300tau_extra.csv
+    run DENSITIES="1 4" FRACS="0.01 0.02 0.05" TIME=3000 $fs/sweep.sh $fs/results/sweep_3000tau.csv
+    run INTEGRATOR=nve DENSITIES="1 4 16" FRACS="0.02 0.05 0.1 0.2 0.35 0.5" TIME=300 $fs/sweep.sh $fs/results/vv_sweep_300tau.csv
+    run INTEGRATOR=nve DENSITIES="1" FRACS="0.005 0.01" TIME=1500 $fs/sweep.sh $fs/results/vv_sweep_fine.csv
+    run INTEGRATOR=nve DENSITIES="4" FRACS="0.01" TIME=1000 $fs/sweep.sh $fs/work_n4.csv
+    if [ "$dry" = 0 ]; then tail -n +2 $fs/work_n4.csv >> $fs/results/vv_sweep_fine.csv; rm -f $fs/work_n4.csv; fi
+    run $fs/vv_nonlinear.sh $fs/results/vv_nonlinear.csv
+    run $fs/vv_weighting.sh $fs/results/vv_weighting.csv
+    run cargo run --release --example finite_step_plot -- $fs/results/t_vs_dt $fs/results/sweep_300tau.csv \
+        $fs/results/sweep_300tau_extra.csv $fs/results/sweep_3000tau.csv
+fi
+if want weighting; then
+    w=$v/weighting/run.sh
+    run SIZES="1600 400" $w diffusion
+    run $w viscosity
+    run DT=0.001 STEPS=50000 EQ=2000 CASES=t3:1.0:10:0.5 $w viscosity
+    run $w couette
+fi
+if want sdpd; then
+    w=$v/weighting/run.sh
+    run $w sdpd-cs
+    run SET=all $w sdpd-couette
+    run ENGINE=standalone CASES="t2prop50:2.5:p0.5:50:3000" RATES=0.2 $w sdpd-couette
+    run $w sdpd-diffusion
+    run DPD_COUETTE=0 SC0S="10 100 1000" $w sdpd-schmidt
+    run $w sdpd-peer
+    run $w sdpd-analyse
+fi
+if want repulsion; then
+    run $v/weighting/repulsion.sh
+fi
+if want weighting || want sdpd || want repulsion; then
+    run $v/weighting/summary.sh
+fi
+run python3 $v/check_bands.py full
