@@ -1,8 +1,9 @@
-//! The soak test (issue #16, documented slow test; `cargo test --release --test soak -- --ignored
-//! --nocapture`, about 45 CPU-minutes here): 10⁶ steps of the non-linear paper's 4000-atom n = 16
-//! fluid with `dot` friction and two-step noise (examples/nonlinear/in.twostep_dot). Checks:
-//! the total momentum stays at round-off, ⟨T⟩ is T0 = 0.1 within its block error, and the
-//! resident memory is flat after the first 10⁴ steps. `DPDNL_SOAK_STEPS` shortens it (a
+//! The soak test (issue #16, documented slow test; `RAYON_NUM_THREADS=2 cargo test --release --test
+//! soak -- --ignored --nocapture`: about 45 CPU-minutes on the Intel AVX-512 hosts, about 200 on a
+//! 2-vCPU AMD EPYC, i.e. 100 minutes on its 2 idle cores): 10⁶ steps of the non-linear paper's
+//! 4000-atom n = 16 fluid with `dot` friction and two-step noise (examples/nonlinear/in.twostep_dot).
+//! Checks: the total momentum stays at round-off, ⟨T⟩ is T0 = 0.1 within its block error, and
+//! the resident memory is flat after the first 10⁴ steps. `DPDNL_SOAK_STEPS` shortens it (a
 //! multiple of 10⁴); every 10⁵ steps it prints a progress line.
 
 mod common;
