@@ -213,7 +213,8 @@ fn forces_match_brute_force() {
 }
 
 /// 100 steps give the same bits with 1, 2 and 3 threads, with each instruction set of the
-/// pair loop (the AVX-512 path gathers and compresses in registers, the others do not), and
+/// pair loop (the AVX-512 and AVX2 paths load x and v of 8 or 4 entries at once and keep the
+/// in-range ones by a compress or a permutation table, the baseline does not), and
 /// with the working list on or off; the list is rebuilt during the run.
 #[test]
 fn same_bits_for_threads_instruction_sets_and_working_list() {
@@ -226,6 +227,7 @@ fn same_bits_for_threads_instruction_sets_and_working_list() {
             }
         }
         configs.push((Isa::Avx512, 2, Some(true)));
+        configs.push((Isa::Avx2, 2, Some(true)));
         configs.push((Isa::Baseline, 1, Some(true)));
         for (isa, threads, working) in configs {
             let pool = rayon::ThreadPoolBuilder::new()

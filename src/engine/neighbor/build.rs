@@ -105,20 +105,20 @@ pub(super) fn build_rows_isa(isa: Isa, rb: &RowBuild, s: &mut Slab) {
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
         Isa::Avx2 => unsafe { build_rows_avx2(rb, s) },
-        _ => build_rows::<false>(rb, s),
+        _ => build_rows::<PORTABLE>(rb, s),
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
 pub(super) fn build_rows_avx512(rb: &RowBuild, s: &mut Slab) {
-    build_rows::<true>(rb, s)
+    build_rows::<AVX512>(rb, s)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
 pub(super) fn build_rows_avx2(rb: &RowBuild, s: &mut Slab) {
-    build_rows::<false>(rb, s)
+    build_rows::<AVX2>(rb, s)
 }
 
 /// The rows of one slab: for each atom, the atoms of the neighbouring cells (stencil order,
@@ -127,7 +127,7 @@ pub(super) fn build_rows_avx2(rb: &RowBuild, s: &mut Slab) {
 /// least 3 cells of side ≥ cut-off per axis, a pair within the cut-off has its raw separation
 /// as minimum image); the others go through `SimBox::min_image`.
 #[inline(always)]
-pub(super) fn build_rows<const AVX512: bool>(rb: &RowBuild, s: &mut Slab) {
+pub(super) fn build_rows<const SIMD: u8>(rb: &RowBuild, s: &mut Slab) {
     let x = rb.x;
     let ncell = rb.cells.ncell;
     s.row_start.clear();
@@ -176,10 +176,14 @@ pub(super) fn build_rows<const AVX512: bool>(rb: &RowBuild, s: &mut Slab) {
             // boundary have every image ambiguous: decided per pair above.)
             let xs = [0, 1, 2].map(|k| xi[k] + f64::from(img[k]) * rb.len[k]);
             #[cfg(target_arch = "x86_64")]
-            if AVX512 {
+            if SIMD == AVX512 {
                 // SAFETY: only inside `build_rows_avx512` (AVX-512 present); lo..hi are atom
                 // indices < x.len(); s.nbr has room for len + (hi − lo) + 8 entries.
                 len = unsafe { avx512::scan_cell(xs, x, lo, hi, rb.cutsq, &mut s.nbr, l) };
+                return;
+            } else if SIMD == AVX2 {
+                // SAFETY: as above, inside `build_rows_avx2` (AVX2 present).
+                len = unsafe { avx2::scan_cell(xs, x, lo, hi, rb.cutsq, &mut s.nbr, l) };
                 return;
             }
             for j in lo..hi {

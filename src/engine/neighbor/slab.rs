@@ -105,7 +105,7 @@ pub(super) fn slab_isa<const DIM: usize, const ONE_TYPE: bool>(
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
         Isa::Avx2 => unsafe { slab_avx2::<DIM, ONE_TYPE>(w, ctx, bx, own, next) },
-        _ => slab_run::<DIM, ONE_TYPE, false>(w, ctx, bx, own, next),
+        _ => slab_run::<DIM, ONE_TYPE, PORTABLE>(w, ctx, bx, own, next),
     }
 }
 
@@ -118,7 +118,7 @@ pub(super) fn slab_avx512<const DIM: usize, const ONE_TYPE: bool>(
     own: &mut [[f64; 3]],
     next: &mut [[f64; 3]],
 ) -> PairTally {
-    slab_run::<DIM, ONE_TYPE, true>(w, ctx, bx, own, next)
+    slab_run::<DIM, ONE_TYPE, AVX512>(w, ctx, bx, own, next)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -130,7 +130,7 @@ pub(super) fn slab_avx2<const DIM: usize, const ONE_TYPE: bool>(
     own: &mut [[f64; 3]],
     next: &mut [[f64; 3]],
 ) -> PairTally {
-    slab_run::<DIM, ONE_TYPE, false>(w, ctx, bx, own, next)
+    slab_run::<DIM, ONE_TYPE, AVX2>(w, ctx, bx, own, next)
 }
 
 /// One row's inputs to the distance pass.
@@ -170,7 +170,7 @@ pub(super) struct PassConst<'a> {
 /// `SimBox::min_image`, in row order. The distance pass over a row has no branches and runs in
 /// SIMD lanes; full batches are evaluated by [`flush`].
 #[inline(always)]
-pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: bool>(
+pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const SIMD: u8>(
     w: &mut SlabWork,
     ctx: &Ctx,
     bx: &SimBox,
@@ -231,13 +231,18 @@ pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const AVX512: boo
         let sc = &mut *w.scratch;
         sc.far.clear();
         #[cfg(target_arch = "x86_64")]
-        if AVX512 {
-            // SAFETY: `AVX512` is true only inside `slab_avx512`, which runs only on CPUs with
+        if SIMD == AVX512 {
+            // SAFETY: `SIMD` is AVX512 only inside `slab_avx512`, which runs only on CPUs with
             // AVX-512 (see `slab_isa`); every index in the row is < x.len() (list invariant,
             // checked in `compute_forces`), v and tag have x's length and every type < nt <=
             // inv_mass.len() (checked above and in `compute_forces`).
             unsafe {
                 avx512::near_row::<ONE_TYPE>(&r, &pc, &mut p, &mut len, &mut sc.far, &mut sink)
+            };
+        } else if SIMD == AVX2 {
+            // SAFETY: as above, with AVX2 (`slab_avx2`).
+            unsafe {
+                avx2::near_row::<ONE_TYPE>(&r, &pc, &mut p, &mut len, &mut sc.far, &mut sink)
             };
         } else {
             near_row::<ONE_TYPE>(&r, &pc, sc, &mut p, &mut len, &mut sink);
@@ -480,6 +485,8 @@ pub(super) fn flush<const ONE_TYPE: bool>(
     // (j ≠ i, so no pair of the run touches own[i]), without a store-to-load chain.
     let mut cur = p.i[0] as usize - start;
     let mut fi = own[cur];
+    // The tally in a local (registers), stored once: the same additions in the same order.
+    let mut t = *tally;
     for l in 0..n {
         let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
         let s = b.fpair[l];
@@ -501,8 +508,9 @@ pub(super) fn flush<const ONE_TYPE: bool>(
         fj[0] -= fv[0];
         fj[1] -= fv[1];
         fj[2] -= fv[2];
-        tally.add_pair(dr, fv, b.energy[l]);
+        t.add_pair(dr, fv, b.energy[l]);
     }
     own[cur] = fi;
+    *tally = t;
     b.len = 0;
 }
