@@ -2,6 +2,7 @@
 //! pair-style seam (`dpdnl::engine::pair`) and added with LAMMPS's `ev_tally` conventions.
 
 use dpdnl::engine::pair::{Batcher, DpdKernel, PairKernel, lane_force};
+use dpdnl::engine::simd::within_cut;
 use dpdnl::kernel::{Isa, PairBatch, PairTable};
 
 use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
@@ -329,21 +330,43 @@ pub(crate) unsafe fn walk_pairs(
         nlocal,
         row: None,
     };
+    // The largest cut-off² of each type's row of the table: a first pass over a row keeps
+    // the entries within it (`within_cut`, in SIMD lanes), the loop below tests each of them
+    // against its own type pair's cut-off (the same rsq, so the same pairs as testing all).
+    let row_cutsq: Vec<f64> = (0..=nt)
+        .map(|t| {
+            cut[t * (nt + 1)..(t + 1) * (nt + 1)]
+                .iter()
+                .map(|&rc| rc * rc)
+                .fold(0.0, f64::max)
+        })
+        .collect();
+    let isa = Isa::detect();
+    let mut near: Vec<u32> = Vec::new();
     // SAFETY: `list` as documented (caller's contract).
     unsafe {
         for_each_row(list, nall, |i, jlist, mask| {
             let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
             let row = ty[i] as usize * (nt + 1);
-            for &jraw in jlist {
-                let j = jraw as u32 as usize & mask;
+            let n = within_cut(
+                isa,
+                xi,
+                x,
+                jlist,
+                mask as u32,
+                row_cutsq[ty[i] as usize],
+                &mut near,
+            );
+            for &j in &near[..n] {
+                let j = j as usize;
                 let k = row + ty[j] as usize;
                 let rc = cut[k];
                 let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
                 let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-                // Every listed pair is written to the next lane, and only a pair in range keeps it
-                // (the kernel checks again): with half the listed pairs in range (n = 16, skin 0.3)
-                // a branch here is mispredicted half the time. The rest of the lane (velocities,
-                // masses, tags) is gathered for the kept pairs only, in `gather`.
+                // Every candidate is written to the next lane, and only a pair in range keeps it
+                // (the kernel checks again): with several types some candidates are beyond
+                // their pair's cut-off, and a branch would be mispredicted. The rest of the lane
+                // (velocities, masses, tags) is gathered for the kept pairs only, in `gather`.
                 let l = bt.lane();
                 for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
                     lane[l] = c;

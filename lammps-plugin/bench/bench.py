@@ -2,7 +2,7 @@
 """Speed of pair_style dpd/nonlinear (build/dpdnlplugin.so) beside LAMMPS's own pair_style dpd
 and dpd/omp in the same LAMMPS binary, on the same inputs (in.ideal, in.gw). Stdlib only.
 
-    python3 lammps-plugin/bench/bench.py [--lmp .venv-lammps/bin/lmp] [--reps 5]
+    python3 lammps-plugin/bench/bench.py [--lmp .venv-lammps/bin/lmp] [--reps 5] [--ranks 1,2]
 
 Runs are interleaved (every repetition runs every style of every system, in a rotating order)
 so that a change of machine load hits all styles alike; the table gives medians over the
@@ -29,8 +29,8 @@ LABELS = {"plugin": "dpd/nonlinear (plugin)", "plugin2": "dpd/nonlinear (--plugi
           "dpd": "dpd", "omp": "dpd/omp"}
 
 
-def run(lmp, plugin_dirs, system, style, steps, threads, workdir):
-    log = os.path.join(workdir, f"log.{system}.{style}")
+def run(lmp, plugin_dirs, system, style, steps, threads, workdir, ranks=1, mpirun=None):
+    log = os.path.join(workdir, f"log.{system}.{style}.{ranks}")
     env = dict(os.environ, OMP_NUM_THREADS=str(threads if style == "omp" else 1),
                LAMMPS_PLUGIN_PATH=plugin_dirs[style == "plugin2"])
     input_style = "plugin" if style == "plugin2" else style
@@ -38,6 +38,8 @@ def run(lmp, plugin_dirs, system, style, steps, threads, workdir):
            "-log", log, "-screen", "none", "-nocite"]
     if style == "omp":
         cmd += ["-pk", "omp", str(threads)]
+    if ranks > 1:
+        cmd = [mpirun, "-np", str(ranks)] + cmd
     p = subprocess.run(cmd, cwd=HERE, env=env, capture_output=True, text=True)
     text = open(log).read() if os.path.exists(log) else ""
     if p.returncode != 0:
@@ -67,22 +69,38 @@ def main():
     ap.add_argument("--styles", default="plugin,dpd,omp")
     ap.add_argument("--systems", default="ideal,gw")
     ap.add_argument("--threads", type=int, default=1, help="OpenMP threads of dpd/omp")
+    ap.add_argument("--ranks", default="1",
+                    help="MPI rank counts, comma-separated (e.g. 1,2): every style runs at each "
+                    "(one OpenMP thread per rank), through --mpirun")
+    ap.add_argument("--mpirun", default=None,
+                    help="the MPI launcher of --lmp's MPI (default: mpirun beside --lmp)")
     args = ap.parse_args()
     styles = args.styles.split(",")
     systems = args.systems.split(",")
+    try:
+        rank_counts = [int(r) for r in args.ranks.split(",")]
+    except ValueError:
+        sys.exit(f"--ranks {args.ranks}: expected rank counts such as 1,2")
+    if any(r < 1 for r in rank_counts):
+        sys.exit(f"--ranks {args.ranks}: rank counts must be at least 1")
+    mpirun = args.mpirun or os.path.join(os.path.dirname(os.path.abspath(args.lmp)), "mpirun")
+    if max(rank_counts) > 1 and not os.path.exists(mpirun):
+        sys.exit(f"--ranks {args.ranks}: no MPI launcher at {mpirun} (give --mpirun)")
+    configs = [(st, r) for r in rank_counts for st in styles]
     steps = {"ideal": args.steps_ideal, "gw": args.steps_gw}
-    results = {(s, st): [] for s in systems for st in styles}
+    results = {(s, c): [] for s in systems for c in configs}
     loads = []
     with tempfile.TemporaryDirectory(prefix="dpdnl-bench-") as tmp:
         for rep in range(args.reps):
             loads.append(os.getloadavg()[0])
-            order = styles[rep % len(styles):] + styles[:rep % len(styles)]
+            order = configs[rep % len(configs):] + configs[:rep % len(configs)]
             for system in systems:
-                for style in order:
+                for (style, ranks) in order:
                     r = run(args.lmp, (args.plugin_dir, args.plugin2_dir), system, style,
-                            steps[system], args.threads, tmp)
-                    results[(system, style)].append(r)
-                    print(f"# rep {rep} {system:5} {style:6} {r['atom_steps'] / 1e6:8.3f} "
+                            steps[system], args.threads, tmp, ranks, mpirun)
+                    results[(system, (style, ranks))].append(r)
+                    print(f"# rep {rep} {system:5} {style:6} x{ranks} "
+                          f"{r['atom_steps'] / 1e6:8.3f} "
                           f"M atom-steps/s ({r['atom_steps_cpu'] / 1e6:.3f} per CPU-s)  "
                           f"pair {r['pair_per_step'] * 1e3:8.3f} ms/step",
                           file=sys.stderr, flush=True)
@@ -93,27 +111,37 @@ def main():
     print(f"Machine: {cpu}, {os.cpu_count()} logical CPUs; {platform.platform()}")
     print(f"1-minute load average before each repetition and at the end: "
           f"{', '.join(f'{x:.1f}' for x in loads)}")
-    print(f"{args.reps} interleaved repetitions; medians (min–max); one core per run "
-          f"(dpd/omp: {args.threads} OpenMP thread(s))\n")
-    print("| system | pair style | M atom-steps/s (wall) | M atom-steps per CPU-s | "
-          "pair ms/step (wall) | plugin ÷ this (per CPU-s) |")
-    print("|---|---|---|---|---|---|")
+    print(f"{args.reps} interleaved repetitions; medians (min–max); one core per rank "
+          f"(dpd/omp: {args.threads} OpenMP thread(s)); MPI ranks: {args.ranks}\n")
+    print("| system | pair style | ranks | M atom-steps/s (wall) | M atom-steps per CPU-s | "
+          "pair ms/step (wall) | plugin ÷ this, same ranks (wall) | plugin ÷ this (per CPU-s) "
+          "| speed-up over 1 rank (wall) |")
+    print("|---|---|---:|---|---|---|---|---|---|")
 
     def span(xs, fmt):
         return f"{statistics.median(xs):{fmt}} ({min(xs):{fmt}}–{max(xs):{fmt}})"
 
+    def med(system, style, ranks, key):
+        rs = results.get((system, (style, ranks)))
+        return statistics.median(r[key] for r in rs) if rs else None
+
     for system in systems:
-        base = statistics.median(r["atom_steps_cpu"] for r in results[(system, "plugin")]) \
-            if "plugin" in styles else None
-        for style in styles:
-            rs = results[(system, style)]
+        for (style, ranks) in configs:
+            rs = results[(system, (style, ranks))]
             wall = [r["atom_steps"] / 1e6 for r in rs]
             cpu = [r["atom_steps_cpu"] / 1e6 for r in rs]
             pair = [r["pair_per_step"] * 1e3 for r in rs]
-            ratio = (f"{base / 1e6 / statistics.median(cpu):.2f}"
-                     if base and style != "plugin" else "—")
-            print(f"| {SYSTEMS[system]} | {LABELS[style]} | {span(wall, '.3f')} | "
-                  f"{span(cpu, '.3f')} | {span(pair, '.1f')} | {ratio} |")
+            ratios = []
+            for key in ("atom_steps", "atom_steps_cpu"):
+                base = med(system, "plugin", ranks, key)
+                this = med(system, style, ranks, key)
+                ratios.append(f"{base / this:.2f}" if base and style != "plugin" else "—")
+            one = med(system, style, 1, "atom_steps")
+            speedup = f"{med(system, style, ranks, 'atom_steps') / one:.2f}" \
+                if one and ranks > 1 else "—"
+            print(f"| {SYSTEMS[system]} | {LABELS[style]} | {ranks} | {span(wall, '.3f')} | "
+                  f"{span(cpu, '.3f')} | {span(pair, '.1f')} | {ratios[0]} | {ratios[1]} | "
+                  f"{speedup} |")
 
 
 if __name__ == "__main__":

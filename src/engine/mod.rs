@@ -11,6 +11,7 @@ pub mod measure;
 pub mod neighbor;
 pub mod pair;
 pub mod sdpd;
+pub mod simd;
 
 pub use atoms::Atoms;
 pub use domain::SimBox;

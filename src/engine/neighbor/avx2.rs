@@ -2,104 +2,15 @@
 //! the in-range ones moved to the front of the vectors by a permutation table (AVX2 has no
 //! compress instruction) and stored whole. Same pairs, same order, same bits as the portable
 //! `near_row` and scan: the arithmetic is the same IEEE operations in the same order (no FMA),
-//! and only which entries are kept depends on it.
-//!
-//! Written for cores that execute 256-bit operations as two 128-bit halves (AMD Zen 1) as well
-//! as for those that do not: no gathers (microcoded there), no masked stores, lane crossing
-//! only by `vinsertf128` and one `vpermps` per compressed vector.
+//! and only which entries are kept depends on it. The building blocks (loads, tables) are in
+//! `engine::simd::avx2`, shared with the C ABI's list walk.
 use super::slab::{PassConst, Pending, RowArgs, Sink};
+use crate::engine::simd::avx2::{front_epi32, front_pd, load4};
 use crate::kernel::BATCH;
 use std::arch::x86_64::*;
 
 // Whole 4-lane chunks fit in the batch arrays.
 const _: () = assert!(BATCH.is_multiple_of(4));
-
-/// For each 4-bit lane mask, the 32-bit indices for `_mm256_permutevar8x32_ps` that move the
-/// kept 64-bit lanes (two 32-bit halves each) to the front, in order (the rest: lane 0).
-static PD_FRONT: [[u32; 8]; 16] = pd_front();
-/// For each 4-bit lane mask, the bytes for `_mm_shuffle_epi8` that move the kept 32-bit lanes
-/// to the front, in order (the rest: zero).
-static EPI32_FRONT: [[u8; 16]; 16] = epi32_front();
-
-const fn pd_front() -> [[u32; 8]; 16] {
-    let mut t = [[0u32; 8]; 16];
-    let mut m = 0;
-    while m < 16 {
-        let (mut k, mut l) = (0, 0);
-        while l < 4 {
-            if m & (1 << l) != 0 {
-                t[m][2 * k] = 2 * l as u32;
-                t[m][2 * k + 1] = 2 * l as u32 + 1;
-                k += 1;
-            }
-            l += 1;
-        }
-        m += 1;
-    }
-    t
-}
-
-const fn epi32_front() -> [[u8; 16]; 16] {
-    let mut t = [[0x80u8; 16]; 16];
-    let mut m = 0;
-    while m < 16 {
-        let (mut k, mut l) = (0, 0);
-        while l < 4 {
-            if m & (1 << l) != 0 {
-                let mut b = 0;
-                while b < 4 {
-                    t[m][4 * k + b] = (4 * l + b) as u8;
-                    b += 1;
-                }
-                k += 1;
-            }
-            l += 1;
-        }
-        m += 1;
-    }
-    t
-}
-
-/// The kept lanes of `v` (mask `m`, 4 bits) at the front.
-#[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
-#[inline]
-fn front_pd(v: __m256d, m: usize) -> __m256d {
-    // SAFETY: m < 16 (a 4-lane movemask), so the row exists; an unaligned 256-bit load of it.
-    let idx = unsafe { _mm256_loadu_si256(PD_FRONT[m & 15].as_ptr() as *const __m256i) };
-    _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), idx))
-}
-
-/// The kept 32-bit lanes of `v` (mask `m`, 4 bits) at the front.
-#[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
-#[inline]
-fn front_epi32(v: __m128i, m: usize) -> __m128i {
-    // SAFETY: as in `front_pd`: a 128-bit load of row m < 16.
-    let idx = unsafe { _mm_loadu_si128(EPI32_FRONT[m & 15].as_ptr() as *const __m128i) };
-    _mm_shuffle_epi8(v, idx)
-}
-
-/// The components of four 3-vectors `base[3·j_t ..]` (t = 0..4) as three 4-lane vectors:
-/// 128-bit (x, y) and 64-bit z loads, unpacked per half and joined.
-///
-/// # Safety
-/// `base` points to 3·n doubles and every `j_t` < n.
-#[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
-#[inline]
-unsafe fn load4(base: *const f64, j: [usize; 4]) -> [__m256d; 3] {
-    // SAFETY: each load reads doubles 3·j_t .. 3·j_t + 3 of the array (caller's contract).
-    unsafe {
-        let xy = |t: usize| _mm_loadu_pd(base.add(3 * j[t]));
-        let z = |t: usize, u: usize| {
-            _mm_loadh_pd(_mm_load_sd(base.add(3 * j[t] + 2)), base.add(3 * j[u] + 2))
-        };
-        let (a0, a1, a2, a3) = (xy(0), xy(1), xy(2), xy(3));
-        [
-            _mm256_set_m128d(_mm_unpacklo_pd(a2, a3), _mm_unpacklo_pd(a0, a1)),
-            _mm256_set_m128d(_mm_unpackhi_pd(a2, a3), _mm_unpackhi_pd(a0, a1)),
-            _mm256_set_m128d(z(2, 3), z(0, 1)),
-        ]
-    }
-}
 
 /// |v| ≥ q per lane (`v` and `q` finite or not: the same comparison as `f64::abs() >= q`).
 #[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
@@ -311,24 +222,4 @@ pub(super) unsafe fn scan_cell(
         len += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cutsq);
     }
     len
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The tables move the kept lanes to the front in order, for every mask.
-    #[test]
-    fn compress_tables() {
-        for m in 0..16usize {
-            let kept: Vec<u32> = (0..4).filter(|l| m & (1 << l) != 0).collect();
-            for (k, &l) in kept.iter().enumerate() {
-                assert_eq!(PD_FRONT[m][2 * k], 2 * l);
-                assert_eq!(PD_FRONT[m][2 * k + 1], 2 * l + 1);
-                for b in 0..4 {
-                    assert_eq!(EPI32_FRONT[m][4 * k + b] as u32, 4 * l + b as u32);
-                }
-            }
-        }
-    }
 }
