@@ -140,6 +140,19 @@ pub(crate) mod avx2 {
         }
     }
 
+    /// r = x_i − x_j by component and |r|² = (dx² + dy²) + dz², the pair loops' arithmetic
+    /// (no FMA), for four pairs: `xi` broadcast, `xj` the four atoms' components.
+    #[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
+    #[inline]
+    pub(crate) fn separation(xi: [__m256d; 3], xj: [__m256d; 3]) -> ([__m256d; 3], __m256d) {
+        let d = [0, 1, 2].map(|c| _mm256_sub_pd(xi[c], xj[c]));
+        let rsq = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1])),
+            _mm256_mul_pd(d[2], d[2]),
+        );
+        (d, rsq)
+    }
+
     /// [`super::within_cut`] with AVX2, four entries at a time.
     ///
     /// # Safety
@@ -171,14 +184,7 @@ pub(crate) mod avx2 {
             // SAFETY: every index is < natoms (clamped), so load4 reads inside `x`; the store
             // writes 4 entries from n <= k0, and k0 + 4 <= jlist.len() + 4 <= out.len().
             unsafe {
-                let [gx, gy, gz] = load4(base, jt.map(|j| j as usize));
-                let dx = _mm256_sub_pd(xv[0], gx);
-                let dy = _mm256_sub_pd(xv[1], gy);
-                let dz = _mm256_sub_pd(xv[2], gz);
-                let rsq = _mm256_add_pd(
-                    _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                    _mm256_mul_pd(dz, dz),
-                );
+                let (_, rsq) = separation(xv, load4(base, jt.map(|j| j as usize)));
                 let keep = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(rsq, cut)) as usize
                     & ((1usize << lanes) - 1);
                 let jv = _mm_loadu_si128(jt.as_ptr() as *const __m128i);

@@ -5,7 +5,7 @@
 //! and only which entries are kept depends on it. The building blocks (loads, tables) are in
 //! `engine::simd::avx2`, shared with the C ABI's list walk.
 use super::slab::{PassConst, Pending, RowArgs, Sink};
-use crate::engine::simd::avx2::{front_epi32, front_pd, load4};
+use crate::engine::simd::avx2::{front_epi32, front_pd, load4, separation};
 use crate::kernel::BATCH;
 use std::arch::x86_64::*;
 
@@ -63,14 +63,7 @@ pub(super) unsafe fn near_row<const ONE_TYPE: bool>(
         // contract; `*len + 4 <= BATCH`, so every 4-lane store stays inside the batch arrays
         // (lanes past the kept ones are overwritten by later appends or never read).
         unsafe {
-            let [gx, gy, gz] = load4(xp, j);
-            let dx = _mm256_sub_pd(xi[0], gx);
-            let dy = _mm256_sub_pd(xi[1], gy);
-            let dz = _mm256_sub_pd(xi[2], gz);
-            let rsq = _mm256_add_pd(
-                _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                _mm256_mul_pd(dz, dz),
-            );
+            let ([dx, dy, dz], rsq) = separation(xi, load4(xp, j));
             let (rcsq, coeff, ims) = if ONE_TYPE {
                 (
                     _mm256_set1_pd(pc.one_rcsq),
@@ -199,13 +192,7 @@ pub(super) unsafe fn scan_cell(
                 _mm_shuffle_pd::<0b10>(l4, l5),
                 _mm_shuffle_pd::<0b10>(l1, l2),
             );
-            let dx = _mm256_sub_pd(xv[0], gx);
-            let dy = _mm256_sub_pd(xv[1], gy);
-            let dz = _mm256_sub_pd(xv[2], gz);
-            let rsq = _mm256_add_pd(
-                _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)),
-                _mm256_mul_pd(dz, dz),
-            );
+            let (_, rsq) = separation(xv, [gx, gy, gz]);
             let keep = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(rsq, cut)) as usize;
             let jv = _mm_add_epi32(_mm_set1_epi32(j0 as i32), iota);
             _mm_storeu_si128(
