@@ -115,11 +115,14 @@ nemd|size)
     for p in $runs; do
         s="${p%%:*}"; rest="${p#*:}"; dpp="${rest%%:*}"
         if [ "$mode" = size ]; then L="${rest#*:}"; else L="${L:-3.5}"; fi
-        for seed in ${SEEDS:-""}; do
+        # One run per seed of SEEDS, or one with the script's own seed ("") without SEEDS.
+        # (`for seed in ${SEEDS:-""}` looped once over "" as well: without SEEDS every point
+        # ran twice, concurrently, in the same directory: fixed in session 8.)
+        for seed in ${SEEDS:-_script_}; do
+            [ "$seed" = _script_ ] && seed=""
             while [ "$(jobs -rp | wc -l)" -ge "${PAR:-1}" ]; do wait -n; done
             nemd1 "$s" "$dpp" "$L" "$seed" &
         done
-        [ -n "${SEEDS:-}" ] || { while [ "$(jobs -rp | wc -l)" -ge "${PAR:-1}" ]; do wait -n; done; nemd1 "$s" "$dpp" "$L" "" & }
     done
     wait
     if [ "$mode" = nemd ]; then
