@@ -62,7 +62,7 @@ if [ "$dry" = 0 ]; then
     dirty=$([ -n "$(git status --porcelain -- . ':!validation')" ] && echo yes || echo no)
     { echo "commit $(git rev-parse HEAD)"; echo "dirty (outside validation/) $dirty"
       echo "date $(date -u +%Y-%m-%dT%H:%M:%SZ)"; echo "host $(uname -n), $(nproc) CPUs, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
-      echo "tier $mode"; echo "binaries target/release/dpdnl, build/lmp_dpdnl"; } > "$v/BINARIES"
+      echo "tier $mode"; echo "binaries ${CARGO_TARGET_DIR:-target}/release/dpdnl, build/lmp_dpdnl"; } > "$v/BINARIES"
 fi
 
 # --- quick ------------------------------------------------------------------------------------
