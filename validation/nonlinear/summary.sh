@@ -77,13 +77,22 @@ done
 echo
 echo "## Appendix B (Table 8): the time step at Π_xz = 13.68 (paper Δp = 0.2 at δt = 10⁻⁴), n = 16, L = 3.5"
 echo
+echo "Paper columns: Table 8 (Dot-corrected / Two-step-dot) for those schemes; for Ref, which Table 8"
+echo "does not have, its Tables 3–4 row (δt = 10⁻⁴), marked †. The δt = 10⁻³ rows are the Tables 3–4 runs."
+echo
 echo "| scheme | δt | steps (profiles from) | shear rate this | μ this | paper shear rate (DT / TS) | paper μ (DT / TS) | T_d this | wall s |"
 echo "|---|---|---|---|---|---|---|---|---|"
-for f in "$res"/nemd_*_dp0.2_dt*.json; do
+for f in $(ls "$res"/nemd_*_dp0.2_dt*.json 2>/dev/null | grep -v '_s[0-9]' | sed 's/_dp0.2_dt.*//' | sort -u | sed 's/$/_dp0.2.json/') \
+         "$res"/nemd_*_dp0.2_dt*.json; do
     [ -f "$f" ] || continue
     b=$(basename "$f" .json); case "$b" in *_s[0-9]*) continue ;; esac
-    dt=${b##*_dt}; s=${b#nemd_}; s=${s%_dp0.2_dt*}
-    read -r pr pm <<<"$(awk -F, -v d="$dt" '!/^#/ && $1+0 == d+0 && $1 != "dt" {print $4" / "$5, $6" / "$7}' "$ref/nonlinear_table8_dt.csv" | sed 's| / |/|g')"
+    case "$b" in *_dt*) dt=${b##*_dt} ;; *) dt=0.001 ;; esac
+    s=${b#nemd_}; s=${s%_dp0.2*}
+    if [ "$s" = ref ]; then
+        read -r pr pm <<<"$(awk -F, '$1 == "Ref" && $2 == 16 && $3+0 == 0.2 {print $5"±"$6"†", $11"±"$12"†"}' "$ref/nonlinear_tables3to7_nemd.csv")"
+    else
+        read -r pr pm <<<"$(awk -F, -v d="$dt" '!/^#/ && $1+0 == d+0 && $1 != "dt" {print $4" / "$5, $6" / "$7}' "$ref/nonlinear_table8_dt.csv" | sed 's| / |/|g')"
+    fi
     jq -r --arg s "$s" --arg dt "$dt" --arg pr "${pr:-—}" --arg pm "${pm:-—}" --arg rt "$(rt "$b")" '
       def r(n): (.*n|round/n);
       "| \($s) | \($dt) | \(.last_step) (\(.from_step)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pr) | \($pm) | \(.td_centre|r(10000)) | \($rt) |"' "$f"
