@@ -11,11 +11,19 @@
 #          checks them against the documented bands of validation/bands.csv
 #          (validation/check_bands.py). A slow tier: not part of .ci/run.
 #   --dry-run  print the commands only.
-#   --only GROUP ...  (full) only these groups: nonlinear finite_step weighting sdpd repulsion
+#   --only GROUP ...  (full) only these groups, in this order: nonlinear (MB/EH, the n = 16 NEMD
+#          points, the two engines), seeds (independent repeats), nemd32 (Tables 5-7, all 27
+#          points), size (box sizes at n = 16 and n = 32), timestep (Table 8 / Appendix B),
+#          finite_step, weighting, sdpd, repulsion[:STEP,...] (validation/weighting/repulsion.sh
+#          steps, all by default); the summaries of the touched cases run after them.
 #
 # Before running it builds the release binary and the LAMMPS shim from the working tree and
-# writes validation/BINARIES (commit, dirty flag, date, host); it refuses a tree with uncommitted
-# changes outside validation/ (the binaries would not be a commit's) unless FORCE=1. Runs are
+# appends one block to validation/BINARIES: commit, the code id (the git tree made of src/,
+# capi/, lammps-plugin/, examples/, Cargo.toml and Cargo.lock, what the binaries and the scripts
+# the cases copy are built from: commits that differ only in validation/ or the documents share
+# it, so a full tier run in parts over several sessions is still one code's), dirty flag, date,
+# host, tier and groups. It refuses a tree with uncommitted changes outside validation/ (the binaries would not
+# be a commit's) unless FORCE=1. Runs are
 # deterministic: with the same commit's binaries the rerun results equal the committed ones bit
 # for bit wherever the run and its thread count are the same, so `git diff --stat validation/`
 # after a run shows what a change of code moved.
@@ -45,7 +53,13 @@ run() {
     env "$@"
     echo "  ($((SECONDS - t0)) s)"
 }
-want() { [ ${#only[@]} -eq 0 ] && return 0; local g; for g in "${only[@]}"; do [ "$g" = "$1" ] && return 0; done; return 1; }
+want() { [ ${#only[@]} -eq 0 ] && return 0; local g; for g in "${only[@]}"; do [ "${g%%:*}" = "$1" ] && return 0; done; return 1; }
+# steps_of GROUP: the comma-separated steps after "GROUP:" in --only (empty: all).
+steps_of() { local g; for g in "${only[@]}"; do [ "${g%%:*}" = "$1" ] && [ "$g" != "$1" ] && echo "${g#*:}" | tr , ' '; done; return 0; }
+for g in "${only[@]}"; do
+    case "${g%%:*}" in nonlinear|seeds|nemd32|size|timestep|finite_step|weighting|sdpd|repulsion) ;;
+    *) echo "run-all.sh: unknown group '$g'" >&2; exit 2 ;; esac
+done
 
 # --- binaries ---------------------------------------------------------------------------------
 if [ "$dry" = 0 ]; then
@@ -60,9 +74,11 @@ run cargo build --release --bin dpdnl
 run bash lammps-plugin/build.sh
 if [ "$dry" = 0 ]; then
     dirty=$([ -n "$(git status --porcelain -- . ':!validation')" ] && echo yes || echo no)
-    { echo "commit $(git rev-parse HEAD)"; echo "dirty (outside validation/) $dirty"
+    code=$(git ls-tree HEAD -- src capi lammps-plugin examples Cargo.toml Cargo.lock | git mktree)
+    { echo; echo "commit $(git rev-parse HEAD)"; echo "code id (tree of src capi lammps-plugin examples Cargo.*) $code"
+      echo "dirty (outside validation/) $dirty"
       echo "date $(date -u +%Y-%m-%dT%H:%M:%SZ)"; echo "host $(uname -n), $(nproc) CPUs, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
-      echo "tier $mode"; echo "binaries ${CARGO_TARGET_DIR:-target}/release/dpdnl, build/lmp_dpdnl"; } > "$v/BINARIES"
+      echo "tier $mode${only[*]:+, groups ${only[*]}}"; echo "binaries ${CARGO_TARGET_DIR:-target}/release/dpdnl, build/lmp_dpdnl"; } >> "$v/BINARIES"
 fi
 
 # --- quick ------------------------------------------------------------------------------------
@@ -76,21 +92,41 @@ if [ "$mode" = quick ]; then
 fi
 
 # --- full -------------------------------------------------------------------------------------
+nl=$v/nonlinear/run.sh
 if want nonlinear; then
-    run $v/nonlinear/run.sh eq
-    run N=6000 STEPS=100000 SUFFIX=_N6000 SCHEMES="ref cross" $v/nonlinear/run.sh eq
+    run $nl eq
+    run N=6000 STEPS=100000 SUFFIX=_N6000 SCHEMES="ref cross" $nl eq
+    # Tables 3-4 (n = 16), Table 2's N-EQ column (0.01), Table 8's delta t = 1e-3 row (0.2).
     run PAR="$PAR" POINTS="ref:0.01 ref:0.025 ref:0.05 ref:0.075 ref:0.1 ref:0.15 ref:0.2
         cross:0.01 cross:0.025 cross:0.05 cross:0.075 cross:0.1 cross:0.15 cross:0.2
-        dot_corrected:0.01 dot_corrected:0.05 dot_corrected:0.2 twostep_dot:0.01 twostep_dot:0.05" \
-        $v/nonlinear/run.sh nemd
-    run PAR="$PAR" DENSITY=32 L=3 POINTS="ref:0.075 dot_corrected:0.075 twostep_dot:0.075 dot_corrected:0.3
-        twostep_dot:0.3 dot_corrected:0.55 twostep_dot:0.55" $v/nonlinear/run.sh nemd
-    for dt in 0.005 0.01 0.05; do
-        run PAR="$PAR" DT=$dt POINTS="dot_corrected:0.2 twostep_dot:0.2" $v/nonlinear/run.sh nemd
+        dot_corrected:0.01 dot_corrected:0.05 dot_corrected:0.2 twostep_dot:0.01 twostep_dot:0.05
+        twostep_dot:0.2" $nl nemd
+    run $nl engines
+fi
+if want seeds; then
+    # Independent repeats (pair seeds 1-4): Table 2's N-EQ column, and Ref at Pi = 13.68 for
+    # Appendix B's delta t comparison.
+    run PAR="$PAR" SEEDS="1 2 3 4" POINTS="ref:0.01 cross:0.01 dot_corrected:0.01 twostep_dot:0.01 ref:0.2" $nl nemd
+fi
+if want nemd32; then
+    p32=""; for s in ref dot_corrected twostep_dot; do
+        for d in 0.025 0.075 0.15 0.2 0.25 0.3 0.4 0.5 0.55; do p32+=" $s:$d"; done; done
+    run PAR="$PAR" DENSITY=32 L=3 POINTS="$p32" $nl nemd
+fi
+if want size; then
+    run SIZES="3 4" $nl size
+    run SIZES="5 6" STEPS=80000 FROM=40000 $nl size
+    # n = 32: L = 4 against the L = 3 of nemd32 (the same points) at a low and the highest stress.
+    run PAR="$PAR" DENSITY=32 SIZES="4" SIZE_POINTS="ref:0.075 dot_corrected:0.55" $nl size
+fi
+if want timestep; then
+    # Table 8 (delta t = 1e-3 is the nonlinear group's 0.2 point); Ref at 1e-4 for Appendix B.
+    for dt in 0.0001 0.0005 0.005 0.01 0.05; do
+        pts="dot_corrected:0.2 twostep_dot:0.2"; [ "$dt" = 0.0001 ] && pts="ref:0.2 $pts"
+        run PAR="$PAR" DT=$dt POINTS="$pts" $nl nemd
     done
-    run SIZES="3 4" $v/nonlinear/run.sh size
-    run SIZES="5 6" STEPS=80000 FROM=40000 $v/nonlinear/run.sh size
-    run $v/nonlinear/run.sh engines
+fi
+if want nonlinear || want seeds || want nemd32 || want size || want timestep; then
     run $v/nonlinear/summary.sh
 fi
 if want finite_step; then
@@ -125,7 +161,9 @@ if want sdpd; then
     run $w sdpd-analyse
 fi
 if want repulsion; then
-    run $v/weighting/repulsion.sh
+    rsteps=$(steps_of repulsion); [ -n "$rsteps" ] && rsteps="$rsteps summary"
+    # shellcheck disable=SC2086
+    run $v/weighting/repulsion.sh $rsteps
 fi
 if want weighting || want sdpd || want repulsion; then
     run $v/weighting/summary.sh

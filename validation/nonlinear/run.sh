@@ -21,7 +21,8 @@
 #            DT [0.001]: the time step (Appendix B, Table 8); when set, STEPS and FROM default to the
 #            same times (40 and 20) and the names get _dt<DT>; the profile is sampled once per time unit
 #   size:    SIZES ["3 4 5"]  STEPS [40000]  FROM [20000]: the Ref point at Pi = 3.42 (dp_paper = 0.05)
-#            in boxes 2L x L x L, to show how the NEMD viscosity depends on the box
+#            in boxes 2L x L x L, to show how the NEMD viscosity depends on the box; SIZE_POINTS
+#            ["ref:0.05"] other scheme:dp points; with DENSITY=32 the results are size32_*
 # Raw outputs go to validation/nonlinear/work/ (ignored by git); summaries, CSV and figures to
 # validation/nonlinear/results/, with the wall time of every run in results/runtimes.csv.
 set -euo pipefail
@@ -92,7 +93,7 @@ nemd|size)
     # named nemd32_*.
     dens="${DENSITY:-16}"; tag=""; lpaper=8.55
     if [ "$dens" = 32 ]; then tag=32; lpaper=6.79; elif [ "$dens" != 16 ]; then echo "DENSITY must be 16 or 32" >&2; exit 2; fi
-    if [ "$mode" = size ]; then runs=""; for l in ${SIZES:-3 4 5}; do runs+=" ref:0.05:$l"; done
+    if [ "$mode" = size ]; then runs=""; for sp in ${SIZE_POINTS:-ref:0.05}; do for l in ${SIZES:-3 4 5}; do runs+=" $sp:$l"; done; done
     else runs="${POINTS:-ref:0.05 ref:0.2 cross:0.05 cross:0.1 cross:0.2 dot_corrected:0.05 dot_corrected:0.2}"; fi
     # nemd1 SCHEME DP_PAPER L SEED: one run and its analysis (SEED "" = the scripts' own seed).
     nemd1() {
@@ -100,7 +101,7 @@ nemd|size)
         read -r fr no g1 <<<"$(scheme_vars "$s")"
         dp=$(awk -v d="$dpp" -v L="$L" -v Lp="$lpaper" -v t="$dt" 'BEGIN{printf "%.10g", d*(L/Lp)^2*(t/1e-4)}')
         [ -n "$seed" ] && { sfx="_s$seed"; sv=(-var seed "$seed"); }
-        name="nemd${tag}_${s}_dp${dpp}${dsfx}${sfx}"; if [ "$mode" = size ]; then name="size_${s}_dp${dpp}_L${L}"; fi
+        name="nemd${tag}_${s}_dp${dpp}${dsfx}${sfx}"; if [ "$mode" = size ]; then name="size${tag}_${s}_dp${dpp}_L${L}"; fi
         d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.nemd" "$d/"
         t0=$SECONDS
         ( cd "$d" && "$DPDNL" run in.nemd --threads "$THREADS" --log log.dpdnl -var friction "$fr" \

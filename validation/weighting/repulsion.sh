@@ -11,6 +11,9 @@
 #   t3           Table 3 (rc = 1, eta0 = 10, s = 1/2), 5 rates, standalone and LAMMPS
 #   t5           Table 5, 3 rows of Sc0 = 400 and 3 of Sc0 = 1000 spanning s, 5 rates standalone,
 #                gamma-dot = 0.2 in LAMMPS for the smallest s of each Sc0
+#   t2           Table 2's proposed DPD rows (rc = 2.5, s = 1/2, eta0 = 10 and 50), 5 rates standalone
+#                (eta0 = 10 with 40000 steps: its stress is 5 times smaller than eta0 = 50's), gamma-dot
+#                = 0.2 in LAMMPS for both
 #   diffusion    Fig. 4 (Sc0 = 400, eta0 = 49) at rest
 #   schmidt      Fig. 5's DPD: Sc = eta*/(m n D) for Sc0 in SC0S ["10 100 1000"] (s = 1/2), standalone
 #   sensitivity  eta*(a) of the Table 3 fluid at gamma-dot = 0.2 for a = 0, a_derived/2, 2 a_derived (a_derived
@@ -25,7 +28,7 @@ res="$here/results"
 run="$here/run.sh"
 export PAR="${PAR:-2}"
 steps=("$@")
-[ ${#steps[@]} -gt 0 ] || steps=(eos t3 t5 diffusion schmidt sensitivity summary)
+[ ${#steps[@]} -gt 0 ] || steps=(eos t3 t5 t2 diffusion schmidt sensitivity summary)
 
 # derived RC: the a of results/eos_rc<RC>_a<mean field>.txt's last line, 4 significant digits.
 derived() {
@@ -49,6 +52,9 @@ for st in "${steps[@]}"; do
         A="$a25" LMP_RATES="" EXT_RATES="" RATES="${RATES5-0.05 0.1 0.2 0.5 1}" \
             CASES="t5s400e39:2.5:39:0.9692:20000 t5s400e31:2.5:31:2.1096:20000 t5s1000e59:2.5:59:1.1686:20000
                    t5s1000e49:2.5:49:2.1113:20000" "$run" couette ;;
+    t2)
+        A="${A25:-$(derived 2.5)}" LMP_RATES="0.2" EXT_RATES="" RATES="0.05 0.1 0.2 0.5 1" \
+            CASES="t2e10:2.5:10:0.5:40000 t2e50:2.5:50:0.5:20000" "$run" couette ;;
     diffusion) A="${A25:-$(derived 2.5)}" "$run" diffusion ;;
     schmidt) A="${A25:-$(derived 2.5)}" SDPD=0 ENGINE=standalone SC0S="${SC0S:-10 100 1000}" "$run" sdpd-schmidt ;;
     sensitivity)
