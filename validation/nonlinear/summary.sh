@@ -82,12 +82,13 @@ echo "does not have, its Tables 3–4 row (δt = 10⁻⁴), marked †. The δt 
 echo
 echo "| scheme | δt | steps (profiles from) | shear rate this | μ this | paper shear rate (DT / TS) | paper μ (DT / TS) | T_d this | wall s |"
 echo "|---|---|---|---|---|---|---|---|---|"
-for f in $(ls "$res"/nemd_*_dp0.2_dt*.json 2>/dev/null | grep -v '_s[0-9]' | sed 's/_dp0.2_dt.*//' | sort -u | sed 's/$/_dp0.2.json/') \
-         "$res"/nemd_*_dp0.2_dt*.json; do
+for s in ref dot_corrected twostep_dot; do
+  # The delta t = 1e-3 run is the Tables 3-4 one (no _dt suffix); shown only where other delta t exist.
+  ls "$res"/nemd_${s}_dp0.2_dt*.json > /dev/null 2>&1 || continue
+  for dt in 0.0001 0.0005 0.001 0.005 0.01 0.05; do
+    f="$res/nemd_${s}_dp0.2_dt$dt.json"; [ "$dt" = 0.001 ] && f="$res/nemd_${s}_dp0.2.json"
     [ -f "$f" ] || continue
-    b=$(basename "$f" .json); case "$b" in *_s[0-9]*) continue ;; esac
-    case "$b" in *_dt*) dt=${b##*_dt} ;; *) dt=0.001 ;; esac
-    s=${b#nemd_}; s=${s%_dp0.2*}
+    b=$(basename "$f" .json)
     if [ "$s" = ref ]; then
         read -r pr pm <<<"$(awk -F, '$1 == "Ref" && $2 == 16 && $3+0 == 0.2 {print $5"±"$6"†", $11"±"$12"†"}' "$ref/nonlinear_tables3to7_nemd.csv")"
     else
@@ -96,6 +97,7 @@ for f in $(ls "$res"/nemd_*_dp0.2_dt*.json 2>/dev/null | grep -v '_s[0-9]' | sed
     jq -r --arg s "$s" --arg dt "$dt" --arg pr "${pr:-—}" --arg pm "${pm:-—}" --arg rt "$(rt "$b")" '
       def r(n): (.*n|round/n);
       "| \($s) | \($dt) | \(.last_step) (\(.from_step)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pr) | \($pm) | \(.td_centre|r(10000)) | \($rt) |"' "$f"
+  done
 done
 echo
 echo "## Seed repeats (run.sh nemd SEEDS=…): the run-to-run scatter beside the block errors"
@@ -115,7 +117,8 @@ echo "## Reverse NEMD at n = 32, Tables 5–7 (box 6 × 3 × 3, N = 1728; paper 
 echo
 echo "| scheme | paper Δp (its box) | Π_xz | shear rate this | shear rate paper | μ this | μ paper | centre n this | T_d this | T_d paper | wall s |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|"
-for f in "$res"/nemd32_*.json; do
+for f in $(for s in ref dot_corrected twostep_dot; do for d in 0.025 0.075 0.15 0.2 0.25 0.3 0.4 0.5 0.55; do
+             echo "$res/nemd32_${s}_dp$d.json"; done; done); do
     [ -f "$f" ] || continue
     b=$(basename "$f" .json); s=${b#nemd32_}; dpp=${s##*_dp}; s=${s%_dp*}
     pc=$(paper_case "$s")
@@ -136,6 +139,24 @@ for f in "$res"/size_ref_dp0.05_L*.json; do
     jq -r --arg L "$L" --arg rt "$(rt "$b")" '
       def r(n): (.*n|round/n);
       "| \($L) | \(16*2*($L|tonumber)*($L|tonumber)*($L|tonumber)|round) | \(.last_step) (\(.from_step)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \(.density_centre|r(100)) ± \((.density_centre_err // 0)|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($rt) |"' "$f"
+done
+echo
+echo "## Box size at n = 32: L = 3 (the Tables 5–7 runs above) against L = 4 (run.sh size, DENSITY=32)"
+echo
+echo "| point | Π_xz | L | N | μ | shear rate | centre n | T_d | paper μ (L = 6.79) | paper T_d | wall s |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|"
+for f in "$res"/size32_*.json; do
+    [ -f "$f" ] || continue
+    b=$(basename "$f" .json); L=${b##*_L}; pt=${b#size32_}; pt=${pt%_L*}; s=${pt%_dp*}; dpp=${pt##*_dp}
+    line=$(awk -F, -v c="$(paper_case "$s")" -v d="$dpp" '$1 == c && $2 == 32 && $3+0 == d+0 {print $11"±"$12, $7"±"$8}' "$ref/nonlinear_tables3to7_nemd.csv")
+    read -r pmu ptd <<<"${line:-— —}"
+    for g in "$res/nemd32_$pt.json:3:nemd32_$pt" "$f:$L:$b"; do
+        gf=${g%%:*}; rest=${g#*:}; gl=${rest%%:*}; gb=${rest#*:}
+        [ -f "$gf" ] || continue
+        jq -r --arg p "$pt" --arg L "$gl" --arg pm "$pmu" --arg pt "$ptd" --arg rt "$(rt "$gb")" '
+          def r(n): (.*n|round/n);
+          "| \($p) | \(.stress|r(100)) | \($L) | \(32*2*($L|tonumber)*($L|tonumber)*($L|tonumber)|round) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \(.density_centre|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($pm) | \($pt) | \($rt) |"' "$gf"
+    done
 done
 echo
 echo "## Same script, two engines (Ref, N = 1000, 10⁴ steps)"
