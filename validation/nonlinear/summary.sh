@@ -115,8 +115,12 @@ done
 echo
 echo "## Reverse NEMD at n = 32, Tables 5–7 (box 6 × 3 × 3, N = 1728; paper L = 6.79)"
 echo
-echo "| scheme | paper Δp (its box) | Π_xz | shear rate this | shear rate paper | μ this | μ paper | centre n this | T_d this | T_d paper | wall s |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|"
+echo "Flow diagnostics: r² of the linear fits of the mean velocity profile in the central and the"
+echo "outer window, and the lowest and highest bin density of the mean profile (n = 32 everywhere"
+echo "in simple shear; a shear band shows as r² falling and a low-density layer)."
+echo
+echo "| scheme | paper Δp (its box) | Π_xz | shear rate this | shear rate paper | μ this | μ paper | (this − paper)/paper | centre n this | T_d this | T_d paper | r² central / outer | bin density min–max | wall s |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for f in $(for s in ref dot_corrected twostep_dot; do for d in 0.025 0.075 0.15 0.2 0.25 0.3 0.4 0.5 0.55; do
              echo "$res/nemd32_${s}_dp$d.json"; done; done); do
     [ -f "$f" ] || continue
@@ -124,9 +128,12 @@ for f in $(for s in ref dot_corrected twostep_dot; do for d in 0.025 0.075 0.15 
     pc=$(paper_case "$s")
     line=$(awk -F, -v c="$pc" -v d="$dpp" '$1 == c && $2 == 32 && $3+0 == d+0 {print $5"±"$6, $11"±"$12, $7"±"$8}' "$ref/nonlinear_tables3to7_nemd.csv")
     read -r prate pmu ptd <<<"${line:-— — —}"
-    jq -r --arg s "$s" --arg d "$dpp" --arg pr "$prate" --arg pm "$pmu" --arg pt "$ptd" --arg rt "$(rt "$b")" '
+    # density column of the profile CSV (header: x,vz,vz_err,vz_fit,td,td_err,density,density_err)
+    dr=$(awk -F, 'NR > 1 {d = $7 + 0; if (mn == "" || d < mn) mn = d; if (d > mx) mx = d} END {printf "%.1f–%.1f", mn, mx}' "${f%.json}.csv" 2>/dev/null || echo —)
+    jq -r --arg s "$s" --arg d "$dpp" --arg pr "$prate" --arg pm "$pmu" --arg pt "$ptd" --arg rt "$(rt "$b")" --arg dr "$dr" '
       def r(n): (.*n|round/n);
-      "| \($s) | \($d) | \(.stress|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \($pr) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pm) | \(.density_centre|r(100)) ± \((.density_centre_err // 0)|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($pt) | \($rt) |"' "$f"
+      ($pm | split("±")[0] | tonumber? // null) as $p
+      | "| \($s) | \($d) | \(.stress|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \($pr) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \($pm) | \(if $p then "\(((.viscosity - $p) / $p * 1000)|round/10) %" else "—" end) | \(.density_centre|r(100)) ± \((.density_centre_err // 0)|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($pt) | \(.halves[0].r2|r(1000)) / \(.halves[1].r2|r(1000)) | \($dr) | \($rt) |"' "$f"
 done
 echo
 echo "## Box size: Ref at Π_xz = 3.42 (run.sh size; paper: L = 8.55, μ = 4.36 ± 0.02)"
