@@ -150,8 +150,8 @@ done
 echo
 echo "## Box size at n = 32: L = 3 (the Tables 5–7 runs above) against L = 4 (run.sh size, DENSITY=32)"
 echo
-echo "| point | Π_xz | L | N | μ | shear rate | centre n | T_d | paper μ (L = 6.79) | paper T_d | wall s |"
-echo "|---|---|---|---|---|---|---|---|---|---|---|"
+echo "| point | Π_xz | L | N | μ | shear rate | centre n | T_d | r² central / outer | bin density min–max | paper μ (L = 6.79) | paper T_d | wall s |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for f in "$res"/size32_*.json; do
     [ -f "$f" ] || continue
     b=$(basename "$f" .json); L=${b##*_L}; pt=${b#size32_}; pt=${pt%_L*}; s=${pt%_dp*}; dpp=${pt##*_dp}
@@ -160,9 +160,10 @@ for f in "$res"/size32_*.json; do
     for g in "$res/nemd32_$pt.json:3:nemd32_$pt" "$f:$L:$b"; do
         gf=${g%%:*}; rest=${g#*:}; gl=${rest%%:*}; gb=${rest#*:}
         [ -f "$gf" ] || continue
-        jq -r --arg p "$pt" --arg L "$gl" --arg pm "$pmu" --arg pt "$ptd" --arg rt "$(rt "$gb")" '
+        dr=$(awk -F, 'NR > 1 {d = $7 + 0; if (mn == "" || d < mn) mn = d; if (d > mx) mx = d} END {printf "%.1f–%.1f", mn, mx}' "${gf%.json}.csv" 2>/dev/null || echo —)
+        jq -r --arg p "$pt" --arg L "$gl" --arg pm "$pmu" --arg pt "$ptd" --arg rt "$(rt "$gb")" --arg dr "$dr" '
           def r(n): (.*n|round/n);
-          "| \($p) | \(.stress|r(100)) | \($L) | \(32*2*($L|tonumber)*($L|tonumber)*($L|tonumber)|round) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \(.density_centre|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \($pm) | \($pt) | \($rt) |"' "$gf"
+          "| \($p) | \(.stress|r(100)) | \($L) | \(32*2*($L|tonumber)*($L|tonumber)*($L|tonumber)|round) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \(.density_centre|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \(.halves[0].r2|r(1000)) / \(.halves[1].r2|r(1000)) | \($dr) | \($pm) | \($pt) | \($rt) |"' "$gf"
     done
 done
 echo
