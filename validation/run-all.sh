@@ -112,8 +112,9 @@ if want seeds; then
     run PAR="$PAR" SEEDS="1 2 3 4" POINTS="ref:0.01 cross:0.01 dot_corrected:0.01 twostep_dot:0.01 ref:0.2" $nl nemd
 fi
 if want nemd32; then
-    p32=""; for s in ref dot_corrected twostep_dot; do
-        for d in 0.025 0.075 0.15 0.2 0.25 0.3 0.4 0.5 0.55; do p32+=" $s:$d"; done; done
+    # Every point of the paper's Tables 5-7 (the copy in validation/reference/).
+    p32=$(awk -F, '$2 == 32 {sub(/^Ref$/, "ref", $1); sub(/^Dot$/, "dot_corrected", $1)
+        sub(/^Two-step-dot$/, "twostep_dot", $1); printf " %s:%s", $1, $3}' $v/reference/nonlinear_tables3to7_nemd.csv)
     run PAR="$PAR" DENSITY=32 L=3 POINTS="$p32" $nl nemd
 fi
 if want size; then
@@ -168,7 +169,8 @@ if want sdpd; then
     run $w sdpd-analyse
 fi
 if want repulsion; then
-    rsteps=$(steps_of repulsion); [ -n "$rsteps" ] && rsteps="$rsteps summary"
+    # Named steps get the summary after them (once, also when it is named).
+    rsteps=$(steps_of repulsion); [ -n "$rsteps" ] && rsteps="${rsteps//summary/} summary"
     # shellcheck disable=SC2086
     run $v/weighting/repulsion.sh $rsteps
 fi

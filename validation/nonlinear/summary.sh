@@ -7,6 +7,10 @@ here="$(cd "$(dirname "$0")" && pwd)"
 res="$here/results"; ref="$here/../reference"
 paper_case() { case "$1" in ref) echo Ref;; cross) echo Cross;; dot_corrected) echo Dot;; twostep_dot) echo Two-step-dot;; *) echo "";; esac; }
 rt() { awk -F, -v r="$1" '$1 == r {print $5}' "$res/runtimes.csv" | tail -1; }
+# dens_range CSV: lowest–highest bin density of a profile CSV (x,vz,vz_err,vz_fit,td,td_err,density,…).
+dens_range() { awk -F, 'NR > 1 {d = $7 + 0; if (mn == "" || d < mn) mn = d; if (d > mx) mx = d} END {printf "%.1f–%.1f", mn, mx}' "$1" 2>/dev/null || echo —; }
+# paper_dps SCHEME DENSITY: the paper's Delta p values of that scheme in Tables 3-7, in its order.
+paper_dps() { awk -F, -v c="$(paper_case "$1")" -v n="$2" '$1 == c && $2 == n {print $3}' "$ref/nonlinear_tables3to7_nemd.csv"; }
 {
 echo "## MB check (n = 16, kT = 0.1; speed histogram, 150 bins on [0, 2])"
 echo
@@ -85,7 +89,7 @@ echo "|---|---|---|---|---|---|---|---|---|"
 for s in ref dot_corrected twostep_dot; do
   # The delta t = 1e-3 run is the Tables 3-4 one (no _dt suffix); shown only where other delta t exist.
   ls "$res"/nemd_${s}_dp0.2_dt*.json > /dev/null 2>&1 || continue
-  for dt in 0.0001 0.0005 0.001 0.005 0.01 0.05; do
+  for dt in $(awk -F, '!/^#/ && $1 != "dt" {print $1}' "$ref/nonlinear_table8_dt.csv" | sort -g); do
     f="$res/nemd_${s}_dp0.2_dt$dt.json"; [ "$dt" = 0.001 ] && f="$res/nemd_${s}_dp0.2.json"
     [ -f "$f" ] || continue
     b=$(basename "$f" .json)
@@ -121,15 +125,14 @@ echo "in simple shear; a shear band shows as r² falling and a low-density layer
 echo
 echo "| scheme | paper Δp (its box) | Π_xz | shear rate this | shear rate paper | μ this | μ paper | (this − paper)/paper | centre n this | T_d this | T_d paper | r² central / outer | bin density min–max | wall s |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-for f in $(for s in ref dot_corrected twostep_dot; do for d in 0.025 0.075 0.15 0.2 0.25 0.3 0.4 0.5 0.55; do
+for f in $(for s in ref dot_corrected twostep_dot; do for d in $(paper_dps "$s" 32); do
              echo "$res/nemd32_${s}_dp$d.json"; done; done); do
     [ -f "$f" ] || continue
     b=$(basename "$f" .json); s=${b#nemd32_}; dpp=${s##*_dp}; s=${s%_dp*}
     pc=$(paper_case "$s")
     line=$(awk -F, -v c="$pc" -v d="$dpp" '$1 == c && $2 == 32 && $3+0 == d+0 {print $5"±"$6, $11"±"$12, $7"±"$8}' "$ref/nonlinear_tables3to7_nemd.csv")
     read -r prate pmu ptd <<<"${line:-— — —}"
-    # density column of the profile CSV (header: x,vz,vz_err,vz_fit,td,td_err,density,density_err)
-    dr=$(awk -F, 'NR > 1 {d = $7 + 0; if (mn == "" || d < mn) mn = d; if (d > mx) mx = d} END {printf "%.1f–%.1f", mn, mx}' "${f%.json}.csv" 2>/dev/null || echo —)
+    dr=$(dens_range "${f%.json}.csv")
     jq -r --arg s "$s" --arg d "$dpp" --arg pr "$prate" --arg pm "$pmu" --arg pt "$ptd" --arg rt "$(rt "$b")" --arg dr "$dr" '
       def r(n): (.*n|round/n);
       ($pm | split("±")[0] | tonumber? // null) as $p
@@ -160,7 +163,7 @@ for f in "$res"/size32_*.json; do
     for g in "$res/nemd32_$pt.json:3:nemd32_$pt" "$f:$L:$b"; do
         gf=${g%%:*}; rest=${g#*:}; gl=${rest%%:*}; gb=${rest#*:}
         [ -f "$gf" ] || continue
-        dr=$(awk -F, 'NR > 1 {d = $7 + 0; if (mn == "" || d < mn) mn = d; if (d > mx) mx = d} END {printf "%.1f–%.1f", mn, mx}' "${gf%.json}.csv" 2>/dev/null || echo —)
+        dr=$(dens_range "${gf%.json}.csv")
         jq -r --arg p "$pt" --arg L "$gl" --arg pm "$pmu" --arg pt "$ptd" --arg rt "$(rt "$gb")" --arg dr "$dr" '
           def r(n): (.*n|round/n);
           "| \($p) | \(.stress|r(100)) | \($L) | \(32*2*($L|tonumber)*($L|tonumber)*($L|tonumber)|round) | \(.viscosity|r(100)) ± \(.viscosity_err|r(100)) | \(.shear_rate|r(1000)) ± \(.shear_rate_err|r(1000)) | \(.density_centre|r(100)) | \(.td_centre|r(10000)) ± \((.td_centre_err // 0)|r(10000)) | \(.halves[0].r2|r(1000)) / \(.halves[1].r2|r(1000)) | \($dr) | \($pm) | \($pt) | \($rt) |"' "$gf"

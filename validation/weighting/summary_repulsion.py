@@ -37,6 +37,11 @@ def eta(name):
     return e, err, t[0], t[1]
 
 
+def rate_mean(got):
+    """Mean of eta* over the rates run and its standard error from the per-rate errors."""
+    return (sum(v[0] for v in got) / len(got), math.sqrt(sum(v[1] ** 2 for v in got)) / len(got))
+
+
 def fmt(v, nd=2):
     if v is None:
         return "–"
@@ -221,8 +226,7 @@ def main():
             if not any(vals):
                 continue
             got = [v for v in vals if v]
-            m = sum(v[0] for v in got) / len(got)
-            me = math.sqrt(sum(v[1] ** 2 for v in got)) / len(got)
+            m, me = rate_mean(got)
             lm = eta(f"couette_{tag}_a{a25}_N1600_r0.2_lmp")
             zs = [eta(f"couette_{tag}_N1600_r{r}") for r in RATES] if tag == "t5a" else []
             zs = [z for z in zs if z]
@@ -244,32 +248,31 @@ def main():
     if a25 and any(eta(f"couette_t2e{e0}_a{a25}_N1600_r{r}") for e0 in (10, 50) for r in RATES):
         p(f"## Table 2 (proposed DPD, r_c = 2.5, s = ½), Couette η* with a = {a25}")
         p("")
-        p("The paper's η0 = 50 row labelled 'proposed DPD' is the noisier of its two proposed rows "
-          "(mean 49.44, std 1.00); its caption calls DPD the more stable, so the labels look swapped "
-          "(validation/reference/weighting_tables_2d.csv). Both are shown; the quiet row (49.28 ± 0.09) is "
-          "the one this project reads as DPD.")
+        p("The paper's η0 = 50 row labelled 'proposed DPD' is the noisier of its two proposed rows; "
+          "its caption calls DPD the more stable, so the labels look swapped "
+          "(validation/reference/weighting_tables_2d.csv). Both are shown; the quiet row is "
+          "the one this project reads as DPD. Run lengths: `repulsion.sh` step t2.")
         p("")
-        p("| η0 | steps | η* at γ̇ = 0.05 / 0.1 / 0.2 / 0.5 / 1 (standalone) | mean | LAMMPS at 0.2 | T standalone (mean over rates) | paper η* at the 5 rates | paper mean ± std | (ours − paper)/paper | η̄ (eq. 60) |")
-        p("|---|---|---|---|---|---|---|---|---|---|")
-        for e0, steps in ((10, 40000), (50, 20000)):
+        p("| η0 | η* at γ̇ = 0.05 / 0.1 / 0.2 / 0.5 / 1 (standalone) | mean | LAMMPS at 0.2 | T standalone (mean over rates) | paper η* at the 5 rates | paper mean ± std | (ours − paper)/paper | η̄ (eq. 60) |")
+        p("|---|---|---|---|---|---|---|---|---|")
+        for e0 in (10, 50):
             vals = [eta(f"couette_t2e{e0}_a{a25}_N1600_r{r}") for r in RATES]
             got = [v for v in vals if v]
             if not got:
                 continue
-            m = sum(v[0] for v in got) / len(got)
-            me = math.sqrt(sum(v[1] ** 2 for v in got)) / len(got)
+            m, me = rate_mean(got)
             ts = [v[2] for v in got if not math.isnan(v[2])]
             tm = f"{sum(ts) / len(ts):.3f}" if ts else "–"
             lm = eta(f"couette_t2e{e0}_a{a25}_N1600_r0.2_lmp")
             w = ref_row(2, 2.5, e0)
             pm = float(w[11])
-            p(f"| {e0} | {steps} | " + " / ".join(f"{v[0]:.2f} ± {v[1]:.2f}" if v else "–" for v in vals)
+            p(f"| {e0} | " + " / ".join(f"{v[0]:.2f} ± {v[1]:.2f}" if v else "–" for v in vals)
               + f" | {m:.2f} ± {me:.2f} | {fmt(lm)} | {tm} | " + " / ".join(w[6:11]) + f" | {pm:.2f} ± {float(w[12]):.2f}"
               + f" | {(m - pm) / pm * 100:+.1f} % | {float(w[5]):.2f} |")
             alt = printed_dpd_row(e0)
             if alt:
                 am = float(alt[13])
-                p(f"| {e0} (the row printed as 'DPD') | | | | | | " + " / ".join(f"{float(x):.2f}" for x in alt[8:13])
+                p(f"| {e0} (the row printed as 'DPD') | | | | | " + " / ".join(f"{float(x):.2f}" for x in alt[8:13])
                   + f" | {am:.2f} ± {float(alt[14]):.2f} | {(m - am) / am * 100:+.1f} % | |")
         p("")
     # 4. diffusion
