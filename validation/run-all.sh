@@ -113,8 +113,9 @@ if want seeds; then
 fi
 if want nemd32; then
     # Every point of the paper's Tables 5-7 (the copy in validation/reference/).
-    p32=$(awk -F, '$2 == 32 {sub(/^Ref$/, "ref", $1); sub(/^Dot$/, "dot_corrected", $1)
-        sub(/^Two-step-dot$/, "twostep_dot", $1); printf " %s:%s", $1, $3}' $v/reference/nonlinear_tables3to7_nemd.csv)
+    # shellcheck source=nonlinear/paper.sh
+    p32=""; ref=$v/reference; . $v/nonlinear/paper.sh
+    for s in ref dot_corrected twostep_dot; do for d in $(paper_dps $s 32); do p32+=" $s:$d"; done; done
     run PAR="$PAR" DENSITY=32 L=3 POINTS="$p32" $nl nemd
 fi
 if want size; then

@@ -5,12 +5,11 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 res="$here/results"; ref="$here/../reference"
-paper_case() { case "$1" in ref) echo Ref;; cross) echo Cross;; dot_corrected) echo Dot;; twostep_dot) echo Two-step-dot;; *) echo "";; esac; }
+# shellcheck source=paper.sh
+. "$here/paper.sh"
 rt() { awk -F, -v r="$1" '$1 == r {print $5}' "$res/runtimes.csv" | tail -1; }
 # dens_range CSV: lowest–highest bin density of a profile CSV (x,vz,vz_err,vz_fit,td,td_err,density,…).
 dens_range() { awk -F, 'NR > 1 {d = $7 + 0; if (mn == "" || d < mn) mn = d; if (d > mx) mx = d} END {printf "%.1f–%.1f", mn, mx}' "$1" 2>/dev/null || echo —; }
-# paper_dps SCHEME DENSITY: the paper's Delta p values of that scheme in Tables 3-7, in its order.
-paper_dps() { awk -F, -v c="$(paper_case "$1")" -v n="$2" '$1 == c && $2 == n {print $3}' "$ref/nonlinear_tables3to7_nemd.csv"; }
 {
 echo "## MB check (n = 16, kT = 0.1; speed histogram, 150 bins on [0, 2])"
 echo
