@@ -184,3 +184,5 @@ if [ -f "$a.mb.json" ] && [ -f "$b.mb.json" ]; then
 fi
 } > "$res/summary.md"
 cat "$res/summary.md"
+# The README's copies of the tables of results/summary.md (marked <!-- copy: … -->).
+python3 "$here/../sync_tables.py" "$here/README.md"

@@ -65,7 +65,7 @@ for st in "${steps[@]}"; do
             A="$a" CASES="t3:1.0:10:0.5:60000" RATES="0.2" LMP_RATES="" EXT_RATES="" "$run" couette &
         done
         wait ;;
-    summary) python3 "$here/summary_repulsion.py" ;;
+    summary) python3 "$here/summary_repulsion.py"; python3 "$here/../sync_tables.py" "$here/README.md" ;;
     *) sed -n '2,/^set -euo/p' "$0" | sed '$d'; exit 2 ;;
     esac
 done

@@ -81,3 +81,5 @@ done
 } > "$res/summary.md"
 python3 "$here/summary_sdpd.py" >> "$res/summary.md"
 cat "$res/summary.md"
+# The README's copies of the tables of results/summary.md and results/repulsion.md (marked <!-- copy: … -->).
+python3 "$here/../sync_tables.py" "$here/README.md"
