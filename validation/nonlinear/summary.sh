@@ -8,6 +8,8 @@ res="$here/results"; ref="$here/../reference"
 # shellcheck source=paper.sh
 . "$here/paper.sh"
 rt() { awk -F, -v r="$1" '$1 == r {print $5}' "$res/runtimes.csv" | tail -1; }
+# t8: the data rows of the paper's Table 8 (dt,...; comment and header lines dropped).
+t8() { awk -F, '!/^#/ && $1 != "dt"' "$ref/nonlinear_table8_dt.csv"; }
 # dens_range CSV: lowest–highest bin density of a profile CSV (x,vz,vz_err,vz_fit,td,td_err,density,…).
 dens_range() { awk -F, 'NR > 1 {d = $7 + 0; if (mn == "" || d < mn) mn = d; if (d > mx) mx = d} END {printf "%.1f–%.1f", mn, mx}' "$1" 2>/dev/null || echo —; }
 {
@@ -88,14 +90,14 @@ echo "|---|---|---|---|---|---|---|---|---|"
 for s in ref dot_corrected twostep_dot; do
   # The delta t = 1e-3 run is the Tables 3-4 one (no _dt suffix); shown only where other delta t exist.
   ls "$res"/nemd_${s}_dp0.2_dt*.json > /dev/null 2>&1 || continue
-  for dt in $(awk -F, '!/^#/ && $1 != "dt" {print $1}' "$ref/nonlinear_table8_dt.csv" | sort -g); do
+  for dt in $(t8 | cut -d, -f1 | sort -g); do
     f="$res/nemd_${s}_dp0.2_dt$dt.json"; [ "$dt" = 0.001 ] && f="$res/nemd_${s}_dp0.2.json"
     [ -f "$f" ] || continue
     b=$(basename "$f" .json)
     if [ "$s" = ref ]; then
         read -r pr pm <<<"$(awk -F, '$1 == "Ref" && $2 == 16 && $3+0 == 0.2 {print $5"±"$6"†", $11"±"$12"†"}' "$ref/nonlinear_tables3to7_nemd.csv")"
     else
-        read -r pr pm <<<"$(awk -F, -v d="$dt" '!/^#/ && $1+0 == d+0 && $1 != "dt" {print $4" / "$5, $6" / "$7}' "$ref/nonlinear_table8_dt.csv" | sed 's| / |/|g')"
+        read -r pr pm <<<"$(t8 | awk -F, -v d="$dt" '$1+0 == d+0 {print $4"/"$5, $6"/"$7}')"
     fi
     jq -r --arg s "$s" --arg dt "$dt" --arg pr "${pr:-—}" --arg pm "${pm:-—}" --arg rt "$(rt "$b")" '
       def r(n): (.*n|round/n);
