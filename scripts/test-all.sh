@@ -26,7 +26,7 @@ rustup component list --installed 2>/dev/null | grep -q clippy || rustup compone
 echo "== cargo fmt --check"
 cargo fmt --all -- --check
 echo "== validation READMEs: tables equal to the summaries they copy (validation/sync_tables.py --check)"
-python3 validation/sync_tables.py --check validation/nonlinear/README.md validation/weighting/README.md
+python3 validation/sync_tables.py --check validation/finite_step/README.md validation/nonlinear/README.md validation/weighting/README.md
 echo "== cargo clippy -D warnings"
 cargo clippy --workspace --all-targets -- -D warnings
 echo "== build build/lmp_dpdnl (Debian LAMMPS + this project's styles)"

@@ -2,11 +2,13 @@
 //! measured T/T0 against eq. 22 of the finite-step paper, T_eq/T0 = 1/(1 − δt/δt_c).
 //!
 //! `cargo run --release --example finite_step_plot -- OUT_PREFIX SWEEP.csv…` writes
-//! OUT_PREFIX.png/.svg and prints a markdown table. A point is "unstable" when its temperature
+//! OUT_PREFIX.png/.svg and the markdown table OUT_PREFIX.md (also printed; the README's copy is
+//! kept equal to it by `validation/sync_tables.py`). A point is "unstable" when its temperature
 //! ran away (T/T0 > 3 × eq. 22's value): its block average is then not an equilibrium value.
 
 use dpdnl::plot::{Figure, Legend, Panel, Series};
 use std::collections::BTreeMap;
+use std::fmt::Write as _;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -95,8 +97,10 @@ fn main() -> ExitCode {
         curve.iter().map(|f| 1.0 / (1.0 - f)).collect(),
     ));
     excess = excess.with(Series::dashed("eq. 22", vec![0.0, 0.72], vec![1.0, 1.0]));
-    println!("| n | dt | dt/dt_c | T/T0 measured | eq. 22 | (T/T0−1)/(eq.22−1) |");
-    println!("|---|---|---|---|---|---|");
+    let mut table = String::from(
+        "## Euler: T/T0 against eq. 22 (2-D ideal fluid)\n\n\
+         | n | dt | dt/dt_c | T/T0 measured | eq. 22 | (T/T0−1)/(eq.22−1) |\n|---|---|---|---|---|---|\n",
+    );
     for (idx, (n, pts)) in by_n.values_mut().enumerate() {
         // Repeated points (several sweeps): keep the most precise one.
         pts.sort_by(|a, b| a.frac.total_cmp(&b.frac).then(a.err.total_cmp(&b.err)));
@@ -105,7 +109,9 @@ fn main() -> ExitCode {
         for p in pts.iter() {
             let unstable = p.t >= 3.0 * p.pred;
             let ratio = (p.t - 1.0) / (p.pred - 1.0);
-            println!(
+            // Writing to a String cannot fail.
+            let _ = writeln!(
+                table,
                 "| {n} | {:.4} | {} | {} | {:.4} | {} |",
                 p.dt,
                 p.frac,
@@ -144,6 +150,12 @@ fn main() -> ExitCode {
             .errors(stable.iter().map(|p| p.err / (p.pred - 1.0)).collect())
             .color(idx + 1),
         );
+    }
+    print!("{table}");
+    let md = format!("{}.md", args[0]);
+    if let Err(e) = std::fs::write(&md, &table) {
+        eprintln!("ERROR: {md}: {e}");
+        return ExitCode::FAILURE;
     }
     let temp = temp.x_range(0.0, 0.72);
     let excess = excess.x_range(0.0, 0.72).y_range(0.4, 1.3);
