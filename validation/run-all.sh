@@ -151,6 +151,7 @@ if want finite_step; then
     run $fs/vv_weighting.sh $fs/results/vv_weighting.csv
     run cargo run --release --example finite_step_plot -- $fs/results/t_vs_dt $fs/results/sweep_300tau.csv \
         $fs/results/sweep_300tau_extra.csv $fs/results/sweep_3000tau.csv
+    run python3 $fs/vv_tables.py
     run python3 $v/sync_tables.py $fs/README.md
 fi
 if want weighting; then
