@@ -9,7 +9,8 @@ set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 dpdnl=${DPDNL:-$root/target/release/dpdnl}
-out=${1:-$here/vv_nonlinear.csv}
+# Absolute: the runs below work in examples/nonlinear/ (a relative OUT.csv is the caller's).
+out=$(realpath -m "${1:-$here/vv_nonlinear.csv}")
 natoms=${N:-2000}
 dts=${DTS:-"0.001 0.003 0.01"}
 models=${MODELS:-"ref dot_plain dot_corrected twostep_dot"}
