@@ -4,7 +4,9 @@
 //! `cargo run --release --example finite_step_plot -- OUT_PREFIX SWEEP.csv…` writes
 //! OUT_PREFIX.png/.svg and the markdown table OUT_PREFIX.md (also printed; the README's copy is
 //! kept equal to it by `validation/sync_tables.py`). A point is "unstable" when its temperature
-//! ran away (T/T0 > 3 × eq. 22's value): its block average is then not an equilibrium value.
+//! ran away (T/T0 > 3 × eq. 22's value): its block average is then not an equilibrium value; a
+//! point whose run the engine's blow-up check stopped (a non-finite value, or an atom moving more
+//! than half the box in one step) has T = inf in the sweep CSV and is listed as such.
 
 use dpdnl::plot::{Figure, Legend, Panel, Series};
 use std::collections::BTreeMap;
@@ -115,7 +117,10 @@ fn main() -> ExitCode {
                 "| {n} | {:.4} | {} | {} | {:.4} | {} |",
                 p.dt,
                 p.frac,
-                if unstable {
+                if !p.t.is_finite() {
+                    // sweep.sh records T = inf when the engine's blow-up check stopped the run.
+                    "unstable (stopped by the blow-up check)".to_string()
+                } else if unstable {
                     format!("unstable (ran away to {:.0})", p.t)
                 } else {
                     format!("{:.4} ± {:.4}", p.t, p.err)
