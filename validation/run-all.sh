@@ -166,6 +166,7 @@ if want sdpd; then
     run $w sdpd-cs
     run SET=all $w sdpd-couette
     run ENGINE=standalone CASES="t2prop50:2.5:p0.5:50:3000" RATES=0.2 $w sdpd-couette
+    run ENGINE=standalone CASES="t3lucy:1.0:lucy:10:12000:1000:300" RATES=0.2 $w sdpd-couette
     run $w sdpd-diffusion
     run DPD_COUETTE=0 SC0S="10 100 1000" $w sdpd-schmidt
     run $w sdpd-peer
