@@ -153,7 +153,7 @@ pub fn euler_warning(
         "Euler step dt = {dt} is {:.3} dt_c (dt_c = {dt_c:.6}, eq. 25; {params}): eq. 22 predicts \
          T_eq/T0 = {ratio_eq22:.4} (+{:.1}% heating). Measured in 2-D ideal fluids \
          (docs/theory.md): the heating was 0.7-1.0 times eq. 22's up to 0.2 dt_c, and dense \
-         fluids went unstable well below dt_c (n = 16: above 0.2 dt_c; n = 4: above 0.35 dt_c). \
+         fluids went unstable well below dt_c (n = 16: from 0.2-0.25 dt_c; n = 4: from 0.3-0.4 dt_c). \
          Reduce dt or use fix nve.{caveats}",
         frac,
         100.0 * (ratio_eq22 - 1.0)
