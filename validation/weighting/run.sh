@@ -57,8 +57,8 @@ work="$here/work"; res="$here/results"
 mkdir -p "$work" "$res"
 # Keeps the committed EH curve small: the first 200 lags, then every 20th (the JSON has the fit).
 thin_csv() { awk 'NR <= 201 || (NR - 1) % 20 == 0' "$1" > "$1.tmp" && mv "$1.tmp" "$1"; }
-# blocks FILE COL [NB] [FROM] [TO] [DIGITS]: mean (DIGITS, default 6, significant digits) and standard error of NB (20) block means of a
-# column, rows with FROM <= step (column 1) <= TO.
+# blocks FILE COL [NB] [FROM] [TO] [DIGITS]: mean (DIGITS significant digits, default 6) and
+# standard error of NB (20) block means of a column, rows with FROM <= step (column 1) <= TO.
 blocks() {
     awk -v c="$2" -v nb="${3:-20}" -v f="${4:-0}" -v u="${5:-1e30}" -v dg="${6:-6}" '!/^#/ && $1 >= f && $1 <= u {k++; t[k] = $c; s += $c}
          END {bl = int(k / nb); m = s / k
