@@ -3,6 +3,7 @@
 //! short Couette viscosity, and input errors.
 #![allow(clippy::needless_range_loop)]
 
+use dpdnl::engine::forcefield::DpdPair;
 use dpdnl::engine::lees_edwards::{Deform, Triclinic};
 use dpdnl::engine::{Atoms, ForceField, Integrator, SimBox, System};
 use dpdnl::input::ScriptError;
@@ -59,7 +60,7 @@ fn system(bx: SimBox, n: usize, xy: f64, erate: f64, seed: u64) -> System {
     ff.set(1, 1, c(25.0, 4.5, 0.5, 1.0));
     ff.set(1, 2, c(30.0, 3.0, 0.2, 0.9));
     ff.set(2, 2, c(20.0, 5.0, 0.3, 1.1));
-    sys.ff = Some(ff);
+    sys.set_pair(DpdPair::from_field(ff));
     sys.dt = 0.01;
     sys.step = 7;
     let mut t = Triclinic::new(xy);
@@ -75,7 +76,7 @@ fn system(bx: SimBox, n: usize, xy: f64, erate: f64, seed: u64) -> System {
 /// `pair_force` with the pair's keyed Gaussian (`docs/models.md` §1.1–1.4; P-5: the boundary
 /// velocity jump). Returns (f, energy, virial, pairs through the sheared boundary).
 fn brute(sys: &System) -> (Vec<[f64; 3]>, f64, [f64; 6], usize) {
-    let ff = sys.ff.as_ref().expect("ff");
+    let ff = sys.dpd().expect("ff");
     let tri = sys.tri.as_ref().expect("triclinic");
     let (off, rate) = (tri.le.offset, tri.le.rate);
     let l = sys.bx.len();

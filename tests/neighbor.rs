@@ -3,6 +3,7 @@
 //! thread count and instruction set (slab mode with 3-D and 2-D boxes, the serial small-box
 //! mode, one and two atom types).
 
+use dpdnl::engine::forcefield::DpdPair;
 use dpdnl::engine::{ForceField, Integrator, NeighborList, SimBox, System};
 use dpdnl::kernel::{Friction, Isa, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force};
 use dpdnl::rng::{keyed_gaussian, keyed_uniform, pair_gaussian};
@@ -62,7 +63,7 @@ fn fluid(s: &Spec, isa: Option<Isa>, working: Option<bool>) -> System {
         ff.set(2, 2, c(30.0, 0.2, 0.9));
         ff.set(1, 2, c(20.0, 1.0, 0.8));
     }
-    sys.ff = Some(ff);
+    sys.set_pair(DpdPair::from_field(ff));
     sys.dt = 0.01;
     sys.integrator = Some(Integrator::VelocityVerlet);
     sys.neighbor = NeighborList::new(0.3);
@@ -131,7 +132,7 @@ fn forces_match_brute_force() {
         sys.setup().expect("setup");
         let a = &sys.atoms;
         let n = a.len();
-        let ff = sys.ff.as_ref().expect("ff");
+        let ff = sys.dpd().expect("ff");
         let inv_m = |t: u32| 1.0 / sys.mass[t as usize].expect("mass");
         let mut f = vec![[0.0; 3]; n];
         let mut scale = vec![[0.0; 3]; n];

@@ -22,11 +22,11 @@ typedef enum DpdnlStatus {
   DPDNL_STATUS_INTERNAL = 4,
 } DpdnlStatus;
 
+// A pair style and its coefficients (opaque to C).
+typedef struct DpdnlPair DpdnlPair;
+
 // The validated parameter table of `pair_style dpd/nonlinear` + `pair_coeff` (opaque to C).
 typedef struct DpdnlParams DpdnlParams;
-
-// `pair_style sdpd` and its coefficients (opaque to C).
-typedef struct DpdnlSdpd DpdnlSdpd;
 
 // The four force parts of one pair as projections on e_ij, plus the conservative energy and
 // 1/r (force on i = `(fc + fd + fr + fa) * inv_r * r_ij`). Mirrors `dpdnl::kernel::PairForce`.
@@ -111,50 +111,32 @@ typedef struct DpdnlTally {
   double *vatom;
 } DpdnlTally;
 
-// The settings of `pair_style dpd/nonlinear` (from [`dpdnl_parse_pair_style`]).
-// `friction`: 0 none, 1 cross, 2 dot; `noise`: 0 plain, 1 corrected, 2 twostep.
-typedef struct DpdnlPairStyle {
-  // Thermostat temperature kT.
-  double kt;
-  // Global cut-off.
-  double rc;
-  // Noise seed, 1..=2147483647.
-  int32_t seed;
-  // Friction model code.
-  int32_t friction;
-  // Noise scheme code.
-  int32_t noise;
-  // Weight exponent s.
-  double weight_s;
-} DpdnlPairStyle;
+// What a style needs from its C++ driver.
+typedef struct DpdnlPairInfo {
+  // Values per atom of the style's pre-pass (0: none; 1: one double per owned and ghost atom,
+  // communicated between the passes).
+  int32_t values_per_atom;
+  // 1 when [`dpdnl_pair_single`] answers (LAMMPS's `single_enable`).
+  int32_t single;
+  // 1 when [`dpdnl_pair_data`] answers (LAMMPS's `writedata`).
+  int32_t data;
+} DpdnlPairInfo;
 
-// One `pair_coeff` line of `dpd/nonlinear` (from [`dpdnl_parse_pair_coeff`]): the type
-// ranges ilo..=ihi, jlo..=jhi (set the pairs i <= j), the coefficients, and for the
-// `eta … sc …` form `targets = 1` with eta and sc (gamma0 is then 1 until set-up).
-typedef struct DpdnlPairCoeffLine {
-  // First type of I.
-  int32_t ilo;
-  // Last type of I.
-  int32_t ihi;
-  // First type of J.
-  int32_t jlo;
-  // Last type of J.
-  int32_t jhi;
-  // Conservative amplitude a.
-  double a;
-  // Friction γ0.
-  double gamma0;
-  // Non-linear coefficient γ1.
-  double gamma1;
-  // Cut-off of the pair.
-  double rc;
-  // 1 for the `eta E sc S` form.
-  int32_t targets;
-  // Target viscosity (targets only).
-  double eta;
-  // Target Schmidt number (targets only).
-  double sc;
-} DpdnlPairCoeffLine;
+// What a run's set-up knows (LAMMPS's state at `init_style`).
+typedef struct DpdnlSetup {
+  // 2 or 3.
+  int32_t dimension;
+  // Atoms in the whole system (LAMMPS `atom->natoms`).
+  int64_t natoms;
+  // Volume of the box (area in 2-D).
+  double volume;
+  // Per-type masses, `ntypes + 1` doubles (entry 0 unused), or null (per-atom masses).
+  const double *mass;
+  // Time step.
+  double dt;
+  // Nonzero when a `fix nve/euler` is defined (the finite-step warning).
+  int32_t euler;
+} DpdnlSetup;
 
 // The arguments of `fix pex/push` (from [`dpdnl_parse_fix_pex_push`]); `width` 0 means the
 // default Lx/20 of each run's box.
@@ -292,59 +274,10 @@ enum DpdnlStatus dpdnl_check_health(const struct DpdnlAtoms *atoms,
                                     const double *len,
                                     int32_t dimension);
 
-// The line to log left by the last successful [`dpdnl_design_pair`], [`dpdnl_common_exponent`]
-// or [`dpdnl_euler_warning`] on this thread ("" when there is nothing to say). Valid until the
-// next such call on this thread.
+// The lines to log left by the last successful [`crate::dpdnl_pair_init`] on this thread (""
+// when there is nothing to say; warnings start with "WARNING: "). Valid until the next such
+// call on this thread.
 const char *dpdnl_last_message(void);
-
-// `pair_coeff I J a eta E sc S`: the `gamma0` and weight exponent s that give viscosity `eta`
-// and Schmidt number `sc` at number density `density` (N/V; per area in 2-D), cut-off `rc`,
-// mass `mass`, thermostat `kt` (exact kinetic-theory inversion, `dpdnl::init::resolve_design`).
-// On success `*gamma0` and `*s` are set and [`dpdnl_last_message`] holds the line to log.
-//
-// # Safety
-// `gamma0` and `s` are null or valid for writing.
-enum DpdnlStatus dpdnl_design_pair(int32_t itype,
-                                   int32_t jtype,
-                                   int32_t dimension,
-                                   double density,
-                                   double rc,
-                                   double mass,
-                                   double kt,
-                                   double eta,
-                                   double sc,
-                                   double *gamma0,
-                                   double *s);
-
-// The one weight exponent of `n` designed pairs (`itype[k] jtype[k]` needs `s[k]`): an error
-// if they differ (the exponent is global in the pair style). `current` is the pair style's
-// exponent; `*s_out` gets the common one (or `current` when `n` is 0), and
-// [`dpdnl_last_message`] says so when it replaces `current`.
-//
-// # Safety
-// `itype`, `jtype` and `s` hold `n` entries (or are null when `n` is 0); `s_out` is valid for
-// writing.
-enum DpdnlStatus dpdnl_common_exponent(int32_t n,
-                                       const int32_t *itype,
-                                       const int32_t *jtype,
-                                       const double *s,
-                                       double current,
-                                       double *s_out);
-
-// The Euler finite-step heating check of `dpdnl::init::euler_warning` (finite-step paper
-// eqs. 22 and 25): [`dpdnl_last_message`] holds the warning text, or "" when δt is small
-// enough. `gamma` is the largest `gamma0`, `mass` the lightest mass, `conservative` non-zero
-// when some pair has a ≠ 0, `nonlinear` non-zero for friction cross/dot.
-enum DpdnlStatus dpdnl_euler_warning(int32_t dimension,
-                                     double density,
-                                     double rc,
-                                     double mass,
-                                     double kt,
-                                     double gamma,
-                                     double s,
-                                     double dt,
-                                     int32_t conservative,
-                                     int32_t nonlinear);
 
 // The set-up box check of both engines (`dpdnl::init::check_box_images`): every periodic
 // dimension (`periodic[d]` nonzero, d < `dimension`) of the box `len` (3 doubles) must be at
@@ -357,125 +290,161 @@ enum DpdnlStatus dpdnl_box_check(const double *len,
                                  int32_t dimension,
                                  double rc_max);
 
-// Create the style from the words after `pair_style sdpd` for `ntypes` atom types; `*out` gets
-// a handle to release with [`dpdnl_sdpd_free`] (null on failure, the message says why).
+// A new pair style `name` ("dpd/nonlinear", "sdpd") from the words after the name (LAMMPS's
+// `Pair::settings(narg, arg)`) for `ntypes` atom types; `*out` gets a handle to release with
+// [`dpdnl_pair_free`] (null on failure, the message says why).
 //
 // # Safety
-// `arg` points to `narg` NUL-terminated strings; `out` is valid for writing.
-enum DpdnlStatus dpdnl_sdpd_new(int32_t narg,
+// `name` is a NUL-terminated string; `arg` points to `narg` NUL-terminated strings; `out` is
+// valid for writing.
+enum DpdnlStatus dpdnl_pair_new(const char *name,
+                                int32_t narg,
                                 const char *const *arg,
                                 int32_t ntypes,
-                                struct DpdnlSdpd **out);
+                                struct DpdnlPair **out);
 
-// Release a handle from [`dpdnl_sdpd_new`] (null is ignored).
+// Release a handle (null is ignored).
 //
 // # Safety
 // `h` is null or a live handle, not used afterwards.
-void dpdnl_sdpd_free(struct DpdnlSdpd *h);
+void dpdnl_pair_free(struct DpdnlPair *h);
 
-// Apply one `pair_coeff` line of `sdpd` (all its words, types first).
+// The same pair style given again with new settings (the words after its name): the
+// coefficients are kept under the style's rule (`PairStyle::restyle`).
 //
 // # Safety
 // `h` is a live handle; `arg` points to `narg` NUL-terminated strings.
-enum DpdnlStatus dpdnl_sdpd_coeff(struct DpdnlSdpd *h, int32_t narg, const char *const *arg);
+enum DpdnlStatus dpdnl_pair_settings(struct DpdnlPair *h, int32_t narg, const char *const *arg);
 
-// Whether type pair (i, j) has coefficients (1) or not (0), and its cut-off in `*rc`.
+// Apply one `pair_coeff` line (all its words, types first: LAMMPS's `Pair::coeff(narg, arg)`)
+// with `ntypes` atom types (the style's tables grow when the box has more types than the
+// style was made for).
 //
 // # Safety
-// `h` is a live handle; `rc` is valid for writing.
-enum DpdnlStatus dpdnl_sdpd_pair(struct DpdnlSdpd *h,
-                                 int32_t i,
-                                 int32_t j,
-                                 double *rc,
-                                 int32_t *set);
+// `h` is a live handle; `arg` points to `narg` NUL-terminated strings.
+enum DpdnlStatus dpdnl_pair_coeff(struct DpdnlPair *h,
+                                  int32_t ntypes,
+                                  int32_t narg,
+                                  const char *const *arg);
 
-// Set-up of a run (`Pair::init_style`): every pair set, (η, Sc) targets resolved at number
-// density `density`, kernels and equations of state built for dimension `dim`, per-type masses
-// `mass[0..=ntypes]` (entry 0 unused) and step `dt`. `*rc_max` gets the largest cut-off;
-// [`crate::dpdnl_last_message`] holds the lines to log, one per line, warnings starting
-// with "WARNING: ".
+// Whether type pair (i, j) has coefficients (`*set` 1 or 0), and its cut-off in `*rc`.
 //
 // # Safety
-// `h` is a live handle; `mass` holds `ntypes + 1` doubles; `rc_max` is valid for writing.
-enum DpdnlStatus dpdnl_sdpd_init(struct DpdnlSdpd *h,
-                                 int32_t dim,
-                                 double density,
-                                 const double *mass,
-                                 double dt,
+// `h` is a live handle; `rc` and `set` are valid for writing.
+enum DpdnlStatus dpdnl_pair_cutoff(struct DpdnlPair *h,
+                                   int32_t i,
+                                   int32_t j,
+                                   double *rc,
+                                   int32_t *set);
+
+// What the style needs from its driver (a null handle gives all zeros).
+//
+// # Safety
+// `h` is null or a live handle.
+struct DpdnlPairInfo dpdnl_pair_info(const struct DpdnlPair *h);
+
+// Set-up of a run (`Pair::init_style`): every pair set, (η, Sc) targets resolved at the
+// current density, the per-run tables built, the Euler warning. `*rc_max` gets the largest
+// cut-off; [`crate::dpdnl_last_message`] holds the lines to log, one per line, warnings
+// starting with "WARNING: ".
+//
+// # Safety
+// `h` is a live handle; `setup` is valid for reading (its `mass` null or `ntypes + 1`
+// doubles); `rc_max` is valid for writing.
+enum DpdnlStatus dpdnl_pair_init(struct DpdnlPair *h,
+                                 const struct DpdnlSetup *setup,
                                  double *rc_max);
 
-// Pass 1: `rho[0..nall]` is overwritten with Σ_j W(r_ij) over the half list `list`, added to i
-// and to j (j owned, or any j when `newton_pair` is non-zero). Without the self term.
+// The pre-pass, pass 1: `values[0..nall]` is overwritten with Σ_j w(r_ij) over the half list
+// `list`, added to i and to j (j owned, or any j when `newton_pair` is non-zero), without the
+// self term. A style without a pre-pass is an error.
 //
 // # Safety
-// `h` is a live handle; `atoms` and `list` as for `dpdnl_compute`; `rho` holds `nall` doubles.
-enum DpdnlStatus dpdnl_sdpd_density(struct DpdnlSdpd *h,
+// `h` is a live handle; `atoms` and `list` as for `dpdnl_compute`; `values` holds `nall`
+// doubles.
+enum DpdnlStatus dpdnl_pair_prepass(struct DpdnlPair *h,
                                     const struct DpdnlAtoms *atoms,
                                     const struct DpdnlNeighList *list,
                                     int32_t newton_pair,
-                                    double *rho);
+                                    double *values);
 
-// Pass 1's end for the owned atoms: `rho[i] += W_ii(0)`, and the Tait energy Σ u(d_i) added to
-// `tally->eng_vdwl` (when `eflag_global`) and `tally->eatom[i]` (when not null). A non-finite
-// pressure is an error naming the atom's tag and density (`tag` may be null: the index is
-// named).
+// The pre-pass's end for the owned atoms: each value completed (its self term), and the
+// per-atom energy added to `tally->eng_vdwl` (when `eflag_global`) and `tally->eatom[i]` (when
+// not null). A non-finite state is an error naming the atom's tag (`tag` may be null: the
+// index is named).
 //
 // # Safety
 // `h` is a live handle; `atoms` as for `dpdnl_compute` (types and tags of the owned atoms are
-// read); `rho` holds `nlocal` doubles; `tally` is null or as for `dpdnl_compute`.
-enum DpdnlStatus dpdnl_sdpd_finish(struct DpdnlSdpd *h,
-                                   const struct DpdnlAtoms *atoms,
-                                   int64_t step,
-                                   double *rho,
-                                   const struct DpdnlTally *tally);
+// read); `values` holds `nlocal` doubles; `tally` is null or as for `dpdnl_compute`.
+enum DpdnlStatus dpdnl_pair_prepass_finish(struct DpdnlPair *h,
+                                           const struct DpdnlAtoms *atoms,
+                                           int64_t step,
+                                           double *values,
+                                           const struct DpdnlTally *tally);
 
-// Pass 2: the pair forces of every listed pair from the densities `rho[0..nall]` (owned and
-// ghost atoms, ghosts communicated), accumulated into `f` and `tally` exactly as
-// `dpdnl_compute` does (the same list walk and `ev_tally` conventions).
+// The pair forces of every listed pair, accumulated into `f` and `tally` exactly as
+// `dpdnl_compute` does (the same list walk and `ev_tally` conventions). A style with a
+// pre-pass reads every atom's value from `values[0..nall]` (owned and ghost atoms, ghosts
+// communicated); `values` may be null for the others.
 //
 // # Safety
-// As `dpdnl_compute`; `h` is a live handle and `rho` holds `nall` doubles.
-enum DpdnlStatus dpdnl_sdpd_compute(struct DpdnlSdpd *h,
+// As `dpdnl_compute`; `h` is a live handle and `values` is null or holds `nall` doubles.
+enum DpdnlStatus dpdnl_pair_compute(struct DpdnlPair *h,
                                     const struct DpdnlAtoms *atoms,
                                     const struct DpdnlNeighList *list,
                                     const struct DpdnlStep *step,
-                                    const double *rho,
+                                    const double *values,
                                     double *f,
                                     struct DpdnlTally *tally);
 
-// Parse `pair_style dpd/nonlinear` arguments (the words after the style name, LAMMPS's
-// `Pair::settings(narg, arg)`) into `*out`. Errors carry the standalone engine's message.
+// The style as restart text (its `restart_lines`: the `pair_style` line and, unless
+// `settings_only`, its `pair_coeff` lines): `*data` and `*len` get bytes valid until the next
+// call on `h`. [`dpdnl_pair_from_restart`] reads them back.
 //
 // # Safety
-// `arg` points to `narg` NUL-terminated strings; `out` is valid for writing.
-enum DpdnlStatus dpdnl_parse_pair_style(int32_t narg,
-                                        const char *const *arg,
-                                        struct DpdnlPairStyle *out);
+// `h` is a live handle; `data` and `len` are valid for writing.
+enum DpdnlStatus dpdnl_pair_restart(struct DpdnlPair *h,
+                                    int32_t settings_only,
+                                    const char **data,
+                                    int64_t *len);
 
-// The keyword of friction code `code` ("none", "cross", "dot") or of noise code `code`
-// ("plain", "corrected", "twostep") when `noise` is nonzero; "" for an unknown code. Static
-// strings.
-const char *dpdnl_model_keyword(int32_t noise, int32_t code);
-
-// Parse a `pair_coeff` line of `dpd/nonlinear` (all words, types first: LAMMPS's
-// `Pair::coeff(narg, arg)`) for `ntypes` types under `style` into `*out`.
+// A style from the text of [`dpdnl_pair_restart`] (`len` bytes at `data`) for `ntypes` types;
+// `*out` gets a new handle (null on failure: a corrupt or foreign text is named).
 //
 // # Safety
-// `style` is valid for reading; `arg` points to `narg` NUL-terminated strings; `out` is valid
-// for writing.
-enum DpdnlStatus dpdnl_parse_pair_coeff(const struct DpdnlPairStyle *style,
-                                        int32_t ntypes,
-                                        int32_t narg,
-                                        const char *const *arg,
-                                        struct DpdnlPairCoeffLine *out);
-
-// A parameter table (as [`crate::dpdnl_params_new`]) from parsed settings.
-//
-// # Safety
-// `style` is valid for reading; `out` is valid for writing.
-enum DpdnlStatus dpdnl_params_from_style(const struct DpdnlPairStyle *style,
+// `data` holds `len` bytes; `out` is valid for writing.
+enum DpdnlStatus dpdnl_pair_from_restart(const char *data,
+                                         int64_t len,
                                          int32_t ntypes,
-                                         struct DpdnlParams **out);
+                                         struct DpdnlPair **out);
+
+// The numbers of a `write_data` coefficient line of type pair (i, j): up to `cap` doubles into
+// `out`, their count in `*n` (0 when the style writes no data coefficients or the pair is not
+// set).
+//
+// # Safety
+// `h` is a live handle; `out` holds `cap` doubles; `n` is valid for writing.
+enum DpdnlStatus dpdnl_pair_data(struct DpdnlPair *h,
+                                 int32_t i,
+                                 int32_t j,
+                                 double *out,
+                                 int32_t cap,
+                                 int32_t *n);
+
+// LAMMPS's `Pair::single` for types (i, j) at distance² `rsq`: the conservative force F/r
+// into `*fforce` and the energy into the return slot `*energy`, both scaled by `factor`
+// (LAMMPS's special-bond factor, as `pair dpd` scales them). A style without a pair-wise
+// answer (many-body) is an error.
+//
+// # Safety
+// `h` is a live handle; `fforce` and `energy` are valid for writing.
+enum DpdnlStatus dpdnl_pair_single(struct DpdnlPair *h,
+                                   int32_t i,
+                                   int32_t j,
+                                   double rsq,
+                                   double factor,
+                                   double *fforce,
+                                   double *energy);
 
 // Check the arguments of `fix ID group nve` or `nve/euler` (`style`; the words after it):
 // none are allowed.

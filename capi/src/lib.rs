@@ -27,11 +27,11 @@ use dpdnl::rng::pair_gaussian;
 
 mod compute;
 mod init;
-mod sdpd;
+mod pair;
 mod styles;
 pub use compute::*;
 pub use init::*;
-pub use sdpd::*;
+pub use pair::*;
 pub use styles::*;
 
 /// Result of every fallible call. Anything but `Ok` leaves a message for [`dpdnl_last_error`].

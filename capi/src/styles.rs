@@ -1,63 +1,14 @@
-//! The grammar and the fix physics of `dpdnl::grammar` and `dpdnl::engine::fixes`, for the
-//! LAMMPS styles: argc/argv in, a typed struct or an error text out; the Euler step and the
-//! PeX push on one rank's atoms (the MPI reductions stay in C++).
+//! The fixes' grammar and physics (`dpdnl::grammar::fix`, `dpdnl::engine::fixes`), for the
+//! LAMMPS fixes: argc/argv in, a typed struct or an error text out; the Euler step and the
+//! PeX push on one rank's atoms (the MPI reductions stay in C++). The pair styles' words go
+//! to their handle (`pair.rs`).
 
 use std::ffi::c_char;
 
 use dpdnl::engine::fixes::{PexPick, PexSlabs, euler_update, pex_apply};
-use dpdnl::grammar::{self, fix::PexArgs, pair::DpdStyle};
-use dpdnl::kernel::{Friction, Noise, Weight};
+use dpdnl::grammar::{self, fix::PexArgs};
 
-use crate::{DpdnlParams, Error, c_str, guard, slice, slice_mut};
-
-/// The settings of `pair_style dpd/nonlinear` (from [`dpdnl_parse_pair_style`]).
-/// `friction`: 0 none, 1 cross, 2 dot; `noise`: 0 plain, 1 corrected, 2 twostep.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct DpdnlPairStyle {
-    /// Thermostat temperature kT.
-    pub kt: f64,
-    /// Global cut-off.
-    pub rc: f64,
-    /// Noise seed, 1..=2147483647.
-    pub seed: i32,
-    /// Friction model code.
-    pub friction: i32,
-    /// Noise scheme code.
-    pub noise: i32,
-    /// Weight exponent s.
-    pub weight_s: f64,
-}
-
-/// One `pair_coeff` line of `dpd/nonlinear` (from [`dpdnl_parse_pair_coeff`]): the type
-/// ranges ilo..=ihi, jlo..=jhi (set the pairs i <= j), the coefficients, and for the
-/// `eta … sc …` form `targets = 1` with eta and sc (gamma0 is then 1 until set-up).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct DpdnlPairCoeffLine {
-    /// First type of I.
-    pub ilo: i32,
-    /// Last type of I.
-    pub ihi: i32,
-    /// First type of J.
-    pub jlo: i32,
-    /// Last type of J.
-    pub jhi: i32,
-    /// Conservative amplitude a.
-    pub a: f64,
-    /// Friction γ0.
-    pub gamma0: f64,
-    /// Non-linear coefficient γ1.
-    pub gamma1: f64,
-    /// Cut-off of the pair.
-    pub rc: f64,
-    /// 1 for the `eta E sc S` form.
-    pub targets: i32,
-    /// Target viscosity (targets only).
-    pub eta: f64,
-    /// Target Schmidt number (targets only).
-    pub sc: f64,
-}
+use crate::{Error, c_str, guard, slice, slice_mut};
 
 /// The arguments of `fix pex/push` (from [`dpdnl_parse_fix_pex_push`]); `width` 0 means the
 /// default Lx/20 of each run's box.
@@ -89,44 +40,6 @@ pub struct DpdnlPexPick {
     pub fast_tag: i32,
 }
 
-const FRICTIONS: [Friction; 3] = [Friction::None, Friction::Cross, Friction::Dot];
-const NOISES: [Noise; 3] = [Noise::Plain, Noise::Corrected, Noise::TwoStep];
-
-impl DpdnlPairStyle {
-    fn from_style(s: &DpdStyle) -> DpdnlPairStyle {
-        DpdnlPairStyle {
-            kt: s.kt,
-            rc: s.rc,
-            seed: s.seed as i32,
-            friction: FRICTIONS.iter().position(|&f| f == s.friction).unwrap_or(0) as i32,
-            noise: NOISES.iter().position(|&n| n == s.noise).unwrap_or(0) as i32,
-            weight_s: s.weight.exponent(),
-        }
-    }
-
-    /// Back to the grammar's type, checking every field as the parser would.
-    pub(crate) fn to_style(self) -> Result<DpdStyle, Error> {
-        let code = |c: i32, n: usize, what: &str| {
-            usize::try_from(c)
-                .ok()
-                .filter(|&c| c < n)
-                .ok_or_else(|| Error::invalid(format!("{what} code {c} is not 0..{}", n - 1)))
-        };
-        let style = DpdStyle {
-            kt: self.kt,
-            rc: self.rc,
-            seed: u32::try_from(self.seed).unwrap_or(0),
-            friction: FRICTIONS[code(self.friction, 3, "friction")?],
-            noise: NOISES[code(self.noise, 3, "noise")?],
-            weight: Weight::new(self.weight_s).ok_or_else(|| {
-                Error::invalid(format!("weight exponent {} must be > 0", self.weight_s))
-            })?,
-        };
-        // The parser's checks of the numbers, on their shortest round-trip text.
-        grammar::pair::pair_style(&style.to_words()).map_err(Error::invalid)
-    }
-}
-
 /// The words `arg[0..narg]` as strings.
 ///
 /// # Safety
@@ -155,122 +68,6 @@ pub(crate) unsafe fn put<T>(out: *mut T, value: T) -> Result<(), Error> {
     let out = unsafe { out.as_mut() }.ok_or_else(|| Error::null("out"))?;
     *out = value;
     Ok(())
-}
-
-/// Parse `pair_style dpd/nonlinear` arguments (the words after the style name, LAMMPS's
-/// `Pair::settings(narg, arg)`) into `*out`. Errors carry the standalone engine's message.
-///
-/// # Safety
-/// `arg` points to `narg` NUL-terminated strings; `out` is valid for writing.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn dpdnl_parse_pair_style(
-    narg: i32,
-    arg: *const *const c_char,
-    out: *mut DpdnlPairStyle,
-) -> crate::DpdnlStatus {
-    guard(|| {
-        // SAFETY: forwarded caller's contract.
-        let w = unsafe { words(narg, arg)? };
-        let s = grammar::pair::pair_style(&w).map_err(Error::invalid)?;
-        // SAFETY: forwarded caller's contract.
-        unsafe { put(out, DpdnlPairStyle::from_style(&s)) }
-    })
-}
-
-/// The keyword of friction code `code` ("none", "cross", "dot") or of noise code `code`
-/// ("plain", "corrected", "twostep") when `noise` is nonzero; "" for an unknown code. Static
-/// strings.
-#[unsafe(no_mangle)]
-pub extern "C" fn dpdnl_model_keyword(noise: i32, code: i32) -> *const c_char {
-    match (noise != 0, code) {
-        (false, 0) => c"none".as_ptr(),
-        (false, 1) => c"cross".as_ptr(),
-        (false, 2) => c"dot".as_ptr(),
-        (true, 0) => c"plain".as_ptr(),
-        (true, 1) => c"corrected".as_ptr(),
-        (true, 2) => c"twostep".as_ptr(),
-        _ => c"".as_ptr(),
-    }
-}
-
-/// Parse a `pair_coeff` line of `dpd/nonlinear` (all words, types first: LAMMPS's
-/// `Pair::coeff(narg, arg)`) for `ntypes` types under `style` into `*out`.
-///
-/// # Safety
-/// `style` is valid for reading; `arg` points to `narg` NUL-terminated strings; `out` is valid
-/// for writing.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn dpdnl_parse_pair_coeff(
-    style: *const DpdnlPairStyle,
-    ntypes: i32,
-    narg: i32,
-    arg: *const *const c_char,
-    out: *mut DpdnlPairCoeffLine,
-) -> crate::DpdnlStatus {
-    guard(|| {
-        // SAFETY: null or valid for reading by the caller's contract.
-        let style = unsafe { style.as_ref() }
-            .ok_or_else(|| Error::null("style"))?
-            .to_style()?;
-        let nt = usize::try_from(ntypes)
-            .ok()
-            .filter(|&n| n >= 1)
-            .ok_or_else(|| Error::invalid(format!("ntypes = {ntypes} must be >= 1")))?;
-        // SAFETY: forwarded caller's contract.
-        let w = unsafe { words(narg, arg)? };
-        let l =
-            grammar::pair::pair_coeff(&w, nt, style.friction, style.rc).map_err(Error::invalid)?;
-        let (eta, sc) = l.targets.unwrap_or((0.0, 0.0));
-        let line = DpdnlPairCoeffLine {
-            ilo: l.i.0 as i32,
-            ihi: l.i.1 as i32,
-            jlo: l.j.0 as i32,
-            jhi: l.j.1 as i32,
-            a: l.coeff.a,
-            gamma0: l.coeff.gamma0,
-            gamma1: l.coeff.gamma1,
-            rc: l.coeff.rc,
-            targets: i32::from(l.targets.is_some()),
-            eta,
-            sc,
-        };
-        // SAFETY: forwarded caller's contract.
-        unsafe { put(out, line) }
-    })
-}
-
-/// A parameter table (as [`crate::dpdnl_params_new`]) from parsed settings.
-///
-/// # Safety
-/// `style` is valid for reading; `out` is valid for writing.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn dpdnl_params_from_style(
-    style: *const DpdnlPairStyle,
-    ntypes: i32,
-    out: *mut *mut DpdnlParams,
-) -> crate::DpdnlStatus {
-    guard(|| {
-        if out.is_null() {
-            return Err(Error::null("out"));
-        }
-        // SAFETY: non-null, valid for writing by the caller's contract.
-        unsafe { *out = std::ptr::null_mut() };
-        // SAFETY: null or valid for reading by the caller's contract.
-        let s = unsafe { style.as_ref() }
-            .ok_or_else(|| Error::null("style"))?
-            .to_style()?;
-        let p = DpdnlParams::new(
-            s.kt,
-            i64::from(s.seed),
-            s.friction.keyword(),
-            s.noise.keyword(),
-            s.weight.exponent(),
-            ntypes,
-        )?;
-        // SAFETY: as above.
-        unsafe { *out = Box::into_raw(Box::new(p)) };
-        Ok(())
-    })
 }
 
 /// Check the arguments of `fix ID group nve` or `nve/euler` (`style`; the words after it):

@@ -1,5 +1,6 @@
 //! The argument grammar of the project's styles on arbitrary word lists, directly and through
-//! the C ABI entry points the LAMMPS styles call (`dpdnl_parse_*`, `dpdnl_sdpd_new`/`_coeff`).
+//! the C ABI entry points the LAMMPS styles call (`dpdnl_pair_new`/`_coeff`/`_restart`,
+//! `dpdnl_parse_fix_*`).
 //!
 //! Input: a selector byte, then text. The first line is the style's words (`pair_style …` or
 //! `fix …` after the style name), every further line one `pair_coeff` line (types first),
@@ -31,6 +32,45 @@ fn ok(s: capi::DpdnlStatus) -> bool {
     matches!(s, capi::DpdnlStatus::Ok)
 }
 
+/// The C ABI's one pair handle (`dpdnl_pair_*`) on the same words: it agrees with the grammar
+/// on accepting the style line, takes every coefficient line without a panic, and its restart
+/// text reads back.
+fn handle(name: &str, style_words: &[&str], coeff_lines: &[Vec<&str>], ntypes: usize, accepted: bool) {
+    let c_name = CString::new(name).expect("no NUL");
+    let c = c_words(style_words);
+    let p = ptrs(&c);
+    let mut h: *mut capi::DpdnlPair = std::ptr::null_mut();
+    // SAFETY: `p` holds p.len() NUL-terminated strings that outlive the call; `h` is valid.
+    let st = unsafe {
+        capi::dpdnl_pair_new(c_name.as_ptr(), p.len() as i32, p.as_ptr(), ntypes as i32, &mut h)
+    };
+    if !style_words.iter().any(|w| w.contains('\0')) {
+        assert_eq!(ok(st), accepted, "C ABI and grammar disagree on pair_style {name}");
+    }
+    if !ok(st) {
+        return;
+    }
+    for line in coeff_lines {
+        let c = c_words(line);
+        let p = ptrs(&c);
+        // SAFETY: `h` is a live handle; `p` as above.
+        let _ = unsafe { capi::dpdnl_pair_coeff(h, ntypes as i32, p.len() as i32, p.as_ptr()) };
+    }
+    let (mut data, mut len) = (std::ptr::null(), 0i64);
+    // SAFETY: `h` is a live handle; the out pointers are valid.
+    let st = unsafe { capi::dpdnl_pair_restart(h, 0, &mut data, &mut len) };
+    assert!(ok(st), "restart text of a live handle");
+    let mut back: *mut capi::DpdnlPair = std::ptr::null_mut();
+    // SAFETY: `data` holds `len` bytes until the next call on `h`.
+    let st = unsafe { capi::dpdnl_pair_from_restart(data, len, ntypes as i32, &mut back) };
+    assert!(ok(st), "the restart text reads back");
+    // SAFETY: handles from dpdnl_pair_new / _from_restart, each freed once.
+    unsafe {
+        capi::dpdnl_pair_free(back);
+        capi::dpdnl_pair_free(h);
+    }
+}
+
 fn dpd(style_words: &[&str], coeff_lines: &[Vec<&str>], ntypes: usize) {
     let parsed = pair::pair_style(style_words);
     if let Ok(s) = &parsed {
@@ -39,47 +79,11 @@ fn dpd(style_words: &[&str], coeff_lines: &[Vec<&str>], ntypes: usize) {
             Ok(s),
             "to_words round trip"
         );
+        for line in coeff_lines {
+            let _ = pair::pair_coeff(line, ntypes, s.friction, s.rc);
+        }
     }
-    let c = c_words(style_words);
-    let p = ptrs(&c);
-    let mut out = capi::DpdnlPairStyle::default();
-    // SAFETY: `p` holds p.len() NUL-terminated strings that outlive the call; `out` is valid.
-    let st = unsafe { capi::dpdnl_parse_pair_style(p.len() as i32, p.as_ptr(), &mut out) };
-    if !style_words.iter().any(|w| w.contains('\0')) {
-        assert_eq!(
-            ok(st),
-            parsed.is_ok(),
-            "C ABI and grammar disagree on pair_style"
-        );
-    }
-    let style = parsed.unwrap_or(pair::DpdStyle {
-        kt: 1.0,
-        rc: 1.0,
-        seed: 1,
-        friction: dpdnl::kernel::Friction::Cross,
-        noise: dpdnl::kernel::Noise::Plain,
-        weight: dpdnl::kernel::Weight::STANDARD,
-    });
-    if !ok(st) {
-        out = capi::DpdnlPairStyle {
-            kt: 1.0,
-            rc: 1.0,
-            seed: 1,
-            friction: 1,
-            noise: 0,
-            weight_s: 2.0,
-        };
-    }
-    for line in coeff_lines {
-        let _ = pair::pair_coeff(line, ntypes, style.friction, style.rc);
-        let c = c_words(line);
-        let p = ptrs(&c);
-        let mut l = capi::DpdnlPairCoeffLine::default();
-        // SAFETY: as above; `out` is a valid style.
-        let _ = unsafe {
-            capi::dpdnl_parse_pair_coeff(&out, ntypes as i32, p.len() as i32, p.as_ptr(), &mut l)
-        };
-    }
+    handle("dpd/nonlinear", style_words, coeff_lines, ntypes, parsed.is_ok());
 }
 
 fn sdpd(style_words: &[&str], coeff_lines: &[Vec<&str>], ntypes: usize) {
@@ -94,22 +98,7 @@ fn sdpd(style_words: &[&str], coeff_lines: &[Vec<&str>], ntypes: usize) {
             let _ = sdpd::pair_coeff(line, ntypes, s);
         }
     }
-    let c = c_words(style_words);
-    let p = ptrs(&c);
-    let mut h: *mut capi::DpdnlSdpd = std::ptr::null_mut();
-    // SAFETY: `p` as above; `h` is valid for writing.
-    let st = unsafe { capi::dpdnl_sdpd_new(p.len() as i32, p.as_ptr(), ntypes as i32, &mut h) };
-    if !ok(st) {
-        return;
-    }
-    for line in coeff_lines {
-        let c = c_words(line);
-        let p = ptrs(&c);
-        // SAFETY: `h` is a live handle; `p` as above.
-        let _ = unsafe { capi::dpdnl_sdpd_coeff(h, p.len() as i32, p.as_ptr()) };
-    }
-    // SAFETY: the handle from dpdnl_sdpd_new, freed once.
-    unsafe { capi::dpdnl_sdpd_free(h) };
+    handle("sdpd", style_words, coeff_lines, ntypes, parsed.is_ok());
 }
 
 fn fixes(style_words: &[&str], sel: u8) {

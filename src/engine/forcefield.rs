@@ -1,7 +1,14 @@
-//! The pair style's settings as the engine holds them: the global [`PairModel`], the seed and
-//! the per type-pair [`PairCoeff`] table.
+//! `pair_style dpd/nonlinear` as a style object ([`DpdPair`]): its settings, the global
+//! [`PairModel`], the seed and the per type-pair [`PairCoeff`] table ([`ForceField`]), its
+//! set-up (η/Sc targets, the Euler warning) and its kernel (`docs/models.md` §1.1–1.4).
 
-use crate::kernel::{PairCoeff, PairModel};
+use std::any::Any;
+
+use super::SetupNote;
+use super::pair::{DpdKernel, PairKernel};
+use super::style::{PairStyle, SetupContext, word};
+use crate::grammar::pair::DpdStyle;
+use crate::kernel::{Friction, Isa, PairCoeff, PairModel, PairTable};
 
 /// `pair_style dpd/nonlinear` + `pair_coeff`, validated.
 #[derive(Clone, Debug)]
@@ -101,6 +108,22 @@ impl ForceField {
         Ok(lines)
     }
 
+    /// The (η, Sc) targets of a type pair, if it has them.
+    pub fn target(&self, i: usize, j: usize) -> Option<(f64, f64)> {
+        *self.targets.get(i * (self.ntypes + 1) + j)?
+    }
+
+    /// The first set pair (i ≤ j) with γ1 ≠ 0, and its γ1.
+    pub fn nonzero_gamma1(&self) -> Option<(usize, usize, f64)> {
+        (1..=self.ntypes)
+            .flat_map(|i| (i..=self.ntypes).map(move |j| (i, j)))
+            .find_map(|(i, j)| {
+                self.get(i, j)
+                    .filter(|c| c.gamma1 != 0.0)
+                    .map(|c| (i, j, c.gamma1))
+            })
+    }
+
     /// Coefficients of a type pair, if set.
     pub fn get(&self, i: usize, j: usize) -> Option<&PairCoeff> {
         self.coeff.get(i * (self.ntypes + 1) + j)?.as_ref()
@@ -140,5 +163,286 @@ impl ForceField {
             .flatten()
             .map(|c| c.rc)
             .fold(0.0, f64::max)
+    }
+}
+
+/// `pair_style dpd/nonlinear` + `pair_coeff`: the style object of both engines.
+#[derive(Clone, Debug)]
+pub struct DpdPair {
+    /// The settings as given (the weight may be replaced by a design at set-up, in `ff.model`).
+    pub settings: DpdStyle,
+    /// The model, seed and coefficients.
+    pub ff: ForceField,
+    /// Dense tables of the last set-up: coefficients, their kernel constants, cut-offs.
+    table: Vec<PairCoeff>,
+    ptable: PairTable,
+    cut: Vec<f64>,
+    dt: f64,
+}
+
+impl DpdPair {
+    /// The style from the words after `pair_style dpd/nonlinear`, for `ntypes` types and time
+    /// step `dt` (replaced at every set-up).
+    pub fn new(args: &[String], ntypes: usize, dt: f64) -> Result<DpdPair, String> {
+        let settings = crate::grammar::pair::pair_style(args)?;
+        let ff = ForceField::new(settings.model(dt), settings.seed, settings.rc, ntypes);
+        Ok(DpdPair::from_field_with(settings, ff))
+    }
+
+    /// The style over a force field built by hand (tests, benchmarks).
+    pub fn from_field(ff: ForceField) -> DpdPair {
+        let m = &ff.model;
+        let settings = DpdStyle {
+            kt: m.kt,
+            rc: ff.rc_global,
+            seed: ff.seed,
+            friction: m.friction,
+            noise: m.noise,
+            weight: m.weight,
+        };
+        DpdPair::from_field_with(settings, ff)
+    }
+
+    fn from_field_with(settings: DpdStyle, ff: ForceField) -> DpdPair {
+        DpdPair {
+            settings,
+            ff,
+            table: Vec::new(),
+            ptable: PairTable::default(),
+            cut: Vec::new(),
+            dt: 0.0,
+        }
+    }
+
+    fn build_tables(&mut self, dt: f64) {
+        self.dt = dt;
+        self.ff.model.set_timestep(dt);
+        self.table = self.ff.dense_table();
+        self.ptable = PairTable::new(&self.ff.model, &self.table);
+        self.cut = self.table.iter().map(|c| c.rc).collect();
+    }
+
+    /// The Euler heating warning for the pair with the largest `gamma0` (the worst case).
+    fn euler_note(
+        &self,
+        dim: u32,
+        density: f64,
+        mass: f64,
+        dt: f64,
+    ) -> Result<Option<String>, String> {
+        let ff = &self.ff;
+        let mut worst: Option<PairCoeff> = None;
+        let mut conservative = false;
+        for i in 1..=ff.ntypes() {
+            for j in i..=ff.ntypes() {
+                if let Some(c) = ff.get(i, j) {
+                    conservative |= c.a != 0.0;
+                    if worst.is_none_or(|w| c.gamma0 > w.gamma0) {
+                        worst = Some(*c);
+                    }
+                }
+            }
+        }
+        let Some(c) = worst else { return Ok(None) };
+        crate::init::euler_warning(
+            dim,
+            density,
+            c.rc,
+            mass,
+            ff.model.kt,
+            c.gamma0,
+            ff.model.weight.exponent(),
+            dt,
+            conservative,
+            ff.model.friction != Friction::None,
+        )
+    }
+}
+
+impl PairStyle for DpdPair {
+    fn name(&self) -> &'static str {
+        "dpd/nonlinear"
+    }
+
+    fn ntypes(&self) -> usize {
+        self.ff.ntypes()
+    }
+
+    /// As LAMMPS's `pair dpd`: the coefficients are kept and every cut-off is reset to the new
+    /// global one. Friction `none` with a kept γ1 ≠ 0 is refused (the grammar's rule).
+    fn restyle(&mut self, args: &[String]) -> Result<(), String> {
+        let settings = crate::grammar::pair::pair_style(args)?;
+        if settings.friction == Friction::None
+            && let Some((i, j, g)) = self.ff.nonzero_gamma1()
+        {
+            return Err(format!(
+                "friction none, but the kept pair_coeff {i} {j} has gamma1 = {g}, which must be \
+                 0 with friction none (give the pair_coeff lines again after this pair_style)"
+            ));
+        }
+        let mut ff = ForceField::new(
+            settings.model(self.ff.model.timestep()),
+            settings.seed,
+            settings.rc,
+            self.ff.ntypes(),
+        );
+        let n = self.ff.ntypes();
+        for i in 1..=n {
+            for j in i..=n {
+                let Some(&c) = self.ff.get(i, j) else {
+                    continue;
+                };
+                let c = PairCoeff {
+                    rc: settings.rc,
+                    ..c
+                };
+                match self.ff.target(i, j) {
+                    Some((eta, sc)) => ff.set_targets(i, j, c, eta, sc),
+                    None => ff.set(i, j, c),
+                }
+            }
+        }
+        self.settings = settings;
+        self.ff = ff;
+        Ok(())
+    }
+
+    fn coeff(&mut self, args: &[String]) -> Result<(), String> {
+        let ff = &mut self.ff;
+        let line =
+            crate::grammar::pair::pair_coeff(args, ff.ntypes(), ff.model.friction, ff.rc_global)?;
+        for (i, j) in line.pairs() {
+            match line.targets {
+                Some((eta, sc)) => ff.set_targets(i, j, line.coeff, eta, sc),
+                None => ff.set(i, j, line.coeff),
+            }
+        }
+        Ok(())
+    }
+
+    fn cutoff(&self, i: usize, j: usize) -> Option<f64> {
+        self.ff.get(i, j).map(|c| c.rc)
+    }
+
+    /// Coefficients complete, (η, Sc) targets resolved (one mass), the Euler warning, the
+    /// dense tables.
+    fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String> {
+        let mut notes = Vec::new();
+        if let Some((i, j)) = self.missing() {
+            return Err(format!(
+                "pair coefficients for types {i} {j} are not set (pair_coeff)"
+            ));
+        }
+        let masses: Vec<f64> = ctx.mass.iter().skip(1).flatten().copied().collect();
+        let m_min = masses.iter().copied().fold(f64::INFINITY, f64::min);
+        if self.ff.has_targets() {
+            if masses.len() != self.ff.ntypes() {
+                return Err(
+                    "pair_coeff dpd/nonlinear eta ... sc ...: needs per-type masses".into(),
+                );
+            }
+            if masses.iter().any(|&m| m != m_min) {
+                return Err(
+                    "pair_coeff … eta … sc …: the kinetic theory behind the design is \
+                            for one particle mass, but the atom types have different masses"
+                        .into(),
+                );
+            }
+            for line in self.ff.resolve_targets(ctx.dim, ctx.density, m_min)? {
+                notes.push(SetupNote::Info(line));
+            }
+        }
+        if ctx.euler
+            && ctx.natoms > 0
+            && !masses.is_empty()
+            && let Some(w) = self.euler_note(ctx.dim, ctx.density, m_min, ctx.dt)?
+        {
+            notes.push(SetupNote::Warning(w));
+        }
+        self.build_tables(ctx.dt);
+        Ok(notes)
+    }
+
+    fn set_timestep(&mut self, dt: f64) {
+        if dt != self.dt {
+            self.build_tables(dt);
+        }
+    }
+
+    fn cut_table(&self) -> &[f64] {
+        &self.cut
+    }
+
+    fn kernel(&self, isa: Isa) -> Box<dyn PairKernel + '_> {
+        Box::new(DpdKernel {
+            model: &self.ff.model,
+            table: &self.ptable,
+            seed: self.ff.seed,
+            isa,
+        })
+    }
+
+    fn restart_lines(&self) -> Vec<Vec<String>> {
+        let settings = DpdStyle {
+            weight: self.ff.model.weight,
+            ..self.settings
+        };
+        let mut head = vec!["pair_style".to_string(), "dpd/nonlinear".to_string()];
+        head.extend(settings.to_words());
+        let mut lines = vec![head];
+        let n = self.ff.ntypes();
+        for i in 1..=n {
+            for j in i..=n {
+                let Some(c) = self.ff.get(i, j) else { continue };
+                let mut l = vec!["pair_coeff".into(), i.to_string(), j.to_string(), word(c.a)];
+                match self.ff.target(i, j) {
+                    Some((eta, sc)) => l.extend([
+                        "eta".into(),
+                        word(eta),
+                        "sc".into(),
+                        word(sc),
+                        "gamma1".into(),
+                        word(c.gamma1),
+                        "rc".into(),
+                        word(c.rc),
+                    ]),
+                    None => l.extend([word(c.gamma0), word(c.gamma1), word(c.rc)]),
+                }
+                lines.push(l);
+            }
+        }
+        lines
+    }
+
+    /// `a gamma0 gamma1 rc` (LAMMPS's "Pair Coeffs" / "PairIJ Coeffs" sections).
+    fn writes_data(&self) -> bool {
+        true
+    }
+
+    fn data_coeffs(&self, i: usize, j: usize) -> Option<Vec<f64>> {
+        self.ff
+            .get(i, j)
+            .map(|c| vec![c.a, c.gamma0, c.gamma1, c.rc])
+    }
+
+    /// The conservative part, as LAMMPS's `pair dpd` `single()` returns it:
+    /// F/r = a (1 − r/r_c) / r and E = a r_c (1 − r/r_c)² / 2 (docs/models.md §1.1).
+    fn single(&self, i: usize, j: usize, rsq: f64) -> Option<(f64, f64)> {
+        let c = self.ff.get(i, j)?;
+        if rsq >= c.rc * c.rc {
+            return Some((0.0, 0.0));
+        }
+        let r = rsq.sqrt();
+        let wr = 1.0 - r / c.rc;
+        let fpair = if r > 0.0 { c.a * wr / r } else { 0.0 };
+        Some((fpair, 0.5 * c.a * c.rc * wr * wr))
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn clone_box(&self) -> Box<dyn PairStyle> {
+        Box::new(self.clone())
     }
 }

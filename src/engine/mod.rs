@@ -12,13 +12,14 @@ pub mod neighbor;
 pub mod pair;
 pub mod sdpd;
 pub mod simd;
+pub mod style;
 
 pub use atoms::Atoms;
 pub use domain::SimBox;
 pub use forcefield::ForceField;
 pub use neighbor::{NeighborList, PairTally};
+pub use style::{PairStyle, SetupContext};
 
-use crate::kernel::PairCoeff;
 use rayon::prelude::*;
 
 /// Time integration scheme (`docs/models.md` §4.1, P-1 and P-2).
@@ -59,11 +60,8 @@ pub struct System {
     pub ntypes: usize,
     /// Per-type masses (index 0 unused).
     pub mass: Vec<Option<f64>>,
-    /// The pair style `dpd/nonlinear`, once defined (at most one of `ff` and `sdpd` is set:
-    /// a `pair_style` command replaces the other).
-    pub ff: Option<ForceField>,
-    /// The pair style `sdpd`, once defined.
-    pub sdpd: Option<sdpd::SdpdField>,
+    /// The pair style, once defined (`style.rs`: every style behind one trait).
+    pub pair: Option<Box<dyn PairStyle>>,
     /// Neighbour list.
     pub neighbor: NeighborList,
     /// Time step.
@@ -81,8 +79,12 @@ pub struct System {
     /// The tilt and `fix deform` of a triclinic box (None: orthogonal). A triclinic box runs
     /// the same neighbour list under Lees–Edwards boundaries (`lees_edwards.rs`).
     pub tri: Option<lees_edwards::Triclinic>,
-    table: Vec<PairCoeff>,
     inv_mass: Vec<f64>,
+    /// The per-atom values of a many-body style's pre-pass (engine order).
+    prepass: Vec<f64>,
+    /// The first fault of the last force evaluation (a non-finite many-body term), reported
+    /// by [`System::check_health`].
+    pair_fault: Option<String>,
 }
 
 /// A line for the log from [`System::setup`].
@@ -144,8 +146,7 @@ impl System {
             atoms: Atoms::default(),
             ntypes,
             mass: vec![None; ntypes + 1],
-            ff: None,
-            sdpd: None,
+            pair: None,
             neighbor: NeighborList::new(0.3),
             dt: 0.005,
             step: 0,
@@ -154,9 +155,26 @@ impl System {
             tally: PairTally::default(),
             setup_notes: Vec::new(),
             tri: None,
-            table: Vec::new(),
             inv_mass: Vec::new(),
+            prepass: Vec::new(),
+            pair_fault: None,
         }
+    }
+
+    /// The `dpd/nonlinear` style's force field, if that is the pair style.
+    pub fn dpd(&self) -> Option<&ForceField> {
+        let p = self.pair.as_deref()?;
+        Some(&p.as_any().downcast_ref::<forcefield::DpdPair>()?.ff)
+    }
+
+    /// The `sdpd` style, if that is the pair style.
+    pub fn sdpd(&self) -> Option<&sdpd::SdpdField> {
+        self.pair.as_deref()?.as_any().downcast_ref()
+    }
+
+    /// Make `style` the pair style.
+    pub fn set_pair(&mut self, style: impl PairStyle + 'static) {
+        self.pair = Some(Box::new(style));
     }
 
     /// True when the box is triclinic: the pair loop and wrapping are Lees–Edwards's.
@@ -181,11 +199,20 @@ impl System {
             return Err(format!("timestep {} must be > 0", self.dt));
         }
         self.setup_notes.clear();
-        let rc_max = if self.sdpd.is_some() {
-            self.setup_sdpd()?
-        } else {
-            self.setup_dpd()?
+        let ctx = SetupContext {
+            dim: self.bx.dim as u32,
+            natoms: self.atoms.len(),
+            density: self.atoms.len() as f64 / self.bx.volume(),
+            mass: &self.mass,
+            dt: self.dt,
+            euler: self.integrator == Some(Integrator::Euler),
         };
+        let style = self
+            .pair
+            .as_deref_mut()
+            .ok_or("no pair style defined (pair_style dpd/nonlinear … or sdpd …)")?;
+        self.setup_notes = style.setup(&ctx)?;
+        let rc_max = style.rc_max();
         for p in &self.pex {
             crate::grammar::fix::pex_box_check(p.width, self.bx.len()[0], self.tri.is_some(), true)
                 .map_err(|e| format!("fix {} pex/push: {e}", p.id))?;
@@ -213,103 +240,6 @@ impl System {
         Ok(())
     }
 
-    /// The `dpd/nonlinear` part of [`System::setup`]: coefficients complete, (η, Sc) targets
-    /// resolved, the Euler warning, the dense table. Returns the largest cut-off.
-    fn setup_dpd(&mut self) -> Result<f64, String> {
-        let Some(ff) = self.ff.as_mut() else {
-            return Err("no pair style defined (pair_style dpd/nonlinear … or sdpd …)".into());
-        };
-        if let Some((i, j)) = ff.missing() {
-            return Err(format!(
-                "pair coefficients for types {i} {j} are not set (pair_coeff)"
-            ));
-        }
-        let dim = self.bx.dim as u32;
-        let density = self.atoms.len() as f64 / self.bx.volume();
-        let masses: Vec<f64> = self.mass.iter().flatten().copied().collect();
-        let m_min = masses.iter().copied().fold(f64::INFINITY, f64::min);
-        if ff.has_targets() {
-            if masses.iter().any(|&m| m != m_min) {
-                return Err(
-                    "pair_coeff … eta … sc …: the kinetic theory behind the design is \
-                            for one particle mass, but the atom types have different masses"
-                        .into(),
-                );
-            }
-            for line in ff.resolve_targets(dim, density, m_min)? {
-                self.setup_notes.push(SetupNote::Info(line));
-            }
-        }
-        if self.integrator == Some(Integrator::Euler)
-            && !self.atoms.is_empty()
-            && let Some(w) = Self::euler_note(ff, self.ntypes, dim, density, m_min, self.dt)?
-        {
-            self.setup_notes.push(SetupNote::Warning(w));
-        }
-        ff.model.set_timestep(self.dt);
-        self.table = ff.dense_table();
-        Ok(ff.rc_max())
-    }
-
-    /// The `sdpd` part of [`System::setup`]: coefficients complete, targets, kernels and
-    /// equations of state resolved ([`sdpd::SdpdField::resolve`]). Returns the largest cut-off.
-    fn setup_sdpd(&mut self) -> Result<f64, String> {
-        let Some(sd) = self.sdpd.as_mut() else {
-            return Err("no pair style defined".into());
-        };
-        if let Some((i, j)) = sd.missing() {
-            return Err(format!(
-                "pair coefficients for types {i} {j} are not set (pair_coeff)"
-            ));
-        }
-        let dim = self.bx.dim as u32;
-        let density = self.atoms.len() as f64 / self.bx.volume();
-        for line in sd.resolve(dim, density, &self.mass, self.dt)? {
-            match line.strip_prefix("WARNING: ") {
-                Some(w) => self.setup_notes.push(SetupNote::Warning(w.to_string())),
-                None => self.setup_notes.push(SetupNote::Info(line)),
-            }
-        }
-        Ok(sd.rc_max())
-    }
-
-    /// The Euler heating warning for the pair with the largest `gamma0` (the worst case).
-    fn euler_note(
-        ff: &ForceField,
-        ntypes: usize,
-        dim: u32,
-        density: f64,
-        mass: f64,
-        dt: f64,
-    ) -> Result<Option<String>, String> {
-        let mut worst: Option<PairCoeff> = None;
-        let mut conservative = false;
-        for i in 1..=ntypes {
-            for j in i..=ntypes {
-                if let Some(c) = ff.get(i, j) {
-                    conservative |= c.a != 0.0;
-                    if worst.is_none_or(|w| c.gamma0 > w.gamma0) {
-                        worst = Some(*c);
-                    }
-                }
-            }
-        }
-        let Some(c) = worst else { return Ok(None) };
-        let nonlinear = ff.model.friction != crate::kernel::Friction::None;
-        crate::init::euler_warning(
-            dim,
-            density,
-            c.rc,
-            mass,
-            ff.model.kt,
-            c.gamma0,
-            ff.model.weight.exponent(),
-            dt,
-            conservative,
-            nonlinear,
-        )
-    }
-
     /// A sheared box: the tilt, offset and rate of the current step, handed to the neighbour
     /// list (`lees_edwards.rs`); a periodic box: none.
     fn set_shear(&mut self) {
@@ -322,68 +252,59 @@ impl System {
         self.neighbor.set_shear(shear);
     }
 
+    /// The forces of the current step through the pair style (`style.rs`): its pre-pass, if
+    /// it has one, then its kernel, over the same list (periodic or sheared).
     fn compute_forces(&mut self) {
         self.set_shear();
         self.neighbor.wrap_sheared(&mut self.atoms, &self.bx);
-        if self.sdpd.is_some() {
-            self.compute_sdpd();
+        let Some(style) = self.pair.as_deref_mut() else {
             return;
-        }
-        let Some(ff) = self.ff.as_ref() else { return };
-        if self.neighbor.needs_rebuild(&self.atoms) {
-            self.neighbor.build(&mut self.atoms, &self.bx, ff.rc_max());
-        }
-        let table = crate::kernel::PairTable::new(&ff.model, &self.table);
-        let kernel = pair::DpdKernel {
-            model: &ff.model,
-            table: &table,
-            seed: ff.seed,
-            isa: self.neighbor.isa(),
         };
-        self.tally = self.neighbor.compute_forces(
-            &mut self.atoms,
-            &self.bx,
-            &kernel,
-            &self.table,
-            ff.ntypes(),
-            &self.inv_mass,
-            self.step,
-        );
-    }
-
-    /// `pair_style sdpd`: the density pass, then the force pass over the same pairs
-    /// (`sdpd.rs`), over the same list (periodic or sheared).
-    fn compute_sdpd(&mut self) {
-        let Some(sd) = self.sdpd.as_mut() else { return };
         if self.neighbor.needs_rebuild(&self.atoms) {
-            self.neighbor.build(&mut self.atoms, &self.bx, sd.rc_max());
+            self.neighbor
+                .build(&mut self.atoms, &self.bx, style.rc_max());
         }
-        let mut dens = std::mem::take(&mut sd.density);
-        {
-            let field = &*sd;
+        let ntypes = style.ntypes();
+        let mut extra_energy = 0.0;
+        self.pair_fault = None;
+        if let Some(pp) = style.prepass() {
+            let mut sums = std::mem::take(&mut self.prepass);
             self.neighbor.pair_sum(
                 &self.atoms,
                 &self.bx,
-                field.rcsq(),
-                field.ntypes(),
-                |k, rsq| field.w_pair(k, rsq),
-                |k, rsq, out| field.coeffs()[k].shape.w_of_squares(rsq, out),
-                &mut dens,
+                pp.rcsq(),
+                ntypes,
+                |k, rsq| pp.weight(k, rsq),
+                |k, rsq, out| pp.weights(k, rsq, out),
+                &mut sums,
             );
+            for (k, d) in sums.iter_mut().enumerate() {
+                let t = self.atoms.typ[k] as usize;
+                *d = pp.complete(t, *d);
+                match pp.energy_of(t, *d) {
+                    Some(u) => extra_energy += u,
+                    None if self.pair_fault.is_none() => {
+                        let who = self.atoms.tag[k].to_string();
+                        self.pair_fault = Some(pp.fault(&who, *d, self.step));
+                    }
+                    None => {}
+                }
+            }
+            style.set_atom_values(&sums, &self.atoms.typ);
+            self.prepass = sums;
         }
-        sd.density = dens;
-        sd.finish_densities(&self.atoms.typ, &self.atoms.tag);
-        let kernel = sd.kernel();
+        let style = &*style;
+        let kernel = style.kernel(self.neighbor.isa());
         self.tally = self.neighbor.compute_forces(
             &mut self.atoms,
             &self.bx,
-            &kernel,
-            sd.cut_table(),
-            sd.ntypes(),
+            &*kernel,
+            style.cut_table(),
+            ntypes,
             &self.inv_mass,
             self.step,
         );
-        self.tally.energy += sd.energy;
+        self.tally.energy += extra_energy;
     }
 
     /// Advance one step with the configured integrator (after [`System::setup`]), then apply
@@ -483,12 +404,8 @@ impl System {
     /// step, the atom id and the quantity. O(N); the run loop calls it at thermo output and at
     /// least every 100 steps.
     pub fn check_health(&self) -> Result<(), String> {
-        if let Some(e) = self
-            .sdpd
-            .as_ref()
-            .and_then(|sd| sd.fault_message(self.step))
-        {
-            return Err(e);
+        if let Some(e) = &self.pair_fault {
+            return Err(e.clone());
         }
         let a = &self.atoms;
         check_atoms(

@@ -8,7 +8,11 @@
 //! 2. the pair forces of WF-12/19 through the same batch loop as `dpd/nonlinear`
 //!    ([`SdpdKernel`]), so the forces are central and applied ±, momentum exactly conserved.
 
+use std::any::Any;
+
+use super::SetupNote;
 use super::pair::PairKernel;
+use super::style::{PairStyle, PrePass, SetupContext};
 use crate::grammar::sdpd::{SdpdCoeffLine, SdpdStyle};
 use crate::kernel::sdpd::{KernelShape, SdpdAtom, SdpdCoeff, Smoothing, Tait, sdpd_forces_batch};
 use crate::kernel::{Isa, PairBatch};
@@ -40,18 +44,18 @@ pub struct SdpdField {
     coeff: Vec<SdpdCoeff>,
     /// Squared cut-offs (0 for unset pairs).
     rcsq: Vec<f64>,
-    /// The cut-offs as the periodic pair loop's table (only `rc` is read there).
-    cut: Vec<crate::kernel::PairCoeff>,
+    /// The cut-offs by dense type-pair index (0 for unset pairs).
+    cut: Vec<f64>,
+    /// The words of every `pair_coeff` line applied, in order (replayed by `pair_style sdpd`
+    /// given again, and stored in restart files).
+    coeff_words: Vec<Vec<String>>,
     /// Per type: the equation of state and W(0) of the (t, t) kernel.
     tait: Vec<Option<Tait>>,
     w0: Vec<f64>,
-    /// Per atom (engine order): the number density of the last evaluation.
+    /// Per atom (the driver's order: engine order, or LAMMPS's owned + ghost atoms): the number
+    /// density of the last evaluation.
     pub density: Vec<f64>,
     atoms: Vec<SdpdAtom>,
-    /// Σ_i u(d_i) of the last evaluation.
-    pub energy: f64,
-    /// The first atom whose Tait pressure was not finite in the last evaluation (tag, d).
-    pub fault: Option<(u32, f64)>,
 }
 
 impl SdpdField {
@@ -65,13 +69,20 @@ impl SdpdField {
             coeff: Vec::new(),
             rcsq: Vec::new(),
             cut: Vec::new(),
+            coeff_words: Vec::new(),
             tait: Vec::new(),
             w0: Vec::new(),
             density: Vec::new(),
             atoms: Vec::new(),
-            energy: 0.0,
-            fault: None,
         }
+    }
+
+    /// The style from the words after `pair_style sdpd`, for `ntypes` types.
+    pub fn from_words(args: &[String], ntypes: usize) -> Result<SdpdField, String> {
+        Ok(SdpdField::new(
+            crate::grammar::sdpd::pair_style(args)?,
+            ntypes,
+        ))
     }
 
     /// Number of atom types.
@@ -208,13 +219,7 @@ impl SdpdField {
             SdpdCoeff::new(KernelShape::new(Smoothing::Lucy, dim, 1.0)?, 1.0, kt, dt)?;
         self.coeff = vec![placeholder; n * n];
         self.rcsq = vec![0.0; n * n];
-        let inert = crate::kernel::PairCoeff {
-            a: 0.0,
-            gamma0: 0.0,
-            gamma1: 0.0,
-            rc: 0.0,
-        };
-        self.cut = vec![inert; n * n];
+        self.cut = vec![0.0; n * n];
         for i in 1..=self.ntypes {
             for j in 1..=self.ntypes {
                 if let Some(p) = self.pairs[i * n + j] {
@@ -222,7 +227,7 @@ impl SdpdField {
                     self.coeff[i * n + j] = SdpdCoeff::new(shape, p.eta0, kt, dt)
                         .map_err(|e| format!("pair_coeff {i} {j}: {e}"))?;
                     self.rcsq[i * n + j] = p.rc * p.rc;
-                    self.cut[i * n + j].rc = p.rc;
+                    self.cut[i * n + j] = p.rc;
                 }
             }
         }
@@ -232,11 +237,6 @@ impl SdpdField {
     /// Squared cut-offs by dense type-pair index (after [`SdpdField::resolve`]).
     pub fn rcsq(&self) -> &[f64] {
         &self.rcsq
-    }
-
-    /// The cut-offs by dense type-pair index, as the pair loop's coefficient table.
-    pub fn cut_table(&self) -> &[crate::kernel::PairCoeff] {
-        &self.cut
     }
 
     /// The pair coefficients by dense type-pair index (after [`SdpdField::resolve`]).
@@ -252,26 +252,6 @@ impl SdpdField {
         } else {
             0.0
         }
-    }
-
-    /// Pass 1's end: `self.density` holds Σ_j W(r_ij) per atom; add the self term and form
-    /// 1/d, P/d² and Σ u(d). A non-finite pressure is recorded in [`SdpdField::fault`].
-    pub fn finish_densities(&mut self, typ: &[u32], tag: &[u32]) {
-        let mut atoms = std::mem::take(&mut self.atoms);
-        atoms.resize(self.density.len(), SdpdAtom::default());
-        self.energy = 0.0;
-        self.fault = None;
-        for (k, a) in atoms.iter_mut().enumerate() {
-            let t = typ[k] as usize;
-            let d = self.density[k] + self.w0[t];
-            self.density[k] = d;
-            *a = self.atom_terms(t, d);
-            self.energy += self.atom_energy(t, d);
-            if !a.pterm.is_finite() && self.fault.is_none() {
-                self.fault = Some((tag[k], d));
-            }
-        }
-        self.atoms = atoms;
     }
 
     /// W(0) of type `t`'s kernel: the self term of its density (after [`SdpdField::resolve`]).
@@ -296,31 +276,149 @@ impl SdpdField {
     pub fn atom_energy(&self, t: usize, d: f64) -> f64 {
         self.tait[t].map_or(0.0, |tait| tait.energy(d))
     }
+}
 
-    /// The kernel of pass 2 (after [`SdpdField::finish_densities`]).
-    pub fn kernel(&self) -> SdpdKernel<'_> {
-        self.kernel_for(&self.atoms)
+impl PrePass for SdpdField {
+    fn rcsq(&self) -> &[f64] {
+        &self.rcsq
     }
 
-    /// The kernel of pass 2 over per-atom terms held by the caller (the C ABI: owned and ghost
-    /// atoms of one MPI rank).
-    pub fn kernel_for<'a>(&'a self, atoms: &'a [SdpdAtom]) -> SdpdKernel<'a> {
-        SdpdKernel {
-            coeff: &self.coeff,
-            atoms,
-            seed: self.style.seed,
-            isa: Isa::detect(),
+    #[inline(always)]
+    fn weight(&self, k: usize, rsq: f64) -> f64 {
+        self.w_pair(k, rsq)
+    }
+
+    fn weights(&self, k: usize, rsq: &[f64], out: &mut [f64]) {
+        self.coeff[k].shape.w_of_squares(rsq, out)
+    }
+
+    fn complete(&self, t: usize, sum: f64) -> f64 {
+        sum + self.w0[t]
+    }
+
+    fn energy_of(&self, t: usize, d: f64) -> Option<f64> {
+        self.atom_terms(t, d)
+            .pterm
+            .is_finite()
+            .then(|| self.atom_energy(t, d))
+    }
+
+    fn fault(&self, who: &str, d: f64, step: u64) -> String {
+        format!(
+            "sdpd at step {step}: the Tait pressure of atom {who} is not finite (number density \
+             d = {d}); reduce the time step or raise c0"
+        )
+    }
+}
+
+impl PairStyle for SdpdField {
+    fn name(&self) -> &'static str {
+        "sdpd"
+    }
+
+    fn ntypes(&self) -> usize {
+        self.ntypes
+    }
+
+    /// The new settings with every `pair_coeff` line applied again (so a line the new settings
+    /// refuse is an error here), as LAMMPS keeps a style's coefficients.
+    fn restyle(&mut self, args: &[String]) -> Result<(), String> {
+        let mut next = SdpdField::from_words(args, self.ntypes)?;
+        for line in &self.coeff_words {
+            next.coeff(line)?;
         }
+        *self = next;
+        Ok(())
     }
 
-    /// The error of a non-finite Tait pressure in the last evaluation, if any.
-    pub fn fault_message(&self, step: u64) -> Option<String> {
-        self.fault.map(|(tag, d)| {
-            format!(
-                "sdpd at step {step}: the Tait pressure of atom {tag} is not finite (number \
-                 density d = {d}); reduce the time step or raise c0"
-            )
+    fn coeff(&mut self, args: &[String]) -> Result<(), String> {
+        let line = crate::grammar::sdpd::pair_coeff(args, self.ntypes, &self.style)?;
+        self.set_line(&line);
+        self.coeff_words.push(args.to_vec());
+        Ok(())
+    }
+
+    fn cutoff(&self, i: usize, j: usize) -> Option<f64> {
+        self.get(i, j).map(|p| p.rc)
+    }
+
+    fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String> {
+        if let Some((i, j)) = self.missing() {
+            return Err(format!(
+                "pair coefficients for types {i} {j} are not set (pair_coeff)"
+            ));
+        }
+        let lines = self.resolve(ctx.dim, ctx.density, ctx.mass, ctx.dt)?;
+        Ok(lines
+            .into_iter()
+            .map(|line| match line.strip_prefix("WARNING: ") {
+                Some(w) => SetupNote::Warning(w.to_string()),
+                None => SetupNote::Info(line),
+            })
+            .collect())
+    }
+
+    fn cut_table(&self) -> &[f64] {
+        &self.cut
+    }
+
+    fn prepass(&self) -> Option<&dyn PrePass> {
+        Some(self)
+    }
+
+    fn set_atom_values(&mut self, values: &[f64], typ: &[u32]) {
+        let mut atoms = std::mem::take(&mut self.atoms);
+        atoms.clear();
+        atoms.extend(
+            typ.iter()
+                .zip(values)
+                .map(|(&t, &d)| self.atom_terms(t as usize, d)),
+        );
+        self.atoms = atoms;
+        self.density.clear();
+        self.density.extend_from_slice(values);
+    }
+
+    fn kernel(&self, isa: Isa) -> Box<dyn PairKernel + '_> {
+        Box::new(SdpdKernel {
+            coeff: &self.coeff,
+            atoms: &self.atoms,
+            seed: self.style.seed,
+            isa,
         })
+    }
+
+    /// The `pair_style` line of the current settings (the kernel a design chose) and the
+    /// `pair_coeff` lines as given.
+    fn restart_lines(&self) -> Vec<Vec<String>> {
+        let mut head = vec!["pair_style".to_string(), "sdpd".to_string()];
+        head.extend(self.style.to_words());
+        let mut lines = vec![head];
+        for w in &self.coeff_words {
+            lines.push(
+                std::iter::once("pair_coeff".to_string())
+                    .chain(w.iter().cloned())
+                    .collect(),
+            );
+        }
+        lines
+    }
+
+    /// `rho0 c0 eta0 rc` (η0 as resolved at the last set-up).
+    fn writes_data(&self) -> bool {
+        true
+    }
+
+    fn data_coeffs(&self, i: usize, j: usize) -> Option<Vec<f64>> {
+        self.get(i, j).map(|p| vec![p.rho0, p.c0, p.eta0, p.rc])
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn clone_box(&self) -> Box<dyn PairStyle> {
+        Box::new(self.clone())
     }
 }
 

@@ -23,7 +23,7 @@
 use super::atoms::Atoms;
 use super::domain::{LeesEdwards, SimBox};
 use super::pair::PairKernel;
-use crate::kernel::{Isa, PairCoeff};
+use crate::kernel::Isa;
 use rayon::prelude::*;
 
 #[cfg(target_arch = "x86_64")]
@@ -649,7 +649,7 @@ impl NeighborList {
     }
 
     /// Evaluate all pair forces of `kernel` at `step` (the noise key), overwrite `atoms.f`, and
-    /// return the energy and virial. `table` holds the cut-offs of the `ntypes` types (dense,
+    /// return the energy and virial. `cut` holds the cut-offs of the `ntypes` types (dense,
     /// `(ntypes + 1)²`), `inv_mass[t]` is 1/m of type t. Requires a current list; `isa` is the
     /// instruction set of the distance pass (the kernel has its own).
     #[allow(clippy::too_many_arguments)]
@@ -658,7 +658,7 @@ impl NeighborList {
         atoms: &mut Atoms,
         bx: &SimBox,
         kernel: &dyn PairKernel,
-        table: &[PairCoeff],
+        cut: &[f64],
         ntypes: usize,
         inv_mass: &[f64],
         step: u64,
@@ -672,13 +672,13 @@ impl NeighborList {
         );
         let nt = ntypes + 1;
         assert!(
-            table.len() == nt * nt && atoms.typ.par_iter().all(|&t| (t as usize) < nt),
+            cut.len() == nt * nt && atoms.typ.par_iter().all(|&t| (t as usize) < nt),
             "atom type outside the coefficient table"
         );
         self.evals_since_build += 1;
         self.refresh_inner(atoms, bx);
         self.rcsq.clear();
-        self.rcsq.extend(table.iter().map(|c| c.rc * c.rc));
+        self.rcsq.extend(cut.iter().map(|&rc| rc * rc));
         let isa = self.isa();
         let ctx = Ctx {
             le: self.le,

@@ -144,7 +144,7 @@ impl Observe {
             }
             "sdpd/density" => {
                 extra(3)?;
-                if sys.sdpd.is_none() {
+                if sys.sdpd().is_none() {
                     return Err(
                         "compute sdpd/density needs pair_style sdpd (define it first)".into(),
                     );
@@ -459,7 +459,7 @@ impl Observe {
 
 /// The densities of the last `pair_style sdpd` evaluation (one per atom, internal order).
 fn sdpd_densities<'a>(c: &ComputeDef, sys: &'a System) -> Result<&'a [f64], String> {
-    let sd = sys.sdpd.as_ref().ok_or_else(|| {
+    let sd = sys.sdpd().ok_or_else(|| {
         format!(
             "compute sdpd/density '{}': the pair style is no longer sdpd",
             c.id

@@ -161,8 +161,6 @@ pub struct Interpreter<'c> {
     fixes: Vec<(String, FixKind)>,
     /// The words of each fix's `fix` command, by ID (for restart files).
     fix_lines: BTreeMap<String, Vec<String>>,
-    /// The `pair_style` line and the `pair_coeff` lines since, as words (for restart files).
-    pair_lines: Vec<Vec<String>>,
     /// `restart N FILE`, when set.
     restart: Option<restart::RestartEvery>,
     /// Fix state read by `read_restart` that no re-defined fix has claimed yet.
@@ -247,7 +245,6 @@ impl<'c> Interpreter<'c> {
             dumps: Vec::new(),
             fixes: Vec::new(),
             fix_lines: BTreeMap::new(),
-            pair_lines: Vec::new(),
             restart: None,
             restart_fixes: Vec::new(),
             threads: opts.threads.max(1),

@@ -145,8 +145,12 @@ impl Interpreter<'_> {
     /// Write the restart file `path` (no `*` expansion) atomically.
     pub(super) fn write_restart_file(&mut self, path: &str) -> CmdResult {
         let fixes = self.fix_records();
-        let pair = self.pair_lines.clone();
         let sys = self.sys.as_mut().ok_or("needs a simulation box first")?;
+        let pair = sys
+            .pair
+            .as_deref()
+            .map(|p| p.restart_lines())
+            .unwrap_or_default();
         // The atoms move into the record for the encoding and straight back (no copy).
         let r = Restart {
             dim: sys.dim() as u32,

@@ -44,7 +44,7 @@ impl PlannedRun {
     fn of(sys: &mut System, steps: u64, notes: Vec<SetupNote>) -> Result<PlannedRun, String> {
         let mut coeffs = Vec::new();
         let mut sdpd = None;
-        let model = if let Some(sd) = sys.sdpd.as_ref() {
+        let model = if let Some(sd) = sys.sdpd() {
             let mut pairs = Vec::new();
             for i in 1..=sys.ntypes {
                 for j in i..=sys.ntypes {
@@ -67,7 +67,7 @@ impl PlannedRun {
                 sys.dt,
             )
         } else {
-            let ff = sys.ff.as_ref().ok_or("no pair style")?;
+            let ff = sys.dpd().ok_or("no pair style")?;
             for i in 1..=sys.ntypes {
                 for j in i..=sys.ntypes {
                     if let Some(c) = ff.get(i, j) {

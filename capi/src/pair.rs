@@ -1,0 +1,674 @@
+//! One C handle for every pair style: an opaque [`DpdnlPair`] holds the style object of the
+//! standalone engine (`dpdnl::engine::style::PairStyle`: the same grammar, set-up, kernel and
+//! restart lines), so a LAMMPS style forwards `narg/arg`, marshals arrays and does MPI, and
+//! knows no coefficient, rule or equation of its own.
+//!
+//! One force evaluation:
+//! - a style with a pre-pass ([`DpdnlPairInfo::values_per_atom`] = 1, e.g. `sdpd`'s density):
+//!   [`dpdnl_pair_prepass`] sums over the half list into `values` (owned atoms, and ghosts with
+//!   newton on; the C++ style then sums ghost parts into their owners, `reverse_comm`),
+//!   [`dpdnl_pair_prepass_finish`] completes the owned atoms and tallies their energy, the
+//!   style sends the owners' values to their ghosts (`forward_comm`);
+//! - [`dpdnl_pair_compute`]: the pair forces through the style's kernel, the same list walk and
+//!   `ev_tally` conventions as [`crate::dpdnl_compute`].
+
+use std::ffi::c_char;
+
+use dpdnl::engine::SetupNote;
+use dpdnl::engine::style::{PairStyle, SetupContext, from_restart_lines, new_pair_style};
+use dpdnl::kernel::Isa;
+
+use crate::compute::{for_each_row, walk_pairs};
+use crate::init::set_last_message;
+use crate::styles::{put, words};
+use crate::{
+    DpdnlAtoms, DpdnlNeighList, DpdnlStatus, DpdnlStep, DpdnlTally, Error, c_str, guard, slice,
+    slice_mut,
+};
+
+/// A pair style and its coefficients (opaque to C).
+pub struct DpdnlPair {
+    style: Box<dyn PairStyle>,
+    /// The types of the atoms of the last [`dpdnl_pair_compute`] (scratch).
+    typ: Vec<u32>,
+    /// The text of the last [`dpdnl_pair_restart`].
+    text: Vec<u8>,
+}
+
+/// What a style needs from its C++ driver.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DpdnlPairInfo {
+    /// Values per atom of the style's pre-pass (0: none; 1: one double per owned and ghost atom,
+    /// communicated between the passes).
+    pub values_per_atom: i32,
+    /// 1 when [`dpdnl_pair_single`] answers (LAMMPS's `single_enable`).
+    pub single: i32,
+    /// 1 when [`dpdnl_pair_data`] answers (LAMMPS's `writedata`).
+    pub data: i32,
+}
+
+/// What a run's set-up knows (LAMMPS's state at `init_style`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct DpdnlSetup {
+    /// 2 or 3.
+    pub dimension: i32,
+    /// Atoms in the whole system (LAMMPS `atom->natoms`).
+    pub natoms: i64,
+    /// Volume of the box (area in 2-D).
+    pub volume: f64,
+    /// Per-type masses, `ntypes + 1` doubles (entry 0 unused), or null (per-atom masses).
+    pub mass: *const f64,
+    /// Time step.
+    pub dt: f64,
+    /// Nonzero when a `fix nve/euler` is defined (the finite-step warning).
+    pub euler: i32,
+}
+
+/// The handle behind `h`.
+///
+/// # Safety
+/// `h` is null or a live handle not used concurrently.
+unsafe fn handle<'a>(h: *mut DpdnlPair) -> Result<&'a mut DpdnlPair, Error> {
+    // SAFETY: caller's contract.
+    unsafe { h.as_mut() }.ok_or_else(|| Error::null("pair handle"))
+}
+
+/// A type count from C (at least 1: LAMMPS may define a pair style before its box).
+fn type_count(ntypes: i32) -> usize {
+    usize::try_from(ntypes).unwrap_or(0).max(1)
+}
+
+/// Words as owned strings.
+fn owned(w: &[&str]) -> Vec<String> {
+    w.iter().map(|s| s.to_string()).collect()
+}
+
+/// Write a new handle for `style` through `out` (null first, so a failure leaves null).
+///
+/// # Safety
+/// `out` is null or valid for writing.
+unsafe fn emit(out: *mut *mut DpdnlPair, style: Box<dyn PairStyle>) -> Result<(), Error> {
+    let h = Box::new(DpdnlPair {
+        style,
+        typ: Vec::new(),
+        text: Vec::new(),
+    });
+    // SAFETY: forwarded caller's contract.
+    unsafe { put(out, Box::into_raw(h)) }
+}
+
+/// A new pair style `name` ("dpd/nonlinear", "sdpd") from the words after the name (LAMMPS's
+/// `Pair::settings(narg, arg)`) for `ntypes` atom types; `*out` gets a handle to release with
+/// [`dpdnl_pair_free`] (null on failure, the message says why).
+///
+/// # Safety
+/// `name` is a NUL-terminated string; `arg` points to `narg` NUL-terminated strings; `out` is
+/// valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_new(
+    name: *const c_char,
+    narg: i32,
+    arg: *const *const c_char,
+    ntypes: i32,
+    out: *mut *mut DpdnlPair,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        unsafe { put(out, std::ptr::null_mut())? };
+        // SAFETY: forwarded caller's contract.
+        let (name, w) = unsafe { (c_str(name, "name")?, words(narg, arg)?) };
+        let style =
+            new_pair_style(name, &owned(&w), type_count(ntypes), 1.0).map_err(Error::invalid)?;
+        // SAFETY: forwarded caller's contract.
+        unsafe { emit(out, style) }
+    })
+}
+
+/// Release a handle (null is ignored).
+///
+/// # Safety
+/// `h` is null or a live handle, not used afterwards.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_free(h: *mut DpdnlPair) {
+    if !h.is_null() {
+        // SAFETY: a pointer from Box::into_raw in `emit`, freed once (caller's contract).
+        drop(unsafe { Box::from_raw(h) });
+    }
+}
+
+/// The same pair style given again with new settings (the words after its name): the
+/// coefficients are kept under the style's rule (`PairStyle::restyle`).
+///
+/// # Safety
+/// `h` is a live handle; `arg` points to `narg` NUL-terminated strings.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_settings(
+    h: *mut DpdnlPair,
+    narg: i32,
+    arg: *const *const c_char,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let (h, w) = unsafe { (handle(h)?, words(narg, arg)?) };
+        h.style.restyle(&owned(&w)).map_err(Error::invalid)
+    })
+}
+
+/// Apply one `pair_coeff` line (all its words, types first: LAMMPS's `Pair::coeff(narg, arg)`)
+/// with `ntypes` atom types (the style's tables grow when the box has more types than the
+/// style was made for).
+///
+/// # Safety
+/// `h` is a live handle; `arg` points to `narg` NUL-terminated strings.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_coeff(
+    h: *mut DpdnlPair,
+    ntypes: i32,
+    narg: i32,
+    arg: *const *const c_char,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let (h, w) = unsafe { (handle(h)?, words(narg, arg)?) };
+        let nt = type_count(ntypes);
+        if nt != h.style.ntypes() {
+            h.style =
+                from_restart_lines(&h.style.restart_lines(), nt, 1.0).map_err(Error::invalid)?;
+        }
+        h.style.coeff(&owned(&w)).map_err(Error::invalid)
+    })
+}
+
+/// Whether type pair (i, j) has coefficients (`*set` 1 or 0), and its cut-off in `*rc`.
+///
+/// # Safety
+/// `h` is a live handle; `rc` and `set` are valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_cutoff(
+    h: *mut DpdnlPair,
+    i: i32,
+    j: i32,
+    rc: *mut f64,
+    set: *mut i32,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let h = unsafe { handle(h)? };
+        let (i, j) = type_pair(h, i, j)?;
+        let c = h.style.cutoff(i, j);
+        // SAFETY: valid for writing (caller's contract).
+        unsafe {
+            put(rc, c.unwrap_or(0.0))?;
+            put(set, i32::from(c.is_some()))
+        }
+    })
+}
+
+/// Checked 1-based types of the style.
+fn type_pair(h: &DpdnlPair, i: i32, j: i32) -> Result<(usize, usize), Error> {
+    let nt = h.style.ntypes() as i32;
+    if !(1..=nt).contains(&i) || !(1..=nt).contains(&j) {
+        return Err(Error::invalid(format!("types {i} {j} outside 1..={nt}")));
+    }
+    Ok((i as usize, j as usize))
+}
+
+/// What the style needs from its driver (a null handle gives all zeros).
+///
+/// # Safety
+/// `h` is null or a live handle.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_info(h: *const DpdnlPair) -> DpdnlPairInfo {
+    // SAFETY: caller's contract.
+    let Some(h) = (unsafe { h.as_ref() }) else {
+        return DpdnlPairInfo::default();
+    };
+    let s = &h.style;
+    DpdnlPairInfo {
+        values_per_atom: i32::from(s.prepass().is_some()),
+        single: i32::from(s.pairwise()),
+        data: i32::from(s.writes_data()),
+    }
+}
+
+/// Set-up of a run (`Pair::init_style`): every pair set, (η, Sc) targets resolved at the
+/// current density, the per-run tables built, the Euler warning. `*rc_max` gets the largest
+/// cut-off; [`crate::dpdnl_last_message`] holds the lines to log, one per line, warnings
+/// starting with "WARNING: ".
+///
+/// # Safety
+/// `h` is a live handle; `setup` is valid for reading (its `mass` null or `ntypes + 1`
+/// doubles); `rc_max` is valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_init(
+    h: *mut DpdnlPair,
+    setup: *const DpdnlSetup,
+    rc_max: *mut f64,
+) -> DpdnlStatus {
+    set_last_message("");
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let (h, s) = unsafe {
+            (
+                handle(h)?,
+                setup.as_ref().ok_or_else(|| Error::null("setup"))?,
+            )
+        };
+        let nt = h.style.ntypes();
+        let dim = match s.dimension {
+            2 => 2,
+            3 => 3,
+            d => return Err(Error::invalid(format!("dimension {d} must be 2 or 3"))),
+        };
+        if !(s.dt.is_finite() && s.dt > 0.0) {
+            return Err(Error::invalid(format!("timestep {} must be > 0", s.dt)));
+        }
+        let mass: Vec<Option<f64>> = if s.mass.is_null() {
+            vec![None; nt + 1]
+        } else {
+            // SAFETY: ntypes + 1 doubles (caller's contract).
+            let m = unsafe { slice(s.mass, nt + 1, "mass")? };
+            m.iter()
+                .enumerate()
+                .map(|(t, &x)| (t > 0).then_some(x))
+                .collect()
+        };
+        let natoms = usize::try_from(s.natoms).unwrap_or(0);
+        let ctx = SetupContext {
+            dim,
+            natoms,
+            density: s.natoms as f64 / s.volume,
+            mass: &mass,
+            dt: s.dt,
+            euler: s.euler != 0,
+        };
+        let notes = h.style.setup(&ctx).map_err(Error::invalid)?;
+        let text: Vec<String> = notes
+            .into_iter()
+            .map(|n| match n {
+                SetupNote::Info(t) => t,
+                SetupNote::Warning(t) => format!("WARNING: {t}"),
+            })
+            .collect();
+        // SAFETY: valid for writing (caller's contract).
+        unsafe { put(rc_max, h.style.rc_max())? };
+        set_last_message(&text.join("\n"));
+        Ok(())
+    })
+}
+
+/// Positions (`3 nall`), types (`nall`), nlocal and nall of one rank's atoms.
+type AtomViews<'a> = (&'a [f64], &'a [i32], usize, usize);
+
+/// Checked views of the atoms' positions and types (`nall` entries).
+///
+/// # Safety
+/// As [`DpdnlAtoms`].
+unsafe fn positions_types<'a>(a: &DpdnlAtoms, nt: usize) -> Result<AtomViews<'a>, Error> {
+    if a.nlocal < 0 || a.nall < a.nlocal {
+        return Err(Error::invalid(format!(
+            "nlocal = {} and nall = {} must satisfy 0 <= nlocal <= nall",
+            a.nlocal, a.nall
+        )));
+    }
+    let (nlocal, nall) = (a.nlocal as usize, a.nall as usize);
+    // SAFETY: sizes as documented on DpdnlAtoms (caller's contract).
+    let (x, ty) = unsafe {
+        (
+            slice(a.x, 3 * nall, "x")?,
+            slice(a.atom_type, nall, "type")?,
+        )
+    };
+    if let Some(bad) = ty.iter().position(|&t| t < 1 || t as usize > nt) {
+        return Err(Error::invalid(format!(
+            "atom {bad} has type {} outside 1..={nt}",
+            ty[bad]
+        )));
+    }
+    Ok((x, ty, nlocal, nall))
+}
+
+/// The style's tables exist (its set-up ran for these types).
+fn ready(h: &DpdnlPair) -> Result<(), Error> {
+    let n = h.style.ntypes() + 1;
+    if h.style.cut_table().len() != n * n {
+        return Err(Error::invalid("dpdnl_pair_init has not run"));
+    }
+    Ok(())
+}
+
+/// The pre-pass, pass 1: `values[0..nall]` is overwritten with Σ_j w(r_ij) over the half list
+/// `list`, added to i and to j (j owned, or any j when `newton_pair` is non-zero), without the
+/// self term. A style without a pre-pass is an error.
+///
+/// # Safety
+/// `h` is a live handle; `atoms` and `list` as for `dpdnl_compute`; `values` holds `nall`
+/// doubles.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_prepass(
+    h: *mut DpdnlPair,
+    atoms: *const DpdnlAtoms,
+    list: *const DpdnlNeighList,
+    newton_pair: i32,
+    values: *mut f64,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let (h, a, list) = unsafe {
+            (
+                handle(h)?,
+                atoms.as_ref().ok_or_else(|| Error::null("atoms"))?,
+                list.as_ref().ok_or_else(|| Error::null("list"))?,
+            )
+        };
+        ready(h)?;
+        let nt = h.style.ntypes();
+        let pp = h
+            .style
+            .prepass()
+            .ok_or_else(|| Error::invalid(format!("{} has no pre-pass", h.style.name())))?;
+        // SAFETY: forwarded caller's contract.
+        let (x, ty, nlocal, nall) = unsafe { positions_types(a, nt)? };
+        // SAFETY: nall doubles (caller's contract).
+        let rho = unsafe { slice_mut(values, nall, "values")? };
+        rho.fill(0.0);
+        let newton = newton_pair != 0;
+        let rcsq = pp.rcsq();
+        // SAFETY: forwarded caller's contract.
+        unsafe {
+            for_each_row(list, nall, |i, jlist, mask| {
+                let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
+                let row = ty[i] as usize * (nt + 1);
+                let mut di = 0.0;
+                for &jraw in jlist {
+                    let j = jraw as u32 as usize & mask;
+                    let k = row + ty[j] as usize;
+                    let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
+                    let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+                    if rsq < rcsq[k] {
+                        let w = pp.weight(k, rsq);
+                        di += w;
+                        if newton || j < nlocal {
+                            rho[j] += w;
+                        }
+                    }
+                }
+                rho[i] += di;
+                Ok(())
+            })?
+        };
+        Ok(())
+    })
+}
+
+/// The pre-pass's end for the owned atoms: each value completed (its self term), and the
+/// per-atom energy added to `tally->eng_vdwl` (when `eflag_global`) and `tally->eatom[i]` (when
+/// not null). A non-finite state is an error naming the atom's tag (`tag` may be null: the
+/// index is named).
+///
+/// # Safety
+/// `h` is a live handle; `atoms` as for `dpdnl_compute` (types and tags of the owned atoms are
+/// read); `values` holds `nlocal` doubles; `tally` is null or as for `dpdnl_compute`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_prepass_finish(
+    h: *mut DpdnlPair,
+    atoms: *const DpdnlAtoms,
+    step: i64,
+    values: *mut f64,
+    tally: *const DpdnlTally,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let (h, a) = unsafe {
+            (
+                handle(h)?,
+                atoms.as_ref().ok_or_else(|| Error::null("atoms"))?,
+            )
+        };
+        ready(h)?;
+        let nt = h.style.ntypes();
+        let pp = h
+            .style
+            .prepass()
+            .ok_or_else(|| Error::invalid(format!("{} has no pre-pass", h.style.name())))?;
+        // SAFETY: forwarded caller's contract.
+        let (_, ty, nlocal, _) = unsafe { positions_types(a, nt)? };
+        // SAFETY: nlocal entries (caller's contract).
+        let (rho, tag) = unsafe {
+            (
+                slice_mut(values, nlocal, "values")?,
+                if a.tag.is_null() {
+                    &[][..]
+                } else {
+                    slice(a.tag, nlocal, "tag")?
+                },
+            )
+        };
+        // SAFETY: null or valid (caller's contract).
+        let t = unsafe { tally.as_ref() }.copied();
+        let mut energy = 0.0;
+        // SAFETY: nall >= nlocal doubles when non-null (caller's contract).
+        let mut eatom = match t {
+            Some(t) if !t.eatom.is_null() => Some(unsafe { slice_mut(t.eatom, nlocal, "eatom")? }),
+            _ => None,
+        };
+        let step = step.max(0) as u64;
+        for i in 0..nlocal {
+            let ti = ty[i] as usize;
+            let d = pp.complete(ti, rho[i]);
+            rho[i] = d;
+            let Some(u) = pp.energy_of(ti, d) else {
+                let who = tag.get(i).map_or(format!("index {i}"), |t| t.to_string());
+                return Err(Error::invalid(pp.fault(&who, d, step)));
+            };
+            energy += u;
+            if let Some(e) = eatom.as_deref_mut() {
+                e[i] += u;
+            }
+        }
+        if let Some(t) = t
+            && t.eflag_global != 0
+        {
+            // SAFETY: valid for reading and writing when eflag_global (caller's contract).
+            let e = unsafe { t.eng_vdwl.as_mut() }.ok_or_else(|| Error::null("eng_vdwl"))?;
+            *e += energy;
+        }
+        Ok(())
+    })
+}
+
+/// The pair forces of every listed pair, accumulated into `f` and `tally` exactly as
+/// `dpdnl_compute` does (the same list walk and `ev_tally` conventions). A style with a
+/// pre-pass reads every atom's value from `values[0..nall]` (owned and ghost atoms, ghosts
+/// communicated); `values` may be null for the others.
+///
+/// # Safety
+/// As `dpdnl_compute`; `h` is a live handle and `values` is null or holds `nall` doubles.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_compute(
+    h: *mut DpdnlPair,
+    atoms: *const DpdnlAtoms,
+    list: *const DpdnlNeighList,
+    step: *const DpdnlStep,
+    values: *const f64,
+    f: *mut f64,
+    tally: *mut DpdnlTally,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let (h, a, list, st) = unsafe {
+            (
+                handle(h)?,
+                atoms.as_ref().ok_or_else(|| Error::null("atoms"))?,
+                list.as_ref().ok_or_else(|| Error::null("list"))?,
+                step.as_ref().ok_or_else(|| Error::null("step"))?,
+            )
+        };
+        ready(h)?;
+        if !(st.dt.is_finite() && st.dt > 0.0) {
+            return Err(Error::invalid(format!(
+                "time step dt = {} must be a finite number > 0",
+                st.dt
+            )));
+        }
+        let nt = h.style.ntypes();
+        if h.style.prepass().is_some() {
+            // SAFETY: forwarded caller's contract.
+            let (_, ty, _, nall) = unsafe { positions_types(a, nt)? };
+            // SAFETY: nall doubles (caller's contract).
+            let rho = unsafe { slice(values, nall, "values")? };
+            h.typ.clear();
+            h.typ.extend(ty.iter().map(|&t| t as u32));
+            h.style.set_atom_values(rho, &h.typ);
+        }
+        h.style.set_timestep(st.dt);
+        let style = &*h.style;
+        let kernel = style.kernel(Isa::detect());
+        // SAFETY: null or valid (caller's contract).
+        let t = unsafe { tally.as_ref() }.copied();
+        // SAFETY: forwarded caller's contract.
+        unsafe { walk_pairs(&*kernel, style.cut_table(), nt, a, list, st, f, t) }
+    })
+}
+
+/// Separates the words of a line in the restart text.
+const WORD_SEP: char = '\u{1f}';
+/// The first line of the restart text.
+const RESTART_MAGIC: &str = "dpdnl-pair-restart 1";
+
+/// The style as restart text (its `restart_lines`: the `pair_style` line and, unless
+/// `settings_only`, its `pair_coeff` lines): `*data` and `*len` get bytes valid until the next
+/// call on `h`. [`dpdnl_pair_from_restart`] reads them back.
+///
+/// # Safety
+/// `h` is a live handle; `data` and `len` are valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_restart(
+    h: *mut DpdnlPair,
+    settings_only: i32,
+    data: *mut *const c_char,
+    len: *mut i64,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let h = unsafe { handle(h)? };
+        let mut lines = h.style.restart_lines();
+        if settings_only != 0 {
+            lines.truncate(1);
+        }
+        let mut text = String::from(RESTART_MAGIC);
+        for l in &lines {
+            text.push('\n');
+            text.push_str(&l.join(&WORD_SEP.to_string()));
+        }
+        h.text = text.into_bytes();
+        // SAFETY: valid for writing (caller's contract).
+        unsafe {
+            put(data, h.text.as_ptr().cast::<c_char>())?;
+            put(len, h.text.len() as i64)
+        }
+    })
+}
+
+/// A style from the text of [`dpdnl_pair_restart`] (`len` bytes at `data`) for `ntypes` types;
+/// `*out` gets a new handle (null on failure: a corrupt or foreign text is named).
+///
+/// # Safety
+/// `data` holds `len` bytes; `out` is valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_from_restart(
+    data: *const c_char,
+    len: i64,
+    ntypes: i32,
+    out: *mut *mut DpdnlPair,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        unsafe { put(out, std::ptr::null_mut())? };
+        let n = usize::try_from(len)
+            .map_err(|_| Error::invalid(format!("restart text length {len} < 0")))?;
+        // SAFETY: `len` bytes (caller's contract).
+        let bytes = unsafe { slice(data.cast::<u8>(), n, "data")? };
+        let corrupt = |why: &str| Error::invalid(format!("corrupt pair style restart text: {why}"));
+        let text = std::str::from_utf8(bytes).map_err(|_| corrupt("not UTF-8"))?;
+        let mut it = text.split('\n');
+        if it.next() != Some(RESTART_MAGIC) {
+            return Err(corrupt("no 'dpdnl-pair-restart 1' header"));
+        }
+        let lines: Vec<Vec<String>> = it
+            .map(|l| l.split(WORD_SEP).map(str::to_string).collect())
+            .collect();
+        let style = from_restart_lines(&lines, type_count(ntypes), 1.0).map_err(Error::invalid)?;
+        // SAFETY: forwarded caller's contract.
+        unsafe { emit(out, style) }
+    })
+}
+
+/// The numbers of a `write_data` coefficient line of type pair (i, j): up to `cap` doubles into
+/// `out`, their count in `*n` (0 when the style writes no data coefficients or the pair is not
+/// set).
+///
+/// # Safety
+/// `h` is a live handle; `out` holds `cap` doubles; `n` is valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_data(
+    h: *mut DpdnlPair,
+    i: i32,
+    j: i32,
+    out: *mut f64,
+    cap: i32,
+    n: *mut i32,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let h = unsafe { handle(h)? };
+        let (i, j) = type_pair(h, i, j)?;
+        let v = h.style.data_coeffs(i, j).unwrap_or_default();
+        let cap = usize::try_from(cap).unwrap_or(0);
+        if v.len() > cap {
+            return Err(Error::invalid(format!(
+                "{} numbers do not fit in {cap}",
+                v.len()
+            )));
+        }
+        // SAFETY: `cap` doubles (caller's contract).
+        let dst = unsafe { slice_mut(out, v.len(), "out")? };
+        dst.copy_from_slice(&v);
+        // SAFETY: valid for writing (caller's contract).
+        unsafe { put(n, v.len() as i32) }
+    })
+}
+
+/// LAMMPS's `Pair::single` for types (i, j) at distance² `rsq`: the conservative force F/r
+/// into `*fforce` and the energy into the return slot `*energy`, both scaled by `factor`
+/// (LAMMPS's special-bond factor, as `pair dpd` scales them). A style without a pair-wise
+/// answer (many-body) is an error.
+///
+/// # Safety
+/// `h` is a live handle; `fforce` and `energy` are valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_single(
+    h: *mut DpdnlPair,
+    i: i32,
+    j: i32,
+    rsq: f64,
+    factor: f64,
+    fforce: *mut f64,
+    energy: *mut f64,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let h = unsafe { handle(h)? };
+        let (i, j) = type_pair(h, i, j)?;
+        let (fpair, e) = h.style.single(i, j, rsq).ok_or_else(|| {
+            Error::invalid(format!("pair style {} has no single()", h.style.name()))
+        })?;
+        // SAFETY: valid for writing (caller's contract).
+        unsafe {
+            put(fforce, factor * fpair)?;
+            put(energy, factor * e)
+        }
+    })
+}

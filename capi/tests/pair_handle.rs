@@ -1,0 +1,652 @@
+//! The one pair handle (`dpdnl_pair_*`) against the low-level per-table API it replaces in the
+//! LAMMPS styles: the same forces, energy and virial bit for bit, a restart text that gives the
+//! same style back, sDPD's pre-pass against a direct sum, and bad calls as codes plus text.
+
+use std::ffi::{CStr, CString, c_char};
+use std::ptr::{null, null_mut};
+
+use dpdnl::rng::keyed_uniform;
+use dpdnl_capi::*;
+
+const SEED: u32 = 4242;
+const DT: f64 = 0.01;
+
+fn last_error() -> String {
+    // SAFETY: a valid NUL-terminated string owned by this thread.
+    unsafe { CStr::from_ptr(dpdnl_last_error()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn last_message() -> String {
+    // SAFETY: a valid NUL-terminated string owned by this thread.
+    unsafe { CStr::from_ptr(dpdnl_last_message()) }
+        .to_string_lossy()
+        .into_owned()
+}
+
+#[derive(Debug)]
+struct Handle(*mut DpdnlPair);
+
+impl Drop for Handle {
+    fn drop(&mut self) {
+        // SAFETY: a handle from dpdnl_pair_new / _from_restart, freed once.
+        unsafe { dpdnl_pair_free(self.0) };
+    }
+}
+
+fn cwords(words: &[&str]) -> (Vec<CString>, Vec<*const c_char>) {
+    let c: Vec<CString> = words.iter().map(|w| CString::new(*w).unwrap()).collect();
+    let p = c.iter().map(|s| s.as_ptr()).collect();
+    (c, p)
+}
+
+fn new_style(name: &str, words: &[&str], ntypes: i32) -> Result<Handle, String> {
+    let n = CString::new(name).unwrap();
+    let (_c, p) = cwords(words);
+    let mut h = null_mut();
+    // SAFETY: valid strings that outlive the call; `h` is valid for writing.
+    let st = unsafe { dpdnl_pair_new(n.as_ptr(), p.len() as i32, p.as_ptr(), ntypes, &mut h) };
+    if st != DpdnlStatus::Ok {
+        assert!(h.is_null());
+        return Err(last_error());
+    }
+    Ok(Handle(h))
+}
+
+fn coeff(h: &Handle, ntypes: i32, words: &[&str]) -> Result<(), String> {
+    let (_c, p) = cwords(words);
+    // SAFETY: a live handle; valid strings.
+    let st = unsafe { dpdnl_pair_coeff(h.0, ntypes, p.len() as i32, p.as_ptr()) };
+    if st == DpdnlStatus::Ok {
+        Ok(())
+    } else {
+        Err(last_error())
+    }
+}
+
+const MASS: [f64; 3] = [0.0, 1.0, 2.5];
+
+fn init(h: &Handle, natoms: i64, volume: f64) -> Result<f64, String> {
+    let s = DpdnlSetup {
+        dimension: 3,
+        natoms,
+        volume,
+        mass: MASS.as_ptr(),
+        dt: DT,
+        euler: 0,
+    };
+    let mut rc = 0.0;
+    // SAFETY: a live handle; `s` and `rc` valid.
+    let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
+    if st == DpdnlStatus::Ok {
+        Ok(rc)
+    } else {
+        Err(last_error())
+    }
+}
+
+/// `n` owned atoms in a cube of side `len`, two types, ghosts: the periodic images within
+/// `cut` of the box.
+struct Atoms {
+    x: Vec<f64>,
+    v: Vec<f64>,
+    tag: Vec<i32>,
+    ty: Vec<i32>,
+    nlocal: usize,
+    owner: Vec<usize>,
+}
+
+fn uniform(a: u32, b: u32, lo: f64, hi: f64) -> f64 {
+    lo + (hi - lo) * keyed_uniform(99, 1000, 7, a, b)
+}
+
+impl Atoms {
+    fn new(n: usize, len: f64, cut: f64) -> Atoms {
+        let mut s = Atoms {
+            x: vec![],
+            v: vec![],
+            tag: vec![],
+            ty: vec![],
+            nlocal: n,
+            owner: vec![],
+        };
+        for i in 0..n {
+            let k = i as u32;
+            s.x.extend([0, 1, 2].map(|d| uniform(k, 100 + d, 0.0, len)));
+            s.v.extend([0, 1, 2].map(|d| uniform(k, 200 + d, -1.0, 1.0)));
+            s.tag.push(((i * 37) % n + 1) as i32);
+            s.ty.push(1 + (i % 3 == 0) as i32);
+            s.owner.push(i);
+        }
+        for k in 0..27 {
+            let sh = [k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1];
+            if sh == [0, 0, 0] {
+                continue;
+            }
+            for i in 0..n {
+                let p = [0, 1, 2].map(|d| s.x[3 * i + d] + f64::from(sh[d]) * len);
+                if p.iter().all(|&c| c > -cut && c < len + cut) {
+                    s.x.extend(p);
+                    s.v.extend_from_within(3 * i..3 * i + 3);
+                    s.tag.push(s.tag[i]);
+                    s.ty.push(s.ty[i]);
+                    s.owner.push(i);
+                }
+            }
+        }
+        s
+    }
+
+    fn nall(&self) -> usize {
+        self.tag.len()
+    }
+
+    /// A half list with newton on (each physical pair once) within `cut`.
+    fn half_list(&self, cut: f64) -> Vec<Vec<i32>> {
+        let rsq = |i: usize, j: usize| -> f64 {
+            (0..3)
+                .map(|d| (self.x[3 * i + d] - self.x[3 * j + d]).powi(2))
+                .sum()
+        };
+        (0..self.nlocal)
+            .map(|i| {
+                (0..self.nall())
+                    .filter(|&j| j != i && rsq(i, j) < cut * cut)
+                    .filter(|&j| {
+                        if j < self.nlocal {
+                            j > i
+                        } else {
+                            self.tag[i] < self.tag[j]
+                        }
+                    })
+                    .map(|j| j as i32)
+                    .collect()
+            })
+            .collect()
+    }
+}
+
+/// Forces (owned atoms, ghosts folded in), energy and virial of one evaluation.
+#[derive(Debug, PartialEq)]
+struct Out {
+    f: Vec<f64>,
+    energy: f64,
+    virial: [f64; 6],
+}
+
+/// One force evaluation of `a` over its newton-on half list: `call(atoms, list, step, f,
+/// tally)` is the entry point under test.
+fn evaluate(
+    a: &Atoms,
+    cut: f64,
+    call: impl FnOnce(
+        &DpdnlAtoms,
+        &DpdnlNeighList,
+        &DpdnlStep,
+        *mut f64,
+        &mut DpdnlTally,
+    ) -> DpdnlStatus,
+) -> Out {
+    let lists = a.half_list(cut);
+    let ilist: Vec<i32> = (0..a.nlocal as i32).collect();
+    let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
+    let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
+    let atoms = DpdnlAtoms {
+        x: a.x.as_ptr(),
+        v: a.v.as_ptr(),
+        tag: a.tag.as_ptr(),
+        atom_type: a.ty.as_ptr(),
+        mass: MASS.as_ptr(),
+        rmass: null(),
+        nlocal: a.nlocal as i32,
+        nall: a.nall() as i32,
+    };
+    let list = DpdnlNeighList {
+        inum: a.nlocal as i32,
+        ilist: ilist.as_ptr(),
+        numneigh: numneigh.as_ptr(),
+        firstneigh: firstneigh.as_ptr(),
+        neighmask: 0x3FFF_FFFF,
+        full: 0,
+    };
+    let st = DpdnlStep {
+        step: 7,
+        dt: DT,
+        newton_pair: 1,
+        dimension: 3,
+    };
+    let mut out = Out {
+        f: vec![0.0; 3 * a.nall()],
+        energy: 0.0,
+        virial: [0.0; 6],
+    };
+    let mut tally = DpdnlTally {
+        eflag_global: 1,
+        vflag_global: 1,
+        eng_vdwl: &mut out.energy,
+        virial: out.virial.as_mut_ptr(),
+        eatom: null_mut(),
+        vatom: null_mut(),
+    };
+    let code = call(&atoms, &list, &st, out.f.as_mut_ptr(), &mut tally);
+    assert_eq!(code, DpdnlStatus::Ok, "{}", last_error());
+    for g in a.nlocal..a.nall() {
+        let o = a.owner[g];
+        for d in 0..3 {
+            out.f[3 * o + d] += out.f[3 * g + d];
+        }
+    }
+    out.f.truncate(3 * a.nlocal);
+    out
+}
+
+const MODELS: [(&str, &str); 4] = [
+    ("none", "plain"),
+    ("cross", "plain"),
+    ("dot", "corrected"),
+    ("dot", "twostep"),
+];
+
+/// The handle of `dpd/nonlinear` for a friction/noise pair, with three type pairs set.
+fn dpd_handle(fr: &str, no: &str) -> Handle {
+    let seed = SEED.to_string();
+    let h = new_style(
+        "dpd/nonlinear",
+        &[
+            "0.7", "1.0", &seed, "friction", fr, "noise", no, "weight", "0.5",
+        ],
+        2,
+    )
+    .expect("style");
+    let g1 = |g: &'static str| if fr == "none" { "0" } else { g };
+    for line in [
+        ["1", "1", "25", "4.5", g1("1.0"), "1.0"],
+        ["1", "2", "10", "3.0", g1("0.5"), "1.2"],
+        ["2", "2", "0", "5.0", g1("2.0"), "0.9"],
+    ] {
+        coeff(&h, 2, &line).expect("coeff");
+    }
+    h
+}
+
+#[test]
+fn dpd_handle_equals_the_parameter_table_bit_for_bit() {
+    let a = Atoms::new(60, 3.0, 1.2);
+    for (fr, no) in MODELS {
+        let h = dpd_handle(fr, no);
+        assert_eq!(init(&h, 60, 27.0).expect("init"), 1.2);
+        let mine = evaluate(&a, 1.2, |at, l, st, f, t| {
+            // SAFETY: arrays sized as documented, alive across the call.
+            unsafe { dpdnl_pair_compute(h.0, at, l, st, null(), f, t) }
+        });
+        let (fc, nc) = (CString::new(fr).unwrap(), CString::new(no).unwrap());
+        let mut p = null_mut();
+        // SAFETY: valid strings and out pointer.
+        let s = unsafe {
+            dpdnl_params_new(
+                0.7,
+                i64::from(SEED),
+                fc.as_ptr(),
+                nc.as_ptr(),
+                0.5,
+                2,
+                &mut p,
+            )
+        };
+        assert_eq!(s, DpdnlStatus::Ok);
+        let g1 = |g: f64| if fr == "none" { 0.0 } else { g };
+        for (i, j, aa, g0, g, rc) in [
+            (1, 1, 25.0, 4.5, g1(1.0), 1.0),
+            (1, 2, 10.0, 3.0, g1(0.5), 1.2),
+            (2, 2, 0.0, 5.0, g1(2.0), 0.9),
+        ] {
+            // SAFETY: a live table.
+            assert_eq!(
+                unsafe { dpdnl_params_set_coeff(p, i, j, aa, g0, g, rc) },
+                DpdnlStatus::Ok
+            );
+        }
+        let table = evaluate(&a, 1.2, |at, l, st, f, t| {
+            // SAFETY: as above; a live table.
+            unsafe { dpdnl_compute(p, at, l, st, f, t) }
+        });
+        // SAFETY: from dpdnl_params_new, freed once.
+        unsafe { dpdnl_params_free(p) };
+        assert_eq!(mine, table, "{fr}/{no}");
+        assert!(mine.energy != 0.0 && mine.f.iter().any(|&x| x != 0.0));
+    }
+}
+
+fn restart_text(h: &Handle, settings_only: i32) -> Vec<u8> {
+    let (mut data, mut len) = (null(), 0i64);
+    // SAFETY: a live handle; out pointers valid.
+    let st = unsafe { dpdnl_pair_restart(h.0, settings_only, &mut data, &mut len) };
+    assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
+    // SAFETY: `len` bytes valid until the next call on `h`.
+    unsafe { std::slice::from_raw_parts(data.cast::<u8>(), len as usize) }.to_vec()
+}
+
+fn from_restart(text: &[u8], ntypes: i32) -> Result<Handle, String> {
+    let mut h = null_mut();
+    // SAFETY: `text` holds its length in bytes; `h` valid for writing.
+    let st =
+        unsafe { dpdnl_pair_from_restart(text.as_ptr().cast(), text.len() as i64, ntypes, &mut h) };
+    if st == DpdnlStatus::Ok {
+        Ok(Handle(h))
+    } else {
+        Err(last_error())
+    }
+}
+
+#[test]
+fn restart_text_gives_the_same_style_back() {
+    let a = Atoms::new(50, 3.0, 1.2);
+    let h = dpd_handle("dot", "twostep");
+    // (η, Sc) targets on one pair: stored as targets, resolved again at the next set-up.
+    coeff(
+        &h,
+        2,
+        &[
+            "2", "2", "0", "eta", "0.5", "sc", "3", "gamma1", "0.7", "rc", "0.9",
+        ],
+    )
+    .unwrap();
+    let text = restart_text(&h, 0);
+    let back = from_restart(&text, 2).expect("reads back");
+    assert_eq!(restart_text(&back, 0), text);
+    let mut outs = Vec::new();
+    for hh in [&h, &back] {
+        let mass1 = [0.0, 1.0, 1.0];
+        let s = DpdnlSetup {
+            dimension: 3,
+            natoms: 50,
+            volume: 27.0,
+            mass: mass1.as_ptr(),
+            dt: DT,
+            euler: 0,
+        };
+        let mut rc = 0.0;
+        // SAFETY: a live handle.
+        assert_eq!(
+            unsafe { dpdnl_pair_init(hh.0, &s, &mut rc) },
+            DpdnlStatus::Ok,
+            "{}",
+            last_error()
+        );
+        assert!(
+            last_message().contains("pair_coeff 2 2: eta 0.5 sc 3"),
+            "{}",
+            last_message()
+        );
+        outs.push(evaluate(&a, 1.2, |at, l, st, f, t| {
+            // SAFETY: as in `evaluate`.
+            unsafe { dpdnl_pair_compute(hh.0, at, l, st, null(), f, t) }
+        }));
+    }
+    assert_eq!(outs[0], outs[1]);
+    // The settings alone: a style with no coefficients, whose set-up names the first pair.
+    let bare = from_restart(&restart_text(&h, 1), 2).expect("settings");
+    assert!(
+        init(&bare, 50, 27.0)
+            .unwrap_err()
+            .contains("types 1 1 are not set")
+    );
+    // Foreign or damaged text is refused with a reason.
+    assert!(from_restart(b"hello", 2).unwrap_err().contains("corrupt"));
+    let mut bad = text.clone();
+    bad.truncate(text.len() - 3);
+    bad.extend(b"\x1fbogus");
+    assert!(from_restart(&bad, 2).is_err());
+}
+
+#[test]
+fn info_single_and_data() {
+    let h = dpd_handle("cross", "plain");
+    // SAFETY: a live handle (and null, which gives zeros).
+    let (i, z) = unsafe { (dpdnl_pair_info(h.0), dpdnl_pair_info(null())) };
+    assert_eq!((i.values_per_atom, i.single, i.data), (0, 1, 1));
+    assert_eq!((z.values_per_atom, z.single, z.data), (0, 0, 0));
+    // single(): the conservative part a (1 − r/rc)/r and a rc (1 − r/rc)²/2, times the factor.
+    let (mut f, mut e) = (0.0, 0.0);
+    // SAFETY: a live handle; out pointers valid.
+    assert_eq!(
+        unsafe { dpdnl_pair_single(h.0, 1, 2, 0.36, 0.5, &mut f, &mut e) },
+        DpdnlStatus::Ok
+    );
+    let w = 1.0 - 0.6 / 1.2;
+    assert!(
+        (f - 0.5 * 10.0 * w / 0.6).abs() < 1e-15
+            && (e - 0.5 * 0.5 * 10.0 * 1.2 * w * w).abs() < 1e-15
+    );
+    // SAFETY: as above.
+    assert_eq!(
+        unsafe { dpdnl_pair_single(h.0, 1, 2, 1.44, 1.0, &mut f, &mut e) },
+        DpdnlStatus::Ok
+    );
+    assert_eq!((f, e), (0.0, 0.0));
+    let mut v = [0.0; 8];
+    let mut n = 0;
+    // SAFETY: a live handle; `v` holds 8 doubles.
+    assert_eq!(
+        unsafe { dpdnl_pair_data(h.0, 2, 1, v.as_mut_ptr(), 8, &mut n) },
+        DpdnlStatus::Ok
+    );
+    assert_eq!(&v[..n as usize], &[10.0, 3.0, 0.5, 1.2]);
+    // SAFETY: as above, too small a buffer.
+    assert_eq!(
+        unsafe { dpdnl_pair_data(h.0, 1, 1, v.as_mut_ptr(), 2, &mut n) },
+        DpdnlStatus::InvalidArgument
+    );
+    let mut rc = 0.0;
+    let mut set = 0;
+    // SAFETY: as above.
+    assert_eq!(
+        unsafe { dpdnl_pair_cutoff(h.0, 3, 1, &mut rc, &mut set) },
+        DpdnlStatus::InvalidArgument
+    );
+    assert!(last_error().contains("outside 1..=2"));
+
+    let sd = sdpd_handle();
+    // SAFETY: a live handle.
+    let i = unsafe { dpdnl_pair_info(sd.0) };
+    assert_eq!((i.values_per_atom, i.single, i.data), (1, 0, 1));
+    // SAFETY: as above.
+    assert_eq!(
+        unsafe { dpdnl_pair_single(sd.0, 1, 1, 0.5, 1.0, &mut f, &mut e) },
+        DpdnlStatus::InvalidArgument
+    );
+    assert!(last_error().contains("sdpd has no single()"));
+}
+
+fn sdpd_handle() -> Handle {
+    let seed = SEED.to_string();
+    let h = new_style("sdpd", &["1.0", "1.2", &seed, "kernel", "quintic"], 2).unwrap();
+    coeff(&h, 2, &["*", "*", "1.0", "8.0", "2.0"]).unwrap();
+    coeff(&h, 2, &["2", "2", "1.5", "6.0", "1.0", "1.0"]).unwrap();
+    h
+}
+
+#[test]
+fn sdpd_prepass_is_the_direct_density_sum_and_forces_conserve_momentum() {
+    let a = Atoms::new(60, 3.0, 1.2);
+    let h = sdpd_handle();
+    init(&h, 60, 27.0).expect("init");
+    let lists = a.half_list(1.2);
+    let ilist: Vec<i32> = (0..a.nlocal as i32).collect();
+    let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
+    let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
+    let atoms = DpdnlAtoms {
+        x: a.x.as_ptr(),
+        v: a.v.as_ptr(),
+        tag: a.tag.as_ptr(),
+        atom_type: a.ty.as_ptr(),
+        mass: MASS.as_ptr(),
+        rmass: null(),
+        nlocal: a.nlocal as i32,
+        nall: a.nall() as i32,
+    };
+    let list = DpdnlNeighList {
+        inum: a.nlocal as i32,
+        ilist: ilist.as_ptr(),
+        numneigh: numneigh.as_ptr(),
+        firstneigh: firstneigh.as_ptr(),
+        neighmask: 0x3FFF_FFFF,
+        full: 0,
+    };
+    let mut rho = vec![0.0; a.nall()];
+    // SAFETY: arrays as documented.
+    let st = unsafe { dpdnl_pair_prepass(h.0, &atoms, &list, 1, rho.as_mut_ptr()) };
+    assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
+    // Reverse communication, the end of the pass, forward communication.
+    for g in a.nlocal..a.nall() {
+        rho[a.owner[g]] += rho[g];
+    }
+    let mut energy = 0.0;
+    let tally = DpdnlTally {
+        eflag_global: 1,
+        vflag_global: 0,
+        eng_vdwl: &mut energy,
+        virial: null_mut(),
+        eatom: null_mut(),
+        vatom: null_mut(),
+    };
+    // SAFETY: as above.
+    let st = unsafe { dpdnl_pair_prepass_finish(h.0, &atoms, 7, rho.as_mut_ptr(), &tally) };
+    assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
+    for g in a.nlocal..a.nall() {
+        rho[g] = rho[a.owner[g]];
+    }
+    // The same densities from the standalone style object, summed directly over every image.
+    let mut field = dpdnl::engine::style::new_pair_style(
+        "sdpd",
+        &["1.0", "1.2", &SEED.to_string(), "kernel", "quintic"].map(String::from),
+        2,
+        DT,
+    )
+    .unwrap();
+    field
+        .coeff(&["*", "*", "1.0", "8.0", "2.0"].map(String::from))
+        .unwrap();
+    field
+        .coeff(&["2", "2", "1.5", "6.0", "1.0", "1.0"].map(String::from))
+        .unwrap();
+    let mass = [None, Some(1.0), Some(2.5)];
+    field
+        .setup(&dpdnl::engine::SetupContext {
+            dim: 3,
+            natoms: 60,
+            density: 60.0 / 27.0,
+            mass: &mass,
+            dt: DT,
+            euler: false,
+        })
+        .unwrap();
+    let pp = field.prepass().expect("sdpd has a pre-pass");
+    for (i, &got) in rho.iter().enumerate().take(a.nlocal) {
+        let mut sum = 0.0;
+        for j in 0..a.nall() {
+            if a.owner[j] == i && j == i {
+                continue;
+            }
+            let rsq: f64 = (0..3)
+                .map(|d| (a.x[3 * i + d] - a.x[3 * j + d]).powi(2))
+                .sum();
+            let k = a.ty[i] as usize * 3 + a.ty[j] as usize;
+            if rsq < pp.rcsq()[k] {
+                sum += pp.weight(k, rsq);
+            }
+        }
+        let d = pp.complete(a.ty[i] as usize, sum);
+        assert!((got - d).abs() <= 1e-12 * d, "atom {i}: {got} vs {d}");
+    }
+    assert!(energy.is_finite() && energy != 0.0);
+    let out = evaluate(&a, 1.2, |at, l, st, f, t| {
+        // SAFETY: `rho` holds nall doubles.
+        unsafe { dpdnl_pair_compute(h.0, at, l, st, rho.as_ptr(), f, t) }
+    });
+    let scale = out.f.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    for d in 0..3 {
+        let p: f64 = (0..a.nlocal).map(|i| out.f[3 * i + d]).sum();
+        assert!(
+            p.abs() <= 1e-12 * scale * a.nlocal as f64,
+            "momentum {d}: {p}"
+        );
+    }
+}
+
+#[test]
+fn bad_calls_give_codes_and_text() {
+    assert!(
+        new_style("lj/cut", &["2.5"], 1)
+            .unwrap_err()
+            .contains("not supported")
+    );
+    assert!(
+        new_style("dpd/nonlinear", &["1.0"], 1)
+            .unwrap_err()
+            .contains("missing arguments")
+    );
+    let h = dpd_handle("dot", "plain");
+    assert!(coeff(&h, 2, &["1", "3", "1", "1", "0"]).is_err());
+    // The same style again: coefficients kept, cut-offs reset to the new global (LAMMPS's rule).
+    let (_c, p) = cwords(&["0.7", "0.8", "5", "friction", "dot"]);
+    // SAFETY: a live handle; valid strings.
+    assert_eq!(
+        unsafe { dpdnl_pair_settings(h.0, p.len() as i32, p.as_ptr()) },
+        DpdnlStatus::Ok
+    );
+    assert_eq!(init(&h, 10, 27.0).expect("init"), 0.8);
+    // Friction none with a γ1 kept from the earlier settings is refused (the grammar's rule).
+    let (_c, p) = cwords(&["0.7", "0.8", "5"]);
+    // SAFETY: as above.
+    let st = unsafe { dpdnl_pair_settings(h.0, p.len() as i32, p.as_ptr()) };
+    assert_eq!(st, DpdnlStatus::InvalidArgument);
+    assert!(
+        last_error().contains("must be 0 with friction none"),
+        "{}",
+        last_error()
+    );
+    // A pre-pass on a style without one, a compute before set-up, null pointers.
+    let d = dpd_handle("dot", "plain");
+    let mut v = [0.0; 4];
+    // SAFETY: null atoms/list are refused before use.
+    let st = unsafe { dpdnl_pair_prepass(d.0, null(), null(), 1, v.as_mut_ptr()) };
+    assert_eq!(st, DpdnlStatus::NullPointer);
+    // SAFETY: null handle.
+    let st = unsafe { dpdnl_pair_coeff(null_mut(), 1, 0, null()) };
+    assert_eq!(st, DpdnlStatus::NullPointer);
+    let a = Atoms::new(5, 3.0, 1.2);
+    let lists = a.half_list(1.2);
+    let ilist: Vec<i32> = (0..5).collect();
+    let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
+    let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
+    let atoms = DpdnlAtoms {
+        x: a.x.as_ptr(),
+        v: a.v.as_ptr(),
+        tag: a.tag.as_ptr(),
+        atom_type: a.ty.as_ptr(),
+        mass: MASS.as_ptr(),
+        rmass: null(),
+        nlocal: 5,
+        nall: a.nall() as i32,
+    };
+    let list = DpdnlNeighList {
+        inum: 5,
+        ilist: ilist.as_ptr(),
+        numneigh: numneigh.as_ptr(),
+        firstneigh: firstneigh.as_ptr(),
+        neighmask: 0x3FFF_FFFF,
+        full: 0,
+    };
+    let mut rho = vec![0.0; a.nall()];
+    // SAFETY: arrays as documented.
+    let st = unsafe { dpdnl_pair_prepass(d.0, &atoms, &list, 1, rho.as_mut_ptr()) };
+    assert_eq!(st, DpdnlStatus::InvalidArgument);
+    assert!(last_error().contains("has not run"), "{}", last_error());
+    init(&d, 5, 27.0).unwrap();
+    // SAFETY: as above.
+    let st = unsafe { dpdnl_pair_prepass(d.0, &atoms, &list, 1, rho.as_mut_ptr()) };
+    assert_eq!(st, DpdnlStatus::InvalidArgument);
+    assert!(last_error().contains("no pre-pass"), "{}", last_error());
+}

@@ -1,0 +1,196 @@
+//! The style object: everything one pair style is — its settings and `pair_coeff` lines (parsed
+//! by [`crate::grammar`]), its set-up at each run, an optional per-atom pre-pass (a many-body
+//! style's density), its batched kernel, its cut-offs, its restart lines and its `write_data`
+//! coefficients — behind one trait, [`PairStyle`].
+//!
+//! The standalone engine (`System::pair`), the interpreter (`pair_style`, `pair_coeff`,
+//! `write_restart`) and the C ABI's one handle for every LAMMPS style (`capi/src/pair.rs`) hold
+//! a `Box<dyn PairStyle>` made by [`new_pair_style`] and never name a style: a new style is one
+//! file implementing the trait, one line in [`new_pair_style`], and its grammar.
+//!
+//! A force evaluation through a style, in either engine:
+//! 1. if [`PairStyle::prepass`] is `Some`, the driver sums `weight(k, r²)` over the pairs in
+//!    range into one value per atom (owned and, in LAMMPS, ghost atoms summed into their
+//!    owners), completes each owned atom with [`PrePass::complete`] (its self term), adds
+//!    [`PrePass::energy_of`] to the energy, communicates the values to the ghosts, and hands
+//!    every atom's value to [`PairStyle::set_atom_values`];
+//! 2. the pairs in range go through [`PairStyle::kernel`] in batches (`engine::pair`), whose
+//!    central forces are applied ±, so momentum is conserved exactly for every style.
+//!
+//! Bonded terms (bonds, angles) will be a second kind of force term beside this one: a
+//! `BondStyle` with its own coefficients and set-up, evaluated over a topology instead of a
+//! neighbour list; they share [`SetupContext`] and the tallies, not this trait.
+
+use std::any::Any;
+use std::fmt::Debug;
+
+use super::SetupNote;
+use super::pair::PairKernel;
+use crate::kernel::Isa;
+
+/// What a run's set-up knows that a pair style may need (the same in both engines: the C ABI
+/// fills it from LAMMPS's state).
+#[derive(Clone, Copy, Debug)]
+pub struct SetupContext<'a> {
+    /// 2 or 3.
+    pub dim: u32,
+    /// Number of atoms in the whole system.
+    pub natoms: usize,
+    /// Number density N / V (N / area in 2-D).
+    pub density: f64,
+    /// Per-type masses, index 0 unused (`None`: not set).
+    pub mass: &'a [Option<f64>],
+    /// Time step.
+    pub dt: f64,
+    /// True when the run integrates with `fix nve/euler` (the finite-step heating warning).
+    pub euler: bool,
+}
+
+/// A many-body style's pre-pass: one value per atom, d_i = complete(Σ_j w_k(r_ij²)) over the
+/// pairs within the cut-off of their type pair (k the dense index `t_i (ntypes + 1) + t_j`).
+pub trait PrePass: Sync {
+    /// Squared cut-offs by dense type-pair index.
+    fn rcsq(&self) -> &[f64];
+    /// w_k(r²) of one pair (0 beyond its cut-off).
+    fn weight(&self, k: usize, rsq: f64) -> f64;
+    /// The same function on a row of squared distances of one type pair `k` (0 beyond it).
+    fn weights(&self, k: usize, rsq: &[f64], out: &mut [f64]);
+    /// The value of an atom of type `t` from its pair sum (the self term added).
+    fn complete(&self, t: usize, sum: f64) -> f64;
+    /// The energy of an atom of type `t` with value `d`, or `None` when its state is not
+    /// finite ([`PrePass::fault`] says why).
+    fn energy_of(&self, t: usize, d: f64) -> Option<f64>;
+    /// The error of an atom (`who`: its id) whose state is not finite at value `d`, `step`.
+    fn fault(&self, who: &str, d: f64, step: u64) -> String;
+}
+
+/// One pair style (see the module documentation).
+pub trait PairStyle: Send + Sync + Debug {
+    /// The style's name (`dpd/nonlinear`, `sdpd`).
+    fn name(&self) -> &'static str;
+    /// Number of atom types the coefficient tables hold.
+    fn ntypes(&self) -> usize;
+    /// `pair_style` given again with the same style: new settings (the words after the style
+    /// name); the coefficients are kept under this style's rule (documented on each style).
+    fn restyle(&mut self, args: &[String]) -> Result<(), String>;
+    /// Apply one `pair_coeff` line (its words, types first).
+    fn coeff(&mut self, args: &[String]) -> Result<(), String>;
+    /// The cut-off of type pair (i, j), or `None` when it has no coefficients.
+    fn cutoff(&self, i: usize, j: usize) -> Option<f64>;
+    /// Set-up of a run: every pair set, targets resolved, the per-run tables built. Returns the
+    /// lines to log.
+    fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String>;
+    /// A new time step between set-ups (LAMMPS's `fix dt/reset`); the default keeps the set-up's.
+    fn set_timestep(&mut self, _dt: f64) {}
+    /// The cut-offs by dense type-pair index (`(ntypes + 1)²`, 0 for unset pairs), after
+    /// [`PairStyle::setup`].
+    fn cut_table(&self) -> &[f64];
+    /// The many-body pre-pass, if the style has one (after [`PairStyle::setup`]).
+    fn prepass(&self) -> Option<&dyn PrePass> {
+        None
+    }
+    /// The pre-pass values of every atom the kernel will see (owned and ghost atoms in LAMMPS),
+    /// before [`PairStyle::kernel`]; ignored by styles without a pre-pass.
+    fn set_atom_values(&mut self, _values: &[f64], _typ: &[u32]) {}
+    /// The batched pair kernel (after [`PairStyle::setup`]), its lanes in instruction set `isa`.
+    fn kernel(&self, isa: Isa) -> Box<dyn PairKernel + '_>;
+    /// The lines (words, command first) that rebuild this style's settings and coefficients
+    /// exactly: what a restart file stores, in both engines.
+    fn restart_lines(&self) -> Vec<Vec<String>>;
+    /// True when the style writes `write_data` coefficients ([`PairStyle::data_coeffs`]).
+    fn writes_data(&self) -> bool {
+        false
+    }
+    /// The numbers of a `write_data` coefficient line of type pair (i, j) (after the types), or
+    /// `None` when the style writes no data coefficients.
+    fn data_coeffs(&self, _i: usize, _j: usize) -> Option<Vec<f64>> {
+        None
+    }
+    /// True when every pair's force depends on that pair alone ([`PairStyle::single`] answers).
+    fn pairwise(&self) -> bool {
+        self.prepass().is_none()
+    }
+    /// The conservative force F(r)/r and energy of one pair of types (i, j) at distance² `rsq`
+    /// (LAMMPS's `Pair::single`, as `pair dpd` returns it), or `None` when the style has no
+    /// pair-wise answer (a many-body style).
+    fn single(&self, _i: usize, _j: usize, _rsq: f64) -> Option<(f64, f64)> {
+        None
+    }
+    /// The style as `Any`, for reports that read one style's own settings.
+    fn as_any(&self) -> &dyn Any;
+    /// A copy of the style.
+    fn clone_box(&self) -> Box<dyn PairStyle>;
+
+    /// The first type pair without coefficients, if any.
+    fn missing(&self) -> Option<(usize, usize)> {
+        let n = self.ntypes();
+        (1..=n)
+            .flat_map(|i| (i..=n).map(move |j| (i, j)))
+            .find(|&(i, j)| self.cutoff(i, j).is_none())
+    }
+    /// The largest cut-off over the set type pairs.
+    fn rc_max(&self) -> f64 {
+        let n = self.ntypes();
+        (1..=n)
+            .flat_map(|i| (i..=n).map(move |j| (i, j)))
+            .filter_map(|(i, j)| self.cutoff(i, j))
+            .fold(0.0, f64::max)
+    }
+}
+
+impl Clone for Box<dyn PairStyle> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}
+
+/// The pair styles this project provides.
+pub const STYLES: [&str; 2] = ["dpd/nonlinear", "sdpd"];
+
+/// A new pair style `name` from the words after the name, for `ntypes` atom types and time
+/// step `dt`; an error names the style or the word at fault.
+pub fn new_pair_style(
+    name: &str,
+    args: &[String],
+    ntypes: usize,
+    dt: f64,
+) -> Result<Box<dyn PairStyle>, String> {
+    match name {
+        "dpd/nonlinear" => Ok(Box::new(super::forcefield::DpdPair::new(args, ntypes, dt)?)),
+        "sdpd" => Ok(Box::new(super::sdpd::SdpdField::from_words(args, ntypes)?)),
+        other => Err(format!(
+            "pair style '{}' not supported: only dpd/nonlinear and sdpd",
+            crate::grammar::shown(other)
+        )),
+    }
+}
+
+/// Rebuild a style from its [`PairStyle::restart_lines`] for `ntypes` types.
+pub fn from_restart_lines(
+    lines: &[Vec<String>],
+    ntypes: usize,
+    dt: f64,
+) -> Result<Box<dyn PairStyle>, String> {
+    let head = lines
+        .first()
+        .filter(|l| l.len() >= 2 && l[0] == "pair_style")
+        .ok_or("restart: the pair style's lines do not start with pair_style")?;
+    let mut style = new_pair_style(&head[1], &head[2..], ntypes, dt)?;
+    for line in &lines[1..] {
+        match line.split_first() {
+            Some((cmd, args)) if cmd == "pair_coeff" => style.coeff(args)?,
+            _ => {
+                return Err(format!(
+                    "restart: unexpected pair line '{}'",
+                    line.join(" ")
+                ));
+            }
+        }
+    }
+    Ok(style)
+}
+
+/// A number as a restart word: 17 significant digits, read back exactly.
+pub(crate) fn word(x: f64) -> String {
+    format!("{x:.17e}")
+}
