@@ -27,6 +27,7 @@ pub mod input;
 pub mod io;
 pub mod kernel;
 pub mod plot;
+pub mod report;
 pub mod rng;
 pub mod stats;
 pub mod theory;

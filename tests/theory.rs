@@ -984,3 +984,35 @@ fn huge_eta_refusal_names_only_finite_bounds() {
         "{e}"
     );
 }
+
+/// `dpdnl design/theory --json`'s writer (`report::to_line`): keys in declaration order, numbers
+/// in the shortest round-trip form without a forced `.0`, exponent form outside [1e-5, 1e16),
+/// non-finite numbers as null, control characters as `\u00XX` (as the hand-written JSON before it).
+#[test]
+fn json_line_keeps_the_cli_number_and_escape_forms() {
+    #[derive(serde::Serialize)]
+    struct T {
+        z: f64,
+        a: f64,
+        small: f64,
+        big: f64,
+        nan: f64,
+        none: Option<f64>,
+        n: u32,
+        s: &'static str,
+    }
+    let t = T {
+        z: 3.0,
+        a: -0.5,
+        small: 1e-6,
+        big: 2.5e16,
+        nan: f64::NAN,
+        none: None,
+        n: 7,
+        s: "a\"b\\c\nd\te",
+    };
+    assert_eq!(
+        dpdnl::report::to_line(&t).unwrap(),
+        r#"{"z":3,"a":-0.5,"small":1e-6,"big":2.5e16,"nan":null,"none":null,"n":7,"s":"a\"b\\c\u000ad\u0009e"}"#
+    );
+}

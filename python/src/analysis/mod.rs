@@ -1,27 +1,19 @@
-//! `dpdnl analyze` from Python: the same steps as `src/bin/dpdnl/analyze/` (which file kind,
-//! which columns, which window), calling the same `dpdnl::analysis` functions, returning the
-//! dict that the CLI writes to `PREFIX.json` plus `"table"`: the columns of `PREFIX.csv` as
-//! arrays. No files are written and nothing is plotted. Inputs are paths, or for time series
-//! a dict `{"Step": steps, column: values, …}` (`read_series`, `Simulation.thermo[k]`).
-//!
-//! Keep in step with the CLI (`run_mb` in maxwell.rs, `run_nemd` in pex.rs, `run_eh` and
-//! `run_msd` in transport.rs, `run_couette` and `run_flow` in shear.rs, the helpers in
-//! mod.rs): python/tests/test_analysis.py compares each result with the
-//! CLI's JSON on the same input.
+//! `dpdnl analyze` from Python: the analyses of `dpdnl::report` (the same calls as the CLI in
+//! `src/bin/dpdnl/analyze/`), returning the dict that the CLI writes to `PREFIX.json` plus
+//! `"table"`: the columns of `PREFIX.csv` as arrays. No files are written and nothing is
+//! plotted. Inputs are paths, or for time series a dict `{"Step": steps, column: values, …}`
+//! (`read_series`, `Simulation.thermo[k]`). python/tests/test_analysis.py compares each result
+//! with the CLI's JSON on the same input.
 
 use crate::{AnalysisError, arr, json_to_py, read_text};
-use dpdnl::analysis::formats::{
-    FileKind, Series, detect, parse_ave_chunk, parse_ave_histo, parse_series, step_spacing,
-};
-use dpdnl::analysis::is_pos;
-use dpdnl::analysis::{couette as acouette, eh as aeh, mb as amb, msd as amsd, nemd as anemd};
-use dpdnl::io::dump_read::{DumpFrame, parse_dump};
+use dpdnl::analysis::formats::Series;
+use dpdnl::report::{self, Table};
 use numpy::PyReadonlyArray1;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping, PyString};
-use serde_json::{Value, json};
-use std::path::{Path, PathBuf};
+use serde_json::Value;
+use std::path::PathBuf;
 
 mod maxwell;
 mod pex;
@@ -37,21 +29,8 @@ fn aerr(e: String) -> PyErr {
     AnalysisError::new_err(e)
 }
 
-/// A number for JSON: non-finite values become null (as the CLI's `num`).
-fn num(v: f64) -> Value {
-    if v.is_finite() { json!(v) } else { Value::Null }
-}
-
-fn nums(v: &[f64]) -> Value {
-    Value::Array(v.iter().map(|x| num(*x)).collect())
-}
-
 /// The result: the JSON object as a dict, with `table` (CSV columns as arrays) added.
-fn result<'py>(
-    py: Python<'py>,
-    json: &Value,
-    table: &[(&str, &[f64])],
-) -> PyResult<Bound<'py, PyAny>> {
+fn result<'py>(py: Python<'py>, json: &Value, table: &Table) -> PyResult<Bound<'py, PyAny>> {
     let d = json_to_py(py, json)?;
     let t = PyDict::new(py);
     for (name, col) in table {
@@ -117,12 +96,8 @@ fn series_arg(obj: &Bound<'_, PyAny>) -> PyResult<(Series, String)> {
         PyTypeError::new_err("expected a path or a dict {'Step': steps, column: values, …}")
     })?;
     let name = p.display().to_string();
-    let s = in_name(&name, parse_series(&read_text(&p)?))?;
+    let s = report::series_from_text(&name, &read_text(&p)?).map_err(aerr)?;
     Ok((s, name))
-}
-
-fn in_name<T>(name: &str, r: Result<T, String>) -> PyResult<T> {
-    r.map_err(|e| aerr(format!("{name}: {e}")))
 }
 
 fn paths(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PathBuf>> {
@@ -132,11 +107,6 @@ fn paths(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PathBuf>> {
     obj.try_iter()?
         .map(|p| p.and_then(|p| p.extract::<PathBuf>()))
         .collect()
-}
-
-fn stem(p: &Path, default: &str) -> String {
-    p.file_stem()
-        .map_or(default.into(), |s| s.to_string_lossy().into_owned())
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -7,11 +7,15 @@
 
 use dpdnl::fmtnum::fmt_g;
 use dpdnl::kernel::sdpd::Smoothing;
+use dpdnl::report::theory::{
+    self as rt, EulerBriefJson, InputLines, PairJson, RunJson, ScriptJson, fluid_of, neighbours,
+    step_x,
+};
+use dpdnl::report::{short as num, to_line};
 use dpdnl::theory::sdpd;
 use dpdnl::theory::vv_measured::vv_verdict;
 use dpdnl::theory::{
-    Design, DesignMode, Dim, Fluid, STIFF_DT_C_FRACTION, StepScales, Targets, TheoryError,
-    Transport, design_from_targets, design_paper_approx, euler_critical_density, euler_critical_dt,
+    DesignMode, Dim, Fluid, STIFF_DT_C_FRACTION, StepScales, Transport, euler_critical_dt,
     euler_temperature_ratio, kinetic_theory, step_scales,
 };
 use std::fmt::Write as _;
@@ -127,113 +131,12 @@ pub struct TheoryArgs {
     json: bool,
 }
 
-/// Shortest round-trip decimal form; exponent form outside [1e-5, 1e16).
-fn num(x: f64) -> String {
-    let a = x.abs();
-    if x == 0.0 || (1e-5..1e16).contains(&a) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
-/// A JSON number, or `null` for a non-finite value.
-fn jnum(x: f64) -> String {
-    if x.is_finite() { num(x) } else { "null".into() }
-}
-
-/// Escapes a string for JSON.
-fn jstr(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            c if (c as u32) < 0x20 => {
-                let _ = write!(out, "\\u{:04x}", c as u32);
-            }
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
-}
-
-fn dim_of(d: i64) -> Result<Dim, TheoryError> {
-    u32::try_from(d)
-        .map_err(|_| TheoryError::Parameter {
-            name: "dimension d",
-            value: d as f64,
-            requirement: "2 or 3",
-        })
-        .and_then(Dim::new)
-}
-
-fn fluid_of(dim: i64, density: f64, rc: f64, mass: f64, kt: f64) -> Result<Fluid, TheoryError> {
-    Fluid::new(dim_of(dim)?.get(), density, rc, mass, kt)
-}
-
-fn transport_json(t: &Transport) -> String {
-    format!(
-        "{{\"eta_k\":{},\"eta_d\":{},\"eta\":{},\"diffusion\":{},\"schmidt\":{}}}",
-        jnum(t.eta_k),
-        jnum(t.eta_d),
-        jnum(t.eta),
-        jnum(t.diffusion),
-        jnum(t.schmidt)
-    )
-}
-
-fn fluid_json(f: &Fluid) -> String {
-    format!(
-        "{{\"dim\":{},\"density\":{},\"cutoff\":{},\"mass\":{},\"kt\":{}}}",
-        f.dim.get(),
-        jnum(f.density),
-        jnum(f.cutoff),
-        jnum(f.mass),
-        jnum(f.kt)
-    )
-}
-
 fn transport_text(out: &mut String, t: &Transport) {
     let _ = writeln!(out, "eta_K = {}", num(t.eta_k));
     let _ = writeln!(out, "eta_D = {}", num(t.eta_d));
     let _ = writeln!(out, "eta = {}", num(t.eta));
     let _ = writeln!(out, "D = {}", num(t.diffusion));
     let _ = writeln!(out, "Sc = {}", num(t.schmidt));
-}
-
-/// The two input lines that reproduce a design in both engines.
-fn input_lines(f: &Fluid, d: &Design, seed: u32) -> (String, String) {
-    (
-        format!(
-            "pair_style dpd/nonlinear {} {} {} weight {}",
-            num(f.kt),
-            num(f.cutoff),
-            seed,
-            num(d.s)
-        ),
-        format!("pair_coeff * * 0.0 {} 0.0", num(d.gamma)),
-    )
-}
-
-/// The two `pair_style sdpd` lines of a design (the proposed kernel with the design's s).
-fn sdpd_input_lines(f: &Fluid, d: &Design, seed: u32, c0: Option<f64>) -> (String, String) {
-    (
-        format!(
-            "pair_style sdpd {} {} {} kernel proposed {}",
-            num(f.kt),
-            num(f.cutoff),
-            seed,
-            num(d.s)
-        ),
-        format!(
-            "pair_coeff * * {} {} {}",
-            num(f.mass * f.density),
-            c0.map_or("C0".to_string(), num),
-            num(d.eta0)
-        ),
-    )
 }
 
 /// `dpdnl theory --kernel …`: the sDPD kinetic theory of one kernel and η0.
@@ -254,22 +157,12 @@ fn sdpd_theory(a: &TheoryArgs, name: &str) -> Result<ExitCode, Box<dyn std::erro
     let density = a.density.ok_or("--density is required")?;
     let rc = a.rc.ok_or("--rc is required")?;
     let fluid = fluid_of(a.dim, density, rc, a.mass, a.kt)?;
-    let c = sdpd::kinetic_coefficient(fluid.dim, kernel)?;
-    let t = sdpd::kinetic_theory(&fluid, kernel, eta0)?;
-    let eta_min = sdpd::eta_min(&fluid, kernel)?;
+    let th = rt::sdpd_theory(fluid, kernel, eta0)?;
     if a.json {
-        println!(
-            "{{\"command\":\"theory\",\"method\":\"sdpd\",\"kernel\":{},\"s\":{},\"fluid\":{},\"eta0\":{},\"c\":{},\"eta_min\":{},\"predicted\":{}}}",
-            jstr(kernel.keyword()),
-            kernel.exponent().map_or("null".into(), jnum),
-            fluid_json(&fluid),
-            jnum(eta0),
-            jnum(c),
-            jnum(eta_min),
-            transport_json(&t)
-        );
+        println!("{}", to_line(&th.json())?);
         return Ok(ExitCode::SUCCESS);
     }
+    let (c, t, eta_min) = (th.c, &th.predicted, th.eta_min);
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -286,7 +179,7 @@ fn sdpd_theory(a: &TheoryArgs, name: &str) -> Result<ExitCode, Box<dyn std::erro
         "# kinetic theory of sDPD (docs/models.md 3.7, Table 1): eta = c m kT n^2 r_c^2 / eta0 + eta0"
     );
     let _ = writeln!(out, "c = {}", num(c));
-    transport_text(&mut out, &t);
+    transport_text(&mut out, t);
     let _ = writeln!(
         out,
         "# the smallest viscosity of this kernel here, 2 sqrt(c m kT n^2 r_c^2) (eqs. 31, 50, 64)"
@@ -324,16 +217,13 @@ fn stiff_warning(gamma: f64, s: f64, t: &StepScales) -> String {
 /// `dpdnl design`.
 pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let fluid = fluid_of(a.dim, a.density, a.rc, a.mass, a.kt)?;
-    let design = if a.paper_approx {
-        design_paper_approx(&fluid, a.eta, a.sc)?
+    let lines = if a.method == "sdpd" {
+        InputLines::Sdpd { c0: a.c0 }
     } else {
-        design_from_targets(&Targets {
-            fluid,
-            eta: a.eta,
-            sc: a.sc,
-        })?
+        InputLines::Dpd
     };
-    let pred = kinetic_theory(&fluid, design.gamma, design.s)?;
+    let res = rt::design(fluid, a.eta, a.sc, a.paper_approx, a.seed, lines)?;
+    let (design, pred) = (&res.design, &res.predicted);
     let scales = step_scales(&fluid, design.gamma, design.s)?;
     if scales.stiff() {
         eprintln!(
@@ -341,11 +231,7 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
             stiff_warning(design.gamma, design.s, &scales)
         );
     }
-    let (style, coeff) = if a.method == "sdpd" {
-        sdpd_input_lines(&fluid, &design, a.seed, a.c0)
-    } else {
-        input_lines(&fluid, &design, a.seed)
-    };
+    let (style, coeff) = (&res.pair_style, &res.pair_coeff);
     let lim = &design.limits;
     let d = fluid.dim.get();
     let eqs = match fluid.dim {
@@ -354,41 +240,7 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
     };
     let mut out = String::new();
     if a.json {
-        let (mode, targets) = match design.mode {
-            DesignMode::Exact => (
-                "exact",
-                format!("{{\"eta\":{},\"sc\":{}}}", jnum(a.eta), jnum(a.sc)),
-            ),
-            DesignMode::PaperApprox => (
-                "paper-approx",
-                format!("{{\"eta0\":{},\"sc0\":{}}}", jnum(a.eta), jnum(a.sc)),
-            ),
-        };
-        let gas = lim.sc_gas_max.map_or("null".to_string(), jnum);
-        let _ = writeln!(
-            out,
-            "{{\"command\":\"design\",\"mode\":{},\"fluid\":{},\"targets\":{},\
-             \"design\":{{\"eta0\":{},\"s\":{},\"gamma\":{}}},\"predicted\":{},\
-             \"limits\":{{\"p\":{},\"p0\":{},\"eta_max\":{},\"sc_min\":{},\"sc_gas_max\":{},\
-             \"density_min\":{},\"cutoff_min\":{}}},\"pair_style\":{},\"pair_coeff\":{}}}",
-            jstr(mode),
-            fluid_json(&fluid),
-            targets,
-            jnum(design.eta0),
-            jnum(design.s),
-            jnum(design.gamma),
-            transport_json(&pred),
-            jnum(lim.p),
-            jnum(lim.p0),
-            jnum(lim.eta_max),
-            jnum(lim.sc_min),
-            gas,
-            jnum(lim.density_min),
-            jnum(lim.cutoff_min),
-            jstr(&style),
-            jstr(&coeff)
-        );
-        print!("{out}");
+        println!("{}", to_line(&res.json())?);
         return Ok(ExitCode::SUCCESS);
     }
     let _ = writeln!(
@@ -436,7 +288,7 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
             out,
             "# check: kinetic theory of (gamma, s) with w_D = (1 - r/r_c)^s"
         );
-        transport_text(&mut out, &pred);
+        transport_text(&mut out, pred);
     }
     let _ = writeln!(
         out,
@@ -506,50 +358,13 @@ pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>
     let density = a.density.ok_or("--density is required")?;
     let rc = a.rc.ok_or("--rc is required")?;
     let fluid = fluid_of(a.dim, density, rc, a.mass, a.kt)?;
-    let t = kinetic_theory(&fluid, gamma, s)?;
-    // Euler: (dt, T_eq/T0 or None when unstable, dt_c, n_c or None when no density is stable).
-    let euler = match a.dt {
-        None => None,
-        Some(dt) => {
-            let ratio = match euler_temperature_ratio(&fluid, gamma, s, dt) {
-                Ok(r) => Some(r),
-                Err(TheoryError::EulerUnstable { .. }) => None,
-                Err(e) => return Err(e.into()),
-            };
-            let dt_c = euler_critical_dt(&fluid, gamma, s)?;
-            let n_c = match euler_critical_density(&fluid, gamma, s, dt) {
-                Ok(n) => Some(n),
-                Err(TheoryError::EulerNoStableDensity { .. }) => None,
-                Err(e) => return Err(e.into()),
-            };
-            Some((dt, ratio, dt_c, n_c))
-        }
-    };
-    let mut out = String::new();
+    let th = rt::theory(fluid, gamma, s, a.dt)?;
     if a.json {
-        let euler_json = match euler {
-            None => "null".to_string(),
-            Some((dt, ratio, dt_c, n_c)) => format!(
-                "{{\"dt\":{},\"stable\":{},\"t_ratio\":{},\"dt_c\":{},\"n_c\":{}}}",
-                jnum(dt),
-                ratio.is_some(),
-                ratio.map_or("null".to_string(), jnum),
-                jnum(dt_c),
-                n_c.map_or("null".to_string(), jnum)
-            ),
-        };
-        let _ = writeln!(
-            out,
-            "{{\"command\":\"theory\",\"fluid\":{},\"gamma\":{},\"s\":{},\"predicted\":{},\"euler\":{}}}",
-            fluid_json(&fluid),
-            jnum(gamma),
-            jnum(s),
-            transport_json(&t),
-            euler_json
-        );
-        print!("{out}");
+        println!("{}", to_line(&th.json())?);
         return Ok(ExitCode::SUCCESS);
     }
+    let t = &th.predicted;
+    let mut out = String::new();
     let _ = writeln!(
         out,
         "# fluid: d = {}, n = {}, r_c = {}, m = {}, kT = {}; gamma = {}, s = {}",
@@ -565,8 +380,15 @@ pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>
         out,
         "# kinetic theory of the ideal fluid (a = 0), w_D = (1 - r/r_c)^s (docs/models.md 3.2)"
     );
-    transport_text(&mut out, &t);
-    if let Some((dt, ratio, dt_c, n_c)) = euler {
+    transport_text(&mut out, t);
+    if let Some(rt::Euler {
+        dt,
+        t_ratio: ratio,
+        dt_c,
+        n_c,
+        ..
+    }) = th.euler
+    {
         let _ = writeln!(
             out,
             "# Euler integrator, ideal fluid (finite-step paper eqs. 22-26; sigma^2 = 2 gamma kT, w_R^2 = w_D)"
@@ -700,16 +522,17 @@ fn theory_of_script(
                      conservative viscosity not in it)"
                 );
                 transport_text(&mut out, &t);
-                pairs_json.push(format!(
-                    "{{\"i\":{i},\"j\":{j},\"rho0\":{},\"c0\":{},\"eta0\":{},\"rc\":{},\"kernel\":{},\"fluid\":{},\"predicted\":{}}}",
-                    jnum(p.rho0),
-                    jnum(p.c0),
-                    jnum(p.eta0),
-                    jnum(p.rc),
-                    jstr(sd.kernel.keyword()),
-                    fluid_json(&fluid),
-                    transport_json(&t)
-                ));
+                pairs_json.push(PairJson::Sdpd {
+                    i: *i,
+                    j: *j,
+                    rho0: p.rho0,
+                    c0: p.c0,
+                    eta0: p.eta0,
+                    rc: p.rc,
+                    kernel: sd.kernel.keyword(),
+                    fluid: (&fluid).into(),
+                    predicted: (&t).into(),
+                });
             }
         }
         for (i, j, c) in &r.coeffs {
@@ -760,74 +583,57 @@ fn theory_of_script(
                     }
                     let _ = writeln!(out, "dt_c = {}", num(dt_c));
                     let _ = writeln!(out, "dt/dt_c = {}", num(r.dt / dt_c));
-                    let e = format!(
-                        "{{\"t_ratio\":{},\"dt_c\":{}}}",
-                        ratio.map_or("null".to_string(), jnum),
-                        jnum(dt_c)
-                    );
-                    (e, "null".to_string())
+                    (
+                        Some(EulerBriefJson {
+                            t_ratio: ratio,
+                            dt_c,
+                        }),
+                        None,
+                    )
                 }
                 _ => {
                     let dt_c = euler_critical_dt(&fluid, c.gamma0, s)?;
                     vv_text(&mut out, &fluid, s, c.gamma0, r.dt, dt_c);
-                    let x = step_x(&fluid, r.dt);
-                    let v = format!(
-                        "{{\"verdict\":{},\"x\":{},\"dt_over_dtc\":{}}}",
-                        vv_json(&fluid, s, x),
-                        jnum(x),
-                        jnum(r.dt / dt_c)
-                    );
-                    ("null".to_string(), v)
+                    (None, Some(rt::vv_json(&fluid, s, r.dt, dt_c)))
                 }
             };
-            pairs_json.push(format!(
-                "{{\"i\":{i},\"j\":{j},\"a\":{},\"gamma0\":{},\"gamma1\":{},\"rc\":{},\"fluid\":{},\"predicted\":{},\"euler\":{euler_json},\"vv_measured\":{vv_json_text}}}",
-                jnum(c.a),
-                jnum(c.gamma0),
-                jnum(c.gamma1),
-                jnum(c.rc),
-                fluid_json(&fluid),
-                transport_json(&t)
-            ));
+            pairs_json.push(PairJson::Dpd {
+                i: *i,
+                j: *j,
+                a: c.a,
+                gamma0: c.gamma0,
+                gamma1: c.gamma1,
+                rc: c.rc,
+                fluid: (&fluid).into(),
+                predicted: (&t).into(),
+                euler: euler_json,
+                vv_measured: vv_json_text,
+            });
         }
-        json_runs.push(format!(
-            "{{\"first_step\":{},\"steps\":{},\"dim\":{},\"natoms\":{},\"density\":{},\"kt\":{},\"dt\":{},\"integrator\":{},\"s\":{},\"pairs\":[{}]}}",
-            r.first_step,
-            r.steps,
-            r.dim,
-            r.natoms,
-            jnum(density),
-            jnum(kt),
-            jnum(r.dt),
-            jstr(scheme),
-            jnum(s),
-            pairs_json.join(",")
-        ));
+        json_runs.push(RunJson {
+            first_step: r.first_step,
+            steps: r.steps,
+            dim: r.dim,
+            natoms: r.natoms,
+            density,
+            kt,
+            dt: r.dt,
+            integrator: scheme.to_string(),
+            s,
+            pairs: pairs_json,
+        });
     }
     if a.json {
-        println!(
-            "{{\"command\":\"theory\",\"script\":{},\"runs\":[{}]}}",
-            jstr(&path.display().to_string()),
-            json_runs.join(",")
-        );
+        let j = ScriptJson {
+            command: "theory",
+            script: path.display().to_string(),
+            runs: json_runs,
+        };
+        println!("{}", to_line(&j)?);
     } else {
         print!("{out}");
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// Mean number of neighbours within r_c: n π r_c² (2-D) or n (4/3) π r_c³ (3-D).
-fn neighbours(fluid: &Fluid) -> f64 {
-    let pi = std::f64::consts::PI;
-    match fluid.dim {
-        Dim::Two => fluid.density * pi * fluid.cutoff * fluid.cutoff,
-        Dim::Three => fluid.density * 4.0 / 3.0 * pi * fluid.cutoff.powi(3),
-    }
-}
-
-/// x = δt √(kT/m) / r_c: a thermal particle's displacement per step in cut-offs.
-fn step_x(fluid: &Fluid, dt: f64) -> f64 {
-    dt * (fluid.kt / fluid.mass).sqrt() / fluid.cutoff
 }
 
 /// The measured velocity-Verlet heating (issue 14 section 4; `dpdnl::theory::vv_measured`) of
@@ -912,22 +718,4 @@ fn vv_text(out: &mut String, fluid: &Fluid, s: f64, gamma: f64, dt: f64, dt_c: f
         out,
         "velocity-Verlet verdict (measured, not theory): {verdict}"
     );
-}
-
-/// The same as JSON.
-fn vv_json(fluid: &Fluid, s: f64, x: f64) -> String {
-    let dim = match fluid.dim {
-        Dim::Two => 2,
-        Dim::Three => 3,
-    };
-    match vv_verdict(dim, neighbours(fluid), s, x) {
-        None => "null".to_string(),
-        Some(v) => format!(
-            "{{\"family\":{},\"density\":{},\"t_ratio\":{},\"one_percent_at\":{}}}",
-            jstr(&v.family),
-            jnum(v.density),
-            v.t_ratio.map_or("null".to_string(), jnum),
-            v.one_percent_at.map_or("null".to_string(), jnum)
-        ),
-    }
 }

@@ -4,14 +4,9 @@
 //! and `PREFIX.png` / `PREFIX.svg` (the figure). See docs/analysis.md. Equation numbers ("eq. 55")
 //! are the non-linear paper's, NL-55 … in docs/models.md.
 
-use dpdnl::analysis::formats::{
-    FileKind, detect, parse_ave_chunk, parse_ave_histo, parse_series, step_spacing,
-};
-use dpdnl::analysis::{couette, eh, is_pos, mb, msd, nemd};
-use dpdnl::io::dump_read::{DumpFrame, parse_dump};
 use dpdnl::plot::{Figure, Legend, Panel, Series as Line};
-use serde_json::{Value, json};
-use std::fmt::Write as _;
+use dpdnl::report::{self, Table};
+use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -272,11 +267,6 @@ fn read(path: &Path) -> Result<String, String> {
     std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Prefixes an error with the file it came from.
-fn in_file<T>(path: &Path, r: Result<T, String>) -> Result<T, String> {
-    r.map_err(|e| format!("{}: {e}", path.display()))
-}
-
 fn prefix(out: &OutArgs, first: &Path, kind: &str) -> Result<PathBuf, String> {
     let p = match &out.out {
         Some(p) => p.clone(),
@@ -296,32 +286,23 @@ fn with_ext(prefix: &Path, ext: &str) -> PathBuf {
     dpdnl::plot::with_suffix(prefix, ext)
 }
 
-/// A number for JSON: non-finite values become null.
-fn num(v: f64) -> Value {
-    if v.is_finite() { json!(v) } else { Value::Null }
-}
-
-fn nums(v: &[f64]) -> Value {
-    Value::Array(v.iter().map(|x| num(*x)).collect())
-}
-
 fn write_json(prefix: &Path, v: &Value) -> Result<PathBuf, String> {
     let p = with_ext(prefix, "json");
-    let s = serde_json::to_string_pretty(v).map_err(|e| e.to_string())?;
-    std::fs::write(&p, s + "\n").map_err(|e| format!("{}: {e}", p.display()))?;
+    std::fs::write(&p, report::to_pretty(v)?).map_err(|e| format!("{}: {e}", p.display()))?;
     Ok(p)
 }
 
-/// Writes a CSV with a header; non-finite values are written as `nan`.
-fn write_csv(prefix: &Path, header: &[&str], cols: &[&[f64]]) -> Result<PathBuf, String> {
+/// Writes a result's table as a CSV with a header; non-finite values are written as `nan`.
+fn write_csv(prefix: &Path, table: &Table) -> Result<PathBuf, String> {
     let p = with_ext(prefix, "csv");
-    let n = cols.iter().map(|c| c.len()).max().unwrap_or(0);
+    let n = table.iter().map(|c| c.1.len()).max().unwrap_or(0);
+    let header: Vec<&str> = table.iter().map(|c| c.0).collect();
     let mut s = header.join(",");
     s.push('\n');
     for i in 0..n {
-        let row: Vec<String> = cols
+        let row: Vec<String> = table
             .iter()
-            .map(|c| match c.get(i) {
+            .map(|(_, c)| match c.get(i) {
                 Some(v) if v.is_finite() => format!("{v}"),
                 _ => "nan".into(),
             })

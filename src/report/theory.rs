@@ -1,0 +1,478 @@
+//! `dpdnl design` and `dpdnl theory` results and their JSON (`--json`, and the Python
+//! package's dicts). The structs ending in `Json` are serialised with serde: their fields are
+//! the keys, in the order `--json` prints them ([`super::to_line`]).
+
+use crate::kernel::sdpd::Smoothing;
+use crate::theory::vv_measured::vv_verdict;
+use crate::theory::{
+    Design, DesignMode, Dim, Fluid, Targets, TheoryError, Transport, design_from_targets,
+    design_paper_approx, euler_critical_density, euler_critical_dt, euler_temperature_ratio,
+    kinetic_theory, sdpd,
+};
+use serde::Serialize;
+
+use super::short;
+
+/// The fluid from the command line's numbers (`dim` checked to be 2 or 3).
+pub fn fluid_of(dim: i64, density: f64, rc: f64, mass: f64, kt: f64) -> Result<Fluid, TheoryError> {
+    let d = u32::try_from(dim)
+        .map_err(|_| TheoryError::Parameter {
+            name: "dimension d",
+            value: dim as f64,
+            requirement: "2 or 3",
+        })
+        .and_then(Dim::new)?;
+    Fluid::new(d.get(), density, rc, mass, kt)
+}
+
+#[derive(Serialize)]
+pub struct FluidJson {
+    pub dim: u32,
+    pub density: f64,
+    pub cutoff: f64,
+    pub mass: f64,
+    pub kt: f64,
+}
+
+impl From<&Fluid> for FluidJson {
+    fn from(f: &Fluid) -> Self {
+        FluidJson {
+            dim: f.dim.get(),
+            density: f.density,
+            cutoff: f.cutoff,
+            mass: f.mass,
+            kt: f.kt,
+        }
+    }
+}
+
+#[derive(Serialize)]
+pub struct TransportJson {
+    pub eta_k: f64,
+    pub eta_d: f64,
+    pub eta: f64,
+    pub diffusion: f64,
+    pub schmidt: f64,
+}
+
+impl From<&Transport> for TransportJson {
+    fn from(t: &Transport) -> Self {
+        TransportJson {
+            eta_k: t.eta_k,
+            eta_d: t.eta_d,
+            eta: t.eta,
+            diffusion: t.diffusion,
+            schmidt: t.schmidt,
+        }
+    }
+}
+
+// ---------------------------------------------------------------- design
+
+/// The input lines a design is printed as.
+#[derive(Clone, Copy)]
+pub enum InputLines {
+    /// `pair_style dpd/nonlinear` with γ and the weight exponent.
+    Dpd,
+    /// `pair_style sdpd` with the proposed kernel's s, η0 and the sound speed (or `C0`).
+    Sdpd { c0: Option<f64> },
+}
+
+/// A design: γ and s for the targets, the kinetic theory's check, the two input lines.
+pub struct DesignResult {
+    pub fluid: Fluid,
+    /// The targets as given (η, Sc; or η0, Sc0 of the paper's approximation).
+    pub eta: f64,
+    pub sc: f64,
+    pub design: Design,
+    pub predicted: Transport,
+    pub pair_style: String,
+    pub pair_coeff: String,
+}
+
+/// Designs (γ, s) for `eta`, `sc`: the exact inversion, or the weighting-function paper's
+/// approximation η ≈ η0.
+pub fn design(
+    fluid: Fluid,
+    eta: f64,
+    sc: f64,
+    paper_approx: bool,
+    seed: u32,
+    lines: InputLines,
+) -> Result<DesignResult, TheoryError> {
+    let design = if paper_approx {
+        design_paper_approx(&fluid, eta, sc)?
+    } else {
+        design_from_targets(&Targets { fluid, eta, sc })?
+    };
+    let predicted = kinetic_theory(&fluid, design.gamma, design.s)?;
+    let (pair_style, pair_coeff) = match lines {
+        InputLines::Dpd => (
+            format!(
+                "pair_style dpd/nonlinear {} {} {seed} weight {}",
+                short(fluid.kt),
+                short(fluid.cutoff),
+                short(design.s)
+            ),
+            format!("pair_coeff * * 0.0 {} 0.0", short(design.gamma)),
+        ),
+        InputLines::Sdpd { c0 } => (
+            format!(
+                "pair_style sdpd {} {} {seed} kernel proposed {}",
+                short(fluid.kt),
+                short(fluid.cutoff),
+                short(design.s)
+            ),
+            format!(
+                "pair_coeff * * {} {} {}",
+                short(fluid.mass * fluid.density),
+                c0.map_or("C0".to_string(), short),
+                short(design.eta0)
+            ),
+        ),
+    };
+    Ok(DesignResult {
+        fluid,
+        eta,
+        sc,
+        design,
+        predicted,
+        pair_style,
+        pair_coeff,
+    })
+}
+
+#[derive(Serialize)]
+#[serde(untagged)]
+pub enum TargetsJson {
+    Exact { eta: f64, sc: f64 },
+    PaperApprox { eta0: f64, sc0: f64 },
+}
+
+#[derive(Serialize)]
+pub struct DesignValuesJson {
+    pub eta0: f64,
+    pub s: f64,
+    pub gamma: f64,
+}
+
+#[derive(Serialize)]
+pub struct LimitsJson {
+    pub p: f64,
+    pub p0: f64,
+    pub eta_max: f64,
+    pub sc_min: f64,
+    pub sc_gas_max: Option<f64>,
+    pub density_min: f64,
+    pub cutoff_min: f64,
+}
+
+/// `dpdnl design --json`.
+#[derive(Serialize)]
+pub struct DesignJson {
+    pub command: &'static str,
+    pub mode: &'static str,
+    pub fluid: FluidJson,
+    pub targets: TargetsJson,
+    pub design: DesignValuesJson,
+    pub predicted: TransportJson,
+    pub limits: LimitsJson,
+    pub pair_style: String,
+    pub pair_coeff: String,
+}
+
+impl DesignResult {
+    pub fn json(&self) -> DesignJson {
+        let (d, lim) = (&self.design, &self.design.limits);
+        let (mode, targets) = match d.mode {
+            DesignMode::Exact => (
+                "exact",
+                TargetsJson::Exact {
+                    eta: self.eta,
+                    sc: self.sc,
+                },
+            ),
+            DesignMode::PaperApprox => (
+                "paper-approx",
+                TargetsJson::PaperApprox {
+                    eta0: self.eta,
+                    sc0: self.sc,
+                },
+            ),
+        };
+        DesignJson {
+            command: "design",
+            mode,
+            fluid: (&self.fluid).into(),
+            targets,
+            design: DesignValuesJson {
+                eta0: d.eta0,
+                s: d.s,
+                gamma: d.gamma,
+            },
+            predicted: (&self.predicted).into(),
+            limits: LimitsJson {
+                p: lim.p,
+                p0: lim.p0,
+                eta_max: lim.eta_max,
+                sc_min: lim.sc_min,
+                sc_gas_max: lim.sc_gas_max,
+                density_min: lim.density_min,
+                cutoff_min: lim.cutoff_min,
+            },
+            pair_style: self.pair_style.clone(),
+            pair_coeff: self.pair_coeff.clone(),
+        }
+    }
+}
+
+// ---------------------------------------------------------------- theory
+
+/// The Euler integrator's finite-step temperature (finite-step paper eqs. 22-26).
+#[derive(Serialize, Clone, Copy)]
+pub struct Euler {
+    pub dt: f64,
+    /// dt < dt_c: a finite equilibrium temperature exists.
+    pub stable: bool,
+    /// T_eq/T0 (None when unstable).
+    pub t_ratio: Option<f64>,
+    pub dt_c: f64,
+    /// The critical density (None when no density is stable at this dt).
+    pub n_c: Option<f64>,
+}
+
+/// The Euler temperature of (γ, s) at step `dt`.
+pub fn euler(fluid: &Fluid, gamma: f64, s: f64, dt: f64) -> Result<Euler, TheoryError> {
+    let t_ratio = match euler_temperature_ratio(fluid, gamma, s, dt) {
+        Ok(r) => Some(r),
+        Err(TheoryError::EulerUnstable { .. }) => None,
+        Err(e) => return Err(e),
+    };
+    let dt_c = euler_critical_dt(fluid, gamma, s)?;
+    let n_c = match euler_critical_density(fluid, gamma, s, dt) {
+        Ok(n) => Some(n),
+        Err(TheoryError::EulerNoStableDensity { .. }) => None,
+        Err(e) => return Err(e),
+    };
+    Ok(Euler {
+        dt,
+        stable: t_ratio.is_some(),
+        t_ratio,
+        dt_c,
+        n_c,
+    })
+}
+
+/// `dpdnl theory` without a script: the kinetic theory of (γ, s) and, with a step, the Euler
+/// temperature.
+pub struct TheoryResult {
+    pub fluid: Fluid,
+    pub gamma: f64,
+    pub s: f64,
+    pub predicted: Transport,
+    pub euler: Option<Euler>,
+}
+
+pub fn theory(
+    fluid: Fluid,
+    gamma: f64,
+    s: f64,
+    dt: Option<f64>,
+) -> Result<TheoryResult, TheoryError> {
+    let predicted = kinetic_theory(&fluid, gamma, s)?;
+    let euler = dt.map(|dt| euler(&fluid, gamma, s, dt)).transpose()?;
+    Ok(TheoryResult {
+        fluid,
+        gamma,
+        s,
+        predicted,
+        euler,
+    })
+}
+
+/// `dpdnl theory --json`.
+#[derive(Serialize)]
+pub struct TheoryJson {
+    pub command: &'static str,
+    pub fluid: FluidJson,
+    pub gamma: f64,
+    pub s: f64,
+    pub predicted: TransportJson,
+    pub euler: Option<Euler>,
+}
+
+impl TheoryResult {
+    pub fn json(&self) -> TheoryJson {
+        TheoryJson {
+            command: "theory",
+            fluid: (&self.fluid).into(),
+            gamma: self.gamma,
+            s: self.s,
+            predicted: (&self.predicted).into(),
+            euler: self.euler,
+        }
+    }
+}
+
+/// `dpdnl theory --kernel …`: the sDPD kinetic theory of one kernel and η0.
+pub struct SdpdTheory {
+    pub kernel: Smoothing,
+    pub fluid: Fluid,
+    pub eta0: f64,
+    /// The kernel's coefficient c of η = c m kT n² r_c² / η0 + η0.
+    pub c: f64,
+    pub predicted: Transport,
+    /// The smallest viscosity of this kernel here.
+    pub eta_min: f64,
+}
+
+pub fn sdpd_theory(fluid: Fluid, kernel: Smoothing, eta0: f64) -> Result<SdpdTheory, TheoryError> {
+    let c = sdpd::kinetic_coefficient(fluid.dim, kernel)?;
+    let predicted = sdpd::kinetic_theory(&fluid, kernel, eta0)?;
+    let eta_min = sdpd::eta_min(&fluid, kernel)?;
+    Ok(SdpdTheory {
+        kernel,
+        fluid,
+        eta0,
+        c,
+        predicted,
+        eta_min,
+    })
+}
+
+/// `dpdnl theory --kernel … --json`.
+#[derive(Serialize)]
+pub struct SdpdTheoryJson {
+    pub command: &'static str,
+    pub method: &'static str,
+    pub kernel: &'static str,
+    pub s: Option<f64>,
+    pub fluid: FluidJson,
+    pub eta0: f64,
+    pub c: f64,
+    pub eta_min: f64,
+    pub predicted: TransportJson,
+}
+
+impl SdpdTheory {
+    pub fn json(&self) -> SdpdTheoryJson {
+        SdpdTheoryJson {
+            command: "theory",
+            method: "sdpd",
+            kernel: self.kernel.keyword(),
+            s: self.kernel.exponent(),
+            fluid: (&self.fluid).into(),
+            eta0: self.eta0,
+            c: self.c,
+            eta_min: self.eta_min,
+            predicted: (&self.predicted).into(),
+        }
+    }
+}
+
+// ---------------------------------------------------------------- theory SCRIPT
+
+/// `dpdnl theory SCRIPT --json`: one entry per `run`.
+#[derive(Serialize)]
+pub struct ScriptJson {
+    pub command: &'static str,
+    pub script: String,
+    pub runs: Vec<RunJson>,
+}
+
+#[derive(Serialize)]
+pub struct RunJson {
+    pub first_step: u64,
+    pub steps: u64,
+    pub dim: u32,
+    pub natoms: usize,
+    pub density: f64,
+    pub kt: f64,
+    pub dt: f64,
+    pub integrator: String,
+    pub s: f64,
+    pub pairs: Vec<PairJson>,
+}
+
+/// One type pair of a run: `pair_style sdpd` or `dpd/nonlinear`.
+#[derive(Serialize)]
+#[serde(untagged)]
+pub enum PairJson {
+    Sdpd {
+        i: usize,
+        j: usize,
+        rho0: f64,
+        c0: f64,
+        eta0: f64,
+        rc: f64,
+        kernel: &'static str,
+        fluid: FluidJson,
+        predicted: TransportJson,
+    },
+    Dpd {
+        i: usize,
+        j: usize,
+        a: f64,
+        gamma0: f64,
+        gamma1: f64,
+        rc: f64,
+        fluid: FluidJson,
+        predicted: TransportJson,
+        euler: Option<EulerBriefJson>,
+        vv_measured: Option<VvJson>,
+    },
+}
+
+/// The Euler temperature of a run's step (None: unstable) and the critical step.
+#[derive(Serialize)]
+pub struct EulerBriefJson {
+    pub t_ratio: Option<f64>,
+    pub dt_c: f64,
+}
+
+/// Velocity-Verlet: the measured heating of the nearest measured fluid (never theory).
+#[derive(Serialize)]
+pub struct VvJson {
+    pub verdict: Option<VvVerdictJson>,
+    pub x: f64,
+    pub dt_over_dtc: f64,
+}
+
+#[derive(Serialize)]
+pub struct VvVerdictJson {
+    pub family: String,
+    pub density: f64,
+    pub t_ratio: Option<f64>,
+    pub one_percent_at: Option<f64>,
+}
+
+/// Mean number of neighbours within r_c: n π r_c² (2-D) or n (4/3) π r_c³ (3-D).
+pub fn neighbours(fluid: &Fluid) -> f64 {
+    let pi = std::f64::consts::PI;
+    match fluid.dim {
+        Dim::Two => fluid.density * pi * fluid.cutoff * fluid.cutoff,
+        Dim::Three => fluid.density * 4.0 / 3.0 * pi * fluid.cutoff.powi(3),
+    }
+}
+
+/// x = δt √(kT/m) / r_c: a thermal particle's displacement per step in cut-offs.
+pub fn step_x(fluid: &Fluid, dt: f64) -> f64 {
+    dt * (fluid.kt / fluid.mass).sqrt() / fluid.cutoff
+}
+
+/// The measured velocity-Verlet heating at step `dt` of the family nearest to `fluid` with
+/// weight exponent `s`, as JSON.
+pub fn vv_json(fluid: &Fluid, s: f64, dt: f64, dt_c: f64) -> VvJson {
+    let x = step_x(fluid, dt);
+    let verdict = vv_verdict(fluid.dim.get(), neighbours(fluid), s, x).map(|v| VvVerdictJson {
+        family: v.family,
+        density: v.density,
+        t_ratio: v.t_ratio,
+        one_percent_at: v.one_percent_at,
+    });
+    VvJson {
+        verdict,
+        x,
+        dt_over_dtc: dt / dt_c,
+    }
+}
