@@ -290,6 +290,17 @@ enum DpdnlStatus dpdnl_box_check(const double *len,
                                  int32_t dimension,
                                  double rc_max);
 
+// The number of pair styles this library provides (the C++ side registers each of them with
+// LAMMPS under [`dpdnl_pair_style_name`]).
+int32_t dpdnl_pair_style_count(void);
+
+// The name of pair style `k` (0-based), a static string; null when `k` is out of range.
+const char *dpdnl_pair_style_name(int32_t k);
+
+// The line LAMMPS prints when pair style `k` is registered ("pair_style NAME (dpdnl: …)"), a
+// static string; null when `k` is out of range.
+const char *dpdnl_pair_style_info(int32_t k);
+
 // A new pair style `name` ("dpd/nonlinear", "sdpd") from the words after the name (LAMMPS's
 // `Pair::settings(narg, arg)`) for `ntypes` atom types; `*out` gets a handle to release with
 // [`dpdnl_pair_free`] (null on failure, the message says why).

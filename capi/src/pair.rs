@@ -12,10 +12,11 @@
 //! - [`dpdnl_pair_compute`]: the pair forces through the style's kernel, the same list walk and
 //!   `ev_tally` conventions as [`crate::dpdnl_compute`].
 
-use std::ffi::c_char;
+use std::ffi::{CString, c_char};
+use std::sync::OnceLock;
 
 use dpdnl::engine::SetupNote;
-use dpdnl::engine::style::{PairStyle, SetupContext, from_restart_lines, new_pair_style};
+use dpdnl::engine::style::{PairStyle, STYLES, SetupContext, from_restart_lines, new_pair_style};
 use dpdnl::kernel::Isa;
 
 use crate::compute::{for_each_row, walk_pairs};
@@ -64,6 +65,50 @@ pub struct DpdnlSetup {
     pub dt: f64,
     /// Nonzero when a `fix nve/euler` is defined (the finite-step warning).
     pub euler: i32,
+}
+
+/// The styles' names and LAMMPS's one-line descriptions, as C strings that live as long as the
+/// library.
+fn style_names() -> &'static [(CString, CString)] {
+    static NAMES: OnceLock<Vec<(CString, CString)>> = OnceLock::new();
+    NAMES.get_or_init(|| {
+        STYLES
+            .iter()
+            .map(|(name, what)| {
+                let text = |s: String| CString::new(s).unwrap_or_default();
+                (
+                    text(name.to_string()),
+                    text(format!("pair_style {name} (dpdnl: {what})")),
+                )
+            })
+            .collect()
+    })
+}
+
+/// The number of pair styles this library provides (the C++ side registers each of them with
+/// LAMMPS under [`dpdnl_pair_style_name`]).
+#[unsafe(no_mangle)]
+pub extern "C" fn dpdnl_pair_style_count() -> i32 {
+    STYLES.len() as i32
+}
+
+/// The name of pair style `k` (0-based), a static string; null when `k` is out of range.
+#[unsafe(no_mangle)]
+pub extern "C" fn dpdnl_pair_style_name(k: i32) -> *const c_char {
+    usize::try_from(k)
+        .ok()
+        .and_then(|k| style_names().get(k))
+        .map_or(std::ptr::null(), |(n, _)| n.as_ptr())
+}
+
+/// The line LAMMPS prints when pair style `k` is registered ("pair_style NAME (dpdnl: …)"), a
+/// static string; null when `k` is out of range.
+#[unsafe(no_mangle)]
+pub extern "C" fn dpdnl_pair_style_info(k: i32) -> *const c_char {
+    usize::try_from(k)
+        .ok()
+        .and_then(|k| style_names().get(k))
+        .map_or(std::ptr::null(), |(_, i)| i.as_ptr())
 }
 
 /// The handle behind `h`.

@@ -650,3 +650,29 @@ fn bad_calls_give_codes_and_text() {
     assert_eq!(st, DpdnlStatus::InvalidArgument);
     assert!(last_error().contains("no pre-pass"), "{}", last_error());
 }
+
+#[test]
+fn style_registry_names_every_style() {
+    let n = dpdnl_pair_style_count();
+    let names: Vec<String> = (0..n)
+        .map(|k| {
+            // SAFETY: a static string for k in range.
+            unsafe { CStr::from_ptr(dpdnl_pair_style_name(k)) }
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    assert_eq!(names, ["dpd/nonlinear", "sdpd"]);
+    // SAFETY: a static string.
+    let info = unsafe { CStr::from_ptr(dpdnl_pair_style_info(1)) }
+        .to_string_lossy()
+        .into_owned();
+    assert!(info.starts_with("pair_style sdpd (dpdnl: "), "{info}");
+    assert!(dpdnl_pair_style_name(n).is_null() && dpdnl_pair_style_name(-1).is_null());
+    assert!(dpdnl_pair_style_info(n).is_null());
+    // Each name makes a handle (its own grammar answers, not the unknown-style error).
+    for name in &names {
+        let e = new_style(name, &[], 1).unwrap_err();
+        assert!(!e.contains("not supported"), "{name}: {e}");
+    }
+}

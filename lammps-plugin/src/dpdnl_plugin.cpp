@@ -12,8 +12,7 @@
 #include "compute_sdpd_density.h"
 #include "fix_nve_euler.h"
 #include "fix_pex_push.h"
-#include "pair_dpd_nonlinear.h"
-#include "pair_sdpd.h"
+#include "pair_dpdnl.h"
 
 #include "comm.h"
 #include "error.h"
@@ -42,14 +41,6 @@ struct HostPluginRecord {
 };
 using HostRegister = void (*)(HostPluginRecord *, void *);
 
-Pair *make_pair_dpd_nonlinear(LAMMPS *lmp)
-{
-  return new PairDPDNonlinear(lmp);
-}
-Pair *make_pair_sdpd(LAMMPS *lmp)
-{
-  return new PairSDPD(lmp);
-}
 template <typename T> Fix *make_fix(LAMMPS *lmp, int narg, char **arg)
 {
   return new T(lmp, narg, arg);
@@ -112,12 +103,12 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
   }
   auto reg = reinterpret_cast<HostRegister>(register_ptr);
   const char *version = DPDNL_HEADERS_VERSION[0] ? DPDNL_HEADERS_VERSION : nullptr;
-  HostPluginRecord records[] = {
-      {version, "pair", "dpd/nonlinear",
-       "pair_style dpd/nonlinear (dpdnl: DPD with non-linear friction)", AUTHOR,
-       reinterpret_cast<void *>(&make_pair_dpd_nonlinear), handle},
-      {version, "pair", "sdpd", "pair_style sdpd (dpdnl: smoothed DPD, Lucy/quintic/proposed)",
-       AUTHOR, reinterpret_cast<void *>(&make_pair_sdpd), handle},
+  // Every pair style of the library (names and info lines are the library's static strings).
+  std::vector<HostPluginRecord> records;
+  for (int k = 0; k < dpdnl_pair_styles(); k++)
+    records.push_back({version, "pair", dpdnl_pair_style_name(k), dpdnl_pair_style_info(k),
+                       AUTHOR, reinterpret_cast<void *>(dpdnl_pair_creator(k)), handle});
+  const HostPluginRecord others[] = {
       {version, "fix", "nve/euler", "fix nve/euler (dpdnl: explicit Euler)", AUTHOR,
        reinterpret_cast<void *>(&make_fix<FixNVEEuler>), handle},
       {version, "fix", "pex/push", "fix pex/push (dpdnl: PeX momentum exchange)",
@@ -125,5 +116,6 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
       {version, "compute", "sdpd/density", "compute sdpd/density (dpdnl: sDPD number densities)",
        AUTHOR, reinterpret_cast<void *>(&make_compute<ComputeSDPDDensity>), handle},
   };
+  records.insert(records.end(), std::begin(others), std::end(others));
   for (auto &r : records) reg(&r, lmp);
 }

@@ -3,8 +3,7 @@
 #include "compute_sdpd_density.h"
 #include "fix_nve_euler.h"
 #include "fix_pex_push.h"
-#include "pair_dpd_nonlinear.h"
-#include "pair_sdpd.h"
+#include "pair_dpdnl.h"
 
 #include "force.h"
 #include "lammps.h"
@@ -13,10 +12,6 @@
 using namespace LAMMPS_NS;
 
 namespace {
-template <typename T> Pair *make_pair(LAMMPS *lmp)
-{
-  return new T(lmp);
-}
 template <typename T> Fix *make_fix(LAMMPS *lmp, int narg, char **arg)
 {
   return new T(lmp, narg, arg);
@@ -29,8 +24,8 @@ template <typename T> Compute *make_compute(LAMMPS *lmp, int narg, char **arg)
 
 void dpdnl_register_styles(LAMMPS *lmp)
 {
-  (*lmp->force->pair_map)["dpd/nonlinear"] = &make_pair<PairDPDNonlinear>;
-  (*lmp->force->pair_map)["sdpd"] = &make_pair<PairSDPD>;
+  for (int k = 0; k < dpdnl_pair_styles(); k++)
+    (*lmp->force->pair_map)[dpdnl_pair_style_name(k)] = dpdnl_pair_creator(k);
   (*lmp->modify->fix_map)["nve/euler"] = &make_fix<FixNVEEuler>;
   (*lmp->modify->fix_map)["pex/push"] = &make_fix<FixPexPush>;
   (*lmp->modify->compute_map)["sdpd/density"] = &make_compute<ComputeSDPDDensity>;

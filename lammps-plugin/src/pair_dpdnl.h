@@ -5,7 +5,8 @@
 // class forwards narg/arg, marshals LAMMPS's arrays and neighbour list, does the MPI
 // communication of a many-body style's per-atom values between its two passes (as pair eam does
 // with its embedding term), and turns Rust's errors into error->all/one. It holds no
-// coefficient, rule or equation: a new style is a subclass that only names it.
+// coefficient, rule or equation, and no style's name: every style the library lists is
+// registered through dpdnl_pair_creator().
 
 #ifndef DPDNL_PAIR_DPDNL_H
 #define DPDNL_PAIR_DPDNL_H
@@ -60,6 +61,12 @@ class PairDpdnl : public Pair {
   void write_data_lines(FILE *fp, bool all);
   [[noreturn]] void rust_error(const std::string &context);
 };
+
+// The pair styles of the library (dpdnl_pair_style_count() of them, named by
+// dpdnl_pair_style_name(k)): style k's creator for LAMMPS's style maps and plugin records. The
+// launcher and the plugin register every style through these, so a new Rust style needs no C++.
+int dpdnl_pair_styles();
+Pair *(*dpdnl_pair_creator(int k))(LAMMPS *);
 
 }    // namespace LAMMPS_NS
 

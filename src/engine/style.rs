@@ -144,8 +144,12 @@ impl Clone for Box<dyn PairStyle> {
     }
 }
 
-/// The pair styles this project provides.
-pub const STYLES: [&str; 2] = ["dpd/nonlinear", "sdpd"];
+/// The pair styles this project provides: name and a one-line description (what LAMMPS prints
+/// when the plugin registers them). [`new_pair_style`] makes each of them.
+pub const STYLES: [(&str, &str); 2] = [
+    ("dpd/nonlinear", "DPD with non-linear friction"),
+    ("sdpd", "smoothed DPD, Lucy/quintic/proposed kernels"),
+];
 
 /// A new pair style `name` from the words after the name, for `ntypes` atom types and time
 /// step `dt`; an error names the style or the word at fault.
@@ -159,8 +163,9 @@ pub fn new_pair_style(
         "dpd/nonlinear" => Ok(Box::new(super::forcefield::DpdPair::new(args, ntypes, dt)?)),
         "sdpd" => Ok(Box::new(super::sdpd::SdpdField::from_words(args, ntypes)?)),
         other => Err(format!(
-            "pair style '{}' not supported: only dpd/nonlinear and sdpd",
-            crate::grammar::shown(other)
+            "pair style '{}' not supported: only {}",
+            crate::grammar::shown(other),
+            STYLES.map(|(name, _)| name).join(" and ")
         )),
     }
 }
@@ -193,4 +198,24 @@ pub fn from_restart_lines(
 /// A number as a restart word: 17 significant digits, read back exactly.
 pub(crate) fn word(x: f64) -> String {
     format!("{x:.17e}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every listed style is made by [`new_pair_style`] (its own grammar answers, not the
+    /// unknown-style error), and an unknown name lists them.
+    #[test]
+    fn every_listed_style_is_made() {
+        for (name, _) in STYLES {
+            let e = new_pair_style(name, &[], 1, 1.0).expect_err("no arguments");
+            assert!(!e.contains("not supported"), "{name}: {e}");
+        }
+        let e = new_pair_style("lj/cut", &[], 1, 1.0).expect_err("unknown");
+        assert_eq!(
+            e,
+            "pair style 'lj/cut' not supported: only dpd/nonlinear and sdpd"
+        );
+    }
 }
