@@ -136,6 +136,9 @@ typedef struct DpdnlSetup {
   double dt;
   // Nonzero when a `fix nve/euler` is defined (the finite-step warning).
   int32_t euler;
+  // LAMMPS's `special_bonds lj` factors (`force->special_lj`, 4 doubles: entry 0 unused,
+  // then 1-2, 1-3, 1-4), or null: no bonded neighbours.
+  const double *special_lj;
 } DpdnlSetup;
 
 // The arguments of `fix pex/push` (from [`dpdnl_parse_fix_pex_push`]); `width` 0 means the

@@ -154,7 +154,24 @@ pub(crate) unsafe fn compute(
     };
     let cut: Vec<f64> = table.iter().map(|c| c.rc).collect();
     // SAFETY: forwarded caller's contract.
-    unsafe { walk_pairs(&kernel, &cut, p.ntypes, atoms, list, st, f, tally) }
+    unsafe { walk_pairs(&kernel, &cut, p.ntypes, None, atoms, list, st, f, tally) }
+}
+
+/// LAMMPS's special-bond class of a raw neighbour entry (bits 30–31, `SBBITS` = 30 in every
+/// LAMMPS since 2012): 0 for an ordinary pair, 1–3 for 1-2, 1-3, 1-4 neighbours.
+#[inline(always)]
+pub(crate) fn special_class(jraw: i32) -> usize {
+    (jraw as u32 >> 30) as usize
+}
+
+/// How a walk treats LAMMPS's special-bond bits: the `special_bonds lj` factors by class, and
+/// whether the kernel's table holds a scaled block per class (`PairStyle::scales_special`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Special {
+    /// Factors by class (entry 0 is 1).
+    pub(crate) lj: [f64; 4],
+    /// Coefficient blocks per class in the kernel's table.
+    pub(crate) scaled: bool,
 }
 
 /// The rows of a LAMMPS neighbour list, checked: `visit(i, row, mask)` for every i of `ilist`,
@@ -204,6 +221,11 @@ pub(crate) unsafe fn for_each_row(
 /// (k the dense type-pair index, `ntypes + 1` per row) through `kernel`, forces and tallies
 /// added with LAMMPS's conventions. Checks the step, dimension, counts, types and masses.
 ///
+/// With `special`, a pair flagged as a bonded neighbour of class b is left out when its factor
+/// is 0 and otherwise evaluated with the coefficients of block b (`k + b (ntypes + 1)²`) when
+/// the table is scaled; without it (the low-level [`dpdnl_compute`]) the flags are masked away
+/// and every pair has its full strength.
+///
 /// # Safety
 /// As [`dpdnl_compute`].
 #[allow(clippy::too_many_arguments)]
@@ -211,6 +233,7 @@ pub(crate) unsafe fn walk_pairs(
     kernel: &dyn PairKernel,
     cut: &[f64],
     ntypes: usize,
+    special: Option<Special>,
     atoms: &DpdnlAtoms,
     list: &DpdnlNeighList,
     st: &DpdnlStep,
@@ -343,11 +366,39 @@ pub(crate) unsafe fn walk_pairs(
         .collect();
     let isa = Isa::detect();
     let mut near: Vec<u32> = Vec::new();
+    let block = (nt + 1) * (nt + 1);
     // SAFETY: `list` as documented (caller's contract).
     unsafe {
         for_each_row(list, nall, |i, jlist, mask| {
             let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
             let row = ty[i] as usize * (nt + 1);
+            // A row with bonded neighbours: each entry with its special class, in list order
+            // (rows without them take the filtered pass below).
+            if let Some(sp) = special
+                && jlist.iter().any(|&jr| special_class(jr) != 0)
+            {
+                for &jr in jlist {
+                    let class = special_class(jr);
+                    let factor = sp.lj[class];
+                    if factor == 0.0 {
+                        continue;
+                    }
+                    let j = jr as u32 as usize & mask;
+                    let k = row + ty[j] as usize;
+                    let rc = cut[k];
+                    let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
+                    let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+                    let l = bt.lane();
+                    for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
+                        lane[l] = c;
+                    }
+                    bt.batch.coeff[l] = (k + if sp.scaled { class * block } else { 0 }) as u32;
+                    if bt.commit(i as u32, j as u32, rsq < rc * rc) {
+                        bt.flush(kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
+                    }
+                }
+                return Ok(());
+            }
             let n = within_cut(
                 isa,
                 xi,

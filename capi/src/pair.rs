@@ -16,10 +16,12 @@ use std::ffi::{CString, c_char};
 use std::sync::OnceLock;
 
 use dpdnl::engine::SetupNote;
-use dpdnl::engine::style::{PairStyle, STYLES, SetupContext, from_restart_lines, new_pair_style};
+use dpdnl::engine::style::{
+    PairStyle, STYLES, SetupContext, check_special, from_restart_lines, new_pair_style,
+};
 use dpdnl::kernel::Isa;
 
-use crate::compute::{for_each_row, walk_pairs};
+use crate::compute::{Special, for_each_row, special_class, walk_pairs};
 use crate::init::set_last_message;
 use crate::styles::{put, words};
 use crate::{
@@ -30,6 +32,8 @@ use crate::{
 /// A pair style and its coefficients (opaque to C).
 pub struct DpdnlPair {
     style: Box<dyn PairStyle>,
+    /// The special-bond factors of the last set-up.
+    special: [f64; 4],
     /// The types of the atoms of the last [`dpdnl_pair_compute`] (scratch).
     typ: Vec<u32>,
     /// The text of the last [`dpdnl_pair_restart`].
@@ -65,6 +69,9 @@ pub struct DpdnlSetup {
     pub dt: f64,
     /// Nonzero when a `fix nve/euler` is defined (the finite-step warning).
     pub euler: i32,
+    /// LAMMPS's `special_bonds lj` factors (`force->special_lj`, 4 doubles: entry 0 unused,
+    /// then 1-2, 1-3, 1-4), or null: no bonded neighbours.
+    pub special_lj: *const f64,
 }
 
 /// The styles' names and LAMMPS's one-line descriptions, as C strings that live as long as the
@@ -137,6 +144,7 @@ fn owned(w: &[&str]) -> Vec<String> {
 unsafe fn emit(out: *mut *mut DpdnlPair, style: Box<dyn PairStyle>) -> Result<(), Error> {
     let h = Box::new(DpdnlPair {
         style,
+        special: [1.0; 4],
         typ: Vec::new(),
         text: Vec::new(),
     });
@@ -321,6 +329,15 @@ pub unsafe extern "C" fn dpdnl_pair_init(
                 .collect()
         };
         let natoms = usize::try_from(s.natoms).unwrap_or(0);
+        let special = if s.special_lj.is_null() {
+            [1.0; 4]
+        } else {
+            // SAFETY: 4 doubles (caller's contract).
+            let f = unsafe { slice(s.special_lj, 4, "special_lj")? };
+            [1.0, f[1], f[2], f[3]]
+        };
+        check_special(&*h.style, special).map_err(Error::invalid)?;
+        h.special = special;
         let ctx = SetupContext {
             dim,
             natoms,
@@ -328,6 +345,7 @@ pub unsafe extern "C" fn dpdnl_pair_init(
             mass: &mass,
             dt: s.dt,
             euler: s.euler != 0,
+            special_lj: special,
         };
         let notes = h.style.setup(&ctx).map_err(Error::invalid)?;
         let text: Vec<String> = notes
@@ -421,6 +439,7 @@ pub unsafe extern "C" fn dpdnl_pair_prepass(
         rho.fill(0.0);
         let newton = newton_pair != 0;
         let rcsq = pp.rcsq();
+        let special = h.special;
         // SAFETY: forwarded caller's contract.
         unsafe {
             for_each_row(list, nall, |i, jlist, mask| {
@@ -428,6 +447,11 @@ pub unsafe extern "C" fn dpdnl_pair_prepass(
                 let row = ty[i] as usize * (nt + 1);
                 let mut di = 0.0;
                 for &jraw in jlist {
+                    // A bonded neighbour of factor 0 is not in the sum (fractional factors
+                    // are refused at set-up: `check_special`).
+                    if special[special_class(jraw)] == 0.0 {
+                        continue;
+                    }
                     let j = jraw as u32 as usize & mask;
                     let k = row + ty[j] as usize;
                     let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
@@ -571,10 +595,26 @@ pub unsafe extern "C" fn dpdnl_pair_compute(
         h.style.set_timestep(st.dt);
         let style = &*h.style;
         let kernel = style.kernel(Isa::detect());
+        let special = Special {
+            lj: h.special,
+            scaled: style.scales_special(),
+        };
         // SAFETY: null or valid (caller's contract).
         let t = unsafe { tally.as_ref() }.copied();
         // SAFETY: forwarded caller's contract.
-        unsafe { walk_pairs(&*kernel, style.cut_table(), nt, a, list, st, f, t) }
+        unsafe {
+            walk_pairs(
+                &*kernel,
+                style.cut_table(),
+                nt,
+                Some(special),
+                a,
+                list,
+                st,
+                f,
+                t,
+            )
+        }
     })
 }
 

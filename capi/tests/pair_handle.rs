@@ -75,6 +75,7 @@ fn init(h: &Handle, natoms: i64, volume: f64) -> Result<f64, String> {
         mass: MASS.as_ptr(),
         dt: DT,
         euler: 0,
+        special_lj: null(),
     };
     let mut rc = 0.0;
     // SAFETY: a live handle; `s` and `rc` valid.
@@ -365,6 +366,7 @@ fn restart_text_gives_the_same_style_back() {
             mass: mass1.as_ptr(),
             dt: DT,
             euler: 0,
+            special_lj: null(),
         };
         let mut rc = 0.0;
         // SAFETY: a live handle.
@@ -540,6 +542,7 @@ fn sdpd_prepass_is_the_direct_density_sum_and_forces_conserve_momentum() {
             mass: &mass,
             dt: DT,
             euler: false,
+            special_lj: [1.0; 4],
         })
         .unwrap();
     let pp = field.prepass().expect("sdpd has a pre-pass");
@@ -675,4 +678,206 @@ fn style_registry_names_every_style() {
         let e = new_style(name, &[], 1).unwrap_err();
         assert!(!e.contains("not supported"), "{name}: {e}");
     }
+}
+
+/// The class (0 ordinary, 1–3 a 1-2, 1-3, 1-4 neighbour) this test gives the pair (i, j).
+fn class_of(a: &Atoms, i: usize, j: usize) -> usize {
+    let (ti, tj) = (a.tag[i] as usize, a.tag[j] as usize);
+    (ti + tj) % 5 % 4
+}
+
+#[test]
+fn special_bonds_scale_a_pair_or_leave_it_out() {
+    // special_bonds lj 0.5 0 0.25: 1-2 pairs at half strength (a, γ0 and σ² halved), 1-3
+    // pairs left out, 1-4 at a quarter (docs/models.md §4.8, P-22).
+    let special = [0.0, 0.5, 0.0, 0.25];
+    let a = Atoms::new(60, 3.0, 1.2);
+    let mut lists = a.half_list(1.2);
+    for (i, l) in lists.iter_mut().enumerate() {
+        for e in l.iter_mut() {
+            *e |= (class_of(&a, i, *e as usize) as i32) << 30;
+        }
+    }
+    for (fr, no) in MODELS {
+        let h = dpd_handle(fr, no);
+        let s = DpdnlSetup {
+            dimension: 3,
+            natoms: 60,
+            volume: 27.0,
+            mass: MASS.as_ptr(),
+            dt: DT,
+            euler: 0,
+            special_lj: special.as_ptr(),
+        };
+        let mut rc = 0.0;
+        // SAFETY: a live handle; `s` valid with 4 special factors.
+        assert_eq!(
+            unsafe { dpdnl_pair_init(h.0, &s, &mut rc) },
+            DpdnlStatus::Ok
+        );
+        let ilist: Vec<i32> = (0..a.nlocal as i32).collect();
+        let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
+        let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
+        let atoms = DpdnlAtoms {
+            x: a.x.as_ptr(),
+            v: a.v.as_ptr(),
+            tag: a.tag.as_ptr(),
+            atom_type: a.ty.as_ptr(),
+            mass: MASS.as_ptr(),
+            rmass: null(),
+            nlocal: a.nlocal as i32,
+            nall: a.nall() as i32,
+        };
+        let list = DpdnlNeighList {
+            inum: a.nlocal as i32,
+            ilist: ilist.as_ptr(),
+            numneigh: numneigh.as_ptr(),
+            firstneigh: firstneigh.as_ptr(),
+            neighmask: 0x1FFF_FFFF,
+            full: 0,
+        };
+        let st = DpdnlStep {
+            step: 7,
+            dt: DT,
+            newton_pair: 1,
+            dimension: 3,
+        };
+        let mut f = vec![0.0; 3 * a.nall()];
+        let mut energy = 0.0;
+        let mut tally = DpdnlTally {
+            eflag_global: 1,
+            vflag_global: 0,
+            eng_vdwl: &mut energy,
+            virial: null_mut(),
+            eatom: null_mut(),
+            vatom: null_mut(),
+        };
+        // SAFETY: arrays as documented.
+        let code = unsafe {
+            dpdnl_pair_compute(h.0, &atoms, &list, &st, null(), f.as_mut_ptr(), &mut tally)
+        };
+        assert_eq!(code, DpdnlStatus::Ok, "{}", last_error());
+        // The same pairs one by one through the kernel with scaled coefficients: f a, f γ0.
+        let friction = dpdnl::kernel::Friction::from_keyword(fr).unwrap();
+        let noise = dpdnl::kernel::Noise::from_keyword(no).unwrap();
+        let model = dpdnl::kernel::PairModel::new(
+            0.7,
+            friction,
+            noise,
+            dpdnl::kernel::Weight::new(0.5).unwrap(),
+            DT,
+        );
+        let g1 = |g: f64| if fr == "none" { 0.0 } else { g };
+        let coeff = |ti: i32, tj: i32| {
+            let (aa, g0, g, rc) = match (ti.min(tj), ti.max(tj)) {
+                (1, 1) => (25.0, 4.5, g1(1.0), 1.0),
+                (1, 2) => (10.0, 3.0, g1(0.5), 1.2),
+                _ => (0.0, 5.0, g1(2.0), 0.9),
+            };
+            dpdnl::kernel::PairCoeff {
+                a: aa,
+                gamma0: g0,
+                gamma1: g,
+                rc,
+            }
+        };
+        let mut want = vec![0.0; 3 * a.nall()];
+        let (mut e_want, mut left_out, mut scaled) = (0.0, 0, 0);
+        for (i, l) in lists.iter().enumerate() {
+            for &jr in l {
+                let j = (jr & 0x1FFF_FFFF) as usize;
+                let factor = [1.0, special[1], special[2], special[3]][class_of(&a, i, j)];
+                let c = coeff(a.ty[i], a.ty[j]);
+                let dr: [f64; 3] = [0, 1, 2].map(|d| a.x[3 * i + d] - a.x[3 * j + d]);
+                if dr.iter().map(|x| x * x).sum::<f64>() >= c.rc * c.rc {
+                    continue;
+                }
+                if factor == 0.0 {
+                    left_out += 1;
+                    continue;
+                }
+                scaled += usize::from(factor != 1.0);
+                let c = dpdnl::kernel::PairCoeff {
+                    a: factor * c.a,
+                    gamma0: factor * c.gamma0,
+                    ..c
+                };
+                let input = dpdnl::kernel::PairInput {
+                    dr,
+                    dv: [0, 1, 2].map(|d| a.v[3 * i + d] - a.v[3 * j + d]),
+                    inv_mass_sum: 1.0 / MASS[a.ty[i] as usize] + 1.0 / MASS[a.ty[j] as usize],
+                    xi: dpdnl::rng::pair_gaussian(SEED, 7, a.tag[i] as u32, a.tag[j] as u32),
+                };
+                let p = dpdnl::kernel::pair_force(&model, &c, &input);
+                let s = (p.fc + p.fd + p.fr + p.fa) * p.inv_r;
+                for d in 0..3 {
+                    want[3 * i + d] += s * dr[d];
+                    want[3 * j + d] -= s * dr[d];
+                }
+                e_want += p.energy;
+            }
+        }
+        assert!(
+            left_out > 10 && scaled > 10,
+            "{left_out} left out, {scaled} scaled"
+        );
+        let scale = want.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        for (k, (x, y)) in f.iter().zip(&want).enumerate() {
+            assert!(
+                (x - y).abs() <= 1e-12 * scale,
+                "{fr}/{no} f[{k}]: {x} vs {y}"
+            );
+        }
+        assert!(
+            (energy - e_want).abs() <= 1e-12 * e_want.abs(),
+            "{energy} vs {e_want}"
+        );
+    }
+}
+
+#[test]
+fn sdpd_refuses_fractional_special_factors() {
+    let h = sdpd_handle();
+    let mut rc = 0.0;
+    for (special, ok) in [([0.0, 0.0, 1.0, 1.0], true), ([0.0, 1.0, 0.5, 1.0], false)] {
+        let s = DpdnlSetup {
+            dimension: 3,
+            natoms: 60,
+            volume: 27.0,
+            mass: MASS.as_ptr(),
+            dt: DT,
+            euler: 0,
+            special_lj: special.as_ptr(),
+        };
+        // SAFETY: a live handle; `s` valid.
+        let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
+        assert_eq!(st == DpdnlStatus::Ok, ok, "{special:?}: {}", last_error());
+    }
+    assert!(
+        last_error().contains("pair_style sdpd cannot weight bonded neighbours"),
+        "{}",
+        last_error()
+    );
+    // A factor outside [0, 1] is refused for every style.
+    let d = dpd_handle("dot", "plain");
+    let special = [0.0, 1.5, 0.0, 0.0];
+    let s = DpdnlSetup {
+        dimension: 3,
+        natoms: 60,
+        volume: 27.0,
+        mass: MASS.as_ptr(),
+        dt: DT,
+        euler: 0,
+        special_lj: special.as_ptr(),
+    };
+    // SAFETY: as above.
+    assert_eq!(
+        unsafe { dpdnl_pair_init(d.0, &s, &mut rc) },
+        DpdnlStatus::InvalidArgument
+    );
+    assert!(
+        last_error().contains("must be in [0, 1]"),
+        "{}",
+        last_error()
+    );
 }

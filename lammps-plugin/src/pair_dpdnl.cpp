@@ -36,6 +36,7 @@
 using namespace LAMMPS_NS;
 
 static_assert(sizeof(tagint) == sizeof(int32_t), "dpdnl pair styles need 32-bit tags (LAMMPS_SMALLBIG)");
+static_assert(SBBITS == 30, "the C ABI reads a neighbour's special-bond class from bits 30-31");
 
 PairDpdnl::PairDpdnl(LAMMPS *lmp, const char *style_name) :
     Pair(lmp), name(style_name), handle(nullptr), info(), values(nullptr), nmax(0)
@@ -140,6 +141,9 @@ void PairDpdnl::init_style()
   s.mass = (atom->rmass_flag || !atom->mass) ? nullptr : atom->mass;
   s.dt = update->dt;
   s.euler = euler ? 1 : 0;
+  // special_bonds lj: a bonded neighbour's pair scaled by its factor (or refused by a style
+  // that cannot), in Rust; the list flags them in bits SBBITS.. of each entry.
+  s.special_lj = force->special_lj;
   double rc_max = 0.0;
   if (dpdnl_pair_init(handle, &s, &rc_max) != DPDNL_STATUS_OK) rust_error("Pair " + name);
   if (comm->me == 0) {

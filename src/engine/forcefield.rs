@@ -178,6 +178,7 @@ pub struct DpdPair {
     ptable: PairTable,
     cut: Vec<f64>,
     dt: f64,
+    special: [f64; 4],
 }
 
 impl DpdPair {
@@ -211,15 +212,28 @@ impl DpdPair {
             ptable: PairTable::default(),
             cut: Vec::new(),
             dt: 0.0,
+            special: [1.0; 4],
         }
     }
 
-    fn build_tables(&mut self, dt: f64) {
+    /// The dense tables for time step `dt`: block 0 the coefficients; blocks 1–3 (the special
+    /// classes 1-2, 1-3, 1-4) the same scaled by `special_lj`: f a and f γ0, so the pair keeps
+    /// its fluctuation–dissipation balance (docs/models.md §4.8, P-22).
+    fn build_tables(&mut self, dt: f64, special_lj: [f64; 4]) {
         self.dt = dt;
+        self.special = special_lj;
         self.ff.model.set_timestep(dt);
-        self.table = self.ff.dense_table();
+        let block = self.ff.dense_table();
+        self.cut = block.iter().map(|c| c.rc).collect();
+        self.table = block.clone();
+        for &f in &special_lj[1..] {
+            self.table.extend(block.iter().map(|c| PairCoeff {
+                a: f * c.a,
+                gamma0: f * c.gamma0,
+                ..*c
+            }));
+        }
         self.ptable = PairTable::new(&self.ff.model, &self.table);
-        self.cut = self.table.iter().map(|c| c.rc).collect();
     }
 
     /// The Euler heating warning for the pair with the largest `gamma0` (the worst case).
@@ -359,18 +373,22 @@ impl PairStyle for DpdPair {
         {
             notes.push(SetupNote::Warning(w));
         }
-        self.build_tables(ctx.dt);
+        self.build_tables(ctx.dt, ctx.special_lj);
         Ok(notes)
     }
 
     fn set_timestep(&mut self, dt: f64) {
         if dt != self.dt {
-            self.build_tables(dt);
+            self.build_tables(dt, self.special);
         }
     }
 
     fn cut_table(&self) -> &[f64] {
         &self.cut
+    }
+
+    fn scales_special(&self) -> bool {
+        true
     }
 
     fn kernel(&self, isa: Isa) -> Box<dyn PairKernel + '_> {

@@ -206,6 +206,7 @@ impl System {
             mass: &self.mass,
             dt: self.dt,
             euler: self.integrator == Some(Integrator::Euler),
+            special_lj: [1.0; 4],
         };
         let style = self
             .pair

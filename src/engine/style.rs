@@ -44,6 +44,9 @@ pub struct SetupContext<'a> {
     pub dt: f64,
     /// True when the run integrates with `fix nve/euler` (the finite-step heating warning).
     pub euler: bool,
+    /// LAMMPS's `special_bonds lj` factors by special class (0: an ordinary pair, 1–3: 1-2, 1-3,
+    /// 1-4 neighbours); `[1.0; 4]` where there are no bonds.
+    pub special_lj: [f64; 4],
 }
 
 /// A many-body style's pre-pass: one value per atom, d_i = complete(Σ_j w_k(r_ij²)) over the
@@ -85,6 +88,13 @@ pub trait PairStyle: Send + Sync + Debug {
     /// The cut-offs by dense type-pair index (`(ntypes + 1)²`, 0 for unset pairs), after
     /// [`PairStyle::setup`].
     fn cut_table(&self) -> &[f64];
+    /// True when the kernel's coefficient table holds one block per special class: the
+    /// coefficients of a pair of class b (1–3) at index `k + b (ntypes + 1)²`, scaled by its
+    /// `special_lj` factor (docs/models.md §4.8, P-22). A style that does not scale refuses
+    /// fractional factors ([`check_special`]).
+    fn scales_special(&self) -> bool {
+        false
+    }
     /// The many-body pre-pass, if the style has one (after [`PairStyle::setup`]).
     fn prepass(&self) -> Option<&dyn PrePass> {
         None
@@ -168,6 +178,30 @@ pub fn new_pair_style(
             STYLES.map(|(name, _)| name).join(" and ")
         )),
     }
+}
+
+/// `special_bonds lj` factors a style can honour: any factor in [0, 1] for a style that scales
+/// its coefficients ([`PairStyle::scales_special`]); only 0 (the pair excluded) or 1 for the
+/// others (a many-body density sum has no pair factor).
+pub fn check_special(style: &dyn PairStyle, special: [f64; 4]) -> Result<(), String> {
+    for (b, &f) in special.iter().enumerate().skip(1) {
+        if !(0.0..=1.0).contains(&f) {
+            return Err(format!(
+                "special_bonds lj factor {f} of 1-{} neighbours must be in [0, 1]",
+                b + 1
+            ));
+        }
+        if f != 0.0 && f != 1.0 && !style.scales_special() {
+            return Err(format!(
+                "pair_style {} cannot weight bonded neighbours (special_bonds lj factor {f} of \
+                 1-{} neighbours): its many-body density sum has no pair factor; use factors 0 \
+                 (excluded) or 1",
+                style.name(),
+                b + 1
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Rebuild a style from its [`PairStyle::restart_lines`] for `ntypes` types.
