@@ -348,6 +348,13 @@ impl PairStyle for SdpdField {
                 "pair coefficients for types {i} {j} are not set (pair_coeff)"
             ));
         }
+        if ctx.mass.iter().skip(1).any(Option::is_none) {
+            return Err(
+                "pair_style sdpd needs per-type masses (mass command): its equation of state is \
+                 per type, so per-atom masses are not supported"
+                    .into(),
+            );
+        }
         let lines = self.resolve(ctx.dim, ctx.density, ctx.mass, ctx.dt)?;
         Ok(lines
             .into_iter()
