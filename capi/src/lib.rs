@@ -18,6 +18,9 @@
 //! - The pair random number is [`dpdnl::rng::pair_gaussian`] keyed by (seed, step, tags), so every
 //!   decomposition (MPI ranks, newton on/off) draws the same ξ_ij for the same pair and step.
 
+#![warn(unreachable_pub)]
+#![warn(missing_docs)]
+
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
