@@ -25,8 +25,7 @@ use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use dpdnl::kernel::{Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force};
-use dpdnl::rng::pair_gaussian;
+use dpdnl::{Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force, pair_gaussian};
 
 mod compute;
 mod init;
