@@ -18,13 +18,13 @@ use crate::fmtnum::fmt_g as g;
 use crate::theory::{self, Fluid, Targets, TheoryError};
 
 /// Warn when δt exceeds this fraction of the Euler critical step δt_c (eq. 25).
-pub const EULER_WARN_DT_FRACTION: f64 = 0.1;
+pub(crate) const EULER_WARN_DT_FRACTION: f64 = 0.1;
 /// Warn when eq. 22 predicts more heating than this (T_eq/T0 − 1).
-pub const EULER_WARN_HEATING: f64 = 0.01;
+pub(crate) const EULER_WARN_HEATING: f64 = 0.01;
 
 /// A design target resolved at init: the `pair_coeff` parameters that realise (η, Sc).
 #[derive(Clone, Debug, PartialEq)]
-pub struct ResolvedDesign {
+pub(crate) struct ResolvedDesign {
     /// `gamma0` of the pair (γ of eq. 43 / 58, so that γ w_D gives η_D = η0).
     pub gamma: f64,
     /// The weight exponent s (`weight s` of the pair style).
@@ -38,7 +38,7 @@ pub struct ResolvedDesign {
 ///
 /// Errors name the pair and say which bound of the design was hit (eqs. 54–55 / 63–64).
 #[allow(clippy::too_many_arguments)]
-pub fn resolve_design(
+pub(crate) fn resolve_design(
     label: &str,
     dim: u32,
     density: f64,
@@ -69,7 +69,7 @@ pub fn resolve_design(
 /// dpd/nonlinear`'s weight and `pair_style sdpd`'s kernel; `style` names the style).
 /// `designs` holds (pair label, s); `current` is the pair style's exponent. Returns the common
 /// s and, when it differs from `current`, the line to log.
-pub fn common_exponent(
+pub(crate) fn common_exponent(
     style: &str,
     designs: &[(String, f64)],
     current: f64,
@@ -105,7 +105,7 @@ pub fn common_exponent(
 /// mass `mass`. `conservative` says some pair has a ≠ 0 and `nonlinear` that the friction grows
 /// with velocity (cross/dot): both make eq. 22 a rougher guide, and the text says so.
 #[allow(clippy::too_many_arguments)]
-pub fn euler_warning(
+pub(crate) fn euler_warning(
     dim: u32,
     density: f64,
     rc: f64,

@@ -1,23 +1,42 @@
 //! `dpdnl`: dissipative particle dynamics with non-linear (velocity-dependent) friction.
 //!
-//! - [`kernel`]: pure pair kernels (weights, friction models, noise schemes), shared with the C ABI.
-//! - [`rng`]: the counter-based pair random number keyed by (seed, step, min tag, max tag).
-//! - [`theory`]: closed-form kinetic theory, (η, Sc) design and the finite-step temperature.
-//! - [`init`]: what both engines resolve and check at a run's set-up ((η, Sc) → γ, s; Euler heating).
-//! - [`engine`]: the standalone engine (boxes, neighbour lists, integrators, measurements).
-//! - [`grammar`]: the arguments of this project's styles, parsed once for both engines (C ABI too).
-//! - [`input`]: the LAMMPS-input subset the engine reads.
-//! - [`io`]: LAMMPS file formats (data, dump, log) read and written.
-//! - [`analysis`]: what the papers measure (MB histograms, NEMD, Einstein–Helfand, MSD, Couette), from LAMMPS-format outputs.
-//! - [`stats`]: block averaging and simple fits used by measurements and comparisons.
-//! - [`plot`]: small PNG/SVG figures (lines, points with error bars, log axes, legends).
+//! # What a user of the crate gets
+//!
+//! The main types are re-exported at the crate root:
+//!
+//! - **Pair kernels** ([`kernel`]): [`pair_force`] on one pair ([`PairModel`], [`PairCoeff`],
+//!   [`PairInput`] → [`PairForce`]; [`Weight`], [`Friction`], [`Noise`]) and
+//!   [`pair_forces_batch`], the same bits on a [`PairBatch`] of SIMD lanes ([`PairTable`]).
+//! - **The pair random number** ([`rng`]): [`pair_gaussian`], keyed by (seed, step, tags).
+//! - **The standalone engine** ([`engine`]): [`System`] over a [`SimBox`] and [`Atoms`], its
+//!   [`Integrator`] and [`Thermo`]; the pair-style seam [`PairStyle`] ([`new_pair_style`],
+//!   [`SetupContext`]) and the batch seam [`PairKernel`] ([`DpdKernel`]).
+//! - **The interpreter** ([`input`]): [`Interpreter`] runs a LAMMPS-style script under
+//!   [`Options`], talking to a [`Console`] ([`Collect`] keeps the lines); errors are
+//!   [`ScriptError`].
+//! - **Readers** ([`io`], [`analysis`]): LAMMPS data files ([`parse_data`]), dumps
+//!   ([`parse_dump`]), logs ([`parse_log`]), `fix ave/*` files ([`analysis::formats`]), and the
+//!   engine's restart files ([`io::restart`]).
+//! - **Theory and set-up** ([`theory`], [`init`]): kinetic theory, (η, Sc) design, the
+//!   finite-step temperature; what a run's set-up resolves and checks in both engines.
+//! - **Grammar** ([`grammar`]): the arguments of this project's styles, parsed once for both
+//!   engines (and the C ABI).
+//! - **Analyses and reports** ([`analysis`], [`report`], [`stats`], [`plot`], [`fmtnum`]): what
+//!   the papers measure (MB, PeX NEMD, Einstein–Helfand, MSD, Couette) from either engine's
+//!   files, their typed results and JSON, block averages and fits, small PNG/SVG figures, and
+//!   LAMMPS's `%g` number form.
 //!
 //! The library never prints; the `dpdnl` binary decides what a person sees.
 
 // Component loops `for k in 0..dim` index several arrays at once (x, v, f, box lengths);
 // they read closer to the equations than zipped iterators.
 #![allow(clippy::needless_range_loop)]
+#![warn(unreachable_pub)]
+#![warn(missing_docs)]
 
+// The fields of the analyses' result records are their columns, named as in the files and
+// documented on each struct and in docs/; one line per field would repeat the struct's text.
+#[allow(missing_docs)]
 pub mod analysis;
 pub mod engine;
 pub mod fmtnum;
@@ -26,8 +45,27 @@ pub mod init;
 pub mod input;
 pub mod io;
 pub mod kernel;
+// The fields of the figure description (series, panels, bands) are documented on their
+// structs and read as the plotting options they set.
+#[allow(missing_docs)]
 pub mod plot;
+// Result records serialised as JSON: their fields are the keys of `--json` and the Python
+// dicts, documented on each struct and in docs/.
+#[allow(missing_docs)]
 pub mod report;
 pub mod rng;
 pub mod stats;
 pub mod theory;
+
+pub use engine::pair::{DpdKernel, PairKernel};
+pub use engine::style::new_pair_style;
+pub use engine::{Atoms, Integrator, PairStyle, SetupContext, SimBox, System, Thermo};
+pub use input::{Collect, Console, Interpreter, Options, ScriptError};
+pub use io::data::parse_data;
+pub use io::dump_read::parse_dump;
+pub use io::lammps_log::parse_log;
+pub use kernel::{
+    Friction, Noise, PairBatch, PairCoeff, PairForce, PairInput, PairModel, PairTable, Weight,
+    pair_force, pair_forces_batch,
+};
+pub use rng::pair_gaussian;

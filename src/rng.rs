@@ -98,7 +98,7 @@ const TWO_POW_M53: f64 = 1.0 / 9_007_199_254_740_992.0;
 /// Two uniforms from 128 bits: `u1 ∈ (0, 1)`, `u2 ∈ [0, 1)`, 53 bits each (the version-1
 /// mapping; [`keyed_uniform`] returns `u2`).
 #[inline(always)]
-pub fn uniforms_from_bits(o: [u32; 4]) -> (f64, f64) {
+pub(crate) fn uniforms_from_bits(o: [u32; 4]) -> (f64, f64) {
     let a = ((u64::from(o[0]) << 32) | u64::from(o[1])) >> 11;
     let b = ((u64::from(o[2]) << 32) | u64::from(o[3])) >> 11;
     ((a as f64 + 0.5) * TWO_POW_M53, b as f64 * TWO_POW_M53)

@@ -56,7 +56,7 @@ pub struct BlockEstimate {
 
 /// Levels with fewer blocks than this are not used to choose a plateau: their error bars are
 /// too wide to tell growth from noise.
-pub const MIN_BLOCKS: usize = 16;
+pub(crate) const MIN_BLOCKS: usize = 16;
 
 /// All levels of the Flyvbjerg–Petersen blocking transformation of `xs`, from block length 1
 /// while at least two blocks remain.
@@ -129,7 +129,9 @@ pub fn block_average(xs: &[f64]) -> BlockEstimate {
 /// An ordinary least-squares line `y = slope · x + intercept`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LinFit {
+    /// The slope.
     pub slope: f64,
+    /// The intercept at x = 0.
     pub intercept: f64,
     /// Standard error of the slope, `sqrt(s² / Sxx)` with `s² = SSR / (n − 2)`.
     pub slope_err: f64,

@@ -1,9 +1,10 @@
 //! [`dpdnl_compute`]: one LAMMPS neighbour list walked in Rust, its pairs evaluated through the
 //! pair-style seam (`dpdnl::engine::pair`) and added with LAMMPS's `ev_tally` conventions.
 
-use dpdnl::engine::pair::{Batcher, DpdKernel, PairKernel, lane_force};
+use dpdnl::engine::pair::{Batcher, lane_force};
 use dpdnl::engine::simd::within_cut;
-use dpdnl::kernel::{Isa, PairBatch, PairTable};
+use dpdnl::kernel::Isa;
+use dpdnl::{DpdKernel, PairBatch, PairKernel, PairTable};
 
 use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
 

@@ -18,12 +18,14 @@
 //! - The pair random number is [`dpdnl::rng::pair_gaussian`] keyed by (seed, step, tags), so every
 //!   decomposition (MPI ranks, newton on/off) draws the same ξ_ij for the same pair and step.
 
+#![warn(unreachable_pub)]
+#![warn(missing_docs)]
+
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use dpdnl::kernel::{Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force};
-use dpdnl::rng::pair_gaussian;
+use dpdnl::{Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force, pair_gaussian};
 
 mod compute;
 mod init;

@@ -16,10 +16,9 @@ use std::ffi::{CString, c_char};
 use std::sync::OnceLock;
 
 use dpdnl::engine::SetupNote;
-use dpdnl::engine::style::{
-    PairStyle, STYLES, SetupContext, check_special, from_restart_lines, new_pair_style,
-};
+use dpdnl::engine::style::{STYLES, check_special, from_restart_lines};
 use dpdnl::kernel::Isa;
+use dpdnl::{PairStyle, SetupContext, new_pair_style};
 
 use crate::compute::{Special, for_each_row, special_class, walk_pairs};
 use crate::init::set_last_message;

@@ -53,7 +53,7 @@ fn fft(re: &mut [f64], im: &mut [f64], inverse: bool) {
 }
 
 /// Σ_k x_k x_{k+m} for m = 0 ..= max_lag (unnormalised autocorrelation).
-pub fn autocorrelation_sums(x: &[f64], max_lag: usize) -> Vec<f64> {
+pub(crate) fn autocorrelation_sums(x: &[f64], max_lag: usize) -> Vec<f64> {
     let n = x.len();
     let size = (2 * n).next_power_of_two().max(2);
     let mut re = vec![0.0; size];
@@ -71,7 +71,7 @@ pub fn autocorrelation_sums(x: &[f64], max_lag: usize) -> Vec<f64> {
 }
 
 /// MSD(m) of `x` over all origins for m = 0 ..= max_lag (capped at N − 1).
-pub fn msd_all_origins(x: &[f64], max_lag: usize) -> Vec<f64> {
+pub(crate) fn msd_all_origins(x: &[f64], max_lag: usize) -> Vec<f64> {
     let n = x.len();
     if n == 0 {
         return Vec::new();

@@ -107,7 +107,7 @@ pub struct EhReport {
 }
 
 /// ⟨(A(t0 + mΔ) − A(t0))²⟩ over all origins for m = 0 ..= max_lag, where A_k = Δ Σ_{j<k} Π_j.
-pub fn integral_msd(pi: &[f64], dt_sample: f64, max_lag: usize) -> Vec<f64> {
+pub(crate) fn integral_msd(pi: &[f64], dt_sample: f64, max_lag: usize) -> Vec<f64> {
     let mut a = Vec::with_capacity(pi.len() + 1);
     let mut acc = 0.0;
     a.push(0.0);

@@ -146,7 +146,7 @@ pub struct Series {
 
 /// The uniform step spacing of a series' steps (an error when there are fewer than two, when
 /// they are not equally spaced or do not increase).
-pub fn step_spacing(steps: &[f64]) -> Result<f64, String> {
+pub(crate) fn step_spacing(steps: &[f64]) -> Result<f64, String> {
     if steps.len() < 2 {
         return Err("fewer than two samples".into());
     }

@@ -26,7 +26,7 @@ pub fn mb_pdf(v: f64, kt: f64, mass: f64, d: usize) -> f64 {
 }
 
 /// Cumulative Maxwell–Boltzmann speed distribution, F(v) = P(d/2, m v² / 2kT).
-pub fn mb_cdf(v: f64, kt: f64, mass: f64, d: usize) -> f64 {
+pub(crate) fn mb_cdf(v: f64, kt: f64, mass: f64, d: usize) -> f64 {
     if v <= 0.0 {
         return 0.0;
     }
@@ -572,7 +572,7 @@ pub fn analyze(h: &SpeedHistogram, o: &MbOptions) -> Result<MbReport, String> {
 
 /// Speeds of one dump frame (columns vx vy [vz]), and the dimension (given, or 2 when vz is
 /// absent or all 0): the samples of `dpdnl analyze mb` on dumps, for the CLI and Python.
-pub fn frame_speeds(
+pub(crate) fn frame_speeds(
     f: &crate::io::dump_read::DumpFrame,
     dim: Option<usize>,
 ) -> Result<(Vec<f64>, usize), String> {

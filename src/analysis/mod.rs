@@ -27,6 +27,6 @@ pub mod nemd;
 pub mod special;
 
 /// `x > 0`, false for NaN: the check on every positive parameter.
-pub fn is_pos(x: f64) -> bool {
+pub(crate) fn is_pos(x: f64) -> bool {
     x > 0.0
 }

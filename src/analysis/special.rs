@@ -7,7 +7,7 @@ use super::is_pos;
 use std::f64::consts::PI;
 
 /// ln Γ(x) for x > 0 (Lanczos approximation, g = 7, n = 9; relative error < 1e-13).
-pub fn ln_gamma(x: f64) -> f64 {
+pub(crate) fn ln_gamma(x: f64) -> f64 {
     const G: f64 = 7.0;
     const C: [f64; 9] = [
         0.999_999_999_999_809_9,
@@ -36,7 +36,7 @@ pub fn ln_gamma(x: f64) -> f64 {
 /// The regularized lower incomplete gamma function P(a, x) = γ(a, x) / Γ(a), a > 0, x ≥ 0.
 /// Series for x < a + 1, continued fraction (modified Lentz) otherwise; relative accuracy
 /// ~1e-14. `NaN` for invalid arguments.
-pub fn gamma_p(a: f64, x: f64) -> f64 {
+pub(crate) fn gamma_p(a: f64, x: f64) -> f64 {
     if !is_pos(a) || x.is_nan() || x < 0.0 {
         return f64::NAN;
     }
@@ -55,7 +55,7 @@ pub fn gamma_p(a: f64, x: f64) -> f64 {
 
 /// The regularized upper incomplete gamma function Q(a, x) = 1 − P(a, x), computed directly in
 /// the tail (so small values keep their relative accuracy).
-pub fn gamma_q(a: f64, x: f64) -> f64 {
+pub(crate) fn gamma_q(a: f64, x: f64) -> f64 {
     if !is_pos(a) || x.is_nan() || x < 0.0 {
         return f64::NAN;
     }
@@ -116,14 +116,14 @@ fn gamma_cf(a: f64, x: f64) -> f64 {
 
 /// Probability that a χ² variable with `dof` degrees of freedom exceeds `chi2`:
 /// Q(dof/2, chi2/2).
-pub fn chi2_sf(chi2: f64, dof: f64) -> f64 {
+pub(crate) fn chi2_sf(chi2: f64, dof: f64) -> f64 {
     gamma_q(0.5 * dof, 0.5 * chi2)
 }
 
 /// The Kolmogorov tail probability Q_KS(λ) = 2 Σ_{j≥1} (−1)^{j−1} exp(−2 j² λ²), i.e. the
 /// asymptotic probability that √n · D exceeds λ for a sample from the hypothesised
 /// distribution.
-pub fn kolmogorov_sf(lambda: f64) -> f64 {
+pub(crate) fn kolmogorov_sf(lambda: f64) -> f64 {
     if lambda.is_nan() {
         return f64::NAN;
     }

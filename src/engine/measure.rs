@@ -7,7 +7,7 @@ use super::{SimBox, System};
 
 /// Where the bin origin of a `bin/1d` chunk style lies (LAMMPS `lower|center|upper|value`).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum BinOrigin {
+pub(crate) enum BinOrigin {
     /// The lower bound of the binned extent.
     Lower,
     /// Its middle.
@@ -20,7 +20,7 @@ pub enum BinOrigin {
 
 /// What happens to atoms outside the bins (LAMMPS `discard mixed|yes|no`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Discard {
+pub(crate) enum Discard {
     /// Outside a bound given as a coordinate: discarded; outside the box bound: put in the end bin.
     Mixed,
     /// Discarded.
@@ -32,7 +32,7 @@ pub enum Discard {
 /// `compute ID all chunk/atom bin/1d DIM ORIGIN DELTA [units box|lattice|reduced]
 /// [discard …] [bound DIM lo hi]` (LAMMPS `compute_chunk_atom.cpp`, 1-D binning only).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Bin1d {
+pub(crate) struct Bin1d {
     /// Axis 0, 1, 2 (x, y, z).
     pub axis: usize,
     /// Bin origin.
@@ -71,7 +71,7 @@ pub struct BinLayout {
 
 impl Bin1d {
     /// The bins for box `bx` (LAMMPS `setup_xyz_bins` and `bin_volumes`).
-    pub fn layout(&self, bx: &SimBox) -> Result<BinLayout, String> {
+    pub(crate) fn layout(&self, bx: &SimBox) -> Result<BinLayout, String> {
         let a = self.axis;
         let len = bx.len();
         let (box_lo, box_hi) = if self.reduced {
@@ -202,7 +202,7 @@ impl BinLayout {
 }
 
 /// The mass of atom `i` (0 if its type has no mass yet).
-pub fn mass_of(sys: &System, i: usize) -> f64 {
+pub(crate) fn mass_of(sys: &System, i: usize) -> f64 {
     sys.mass[sys.atoms.typ[i] as usize].unwrap_or(0.0)
 }
 
@@ -212,7 +212,7 @@ pub fn unwrapped(sys: &System, i: usize) -> [f64; 3] {
 }
 
 /// The centre of mass of the unwrapped positions (LAMMPS `group->xcm`).
-pub fn center_of_mass(sys: &System) -> [f64; 3] {
+pub(crate) fn center_of_mass(sys: &System) -> [f64; 3] {
     let mut cm = [0.0; 3];
     let mut mtot = 0.0;
     for i in 0..sys.atoms.len() {
@@ -300,7 +300,7 @@ pub enum Beyond {
 
 /// The bins of `fix ave/histo`.
 #[derive(Clone, Debug, PartialEq)]
-pub struct HistoBins {
+pub(crate) struct HistoBins {
     /// Lower bound.
     pub lo: f64,
     /// Upper bound.
@@ -324,11 +324,11 @@ pub struct HistoSample {
 }
 
 /// The initial min/max of a histogram sample (LAMMPS's BIG).
-pub const HISTO_BIG: f64 = 1.0e20;
+pub(crate) const HISTO_BIG: f64 = 1.0e20;
 
 impl HistoBins {
     /// `nbins` bins on [lo, hi] (plus two with `beyond extra`).
-    pub fn new(lo: f64, hi: f64, nbins: usize, beyond: Beyond) -> HistoBins {
+    pub(crate) fn new(lo: f64, hi: f64, nbins: usize, beyond: Beyond) -> HistoBins {
         let n = if beyond == Beyond::Extra {
             nbins + 2
         } else {
@@ -354,7 +354,7 @@ impl HistoBins {
     }
 
     /// An empty sample.
-    pub fn empty(&self) -> HistoSample {
+    pub(crate) fn empty(&self) -> HistoSample {
         HistoSample {
             bins: vec![0.0; self.nbins],
             stats: [0.0, 0.0, HISTO_BIG, -HISTO_BIG],
@@ -362,7 +362,7 @@ impl HistoBins {
     }
 
     /// Add one value (LAMMPS `bin_one`).
-    pub fn add(&self, s: &mut HistoSample, value: f64) {
+    pub(crate) fn add(&self, s: &mut HistoSample, value: f64) {
         s.stats[2] = s.stats[2].min(value);
         s.stats[3] = s.stats[3].max(value);
         let n = self.nbins;

@@ -121,10 +121,10 @@ pub struct Thermo {
 /// per-type tables hold (N + 1)² entries, rebuilt at every run's set-up, so a count beyond
 /// this is a typing error, not a model (a fuzzed `create_box 23333333333333 box` aborted in the
 /// allocator).
-pub const MAX_ATOM_TYPES: usize = 1000;
+pub(crate) const MAX_ATOM_TYPES: usize = 1000;
 
 /// Refuse an atom type count outside 1..=[`MAX_ATOM_TYPES`], naming it.
-pub fn check_ntypes(ntypes: usize) -> Result<(), String> {
+pub(crate) fn check_ntypes(ntypes: usize) -> Result<(), String> {
     if ntypes == 0 {
         return Err("the number of atom types must be >= 1".into());
     }

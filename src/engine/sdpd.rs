@@ -431,7 +431,7 @@ impl PairStyle for SdpdField {
 
 /// Pass 2 of `pair_style sdpd`: the forces of WF-12/19 with the keyed pair Gaussian of the
 /// lane's tags ([`sdpd_forces_batch`], bit for bit `kernel::sdpd::sdpd_pair_force`).
-pub struct SdpdKernel<'a> {
+pub(crate) struct SdpdKernel<'a> {
     coeff: &'a [SdpdCoeff],
     atoms: &'a [SdpdAtom],
     seed: u32,

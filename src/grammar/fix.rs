@@ -4,7 +4,7 @@
 use super::{INT_MAX, StyleSpec, keywords, need, parse_f64, parse_int_in, shown};
 
 /// `fix ID group nve`.
-pub const NVE: StyleSpec = StyleSpec {
+pub(crate) const NVE: StyleSpec = StyleSpec {
     command: "fix",
     style: "nve",
     usage: "fix ID group-ID nve",
@@ -12,7 +12,7 @@ pub const NVE: StyleSpec = StyleSpec {
 };
 
 /// `fix ID group nve/euler`.
-pub const NVE_EULER: StyleSpec = StyleSpec {
+pub(crate) const NVE_EULER: StyleSpec = StyleSpec {
     command: "fix",
     style: "nve/euler",
     usage: "fix ID group-ID nve/euler",
@@ -20,7 +20,7 @@ pub const NVE_EULER: StyleSpec = StyleSpec {
 };
 
 /// `fix ID group pex/push dp [width W] [every N]`.
-pub const PEX_PUSH: StyleSpec = StyleSpec {
+pub(crate) const PEX_PUSH: StyleSpec = StyleSpec {
     command: "fix",
     style: "pex/push",
     usage: "fix ID group-ID pex/push dp [width W] [every N]",

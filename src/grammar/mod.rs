@@ -34,7 +34,7 @@ pub struct StyleSpec {
 }
 
 /// Every style of this project, the single source of usage strings and keyword lists.
-pub const SPECS: &[StyleSpec] = &[
+pub(crate) const SPECS: &[StyleSpec] = &[
     pair::PAIR_STYLE,
     pair::PAIR_COEFF,
     pair::PAIR_COEFF_TARGETS,
@@ -54,10 +54,10 @@ pub fn spec(command: &str, style: &str) -> Option<&'static StyleSpec> {
 }
 
 /// The largest seed or step interval a style accepts (LAMMPS `int`).
-pub const INT_MAX: u64 = i32::MAX as u64;
+pub(crate) const INT_MAX: u64 = i32::MAX as u64;
 
 /// A token shortened for an error message (a 1 MB token is not echoed in full).
-pub fn shown(tok: &str) -> String {
+pub(crate) fn shown(tok: &str) -> String {
     const MAX: usize = 40;
     if tok.chars().count() <= MAX {
         tok.to_string()
@@ -68,7 +68,7 @@ pub fn shown(tok: &str) -> String {
 }
 
 /// A finite floating-point number.
-pub fn parse_f64(tok: &str, what: &str) -> Result<f64, String> {
+pub(crate) fn parse_f64(tok: &str, what: &str) -> Result<f64, String> {
     let v: f64 = tok
         .parse()
         .map_err(|_| format!("expected a number for {what}, found '{}'", shown(tok)))?;
@@ -80,13 +80,13 @@ pub fn parse_f64(tok: &str, what: &str) -> Result<f64, String> {
 }
 
 /// An integer of type `T` (range errors included in the message).
-pub fn parse_int<T: std::str::FromStr>(tok: &str, what: &str) -> Result<T, String> {
+pub(crate) fn parse_int<T: std::str::FromStr>(tok: &str, what: &str) -> Result<T, String> {
     tok.parse()
         .map_err(|_| format!("expected an integer for {what}, found '{}'", shown(tok)))
 }
 
 /// An integer in `lo..=hi`, checked before any narrowing.
-pub fn parse_int_in(tok: &str, what: &str, lo: u64, hi: u64) -> Result<u64, String> {
+pub(crate) fn parse_int_in(tok: &str, what: &str, lo: u64, hi: u64) -> Result<u64, String> {
     let v: i128 = tok
         .parse()
         .map_err(|_| format!("expected an integer for {what}, found '{}'", shown(tok)))?;
@@ -107,7 +107,7 @@ pub fn need<S: AsRef<str>>(args: &[S], n: usize, usage: &str) -> Result<(), Stri
 
 /// The type ranges I and J of a `pair_coeff` line (its first two words), for every pair style
 /// of this project: as LAMMPS (since 2022), two plain type numbers with J < I are read as `J I`.
-pub fn coeff_types(ti: &str, tj: &str, ntypes: usize) -> Result<TypePairs, String> {
+pub(crate) fn coeff_types(ti: &str, tj: &str, ntypes: usize) -> Result<TypePairs, String> {
     let mut i = type_range(ti, ntypes)?;
     let mut j = type_range(tj, ntypes)?;
     let plain = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
@@ -118,16 +118,16 @@ pub fn coeff_types(ti: &str, tj: &str, ntypes: usize) -> Result<TypePairs, Strin
 }
 
 /// Type ranges (I, J), 1-based and inclusive.
-pub type TypePairs = ((usize, usize), (usize, usize));
+pub(crate) type TypePairs = ((usize, usize), (usize, usize));
 
 /// The type pairs (i ≤ j) ranges I and J set, as LAMMPS does: i in I, j in J with j ≥ i.
-pub fn type_pairs((i, j): TypePairs) -> impl Iterator<Item = (usize, usize)> {
+pub(crate) fn type_pairs((i, j): TypePairs) -> impl Iterator<Item = (usize, usize)> {
     (i.0..=i.1).flat_map(move |a| (j.0.max(a)..=j.1).map(move |b| (a, b)))
 }
 
 /// The error of a `pair_coeff` line whose ranges set no pair (`pair_coeff 2* 1`: pairs are set
 /// for I ≤ J only, as in LAMMPS), naming its two type words.
-pub fn sets_some_pair(types: TypePairs, ti: &str, tj: &str) -> Result<(), String> {
+pub(crate) fn sets_some_pair(types: TypePairs, ti: &str, tj: &str) -> Result<(), String> {
     if type_pairs(types).next().is_none() {
         return Err(format!(
             "types '{}' '{}' set no type pair (pairs are I <= J)",
@@ -139,7 +139,7 @@ pub fn sets_some_pair(types: TypePairs, ti: &str, tj: &str) -> Result<(), String
 }
 
 /// A LAMMPS type range: `*`, `n`, `n*`, `*n`, `m*n`, within 1..=ntypes.
-pub fn type_range(tok: &str, ntypes: usize) -> Result<(usize, usize), String> {
+pub(crate) fn type_range(tok: &str, ntypes: usize) -> Result<(usize, usize), String> {
     let bad = || {
         format!(
             "invalid type or type range '{}' (types are 1..{ntypes})",
@@ -201,7 +201,7 @@ pub fn keywords<S: AsRef<str>>(
 }
 
 /// No words beyond `n` (a trailing token is an error, never silently dropped).
-pub fn at_most<S: AsRef<str>>(args: &[S], n: usize, usage: &str) -> Result<(), String> {
+pub(crate) fn at_most<S: AsRef<str>>(args: &[S], n: usize, usage: &str) -> Result<(), String> {
     match args.get(n) {
         Some(extra) => Err(format!(
             "unexpected argument '{}'; usage: {usage}",

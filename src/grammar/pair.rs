@@ -7,7 +7,7 @@ use super::{
 use crate::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
 
 /// `pair_style dpd/nonlinear …` (the words after the style name).
-pub const PAIR_STYLE: StyleSpec = StyleSpec {
+pub(crate) const PAIR_STYLE: StyleSpec = StyleSpec {
     command: "pair_style",
     style: "dpd/nonlinear",
     usage: "pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep] [weight s]",
@@ -15,7 +15,7 @@ pub const PAIR_STYLE: StyleSpec = StyleSpec {
 };
 
 /// `pair_coeff I J a gamma0 gamma1 [rc]`.
-pub const PAIR_COEFF: StyleSpec = StyleSpec {
+pub(crate) const PAIR_COEFF: StyleSpec = StyleSpec {
     command: "pair_coeff",
     style: "dpd/nonlinear",
     usage: "pair_coeff I J a gamma0 gamma1 [rc] | I J a eta E sc S [gamma1 G] [rc R]",
@@ -23,7 +23,7 @@ pub const PAIR_COEFF: StyleSpec = StyleSpec {
 };
 
 /// `pair_coeff I J a eta E sc S [gamma1 G] [rc R]`: γ0 and s from target η and Sc.
-pub const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
+pub(crate) const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
     command: "pair_coeff",
     style: "dpd/nonlinear",
     usage: "pair_coeff I J a eta E sc S [gamma1 G] [rc R]",

@@ -7,7 +7,7 @@ use super::{
 use crate::kernel::sdpd::Smoothing;
 
 /// `pair_style sdpd …` (the words after the style name).
-pub const PAIR_STYLE: StyleSpec = StyleSpec {
+pub(crate) const PAIR_STYLE: StyleSpec = StyleSpec {
     command: "pair_style",
     style: "sdpd",
     usage: "pair_style sdpd T rc seed [kernel lucy|quintic|proposed S]",
@@ -15,7 +15,7 @@ pub const PAIR_STYLE: StyleSpec = StyleSpec {
 };
 
 /// `pair_coeff I J rho0 c0 eta0 [rc]`.
-pub const PAIR_COEFF: StyleSpec = StyleSpec {
+pub(crate) const PAIR_COEFF: StyleSpec = StyleSpec {
     command: "pair_coeff",
     style: "sdpd",
     usage: "pair_coeff I J rho0 c0 eta0 [rc] | I J rho0 c0 eta E sc S [rc R]",
@@ -23,7 +23,7 @@ pub const PAIR_COEFF: StyleSpec = StyleSpec {
 };
 
 /// `pair_coeff I J rho0 c0 eta E sc S [rc R]`: η0 and the kernel's s from target η and Sc.
-pub const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
+pub(crate) const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
     command: "pair_coeff",
     style: "sdpd",
     usage: "pair_coeff I J rho0 c0 eta E sc S [rc R]",

@@ -27,16 +27,22 @@
 /// One argument of [`sprintf`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FmtArg<'a> {
+    /// An integer (`%d`, `%i`, …).
     Int(i64),
+    /// A floating-point number (`%f`, `%e`, `%g`, …).
     Float(f64),
+    /// A string (`%s`).
     Str(&'a str),
 }
 
 /// What kind of argument a conversion consumes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ArgKind {
+    /// An integer conversion.
     Int,
+    /// A floating-point conversion.
     Float,
+    /// A string conversion.
     Str,
 }
 

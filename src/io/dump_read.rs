@@ -10,13 +10,16 @@
 /// One dump frame. `rows` are sorted by the `id` column when there is one.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DumpFrame {
+    /// The time step (`ITEM: TIMESTEP`).
     pub step: u64,
     /// `[lo, hi]` in x, y, z, as printed (for a triclinic box these are LAMMPS's bounding-box
     /// values `xlo_bound xhi_bound`, …).
     pub box_bounds: Vec<[f64; 2]>,
     /// The tilt factors `[xy, xz, yz]` of a triclinic box.
     pub tilt: Option<[f64; 3]>,
+    /// The column names of `ITEM: ATOMS`.
     pub columns: Vec<String>,
+    /// One row per atom, one value per column.
     pub rows: Vec<Vec<f64>>,
 }
 

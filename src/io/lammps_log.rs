@@ -252,7 +252,7 @@ pub fn looks_like_dump(text: &str) -> bool {
 
 /// Columns left out of comparisons unless asked for by name: wall-clock timings, which differ
 /// between any two runs.
-pub const TIMING_COLUMNS: [&str; 7] = [
+pub(crate) const TIMING_COLUMNS: [&str; 7] = [
     "CPU", "T/CPU", "S/CPU", "CPULeft", "TPCPU", "SPCPU", "Elapsed",
 ];
 

@@ -8,6 +8,9 @@
 
 pub mod data;
 pub mod dump_read;
+// The fields of the log's thermo blocks and comparison reports are their columns and counts,
+// documented on each struct.
+#[allow(missing_docs)]
 pub mod lammps_log;
 pub mod restart;
 

@@ -243,7 +243,7 @@ pub fn decode(bytes: &[u8]) -> Result<Restart, RestartError> {
 /// Write `bytes` to `path` through a temporary file in the same directory, synced and then
 /// renamed over `path`: a reader (or a kill at any moment) sees the old file or the new one,
 /// never part of one.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
     let name = path
         .file_name()
         .ok_or_else(|| format!("'{}' is not a file name", path.display()))?;
@@ -271,7 +271,7 @@ pub fn read(path: &Path) -> Result<Restart, RestartError> {
 
 /// A restart file name with its `*` replaced by `step` (LAMMPS's rule for `restart` and
 /// `write_restart`).
-pub fn file_for_step(name: &str, step: u64) -> String {
+pub(crate) fn file_for_step(name: &str, step: u64) -> String {
     name.replace('*', &step.to_string())
 }
 

@@ -14,7 +14,7 @@
 //! paper's (Avalos et al., PCCP 2025), labelled NL-32 … there, unless stated.
 
 /// Pairs closer than this are skipped (their direction e_ij is undefined), as LAMMPS's DPD does.
-pub const MIN_PAIR_DISTANCE: f64 = 1.0e-10;
+pub(crate) const MIN_PAIR_DISTANCE: f64 = 1.0e-10;
 
 /// The dissipative weight w_D(r) = (1 − r/r_c)^s and w_R = sqrt(w_D) (§1.1; non-linear
 /// paper eq. 10 for s = 2; weighting-function paper eq. 43/58 for general s > 0).

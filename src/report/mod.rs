@@ -28,7 +28,7 @@ use std::path::Path;
 pub type Table = Vec<(&'static str, Vec<f64>)>;
 
 /// Prefixes an error with the input it came from.
-pub fn in_name<T>(name: &str, r: Result<T, String>) -> Result<T, String> {
+pub(crate) fn in_name<T>(name: &str, r: Result<T, String>) -> Result<T, String> {
     r.map_err(|e| format!("{name}: {e}"))
 }
 

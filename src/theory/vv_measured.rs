@@ -23,7 +23,7 @@
 
 /// One measured point.
 #[derive(Clone, Debug, PartialEq)]
-pub struct VvPoint {
+pub(crate) struct VvPoint {
     /// The family: `2d-ideal` (finite-step paper fluid) or `nonlinear-MODEL`.
     pub family: String,
     /// 2 or 3.
@@ -51,7 +51,7 @@ pub struct VvPoint {
 const TABLE: &str = include_str!("vv_measured.csv");
 
 /// Every measured point, in the table's order (family, then δt/δt_c increasing).
-pub fn vv_points() -> Vec<VvPoint> {
+pub(crate) fn vv_points() -> Vec<VvPoint> {
     TABLE
         .lines()
         .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
@@ -82,9 +82,13 @@ pub fn vv_points() -> Vec<VvPoint> {
 pub struct VvVerdict {
     /// The measured family used, its density, neighbour count, weight exponent and friction.
     pub family: String,
+    /// The family's number density.
     pub density: f64,
+    /// Its mean number of neighbours within the cut-off.
     pub neighbours: f64,
+    /// Its weight exponent s.
     pub s: f64,
+    /// Its friction γ.
     pub gamma: f64,
     /// The family's measured points (x, T/T0, error).
     pub points: Vec<(f64, f64, f64)>,

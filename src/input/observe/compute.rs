@@ -8,7 +8,7 @@ use crate::engine::System;
 use crate::engine::measure::{Bin1d, BinOrigin, Discard, Msd};
 
 /// Names of the computes LAMMPS defines by itself.
-pub const BUILTIN_COMPUTES: [&str; 3] = ["thermo_temp", "thermo_press", "thermo_pe"];
+pub(crate) const BUILTIN_COMPUTES: [&str; 3] = ["thermo_temp", "thermo_press", "thermo_pe"];
 
 #[derive(Debug)]
 pub(super) enum ComputeKind {

@@ -34,9 +34,9 @@ mod fix;
 mod global;
 mod per_atom;
 
-pub use compute::{BUILTIN_COMPUTES, ComputeDef};
+pub use compute::ComputeDef;
 pub use fix::AveFix;
-pub use per_atom::{atom_value, eval_atoms};
+pub(crate) use per_atom::eval_atoms;
 
 use super::expr::RefKind;
 use super::format::{ArgKind, conversion_kinds};
@@ -253,10 +253,10 @@ impl Observe {
 }
 
 /// A compute or fix reference: kind, ID, 1-based index (None: the scalar).
-pub type Reference<'a> = (RefKind, &'a str, Option<usize>);
+pub(crate) type Reference<'a> = (RefKind, &'a str, Option<usize>);
 
 /// Split a thermo keyword `c_ID`, `c_ID[i]`, `f_ID`, `f_ID[i]`; None for other keywords.
-pub fn split_reference(kw: &str) -> Option<Result<Reference<'_>, String>> {
+pub(crate) fn split_reference(kw: &str) -> Option<Result<Reference<'_>, String>> {
     let kind = match kw.get(..2)? {
         "c_" => RefKind::Compute,
         "f_" => RefKind::Fix,

@@ -8,7 +8,7 @@ use crate::input::expr::{AtomValue, Formula};
 use rayon::prelude::*;
 
 /// One per-atom value of atom `i`.
-pub fn atom_value(sys: &System, i: usize, v: AtomValue) -> f64 {
+pub(crate) fn atom_value(sys: &System, i: usize, v: AtomValue) -> f64 {
     let a = &sys.atoms;
     match v {
         AtomValue::Id => f64::from(a.tag[i]),
@@ -28,7 +28,7 @@ pub fn atom_value(sys: &System, i: usize, v: AtomValue) -> f64 {
 
 /// Evaluates a bound atom-style formula ([`Formula::bind_atoms`]) for every atom, in the atoms'
 /// internal order.
-pub fn eval_atoms(f: &Formula, sys: &System) -> Result<Vec<f64>, String> {
+pub(crate) fn eval_atoms(f: &Formula, sys: &System) -> Result<Vec<f64>, String> {
     if let Some(c) = f.constant() {
         return Ok(vec![c; sys.atoms.len()]);
     }

@@ -116,7 +116,7 @@ enum Var {
 
 /// Commands accepted and ignored: they only matter to LAMMPS (communication, neighbour
 /// bookkeeping, atom maps, Newton's third law flag, processor grids, echo).
-pub const IGNORED_COMMANDS: &[&str] = &[
+pub(crate) const IGNORED_COMMANDS: &[&str] = &[
     "comm_modify",
     "neigh_modify",
     "atom_modify",
@@ -192,7 +192,7 @@ impl ConsoleSlot<'_> {
     }
 }
 
-pub use crate::grammar::type_range;
+pub(crate) use crate::grammar::type_range;
 use crate::grammar::{need, parse_int};
 use fix::FixKind;
 use output::Dump;
