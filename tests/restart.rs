@@ -343,8 +343,11 @@ fn the_file_holds_the_system_in_storage_order() {
     );
     assert_eq!((r.step, r.dt, r.skin, r.ntypes), (30, 0.01, 0.5, 2));
     assert_eq!(r.masses, vec![None, Some(1.0), Some(2.5)]);
-    assert_eq!(r.pair.len(), 3);
+    // The style's restart lines (`PairStyle::restart_lines`, the same as LAMMPS's restart of
+    // the style): `pair_style` and one `pair_coeff` per type pair of the two types.
+    assert_eq!(r.pair.len(), 4);
     assert_eq!(r.pair[0][..2], ["pair_style", "dpd/nonlinear"]);
+    assert!(r.pair[1..].iter().all(|l| l[0] == "pair_coeff"));
     assert_eq!(r.fixes.len(), 2);
     assert_eq!(r.fixes[1].words[..3], ["push", "all", "pex/push"]);
     let (_, back) = run_on(1, &format!("read_restart {}\n", file.display())).expect("reads");
