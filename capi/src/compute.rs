@@ -229,6 +229,8 @@ pub(crate) unsafe fn for_each_row(
 ///
 /// # Safety
 /// As [`dpdnl_compute`].
+// Kept in one piece (over 120 lines) on purpose: the hot loop of the LAMMPS styles, so the
+// compiler sees the whole walk, its batch fill and its tallies at once.
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn walk_pairs(
     kernel: &dyn PairKernel,

@@ -145,37 +145,7 @@ fn fit_window(msd: &[f64], dt: f64, t_min: f64, t_max: f64) -> Result<LinFit, St
 
 /// Einstein–Helfand viscosity from off-diagonal stress series (see the module documentation).
 pub fn analyze(components: &[&[f64]], o: &EhOptions) -> Result<EhReport, String> {
-    let n = components.iter().map(|c| c.len()).min().unwrap_or(0);
-    if components.is_empty() || n < 16 {
-        return Err(format!(
-            "Einstein–Helfand: need at least one stress series of 16 samples or more (got {} \
-             series, shortest {n})",
-            components.len()
-        ));
-    }
-    for (name, v) in [
-        ("sample interval", o.dt_sample),
-        ("volume", o.volume),
-        ("kT", o.kt),
-        ("box length", o.box_len),
-        ("mass density", o.mass_density),
-    ] {
-        if !(v > 0.0 && v.is_finite()) {
-            return Err(format!(
-                "Einstein–Helfand: the {name} must be positive (got {v})"
-            ));
-        }
-    }
-    if let Some((k, j)) = components
-        .iter()
-        .enumerate()
-        .find_map(|(k, c)| c.iter().position(|v| !v.is_finite()).map(|j| (k, j)))
-    {
-        return Err(format!(
-            "Einstein–Helfand: stress series {} has a non-finite value at sample {j}",
-            k + 1
-        ));
-    }
+    let n = check_inputs(components, o)?;
     let dt = o.dt_sample;
     let scale = o.volume / (2.0 * o.kt);
     let lag_cap = n / 4;
@@ -185,52 +155,8 @@ pub fn analyze(components: &[&[f64]], o: &EhOptions) -> Result<EhReport, String>
         .collect();
     let msd = average_curves(&curves);
     let t_cap = lag_cap as f64 * dt;
-    let tau = |mu: f64| o.box_len * o.box_len * o.mass_density / (4.0 * PI * PI * mu);
 
-    let (t_min, t_max, window_source, capped) = match (o.t_min, o.t_max) {
-        (Some(a), Some(b)) => (a, b.min(t_cap), "given".to_string(), b > t_cap),
-        (a, Some(b)) => (
-            a.unwrap_or(o.tmin_fraction * b),
-            b.min(t_cap),
-            "given".to_string(),
-            b > t_cap,
-        ),
-        (a, None) => {
-            // Iterate t_max = factor · τ_L(μ(window)).
-            let floor = (12.0 * dt / o.tmin_fraction.max(1e-3)).min(t_cap);
-            let mut t_max = t_cap;
-            let mut iterations = 0;
-            let mut capped = false;
-            for it in 1..=50 {
-                iterations = it;
-                let t_min = a.unwrap_or(o.tmin_fraction * t_max);
-                let mu = scale * fit_window(&msd, dt, t_min, t_max)?.slope;
-                if !is_pos(mu) {
-                    return Err(format!(
-                        "Einstein–Helfand: the fitted slope on [{t_min}, {t_max}] is not \
-                         positive ({mu}); the series is too short or not a stress"
-                    ));
-                }
-                let want = o.window_factor * tau(mu);
-                capped = want > t_cap;
-                let next = want.clamp(floor, t_cap);
-                let done = (next - t_max).abs() <= 1e-3 * t_max;
-                t_max = next;
-                if done {
-                    break;
-                }
-            }
-            (
-                a.unwrap_or(o.tmin_fraction * t_max),
-                t_max,
-                format!(
-                    "auto: t_max = {} L^2/(4 pi^2 nu), t_min = {} t_max ({iterations} iterations)",
-                    o.window_factor, o.tmin_fraction
-                ),
-                capped,
-            )
-        }
-    };
+    let (t_min, t_max, window_source, capped) = choose_window(o, &msd, scale, t_cap)?;
     if !(t_max > t_min && t_min >= 0.0) {
         return Err(format!(
             "Einstein–Helfand: invalid fit window [{t_min}, {t_max}]"
@@ -245,24 +171,7 @@ pub fn analyze(components: &[&[f64]], o: &EhOptions) -> Result<EhReport, String>
 
     // Independent blocks, each long enough for 4 t_max.
     let lag_max = (t_max / dt).ceil() as usize;
-    let mut nb = o.n_blocks.max(1);
-    while nb > 1 && n / nb < 4 * lag_max {
-        nb -= 1;
-    }
-    let block_curves: Vec<Vec<f64>> = if nb >= 2 {
-        let len = n / nb;
-        (0..nb)
-            .map(|b| {
-                let cs: Vec<Vec<f64>> = components
-                    .iter()
-                    .map(|c| integral_msd(&c[b * len..(b + 1) * len], dt, lag_max))
-                    .collect();
-                average_curves(&cs)
-            })
-            .collect()
-    } else {
-        Vec::new()
-    };
+    let block_curves = block_curves(components, o, n, lag_max);
     let blocks: Vec<f64> = block_curves
         .iter()
         .map(|c| fit_window(c, dt, t_min, t_max).map(|f| scale * f.slope))
@@ -298,7 +207,7 @@ pub fn analyze(components: &[&[f64]], o: &EhOptions) -> Result<EhReport, String>
         running,
         t_min,
         t_max,
-        tau_l: tau(viscosity),
+        tau_l: tau_l(o, viscosity),
         window_source,
         capped,
         fit,
@@ -310,4 +219,125 @@ pub fn analyze(components: &[&[f64]], o: &EhOptions) -> Result<EhReport, String>
         drift_err,
         n_samples: n,
     })
+}
+
+/// The number of samples used (the shortest series), after checking the series and the
+/// options.
+fn check_inputs(components: &[&[f64]], o: &EhOptions) -> Result<usize, String> {
+    let n = components.iter().map(|c| c.len()).min().unwrap_or(0);
+    if components.is_empty() || n < 16 {
+        return Err(format!(
+            "Einstein–Helfand: need at least one stress series of 16 samples or more (got {} \
+             series, shortest {n})",
+            components.len()
+        ));
+    }
+    for (name, v) in [
+        ("sample interval", o.dt_sample),
+        ("volume", o.volume),
+        ("kT", o.kt),
+        ("box length", o.box_len),
+        ("mass density", o.mass_density),
+    ] {
+        if !(v > 0.0 && v.is_finite()) {
+            return Err(format!(
+                "Einstein–Helfand: the {name} must be positive (got {v})"
+            ));
+        }
+    }
+    if let Some((k, j)) = components
+        .iter()
+        .enumerate()
+        .find_map(|(k, c)| c.iter().position(|v| !v.is_finite()).map(|j| (k, j)))
+    {
+        return Err(format!(
+            "Einstein–Helfand: stress series {} has a non-finite value at sample {j}",
+            k + 1
+        ));
+    }
+    Ok(n)
+}
+
+/// τ_L = L² ρ / (4 π² μ), the decay time of the box's slowest shear mode.
+fn tau_l(o: &EhOptions, mu: f64) -> f64 {
+    o.box_len * o.box_len * o.mass_density / (4.0 * PI * PI * mu)
+}
+
+/// The fit window (t_min, t_max), where it came from, and whether t_max was capped at `t_cap`:
+/// given, or iterated to `window_factor` · τ_L(μ(window)) on the averaged `msd`.
+fn choose_window(
+    o: &EhOptions,
+    msd: &[f64],
+    scale: f64,
+    t_cap: f64,
+) -> Result<(f64, f64, String, bool), String> {
+    let dt = o.dt_sample;
+    Ok(match (o.t_min, o.t_max) {
+        (Some(a), Some(b)) => (a, b.min(t_cap), "given".to_string(), b > t_cap),
+        (a, Some(b)) => (
+            a.unwrap_or(o.tmin_fraction * b),
+            b.min(t_cap),
+            "given".to_string(),
+            b > t_cap,
+        ),
+        (a, None) => {
+            // Iterate t_max = factor · τ_L(μ(window)).
+            let floor = (12.0 * dt / o.tmin_fraction.max(1e-3)).min(t_cap);
+            let mut t_max = t_cap;
+            let mut iterations = 0;
+            let mut capped = false;
+            for it in 1..=50 {
+                iterations = it;
+                let t_min = a.unwrap_or(o.tmin_fraction * t_max);
+                let mu = scale * fit_window(msd, dt, t_min, t_max)?.slope;
+                if !is_pos(mu) {
+                    return Err(format!(
+                        "Einstein–Helfand: the fitted slope on [{t_min}, {t_max}] is not \
+                         positive ({mu}); the series is too short or not a stress"
+                    ));
+                }
+                let want = o.window_factor * tau_l(o, mu);
+                capped = want > t_cap;
+                let next = want.clamp(floor, t_cap);
+                let done = (next - t_max).abs() <= 1e-3 * t_max;
+                t_max = next;
+                if done {
+                    break;
+                }
+            }
+            (
+                a.unwrap_or(o.tmin_fraction * t_max),
+                t_max,
+                format!(
+                    "auto: t_max = {} L^2/(4 pi^2 nu), t_min = {} t_max ({iterations} iterations)",
+                    o.window_factor, o.tmin_fraction
+                ),
+                capped,
+            )
+        }
+    })
+}
+
+/// The averaged integral MSD of each of `o.n_blocks` independent blocks (fewer, so that each is
+/// long enough for 4 t_max = 4 `lag_max` samples; none when fewer than 2 fit).
+fn block_curves(components: &[&[f64]], o: &EhOptions, n: usize, lag_max: usize) -> Vec<Vec<f64>> {
+    let dt = o.dt_sample;
+    let mut nb = o.n_blocks.max(1);
+    while nb > 1 && n / nb < 4 * lag_max {
+        nb -= 1;
+    }
+    if nb >= 2 {
+        let len = n / nb;
+        (0..nb)
+            .map(|b| {
+                let cs: Vec<Vec<f64>> = components
+                    .iter()
+                    .map(|c| integral_msd(&c[b * len..(b + 1) * len], dt, lag_max))
+                    .collect();
+                average_curves(&cs)
+            })
+            .collect()
+    } else {
+        Vec::new()
+    }
 }

@@ -113,58 +113,8 @@ impl SpeedHistogram {
     /// `beyond end` cannot be recognised from the file and must not be used. Blocks of outputs
     /// before `from_step` are left out (for `ave running`, after taking the differences).
     pub fn from_ave_histo(h: &AveHisto, from_step: u64) -> Result<Self, String> {
-        let first = h.blocks.first().ok_or("fix ave/histo file has no output")?;
-        let c = &first.coord;
-        let n = c.len();
-        if n < 2 {
-            return Err("fix ave/histo: need at least two bins".into());
-        }
-        for b in &h.blocks {
-            if b.coord != *c {
-                return Err(format!(
-                    "fix ave/histo: the bins of step {} (line {}) differ from those of step {}",
-                    b.step, b.line, first.step
-                ));
-            }
-        }
-        let uniform = |lo: usize, hi: usize| -> Option<f64> {
-            if hi <= lo {
-                return None;
-            }
-            let d = (c[hi] - c[lo]) / (hi - lo) as f64;
-            let scale = c[lo].abs().max(c[hi].abs());
-            (d > 0.0
-                && (lo..=hi).all(|i| (c[i] - (c[lo] + (i - lo) as f64 * d)).abs() <= 1e-5 * scale))
-            .then_some(d)
-        };
-        let close = |a: f64, b: f64, d: f64| (a - b).abs() <= 1e-4 * d;
-        // `beyond extra`: n − 2 regular bins plus end bins at lo and hi.
-        let extra = n >= 4
-            && uniform(1, n - 2).is_some_and(|d| {
-                close(c[1] - c[0], 0.5 * d, d) && close(c[n - 1] - c[n - 2], 0.5 * d, d)
-            });
-        let (inner, edges) = if extra {
-            let scale = c[0].abs().max(c[n - 1].abs());
-            (
-                1..n - 1,
-                uniform_edges(
-                    round_printed(c[0], scale),
-                    round_printed(c[n - 1], scale),
-                    n - 2,
-                ),
-            )
-        } else {
-            let d = uniform(0, n - 1).ok_or(
-                "fix ave/histo: bin centres are not uniformly spaced (only linear bins are \
-                 supported)",
-            )?;
-            let (lo, hi) = (c[0] - 0.5 * d, c[n - 1] + 0.5 * d);
-            let scale = lo.abs().max(hi.abs());
-            (
-                0..n,
-                uniform_edges(round_printed(lo, scale), round_printed(hi, scale), n),
-            )
-        };
+        let (extra, inner, edges) = histo_bins(h)?;
+        let n = h.blocks[0].coord.len();
         let split = |b: &super::formats::HistoBlock| -> (Vec<f64>, f64) {
             let counts: Vec<f64> = b.count[inner.clone()].to_vec();
             let ends = if extra {
@@ -181,27 +131,7 @@ impl SpeedHistogram {
                     && w[1].0.iter().zip(&w[0].0).all(|(a, b)| a >= b)
                     && w[1].0.iter().sum::<f64>() + w[1].1 > w[0].0.iter().sum::<f64>() + w[0].1
             });
-        let (blocks, note) = if running {
-            let mut v = vec![outputs[0].clone()];
-            for w in outputs.windows(2) {
-                v.push((
-                    w[1].0.iter().zip(&w[0].0).map(|(a, b)| a - b).collect(),
-                    w[1].1 - w[0].1,
-                ));
-            }
-            (
-                v,
-                format!(
-                    "{} outputs, cumulative (ave running): blocks are their differences",
-                    outputs.len()
-                ),
-            )
-        } else {
-            (
-                outputs.clone(),
-                format!("{} independent outputs (ave one)", outputs.len()),
-            )
-        };
+        let (blocks, note) = output_blocks(outputs, running);
         let steps: Vec<u64> = h.blocks.iter().map(|b| b.step).collect();
         let blocks: Vec<(Vec<f64>, f64)> = blocks
             .into_iter()
@@ -610,6 +540,90 @@ pub(crate) fn frame_speeds(
             .collect(),
         d,
     ))
+}
+
+/// The bins of a `fix ave/histo` file ([`SpeedHistogram::from_ave_histo`]): whether it has
+/// `beyond extra` end bins, the range of its regular bins and their edges.
+fn histo_bins(h: &AveHisto) -> Result<(bool, std::ops::Range<usize>, Vec<f64>), String> {
+    let first = h.blocks.first().ok_or("fix ave/histo file has no output")?;
+    let c = &first.coord;
+    let n = c.len();
+    if n < 2 {
+        return Err("fix ave/histo: need at least two bins".into());
+    }
+    for b in &h.blocks {
+        if b.coord != *c {
+            return Err(format!(
+                "fix ave/histo: the bins of step {} (line {}) differ from those of step {}",
+                b.step, b.line, first.step
+            ));
+        }
+    }
+    let uniform = |lo: usize, hi: usize| -> Option<f64> {
+        if hi <= lo {
+            return None;
+        }
+        let d = (c[hi] - c[lo]) / (hi - lo) as f64;
+        let scale = c[lo].abs().max(c[hi].abs());
+        (d > 0.0 && (lo..=hi).all(|i| (c[i] - (c[lo] + (i - lo) as f64 * d)).abs() <= 1e-5 * scale))
+            .then_some(d)
+    };
+    let close = |a: f64, b: f64, d: f64| (a - b).abs() <= 1e-4 * d;
+    // `beyond extra`: n − 2 regular bins plus end bins at lo and hi.
+    let extra = n >= 4
+        && uniform(1, n - 2).is_some_and(|d| {
+            close(c[1] - c[0], 0.5 * d, d) && close(c[n - 1] - c[n - 2], 0.5 * d, d)
+        });
+    let (inner, edges) = if extra {
+        let scale = c[0].abs().max(c[n - 1].abs());
+        (
+            1..n - 1,
+            uniform_edges(
+                round_printed(c[0], scale),
+                round_printed(c[n - 1], scale),
+                n - 2,
+            ),
+        )
+    } else {
+        let d = uniform(0, n - 1).ok_or(
+            "fix ave/histo: bin centres are not uniformly spaced (only linear bins are \
+             supported)",
+        )?;
+        let (lo, hi) = (c[0] - 0.5 * d, c[n - 1] + 0.5 * d);
+        let scale = lo.abs().max(hi.abs());
+        (
+            0..n,
+            uniform_edges(round_printed(lo, scale), round_printed(hi, scale), n),
+        )
+    };
+    Ok((extra, inner, edges))
+}
+
+/// The blocks of the outputs (counts, outside) of a `fix ave/histo` file: the outputs
+/// themselves (`ave one`) or, when `running` (`ave running`), their differences; with the note
+/// that says which.
+fn output_blocks(outputs: Vec<(Vec<f64>, f64)>, running: bool) -> (Vec<(Vec<f64>, f64)>, String) {
+    if running {
+        let mut v = vec![outputs[0].clone()];
+        for w in outputs.windows(2) {
+            v.push((
+                w[1].0.iter().zip(&w[0].0).map(|(a, b)| a - b).collect(),
+                w[1].1 - w[0].1,
+            ));
+        }
+        (
+            v,
+            format!(
+                "{} outputs, cumulative (ave running): blocks are their differences",
+                outputs.len()
+            ),
+        )
+    } else {
+        (
+            outputs.clone(),
+            format!("{} independent outputs (ave one)", outputs.len()),
+        )
+    }
 }
 
 #[cfg(test)]

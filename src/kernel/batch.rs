@@ -347,6 +347,8 @@ pub(crate) fn lane_gaussians(b: &PairBatch) -> &[f64; BATCH] {
 }
 
 /// The per-pair loop of [`pair_forces_batch`], with friction, noise and weight fixed.
+// Kept in one piece (over 120 lines) on purpose: the hot loop, so the compiler sees the whole
+// lane loop of each (friction, noise, weight) instance at once and vectorises it.
 #[inline(always)]
 pub(super) fn lanes<const F: u8, const N: u8, const STD: bool>(
     model: &PairModel,

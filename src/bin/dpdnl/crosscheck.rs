@@ -170,6 +170,29 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
     std::env::set_current_dir(&script_dir)
         .map_err(|e| CannotRun(format!("cannot enter {}: {e}", script_dir.display())))?;
 
+    let (log_s, dumps) = run_standalone(&script, &workdir, &mut vars, threads)?;
+    let log_l = run_lammps(&lmp, &script, &workdir, &vars, &dumps)?;
+    compare(a, &lmp, &script, &workdir, &log_s, &log_l, &dumps)
+}
+
+/// Where a dump of the standalone engine or LAMMPS is moved: the work directory.
+fn moved(workdir: &Path, p: &Path, tag: &str) -> PathBuf {
+    let name = p
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| tag.to_string());
+    workdir.join(name)
+}
+
+/// Step 1: the standalone engine, in-process (`-var engine standalone`); its log and the pairs
+/// (standalone dump, LAMMPS dump) of the dumps whose names contain the engine name, the
+/// standalone ones moved to the work directory.
+fn run_standalone(
+    script: &Path,
+    workdir: &Path,
+    vars: &mut Vec<(String, String)>,
+    threads: usize,
+) -> Result<(PathBuf, Vec<(PathBuf, PathBuf)>), CannotRun> {
     // 1. Standalone engine, in-process.
     // A global pool may already exist (e.g. when called twice in one process); that is fine.
     let _ = rayon::ThreadPoolBuilder::new()
@@ -188,7 +211,7 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
     let dump_files = {
         let mut interp = Interpreter::new(&mut quiet, &opts)?;
         interp
-            .run_file(&script)
+            .run_file(script)
             .map_err(|e| CannotRun(format!("the standalone engine failed: {e}")))?;
         interp.dump_files()
     };
@@ -200,26 +223,30 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
             dumps.push((PathBuf::from(f), PathBuf::from(other)));
         }
     }
-    let moved = |p: &Path, tag: &str| {
-        let name = p
-            .file_name()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| tag.to_string());
-        workdir.join(name)
-    };
     for (s, _) in &dumps {
-        move_file(s, &moved(s, "dump.standalone"))?;
+        move_file(s, &moved(workdir, s, "dump.standalone"))?;
     }
+    Ok((log_s, dumps))
+}
 
+/// Step 2: LAMMPS, a subprocess (`-var engine lammps`); its log, its dumps moved to the work
+/// directory.
+fn run_lammps(
+    lmp: &Path,
+    script: &Path,
+    workdir: &Path,
+    vars: &[(String, String)],
+    dumps: &[(PathBuf, PathBuf)],
+) -> Result<PathBuf, CannotRun> {
     // 2. LAMMPS, a subprocess.
     let log_l = workdir.join("lammps.log");
-    let mut cmd = Command::new(&lmp);
+    let mut cmd = Command::new(lmp);
     cmd.arg("-in")
-        .arg(&script)
+        .arg(script)
         .arg("-log")
         .arg(&log_l)
         .args(["-screen", "none"]);
-    for (k, v) in &vars {
+    for (k, v) in vars {
         cmd.args(["-var", k, v]);
     }
     cmd.args(["-var", "engine", "lammps"]);
@@ -240,7 +267,7 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
             stderr.trim_end()
         )));
     }
-    for (_, l) in &dumps {
+    for (_, l) in dumps {
         if !l.is_file() {
             return Err(CannotRun(format!(
                 "LAMMPS did not write {} (the standalone engine wrote its dump with \
@@ -248,9 +275,22 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
                 l.display()
             )));
         }
-        move_file(l, &moved(l, "dump.lammps"))?;
+        move_file(l, &moved(workdir, l, "dump.lammps"))?;
     }
+    Ok(log_l)
+}
 
+/// Step 3: compare the thermo logs and the dumps exactly (to `--rtol`) and print the report;
+/// true when they agree.
+fn compare(
+    a: &CrosscheckArgs,
+    lmp: &Path,
+    script: &Path,
+    workdir: &Path,
+    log_s: &Path,
+    log_l: &Path,
+    dumps: &[(PathBuf, PathBuf)],
+) -> Result<bool, CannotRun> {
     // 3. Compare.
     let tol = Tolerance {
         rtol: a.rtol,
@@ -260,8 +300,8 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
         std::fs::read_to_string(p)
             .map_err(|e| CannotRun(format!("cannot read {}: {e}", p.display())))
     };
-    let blocks_s = parse_log(&read(&log_s)?).map_err(|e| format!("{}: {e}", log_s.display()))?;
-    let text_l = read(&log_l)?;
+    let blocks_s = parse_log(&read(log_s)?).map_err(|e| format!("{}: {e}", log_s.display()))?;
+    let text_l = read(log_l)?;
     let blocks_l = parse_log(&text_l).map_err(|e| format!("{}: {e}", log_l.display()))?;
     let neigh = neighbor_summary(&text_l);
     if blocks_s.is_empty() || blocks_l.is_empty() {
@@ -279,8 +319,11 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
         .map_err(|e| format!("comparing thermo logs: {e}"))?;
     let mut pass = print_report("thermo (A = standalone.log, B = lammps.log)", &r);
     let mut n_dump_rows = 0;
-    for (s, l) in &dumps {
-        let (ps, pl) = (moved(s, "dump.standalone"), moved(l, "dump.lammps"));
+    for (s, l) in dumps {
+        let (ps, pl) = (
+            moved(workdir, s, "dump.standalone"),
+            moved(workdir, l, "dump.lammps"),
+        );
         let fs = parse_dump(&read(&ps)?).map_err(|e| format!("{}: {e}", ps.display()))?;
         let mut fl = parse_dump(&read(&pl)?).map_err(|e| format!("{}: {e}", pl.display()))?;
         let shifted = minimum_image(&fs, &mut fl);

@@ -15,12 +15,14 @@ use dpdnl::report::{short as num, to_line};
 use dpdnl::theory::sdpd;
 use dpdnl::theory::vv_measured::vv_verdict;
 use dpdnl::theory::{
-    DesignMode, Dim, Fluid, STIFF_DT_C_FRACTION, StepScales, Transport, euler_critical_dt,
+    Design, DesignMode, Dim, Fluid, STIFF_DT_C_FRACTION, StepScales, Transport, euler_critical_dt,
     euler_temperature_ratio, kinetic_theory, step_scales,
 };
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
+
+mod script;
 
 /// Choose γ and the weight exponent s from a target viscosity and Schmidt number.
 ///
@@ -232,7 +234,6 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
         );
     }
     let (style, coeff) = (&res.pair_style, &res.pair_coeff);
-    let lim = &design.limits;
     let d = fluid.dim.get();
     let eqs = match fluid.dim {
         Dim::Three => "eqs. 54-55",
@@ -290,6 +291,26 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
         );
         transport_text(&mut out, pred);
     }
+    limits_text(&mut out, design, d, eqs);
+    let _ = writeln!(
+        out,
+        "{}",
+        if a.method == "sdpd" {
+            "# input lines for LAMMPS and dpdnl (rho0 = m n; choose the sound speed c0 so that the \
+             density fluctuates little, docs/models.md 3.7; set the seed you want)"
+        } else {
+            "# input lines for LAMMPS and dpdnl (friction none, noise plain; set the seed you want)"
+        }
+    );
+    let _ = writeln!(out, "{style}");
+    let _ = writeln!(out, "{coeff}");
+    print!("{out}");
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The `# limits` part of `dpdnl design`: P, P0 and the bounds that keep s > 0.
+fn limits_text(out: &mut String, design: &Design, d: u32, eqs: &str) {
+    let lim = &design.limits;
     let _ = writeln!(
         out,
         "# limits: s > 0 <=> P_{d}(s) > P_{d}(0) ({}{eqs}); P is the paper's C",
@@ -329,26 +350,12 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
     );
     let _ = writeln!(out, "n_min = {}", num(lim.density_min));
     let _ = writeln!(out, "rc_min = {}", num(lim.cutoff_min));
-    let _ = writeln!(
-        out,
-        "{}",
-        if a.method == "sdpd" {
-            "# input lines for LAMMPS and dpdnl (rho0 = m n; choose the sound speed c0 so that the \
-             density fluctuates little, docs/models.md 3.7; set the seed you want)"
-        } else {
-            "# input lines for LAMMPS and dpdnl (friction none, noise plain; set the seed you want)"
-        }
-    );
-    let _ = writeln!(out, "{style}");
-    let _ = writeln!(out, "{coeff}");
-    print!("{out}");
-    Ok(ExitCode::SUCCESS)
 }
 
 /// `dpdnl theory`.
 pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     if let Some(p) = &a.script {
-        return theory_of_script(p, &a);
+        return script::theory_of_script(p, &a);
     }
     if let Some(k) = a.kernel.clone() {
         return sdpd_theory(&a, &k);
@@ -419,220 +426,6 @@ pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>
         );
     }
     print!("{out}");
-    Ok(ExitCode::SUCCESS)
-}
-
-/// `dpdnl theory SCRIPT`: set up every `run` of the script without running it and print, for
-/// each, the state point, the kinetic theory of each type pair (ideal fluid, a = 0) and the Euler
-/// finite-step temperature (or that velocity-Verlet has no closed form).
-fn theory_of_script(
-    path: &std::path::Path,
-    a: &TheoryArgs,
-) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    use dpdnl::engine::{Integrator, SetupNote};
-    use dpdnl::input::{Collect, Interpreter, Options};
-    let vars = a
-        .var
-        .chunks(2)
-        .map(|c| (c[0].clone(), c.get(1).cloned().unwrap_or_default()))
-        .collect();
-    let opts = Options {
-        vars,
-        ..Options::default()
-    };
-    let mut console = Collect::default();
-    let mut interp = Interpreter::new(&mut console, &opts)?;
-    interp.set_dry_run(true);
-    interp.run_file(path)?;
-    let runs = interp.planned_runs().to_vec();
-    drop(interp);
-    if runs.is_empty() {
-        return Err(format!("{}: the script has no 'run' command", path.display()).into());
-    }
-    let mut out = String::new();
-    let mut json_runs = Vec::new();
-    for (k, r) in runs.iter().enumerate() {
-        let density = r.natoms as f64 / r.volume;
-        let masses: Vec<f64> = r.masses.iter().skip(1).copied().collect();
-        let m = masses.iter().copied().fold(f64::INFINITY, f64::min);
-        let s = r.model.weight.exponent();
-        let kt = r.model.kt;
-        let scheme = match r.integrator {
-            Some(Integrator::Euler) => "euler (fix nve/euler)",
-            Some(Integrator::VelocityVerlet) => "velocity-Verlet (fix nve)",
-            None => "none",
-        };
-        let _ = writeln!(
-            out,
-            "# run {} of {}: steps {}..{}, d = {}, N = {}, n = N/V = {}, kT = {}, dt = {}, \
-             integrator {scheme}, {}",
-            k + 1,
-            runs.len(),
-            r.first_step,
-            r.first_step + r.steps,
-            r.dim,
-            r.natoms,
-            num(density),
-            num(kt),
-            num(r.dt),
-            match &r.sdpd {
-                Some(sd) => format!("pair_style sdpd, kernel {}", sd.kernel),
-                None => format!(
-                    "friction {}, noise {}, weight s = {}",
-                    r.model.friction.keyword(),
-                    r.model.noise.keyword(),
-                    num(s)
-                ),
-            }
-        );
-        if masses.iter().any(|&x| x != m) {
-            let _ = writeln!(
-                out,
-                "# masses differ between types; the one-mass kinetic theory below uses the lightest, m = {}",
-                num(m)
-            );
-        }
-        for note in &r.notes {
-            match note {
-                SetupNote::Info(t) => {
-                    let _ = writeln!(out, "# {t}");
-                }
-                SetupNote::Warning(t) => {
-                    let _ = writeln!(out, "# WARNING: {t}");
-                }
-            }
-        }
-        let mut pairs_json = Vec::new();
-        if let Some(sd) = &r.sdpd {
-            for (i, j, p) in &sd.pairs {
-                let _ = writeln!(
-                    out,
-                    "# pair {i} {j} (sdpd, kernel {}): rho0 = {}, c0 = {}, eta0 = {}, rc = {}",
-                    sd.kernel,
-                    num(p.rho0),
-                    num(p.c0),
-                    num(p.eta0),
-                    num(p.rc)
-                );
-                let fluid = Fluid::new(r.dim, density, p.rc, m, sd.kt)?;
-                let t = sdpd::kinetic_theory(&fluid, sd.kernel, p.eta0)?;
-                let _ = writeln!(
-                    out,
-                    "# kinetic theory of sDPD (docs/models.md 3.7, Table 1; the Tait pressure adds a \
-                     conservative viscosity not in it)"
-                );
-                transport_text(&mut out, &t);
-                pairs_json.push(PairJson::Sdpd {
-                    i: *i,
-                    j: *j,
-                    rho0: p.rho0,
-                    c0: p.c0,
-                    eta0: p.eta0,
-                    rc: p.rc,
-                    kernel: sd.kernel.keyword(),
-                    fluid: (&fluid).into(),
-                    predicted: (&t).into(),
-                });
-            }
-        }
-        for (i, j, c) in &r.coeffs {
-            let _ = writeln!(
-                out,
-                "# pair {i} {j}: a = {}, gamma0 = {}, gamma1 = {}, rc = {}",
-                num(c.a),
-                num(c.gamma0),
-                num(c.gamma1),
-                num(c.rc)
-            );
-            if c.gamma0 <= 0.0 {
-                let _ = writeln!(out, "# gamma0 = 0: no dissipation, no kinetic theory");
-                continue;
-            }
-            let fluid = Fluid::new(r.dim, density, c.rc, m, kt)?;
-            let t = kinetic_theory(&fluid, c.gamma0, s)?;
-            let _ = writeln!(
-                out,
-                "# kinetic theory of the ideal fluid, w_D = (1 - r/r_c)^s (docs/models.md 3.2){}{}",
-                if c.a != 0.0 {
-                    "; a != 0 adds a conservative viscosity not in it"
-                } else {
-                    ""
-                },
-                if c.gamma1 != 0.0 {
-                    "; gamma0 only: the zero-shear limit of the non-linear friction"
-                } else {
-                    ""
-                }
-            );
-            transport_text(&mut out, &t);
-            let (euler_json, vv_json_text) = match r.integrator {
-                Some(Integrator::Euler) => {
-                    let dt_c = euler_critical_dt(&fluid, c.gamma0, s)?;
-                    let ratio = euler_temperature_ratio(&fluid, c.gamma0, s, r.dt).ok();
-                    let _ = writeln!(
-                        out,
-                        "# Euler integrator, ideal fluid (finite-step paper eqs. 22, 25)"
-                    );
-                    match ratio {
-                        Some(x) => {
-                            let _ = writeln!(out, "T_eq/T0 = {}", num(x));
-                        }
-                        None => {
-                            let _ = writeln!(out, "T_eq/T0 = unstable");
-                        }
-                    }
-                    let _ = writeln!(out, "dt_c = {}", num(dt_c));
-                    let _ = writeln!(out, "dt/dt_c = {}", num(r.dt / dt_c));
-                    (
-                        Some(EulerBriefJson {
-                            t_ratio: ratio,
-                            dt_c,
-                        }),
-                        None,
-                    )
-                }
-                _ => {
-                    let dt_c = euler_critical_dt(&fluid, c.gamma0, s)?;
-                    vv_text(&mut out, &fluid, s, c.gamma0, r.dt, dt_c);
-                    (None, Some(rt::vv_json(&fluid, s, r.dt, dt_c)))
-                }
-            };
-            pairs_json.push(PairJson::Dpd {
-                i: *i,
-                j: *j,
-                a: c.a,
-                gamma0: c.gamma0,
-                gamma1: c.gamma1,
-                rc: c.rc,
-                fluid: (&fluid).into(),
-                predicted: (&t).into(),
-                euler: euler_json,
-                vv_measured: vv_json_text,
-            });
-        }
-        json_runs.push(RunJson {
-            first_step: r.first_step,
-            steps: r.steps,
-            dim: r.dim,
-            natoms: r.natoms,
-            density,
-            kt,
-            dt: r.dt,
-            integrator: scheme.to_string(),
-            s,
-            pairs: pairs_json,
-        });
-    }
-    if a.json {
-        let j = ScriptJson {
-            command: "theory",
-            script: path.display().to_string(),
-            runs: json_runs,
-        };
-        println!("{}", to_line(&j)?);
-    } else {
-        print!("{out}");
-    }
     Ok(ExitCode::SUCCESS)
 }
 

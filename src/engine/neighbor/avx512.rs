@@ -116,6 +116,8 @@ pub(super) unsafe fn scan_cell(
 /// The CPU has AVX-512 F/DQ/VL/BW, and every index in `r.row` is < `pc.x.len()` =
 /// `pc.v.len()` = `pc.tag.len()` (and, with more than one type, `r.row_t + typ[j] <
 /// pc.rcsq.len()` and `typ[j] < pc.inv_mass.len()`).
+// Kept in one piece (over 120 lines) on purpose: the hot loop, so the compiler sees the whole
+// lane loop under one `target_feature` (a helper would need the same attribute to inline).
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
 pub(super) unsafe fn near_row<const ONE_TYPE: bool>(
     r: &RowArgs,

@@ -394,6 +394,56 @@ impl NeighborList {
     /// `rc_max + skin`. Atom order changes; every per-atom array travels with the atoms.
     pub fn build(&mut self, atoms: &mut Atoms, bx: &SimBox, rc_max: f64) {
         let n = atoms.len();
+        self.wrap(atoms, bx);
+        self.xy_at_build = self.xy_now;
+        let cutoff = rc_max + self.skin;
+        let len = bx.len();
+        self.tilt_allow = if self.le.is_some() {
+            let life = self.evals_since_build as f64 + 2.0;
+            (self.tilt_drift * life).min(0.5 * len[0] - cutoff).max(0.0)
+        } else {
+            0.0
+        };
+        let ncell = cell_grid(len, bx.dim, cutoff, n);
+        self.set_stencil(ncell, bx);
+        let total_cells = ncell[0] * ncell[1] * ncell[2];
+        let cell_coords = CellCoords {
+            lo: bx.lo,
+            len,
+            ncell,
+            dim: bx.dim,
+        };
+        self.sort_by_cell(atoms, cell_coords, total_cells);
+        let slab_mode = self.set_slabs(bx, ncell, total_cells, n);
+
+        // Rows, slab by slab (each slab independent: parallel and deterministic).
+        let rows = RowBuild {
+            x: &atoms.x,
+            bx,
+            cells: cell_coords,
+            cell_start: &self.cell_start,
+            axes: &self.stencil_axes,
+            xruns: &self.xruns,
+            len,
+            cutsq: cutoff * cutoff,
+            slab_axis: if slab_mode { Some(bx.dim - 1) } else { None },
+            le: self.le,
+            tilt_allow: self.tilt_allow,
+        };
+        let isa = match self.isa {
+            Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
+            Some(_) => Isa::Baseline,
+            None => Isa::detect(),
+        };
+        self.slabs
+            .par_iter_mut()
+            .for_each(|s| build_rows_isa(isa, &rows, s));
+        self.finish_build(atoms, cutoff, rc_max);
+    }
+
+    /// [`Self::build`], first phase: wrap positions into the box (and, under Lees–Edwards,
+    /// shift the velocities of atoms through the sheared boundary).
+    fn wrap(&self, atoms: &mut Atoms, bx: &SimBox) {
         match self.le {
             None => atoms
                 .x
@@ -408,16 +458,11 @@ impl NeighborList {
                 .zip(atoms.image.par_iter_mut())
                 .for_each(|((x, v), im)| bx.wrap_le(x, v, im, &le)),
         }
-        self.xy_at_build = self.xy_now;
-        let cutoff = rc_max + self.skin;
-        let len = bx.len();
-        self.tilt_allow = if self.le.is_some() {
-            let life = self.evals_since_build as f64 + 2.0;
-            (self.tilt_drift * life).min(0.5 * len[0] - cutoff).max(0.0)
-        } else {
-            0.0
-        };
-        let ncell = cell_grid(len, bx.dim, cutoff, n);
+    }
+
+    /// [`Self::build`]: the cell stencil and the x runs of a cell grid `ncell`, when it
+    /// changed.
+    fn set_stencil(&mut self, ncell: [usize; 3], bx: &SimBox) {
         if ncell != self.ncell {
             self.ncell = ncell;
             for d in 0..3 {
@@ -458,13 +503,13 @@ impl NeighborList {
                 })
                 .collect();
         }
-        let total_cells = ncell[0] * ncell[1] * ncell[2];
-        let cell_coords = CellCoords {
-            lo: bx.lo,
-            len,
-            ncell,
-            dim: bx.dim,
-        };
+    }
+
+    /// [`Self::build`]: the counting sort of the atoms by cell, stable in the current order;
+    /// leaves `cell_start`, the first atom of each cell.
+    fn sort_by_cell(&mut self, atoms: &mut Atoms, cell_coords: CellCoords, total_cells: usize) {
+        let n = atoms.len();
+        let ncell = cell_coords.ncell;
         // Counting sort by cell, stable in the current order.
         self.cell_of.clear();
         self.cell_of.par_extend(
@@ -491,7 +536,11 @@ impl NeighborList {
             *slot += 1;
         }
         permute(atoms, &self.perm, &mut self.perm_scratch);
+    }
 
+    /// [`Self::build`]: the slabs over the sorted atoms and the second force array; true when
+    /// the box has slabs (3 layers or more), false when it runs as one task.
+    fn set_slabs(&mut self, bx: &SimBox, ncell: [usize; 3], total_cells: usize, n: usize) -> bool {
         // Slabs: layers of cells along the last periodic axis (contiguous in the cell order).
         let axis = bx.dim - 1;
         let layers = ncell[axis];
@@ -513,30 +562,12 @@ impl NeighborList {
         } else {
             self.next_f = Vec::new();
         }
+        slab_mode
+    }
 
-        // Rows, slab by slab (each slab independent: parallel and deterministic).
-        let rows = RowBuild {
-            x: &atoms.x,
-            bx,
-            cells: cell_coords,
-            cell_start: &self.cell_start,
-            axes: &self.stencil_axes,
-            xruns: &self.xruns,
-            len,
-            cutsq: cutoff * cutoff,
-            slab_axis: if slab_mode { Some(bx.dim - 1) } else { None },
-            le: self.le,
-            tilt_allow: self.tilt_allow,
-        };
-        let isa = match self.isa {
-            Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
-            Some(_) => Isa::Baseline,
-            None => Isa::detect(),
-        };
-        self.slabs
-            .par_iter_mut()
-            .for_each(|s| build_rows_isa(isa, &rows, s));
-
+    /// [`Self::build`], last phase: the positions at build, the counters, and the working
+    /// list's switch.
+    fn finish_build(&mut self, atoms: &Atoms, cutoff: f64, rc_max: f64) {
         self.x_at_build.clear();
         self.x_at_build.extend_from_slice(&atoms.x);
         self.builds += 1;

@@ -169,6 +169,8 @@ pub(super) struct PassConst<'a> {
 /// Lees–Edwards no offset either) and in range, in row order; then the others, through
 /// `SimBox::min_image`, in row order. The distance pass over a row has no branches and runs in
 /// SIMD lanes; full batches are evaluated by [`flush`].
+// Kept in one piece (over 120 lines) on purpose: the hot loop, so the compiler sees the whole
+// row and lane loop of each (DIM, ONE_TYPE, SIMD) instance at once.
 #[inline(always)]
 pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const SIMD: u8>(
     w: &mut SlabWork,

@@ -2,9 +2,9 @@
 //! values (velocities, forces, densities, temperature, atom-style variables), normalised and
 //! averaged as LAMMPS does, and the lock that keeps the chunks fixed while a fix averages.
 
-use super::average::{Ave, Averager};
+use super::ave_args::{Epoch, FixArgs, Norm};
+use super::average::{Ave, Averager, Schedule};
 use super::compute::ComputeKind;
-use super::fix::{AveKind, Epoch, FixArgs};
 use super::{Env, Observe, Sample, Source, VarStyle, parse_ref};
 use crate::engine::System;
 use crate::engine::measure;
@@ -23,13 +23,6 @@ pub(super) enum ChunkValue {
     Compute(String),
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Norm {
-    All,
-    Sample,
-    None,
-}
-
 #[derive(Debug)]
 pub(super) struct AveChunk {
     pub(super) chunk: String,
@@ -43,7 +36,8 @@ pub(super) struct AveChunk {
     count_sum: Vec<f64>,
     avg: Averager,
     format: String,
-    lock_forever: bool,
+    /// The fix holds its lock on the chunk compute forever (`ave running|window`).
+    pub(super) lock_forever: bool,
 }
 
 /// The lock a fix holds on a chunk compute, so that the chunks cannot change while it
@@ -55,9 +49,35 @@ pub(super) struct ChunkLock {
     stop: i64,
 }
 
+/// What the chunk lock needs of an `ave/chunk` fix at one sample
+/// ([`Observe::lock_chunk`]): its chunk compute, averaging mode, whether it already holds
+/// the lock forever, and where the sample falls in its schedule.
+pub(super) struct LockRequest {
+    chunk: String,
+    ave: Ave,
+    forever: bool,
+    irepeat: i64,
+    nrepeat: i64,
+    nevery: i64,
+}
+
+impl AveChunk {
+    /// This fix's [`LockRequest`] under schedule `s`.
+    pub(super) fn lock_request(&self, s: &Schedule) -> LockRequest {
+        LockRequest {
+            chunk: self.chunk.clone(),
+            ave: self.avg.ave,
+            forever: self.lock_forever,
+            irepeat: s.irepeat,
+            nrepeat: s.nrepeat,
+            nevery: s.nevery,
+        }
+    }
+}
+
 /// The part of `fix ave/chunk`'s parsing particular to it: the chunk compute, the values and
 /// the file header.
-pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<String>), String> {
+pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveChunk, Vec<String>), String> {
     let FixArgs {
         args,
         id,
@@ -136,7 +156,7 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<Strin
             .unwrap_or_else(|| format!("# Chunk Coord1 Ncount {}", raw_values.join(" "))),
     ];
     Ok((
-        AveKind::Chunk(AveChunk {
+        AveChunk {
             chunk: cid.clone(),
             values,
             norm,
@@ -149,7 +169,7 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<Strin
             avg: Averager::new(ave),
             format,
             lock_forever: false,
-        }),
+        },
         header,
     ))
 }
@@ -171,7 +191,24 @@ pub(super) fn accumulate(
         done,
         nrepeat,
     } = e;
-    let mut text = String::new();
+    add_sample(c, coord, &count, &values, id, first)?;
+    if !done {
+        return Ok(None);
+    }
+    let flat = epoch_average(c, nrepeat, volume);
+    c.avg.push(&flat);
+    epoch_text(c, step).map(Some)
+}
+
+/// Add one sample's per-chunk sums to the epoch's (LAMMPS's operations, in order).
+fn add_sample(
+    c: &mut AveChunk,
+    coord: Vec<f64>,
+    count: &[f64],
+    values: &[f64],
+    id: &str,
+    first: bool,
+) -> Result<(), String> {
     let nv = c.values.len();
     if first {
         c.nchunk = coord.len();
@@ -195,7 +232,7 @@ pub(super) fn accumulate(
             }
         }
         Norm::Sample | Norm::None => {
-            c.count_many.copy_from_slice(&count);
+            c.count_many.copy_from_slice(count);
             for m in 0..n {
                 let cm = c.count_many[m];
                 if cm > 0.0 {
@@ -213,10 +250,14 @@ pub(super) fn accumulate(
             }
         }
     }
-    if !done {
-        return Ok(None);
-    }
-    // Time average across the Nrepeat samples (LAMMPS's operations, in order).
+    Ok(())
+}
+
+/// The time average across the epoch's Nrepeat samples (LAMMPS's operations, in order): the
+/// counts of the chunks, then their values, flat.
+fn epoch_average(c: &AveChunk, nrepeat: f64, volume: f64) -> Vec<f64> {
+    let n = c.nchunk;
+    let nv = c.values.len();
     let mut count_sum = vec![0.0; n];
     let mut values_sum = vec![0.0; n * nv];
     match c.norm {
@@ -259,7 +300,14 @@ pub(super) fn accumulate(
     }
     let mut flat = count_sum;
     flat.extend_from_slice(&values_sum);
-    c.avg.push(&flat);
+    flat
+}
+
+/// The file's lines for the epoch ending at `step`: its header line, then one line per chunk.
+fn epoch_text(c: &AveChunk, step: u64) -> Result<String, String> {
+    let n = c.nchunk;
+    let nv = c.values.len();
+    let mut text = String::new();
     let norm = c.avg.norm as f64;
     let total: f64 = c.avg.total[..n].iter().sum();
     text.push_str(&format!(
@@ -279,7 +327,7 @@ pub(super) fn accumulate(
         }
         text.push('\n');
     }
-    Ok(Some(text))
+    Ok(text)
 }
 
 impl Observe {
@@ -323,28 +371,37 @@ impl Observe {
         self.locks.retain(|(c, l)| !(c == chunk && l.fix == fix));
     }
 
-    /// The chunk lock of fix number `k` (`id`) as its sample at `step` is accumulated.
-    pub(super) fn lock_chunk(&mut self, k: usize, id: &str, step: u64) -> Result<(), String> {
-        if let AveKind::Chunk(c) = &self.fixes[k].kind {
-            // LAMMPS locks the chunk compute on the first sample of an epoch.
-            let s = &self.fixes[k].sched;
-            let (chunk, ave, forever) = (c.chunk.clone(), c.avg.ave, c.lock_forever);
-            let step = step as i64;
-            if s.irepeat == 0 {
-                if s.nrepeat > 1 && ave == Ave::One {
-                    let stop = step + (s.nrepeat - 1) * s.nevery;
-                    self.lock(&chunk, id, step, stop)?;
-                } else if ave != Ave::One && !forever {
-                    self.lock(&chunk, id, step, -1)?;
-                    if let AveKind::Chunk(c) = &mut self.fixes[k].kind {
-                        c.lock_forever = true;
-                    }
-                }
-            } else if s.irepeat + 1 == s.nrepeat && s.nrepeat > 1 && ave == Ave::One {
-                self.unlock(&chunk, id);
+    /// The chunk lock of fix `id` as its sample at `step` is accumulated (`r`: the fix's
+    /// [`AveChunk::lock_request`]). True when the fix now holds its lock forever (the caller
+    /// sets [`AveChunk::lock_forever`]).
+    pub(super) fn lock_chunk(
+        &mut self,
+        r: LockRequest,
+        id: &str,
+        step: u64,
+    ) -> Result<bool, String> {
+        // LAMMPS locks the chunk compute on the first sample of an epoch.
+        let LockRequest {
+            chunk,
+            ave,
+            forever,
+            irepeat,
+            nrepeat,
+            nevery,
+        } = r;
+        let step = step as i64;
+        if irepeat == 0 {
+            if nrepeat > 1 && ave == Ave::One {
+                let stop = step + (nrepeat - 1) * nevery;
+                self.lock(&chunk, id, step, stop)?;
+            } else if ave != Ave::One && !forever {
+                self.lock(&chunk, id, step, -1)?;
+                return Ok(true);
             }
+        } else if irepeat + 1 == nrepeat && nrepeat > 1 && ave == Ave::One {
+            self.unlock(&chunk, id);
         }
-        Ok(())
+        Ok(false)
     }
 
     /// Phase 1 of `end_of_step` for `fix ave/chunk`: one sample of its per-chunk sums.

@@ -1,9 +1,9 @@
 //! `fix ave/histo`: histograms of per-atom values (atom attributes, atom-style variables) or of
 //! global values, with LAMMPS's out-of-range rules and running minimum and maximum.
 
+use super::ave_args::{Epoch, FixArgs};
 use super::average::{Ave, Averager};
 use super::compute::ComputeKind;
-use super::fix::{AveKind, Epoch, FixArgs};
 use super::per_atom::atom_value;
 use super::{Env, Observe, Sample, Source, ValueRef, VarStyle, parse_i64, parse_num, parse_ref};
 use crate::engine::System;
@@ -31,7 +31,7 @@ pub(super) struct AveHisto {
 
 /// The part of `fix ave/histo`'s parsing particular to it: the bins, the inputs (all per-atom
 /// or all global), checked, and the file header.
-pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<String>), String> {
+pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveHisto, Vec<String>), String> {
     let FixArgs {
         args,
         id,
@@ -118,7 +118,7 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<Strin
             .unwrap_or_else(|| "# Bin Coord Count Count/Total".into()),
     ];
     Ok((
-        AveKind::Histo(AveHisto {
+        AveHisto {
             inputs,
             vector,
             acc: bins.empty(),
@@ -126,7 +126,7 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<Strin
             avg: Averager::new(ave),
             minmax: Vec::new(),
             total_minmax: [0.0, 0.0],
-        }),
+        },
         header,
     ))
 }

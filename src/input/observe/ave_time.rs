@@ -1,8 +1,8 @@
 //! `fix ave/time`: global values (computes, fixes, equal-style variables), in scalar or vector
 //! mode, averaged over Nrepeat samples and written on the Nfreq steps.
 
+use super::ave_args::{Epoch, FixArgs};
 use super::average::Averager;
-use super::fix::{AveKind, Epoch, FixArgs};
 use super::{Env, Observe, Sample, ValueRef, parse_ref};
 use crate::input::format::{FmtArg, sprintf};
 
@@ -31,7 +31,7 @@ impl AveTime {
 
 /// The part of `fix ave/time`'s parsing particular to it: the values, checked, and the file
 /// header.
-pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<String>), String> {
+pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveTime, Vec<String>), String> {
     let FixArgs {
         id,
         style,
@@ -97,14 +97,14 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveKind, Vec<Strin
         );
     }
     Ok((
-        AveKind::Time(AveTime {
+        AveTime {
             values,
             vector,
             nrows,
             sum: Vec::new(),
             avg: Averager::new(ave),
             format,
-        }),
+        },
         header,
     ))
 }

@@ -2,14 +2,14 @@
 //! arguments and keywords, the file and its header, the fix's global values, the two phases of
 //! `end_of_step`); what is particular to each is in `ave_time`, `ave_chunk`, `ave_histo`.
 
-use super::ave_chunk::{self, AveChunk, Norm};
+use super::ave_args::{Epoch, FixArgs, Norm};
+use super::ave_chunk::{self, AveChunk};
 use super::ave_histo::{self, AveHisto, HistoInput};
 use super::ave_time::{self, AveTime};
 use super::average::{Ave, Schedule};
 use super::{
     Env, Observe, Sample, Source, ValueRef, arg, check_format, io_err, parse_ave, parse_i64,
 };
-use crate::engine::System;
 use crate::engine::measure::Beyond;
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -89,33 +89,6 @@ impl AveFix {
     }
 }
 
-/// The arguments and keywords every averaging fix parses ([`Observe::parse_fix`]), for the
-/// part of the parsing particular to its style.
-pub(super) struct FixArgs<'a> {
-    pub(super) args: &'a [String],
-    pub(super) id: &'a str,
-    pub(super) style: &'a str,
-    pub(super) sys: &'a System,
-    pub(super) raw_values: Vec<&'a str>,
-    pub(super) nevery: i64,
-    pub(super) ave: Ave,
-    pub(super) vector: bool,
-    pub(super) format: String,
-    pub(super) titles: [Option<String>; 3],
-    pub(super) norm: Norm,
-    pub(super) beyond: Beyond,
-}
-
-/// Where a sample falls in its fix's Nfreq epoch ([`Observe::accumulate`]).
-#[derive(Clone, Copy)]
-pub(super) struct Epoch<'a> {
-    pub(super) id: &'a str,
-    pub(super) step: u64,
-    pub(super) first: bool,
-    pub(super) done: bool,
-    pub(super) nrepeat: f64,
-}
-
 impl Observe {
     // ------------------------------------------------------------------ fixes
 
@@ -126,139 +99,19 @@ impl Observe {
             .system()
             .ok_or("fix needs a simulation box (create_box or read_data) first")?;
         let style = args[2].as_str();
-        let usage = match style {
-            "ave/time" => {
-                "fix ID all ave/time Nevery Nrepeat Nfreq VALUES… [file F] [ave one|running|window M] [mode scalar|vector] [start S] [format FMT] [title1|title2|title3 T]"
-            }
-            "ave/chunk" => {
-                "fix ID all ave/chunk Nevery Nrepeat Nfreq CHUNK-ID VALUES… [norm all|sample|none] [ave one|running|window M] [file F] [format FMT] [title1|title2|title3 T]"
-            }
-            _ => {
-                "fix ID all ave/histo Nevery Nrepeat Nfreq LO HI NBINS VALUES… [mode scalar|vector] [beyond ignore|end|extra] [ave one|running|window M] [start S] [file F] [title1|title2|title3 T]"
-            }
-        };
-        let nevery = parse_i64(arg(args, 3, usage)?, "Nevery")?;
-        let nrepeat = parse_i64(arg(args, 4, usage)?, "Nrepeat")?;
-        let nfreq = parse_i64(arg(args, 5, usage)?, "Nfreq")?;
-        if nevery <= 0 || nrepeat <= 0 || nfreq <= 0 {
-            return Err(format!(
-                "illegal fix {style}: Nevery, Nrepeat, Nfreq must be > 0 (got {nevery} {nrepeat} {nfreq})"
-            ));
-        }
-        if nfreq % nevery != 0 || nrepeat * nevery > nfreq {
-            return Err(format!(
-                "illegal fix {style}: Nfreq ({nfreq}) must be a multiple of Nevery ({nevery}) and \
-                 Nrepeat*Nevery ({}) must not exceed Nfreq",
-                nrepeat * nevery
-            ));
-        }
-        // Values: everything up to the first keyword.
-        let first = match style {
-            "ave/time" => 6,
-            "ave/chunk" => 7,
-            _ => 9,
-        };
-        if args.len() < first {
-            return Err(format!("missing arguments; usage: {usage}"));
-        }
-        let is_value = |w: &str| match style {
-            "ave/time" => w.starts_with("c_") || w.starts_with("f_") || w.starts_with("v_"),
-            "ave/chunk" => {
-                w.starts_with("c_")
-                    || w.starts_with("f_")
-                    || w.starts_with("v_")
-                    || matches!(
-                        w,
-                        "vx" | "vy"
-                            | "vz"
-                            | "fx"
-                            | "fy"
-                            | "fz"
-                            | "density/number"
-                            | "density/mass"
-                            | "mass"
-                            | "temp"
-                    )
-            }
-            _ => {
-                w.starts_with("c_")
-                    || w.starts_with("f_")
-                    || w.starts_with("v_")
-                    || matches!(w, "x" | "y" | "z" | "vx" | "vy" | "vz" | "fx" | "fy" | "fz")
-            }
-        };
-        let mut k = first;
-        while k < args.len() && is_value(&args[k]) {
-            k += 1;
-        }
-        let raw_values: Vec<&str> = args[first..k].iter().map(String::as_str).collect();
-        if raw_values.is_empty() {
-            return Err(format!("no values in fix {style}; usage: {usage}"));
-        }
-        // Keywords.
-        let mut file = None;
-        let mut ave = Ave::One;
-        let mut vector = false;
-        let mut start = 0i64;
-        let mut format = " %g".to_string();
-        let mut titles: [Option<String>; 3] = [None, None, None];
-        let mut norm = Norm::All;
-        let mut beyond = Beyond::Ignore;
-        while k < args.len() {
-            let key = args[k].as_str();
-            if matches!(
-                key,
-                "off" | "overwrite" | "bias" | "adof" | "cdof" | "scale"
-            ) {
-                return Err(format!("fix {style} keyword '{key}' is not supported"));
-            }
-            let val = arg(args, k + 1, usage)?;
-            let mut step = 2;
-            match (key, style) {
-                ("file", _) => file = Some(val.to_string()),
-                ("ave", _) => {
-                    let (a, n) = parse_ave(args, k, usage)?;
-                    ave = a;
-                    step = n;
-                }
-                ("mode", "ave/time" | "ave/histo") => {
-                    vector = match val {
-                        "scalar" => false,
-                        "vector" => true,
-                        o => return Err(format!("mode '{o}' must be scalar or vector")),
-                    }
-                }
-                ("start", "ave/time" | "ave/histo") => {
-                    start = parse_i64(val, "start")?;
-                }
-                ("format", "ave/time" | "ave/chunk") => format = check_format(val)?,
-                ("title1", _) => titles[0] = Some(val.to_string()),
-                ("title2", _) => titles[1] = Some(val.to_string()),
-                ("title3", _) => titles[2] = Some(val.to_string()),
-                ("norm", "ave/chunk") => {
-                    norm = match val {
-                        "all" => Norm::All,
-                        "sample" => Norm::Sample,
-                        "none" => Norm::None,
-                        o => return Err(format!("norm '{o}' must be all, sample or none")),
-                    }
-                }
-                ("beyond", "ave/histo") => {
-                    beyond = match val {
-                        "ignore" => Beyond::Ignore,
-                        "end" => Beyond::End,
-                        "extra" => Beyond::Extra,
-                        o => return Err(format!("beyond '{o}' must be ignore, end or extra")),
-                    }
-                }
-                _ => {
-                    return Err(format!(
-                        "unknown fix {style} keyword or value '{key}'; usage: {usage}"
-                    ));
-                }
-            }
-            k += step;
-        }
+        let usage = fix_usage(style);
+        let (nevery, nrepeat, nfreq) = parse_counts(args, style, usage)?;
+        let (raw_values, k) = value_words(args, style, usage)?;
+        let Keywords {
+            file,
+            ave,
+            vector,
+            start,
+            format,
+            titles,
+            norm,
+            beyond,
+        } = Keywords::parse(args, k, style, usage)?;
         let sched = {
             let mut s = Schedule {
                 nevery,
@@ -288,22 +141,22 @@ impl Observe {
             beyond,
         };
         let (kind, header) = match style {
-            "ave/time" => ave_time::parse(f, env)?,
-            "ave/chunk" => ave_chunk::parse(f, env)?,
-            _ => ave_histo::parse(f, env)?,
+            "ave/time" => {
+                let (t, header) = ave_time::parse(f, env)?;
+                (AveKind::Time(t), header)
+            }
+            "ave/chunk" => {
+                let (c, header) = ave_chunk::parse(f, env)?;
+                (AveKind::Chunk(c), header)
+            }
+            _ => {
+                let (h, header) = ave_histo::parse(f, env)?;
+                (AveKind::Histo(h), header)
+            }
         };
         let file = match file {
             None => None,
-            Some(path) => {
-                let f = File::create(&path)
-                    .map_err(|e| format!("cannot open fix {style} file {path}: {e}"))?;
-                let mut w = BufWriter::new(f);
-                for line in &header {
-                    writeln!(w, "{line}").map_err(io_err(&path))?;
-                }
-                w.flush().map_err(io_err(&path))?;
-                Some((path, w))
-            }
+            Some(path) => Some(open_file(path, style, &header)?),
         };
         Ok(AveFix {
             id,
@@ -365,7 +218,16 @@ impl Observe {
         let Some(k) = self.fixes.iter().position(|f| f.id == id) else {
             return Ok(());
         };
-        self.lock_chunk(k, id, step)?;
+        let lock = match &self.fixes[k].kind {
+            AveKind::Chunk(c) => Some(c.lock_request(&self.fixes[k].sched)),
+            _ => None,
+        };
+        if let Some(r) = lock
+            && self.lock_chunk(r, id, step)?
+            && let AveKind::Chunk(c) = &mut self.fixes[k].kind
+        {
+            c.lock_forever = true;
+        }
         let f = &mut self.fixes[k];
         let first = f.sched.irepeat == 0;
         let done = f.sched.sampled(step as i64);
@@ -426,4 +288,195 @@ impl AveFix {
             }),
         }
     }
+}
+
+/// The usage line of averaging fix `style`.
+fn fix_usage(style: &str) -> &'static str {
+    match style {
+        "ave/time" => {
+            "fix ID all ave/time Nevery Nrepeat Nfreq VALUES… [file F] [ave one|running|window M] [mode scalar|vector] [start S] [format FMT] [title1|title2|title3 T]"
+        }
+        "ave/chunk" => {
+            "fix ID all ave/chunk Nevery Nrepeat Nfreq CHUNK-ID VALUES… [norm all|sample|none] [ave one|running|window M] [file F] [format FMT] [title1|title2|title3 T]"
+        }
+        _ => {
+            "fix ID all ave/histo Nevery Nrepeat Nfreq LO HI NBINS VALUES… [mode scalar|vector] [beyond ignore|end|extra] [ave one|running|window M] [start S] [file F] [title1|title2|title3 T]"
+        }
+    }
+}
+
+/// Nevery, Nrepeat, Nfreq (arguments 3–5), checked against each other as LAMMPS does.
+fn parse_counts(args: &[String], style: &str, usage: &str) -> Result<(i64, i64, i64), String> {
+    let nevery = parse_i64(arg(args, 3, usage)?, "Nevery")?;
+    let nrepeat = parse_i64(arg(args, 4, usage)?, "Nrepeat")?;
+    let nfreq = parse_i64(arg(args, 5, usage)?, "Nfreq")?;
+    if nevery <= 0 || nrepeat <= 0 || nfreq <= 0 {
+        return Err(format!(
+            "illegal fix {style}: Nevery, Nrepeat, Nfreq must be > 0 (got {nevery} {nrepeat} {nfreq})"
+        ));
+    }
+    if nfreq % nevery != 0 || nrepeat * nevery > nfreq {
+        return Err(format!(
+            "illegal fix {style}: Nfreq ({nfreq}) must be a multiple of Nevery ({nevery}) and \
+             Nrepeat*Nevery ({}) must not exceed Nfreq",
+            nrepeat * nevery
+        ));
+    }
+    Ok((nevery, nrepeat, nfreq))
+}
+
+/// True if `w` is a value (not a keyword) of averaging fix `style`.
+fn is_value(style: &str, w: &str) -> bool {
+    match style {
+        "ave/time" => w.starts_with("c_") || w.starts_with("f_") || w.starts_with("v_"),
+        "ave/chunk" => {
+            w.starts_with("c_")
+                || w.starts_with("f_")
+                || w.starts_with("v_")
+                || matches!(
+                    w,
+                    "vx" | "vy"
+                        | "vz"
+                        | "fx"
+                        | "fy"
+                        | "fz"
+                        | "density/number"
+                        | "density/mass"
+                        | "mass"
+                        | "temp"
+                )
+        }
+        _ => {
+            w.starts_with("c_")
+                || w.starts_with("f_")
+                || w.starts_with("v_")
+                || matches!(w, "x" | "y" | "z" | "vx" | "vy" | "vz" | "fx" | "fy" | "fz")
+        }
+    }
+}
+
+/// The values: every word from the style's first value up to the first keyword; with the
+/// index of that keyword.
+fn value_words<'a>(
+    args: &'a [String],
+    style: &str,
+    usage: &str,
+) -> Result<(Vec<&'a str>, usize), String> {
+    let first = match style {
+        "ave/time" => 6,
+        "ave/chunk" => 7,
+        _ => 9,
+    };
+    if args.len() < first {
+        return Err(format!("missing arguments; usage: {usage}"));
+    }
+    let mut k = first;
+    while k < args.len() && is_value(style, &args[k]) {
+        k += 1;
+    }
+    let raw_values: Vec<&str> = args[first..k].iter().map(String::as_str).collect();
+    if raw_values.is_empty() {
+        return Err(format!("no values in fix {style}; usage: {usage}"));
+    }
+    Ok((raw_values, k))
+}
+
+/// The keywords of an averaging fix, with their defaults.
+struct Keywords {
+    file: Option<String>,
+    ave: Ave,
+    vector: bool,
+    start: i64,
+    format: String,
+    titles: [Option<String>; 3],
+    norm: Norm,
+    beyond: Beyond,
+}
+
+impl Keywords {
+    /// The keywords from `args[k..]`.
+    fn parse(args: &[String], mut k: usize, style: &str, usage: &str) -> Result<Self, String> {
+        let mut kw = Keywords {
+            file: None,
+            ave: Ave::One,
+            vector: false,
+            start: 0i64,
+            format: " %g".to_string(),
+            titles: [None, None, None],
+            norm: Norm::All,
+            beyond: Beyond::Ignore,
+        };
+        while k < args.len() {
+            let key = args[k].as_str();
+            if matches!(
+                key,
+                "off" | "overwrite" | "bias" | "adof" | "cdof" | "scale"
+            ) {
+                return Err(format!("fix {style} keyword '{key}' is not supported"));
+            }
+            let val = arg(args, k + 1, usage)?;
+            let mut step = 2;
+            match (key, style) {
+                ("file", _) => kw.file = Some(val.to_string()),
+                ("ave", _) => {
+                    let (a, n) = parse_ave(args, k, usage)?;
+                    kw.ave = a;
+                    step = n;
+                }
+                ("mode", "ave/time" | "ave/histo") => {
+                    kw.vector = match val {
+                        "scalar" => false,
+                        "vector" => true,
+                        o => return Err(format!("mode '{o}' must be scalar or vector")),
+                    }
+                }
+                ("start", "ave/time" | "ave/histo") => {
+                    kw.start = parse_i64(val, "start")?;
+                }
+                ("format", "ave/time" | "ave/chunk") => kw.format = check_format(val)?,
+                ("title1", _) => kw.titles[0] = Some(val.to_string()),
+                ("title2", _) => kw.titles[1] = Some(val.to_string()),
+                ("title3", _) => kw.titles[2] = Some(val.to_string()),
+                ("norm", "ave/chunk") => {
+                    kw.norm = match val {
+                        "all" => Norm::All,
+                        "sample" => Norm::Sample,
+                        "none" => Norm::None,
+                        o => return Err(format!("norm '{o}' must be all, sample or none")),
+                    }
+                }
+                ("beyond", "ave/histo") => {
+                    kw.beyond = match val {
+                        "ignore" => Beyond::Ignore,
+                        "end" => Beyond::End,
+                        "extra" => Beyond::Extra,
+                        o => return Err(format!("beyond '{o}' must be ignore, end or extra")),
+                    }
+                }
+                _ => {
+                    return Err(format!(
+                        "unknown fix {style} keyword or value '{key}'; usage: {usage}"
+                    ));
+                }
+            }
+            k += step;
+        }
+        Ok(kw)
+    }
+}
+
+/// Create the fix's file at `path` and write its header, as LAMMPS does when the fix is
+/// created.
+fn open_file(
+    path: String,
+    style: &str,
+    header: &[String],
+) -> Result<(String, BufWriter<File>), String> {
+    let f = File::create(&path).map_err(|e| format!("cannot open fix {style} file {path}: {e}"))?;
+    let mut w = BufWriter::new(f);
+    for line in header {
+        writeln!(w, "{line}").map_err(io_err(&path))?;
+    }
+    w.flush().map_err(io_err(&path))?;
+    Ok((path, w))
 }

@@ -22,9 +22,14 @@
 //! - `average`: LAMMPS's Nevery/Nrepeat/Nfreq schedule and `ave one|running|window`;
 //! - `fix`: the averaging fixes' common part (keywords, files, the two phases of
 //!   `end_of_step`);
-//! - `ave_time`, `ave_chunk`, `ave_histo`: what is particular to each fix;
+//! - `ave_args`: what `fix` hands to the style modules (the parsed common arguments, a
+//!   sample's place in its epoch); a leaf, so `fix` → `ave_time`/`ave_chunk`/`ave_histo` runs
+//!   one way;
+//! - `ave_time`, `ave_chunk`, `ave_histo`: what is particular to each fix (each returns its
+//!   own state; only `fix` knows all three, in `AveKind`);
 //! - `per_atom`: per-atom values and atom-style formulas evaluated on a system.
 
+mod ave_args;
 mod ave_chunk;
 mod ave_histo;
 mod ave_time;

@@ -1,7 +1,8 @@
 //! `analyze nemd`: the PeX (reverse NEMD) viscosity from profiles and the pushed momentum.
 
 use super::*;
-use dpdnl::report::nemd::{self, NemdParams};
+use dpdnl::analysis::nemd::NemdReport;
+use dpdnl::report::nemd::{self, NemdAnalysis, NemdParams};
 
 pub(super) fn run_nemd(a: NemdArgs) -> Result<(), String> {
     let (lx, ly, lz) = (a.r#box[0], a.r#box[1], a.r#box[2]);
@@ -34,9 +35,41 @@ pub(super) fn run_nemd(a: NemdArgs) -> Result<(), String> {
         .unwrap_or_else(|| report::stem(&a.profile, "nemd"));
     let n = nemd::analyze(prof, push, &p, label)?;
     let r = &n.result;
-    let (xlo, stress, stress_err) = (n.xlo, n.stress, n.stress_err);
+    let xlo = n.xlo;
     let prefix = prefix(&a.out, &a.profile, "nemd")?;
 
+    print_summary(&n, lx);
+
+    let mut written = vec![write_csv(&prefix, &n.table())?];
+    written.push(write_json(&prefix, &n.json())?);
+
+    let pv = velocity_panel(r, xlo, lx);
+    let mut panels = vec![pv];
+    if let Some(t) = &r.td {
+        panels.push(
+            Panel::new("Dynamic temperature (eq. 58)", "x", "k_B T_d")
+                .with(Line::points("T_d", r.x.clone(), t.mean.clone()).errors(t.err.clone())),
+        );
+    }
+    panels.push(
+        Panel::new("Density", "x", "n")
+            .with(
+                Line::points("density", r.x.clone(), r.density.mean.clone())
+                    .errors(r.density.err.clone()),
+            )
+            .legend(Legend::LowerRight),
+    );
+    let cols = panels.len();
+    save_plot(&a.out, &prefix, Figure::grid(panels, cols), &mut written)?;
+    print_written(&written);
+    Ok(())
+}
+
+/// The summary lines of `analyze nemd` (box length `lx`).
+fn print_summary(n: &NemdAnalysis, lx: f64) {
+    let r = &n.result;
+    let xlo = n.xlo;
+    let (stress, stress_err) = (n.stress, n.stress_err);
     println!(
         "NEMD (PeX): {} profiles, steps {}..{}, {} bins, xlo = {xlo}, Lx = {lx}",
         r.n_outputs,
@@ -84,10 +117,11 @@ pub(super) fn run_nemd(a: NemdArgs) -> Result<(), String> {
                 pm(t.mean, t.stderr)
             ))
     );
+}
 
-    let mut written = vec![write_csv(&prefix, &n.table())?];
-    written.push(write_json(&prefix, &n.json())?);
-
+/// The v_z panel of `analyze nemd`: the profile, each half's linear fit over its window (the
+/// outer one on both ends of the box, from `xlo` to `xlo + lx`).
+fn velocity_panel(r: &NemdReport, xlo: f64, lx: f64) -> Panel {
     let mut pv = Panel::new(
         &format!("v_z profile: μ = {}", pm(r.viscosity, r.viscosity_err)),
         "x",
@@ -132,25 +166,7 @@ pub(super) fn run_nemd(a: NemdArgs) -> Result<(), String> {
                 .band(xs[0], xs[1], "fit window");
         }
     }
-    let mut panels = vec![pv];
-    if let Some(t) = &r.td {
-        panels.push(
-            Panel::new("Dynamic temperature (eq. 58)", "x", "k_B T_d")
-                .with(Line::points("T_d", r.x.clone(), t.mean.clone()).errors(t.err.clone())),
-        );
-    }
-    panels.push(
-        Panel::new("Density", "x", "n")
-            .with(
-                Line::points("density", r.x.clone(), r.density.mean.clone())
-                    .errors(r.density.err.clone()),
-            )
-            .legend(Legend::LowerRight),
-    );
-    let cols = panels.len();
-    save_plot(&a.out, &prefix, Figure::grid(panels, cols), &mut written)?;
-    print_written(&written);
-    Ok(())
+    pv
 }
 
 // ---------------------------------------------------------------- eh

@@ -21,6 +21,7 @@ use std::process::{Command, ExitCode};
 use std::time::Instant;
 
 mod inputs;
+mod report;
 mod runs;
 
 use inputs::*;
@@ -243,6 +244,52 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         print!("{}", kernel_micro()?);
         return Ok(ExitCode::SUCCESS);
     }
+    let (dir, remove_dir) = scratch_dir(&a)?;
+    // LAMMPS runs in the scratch directory, so a relative path is made absolute here (a bare
+    // name is left to the PATH lookup).
+    let lmp = a.lmp.as_deref().map(resolve_exe).transpose()?;
+    let shim = match a.shim.as_deref() {
+        Some("none") => None,
+        Some(p) => Some(resolve_exe(Path::new(p))?),
+        None => {
+            let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("build/lmp_dpdnl");
+            p.is_file().then_some(p)
+        }
+    };
+    println!("{}", header(threads, lmp.as_deref(), shim.as_deref())?);
+
+    let mut cases = cases(&a, &dir, threads, lmp.as_ref(), shim.as_ref())?;
+    let mut scaling = scaling_points(&a)?;
+    let started = Instant::now();
+    run_all(&a, &dir, threads, &mut cases, &mut scaling, started)?;
+
+    let mut out = String::new();
+    let load1 = load_average();
+    writeln!(
+        out,
+        "load average at end: {load1}; {} repeats, interleaved; wall time {:.0} s",
+        a.repeats,
+        started.elapsed().as_secs_f64()
+    )?;
+    writeln!(out)?;
+    for key in &a.systems {
+        report::system(&mut out, key, &cases, threads)?;
+    }
+    if !scaling.is_empty() {
+        report::scaling(&mut out, &scaling, threads)?;
+    }
+    print!("{out}");
+    if remove_dir {
+        let _ = std::fs::remove_dir_all(&dir);
+    } else {
+        println!("inputs kept in {}", dir.display());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The scratch directory (`--keep` or a fresh one under the temporary directory), created and
+/// made absolute; with whether to remove it at the end.
+fn scratch_dir(a: &BenchArgs) -> Result<(PathBuf, bool), Box<dyn std::error::Error>> {
     let (dir, remove_dir) = match &a.keep {
         Some(d) => (d.clone(), false),
         None => (
@@ -255,32 +302,39 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let dir = dir
         .canonicalize()
         .map_err(|e| format!("{}: {e}", dir.display()))?;
-    // LAMMPS runs in the scratch directory, so a relative path is made absolute here (a bare
-    // name is left to the PATH lookup).
-    let lmp = a.lmp.as_deref().map(resolve_exe).transpose()?;
-    let shim = match a.shim.as_deref() {
-        Some("none") => None,
-        Some(p) => Some(resolve_exe(Path::new(p))?),
-        None => {
-            let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("build/lmp_dpdnl");
-            p.is_file().then_some(p)
-        }
-    };
+    Ok((dir, remove_dir))
+}
 
+/// The report's first lines: the machine, its load, the LAMMPS executables.
+fn header(
+    threads: usize,
+    lmp: Option<&Path>,
+    shim: Option<&Path>,
+) -> Result<String, Box<dyn std::error::Error>> {
     let mut out = String::new();
     let load0 = load_average();
     writeln!(out, "# dpdnl bench")?;
     writeln!(out)?;
     writeln!(out, "{}", machine_line(threads))?;
     writeln!(out, "load average at start: {load0}")?;
-    if let Some(l) = &lmp {
+    if let Some(l) = lmp {
         writeln!(out, "LAMMPS: {} ({})", l.display(), lammps_version(l))?;
     }
-    if let Some(s) = &shim {
+    if let Some(s) = shim {
         writeln!(out, "shim: {} ({})", s.display(), lammps_version(s))?;
     }
-    println!("{out}");
+    Ok(out)
+}
 
+/// The configurations of the reference systems: each system (its data file written to `dir`)
+/// on each engine, in each of its variants.
+fn cases(
+    a: &BenchArgs,
+    dir: &Path,
+    threads: usize,
+    lmp: Option<&PathBuf>,
+    shim: Option<&PathBuf>,
+) -> Result<Vec<Case>, Box<dyn std::error::Error>> {
     let mut cases = Vec::new();
     if !a.scaling_only {
         for key in &a.systems {
@@ -289,16 +343,16 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 .find(|s| s.key == key)
                 .ok_or_else(|| format!("unknown system '{key}' (expected n16, n32, gw or c2d)"))?;
             let steps = ((sys.steps as f64 * a.steps_scale).round() as u64).max(1);
-            write_data(&dir, &sys, a.atoms)?;
+            write_data(dir, &sys, a.atoms)?;
             let mut engines = vec![Engine::Standalone(1)];
             if threads > 1 {
                 engines.push(Engine::Standalone(threads));
             }
-            if let Some(l) = &lmp {
+            if let Some(l) = lmp {
                 engines.push(Engine::Lammps(l.clone(), 0));
                 engines.push(Engine::Lammps(l.clone(), threads));
             }
-            if let Some(s) = &shim {
+            if let Some(s) = shim {
                 engines.push(Engine::Shim(s.clone()));
             }
             for engine in engines {
@@ -332,6 +386,11 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
             }
         }
     }
+    Ok(cases)
+}
+
+/// The points of `--scaling`: about 1e7 atom-steps each.
+fn scaling_points(a: &BenchArgs) -> Result<Vec<ScalingPoint>, Box<dyn std::error::Error>> {
     let mut scaling: Vec<ScalingPoint> = Vec::new();
     if a.scaling || a.scaling_only {
         for &n in &a.scaling_atoms {
@@ -350,6 +409,19 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         }
     }
 
+    Ok(scaling)
+}
+
+/// Every configuration and scaling point, `--repeats` times, interleaved; a progress line on a
+/// terminal.
+fn run_all(
+    a: &BenchArgs,
+    dir: &Path,
+    threads: usize,
+    cases: &mut [Case],
+    scaling: &mut [ScalingPoint],
+    started: Instant,
+) -> Result<(), Box<dyn std::error::Error>> {
     let total_runs = a.repeats * (cases.len() + scaling.len());
     // The progress line (with its escape codes) only on a terminal, not in a redirected report.
     let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
@@ -359,7 +431,6 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         }
     };
     let mut done = 0;
-    let started = Instant::now();
     for rep in 0..a.repeats {
         for case in cases.iter_mut() {
             done += 1;
@@ -374,7 +445,7 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
                 continue;
             }
             // A configuration that cannot run is reported in its row; the others go on.
-            match run_case(&dir, case) {
+            match run_case(dir, case) {
                 Ok((t, mem)) => {
                     let work = case.natoms as f64 * case.steps as f64;
                     case.rates.push(work / t.wall);
@@ -409,179 +480,5 @@ pub fn main(a: BenchArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         eprintln!("\r\x1b[2K");
     }
 
-    let mut out = String::new();
-    let load1 = load_average();
-    writeln!(
-        out,
-        "load average at end: {load1}; {} repeats, interleaved; wall time {:.0} s",
-        a.repeats,
-        started.elapsed().as_secs_f64()
-    )?;
-    writeln!(out)?;
-    for key in &a.systems {
-        let rows: Vec<&Case> = cases.iter().filter(|c| c.sys.key == key).collect();
-        let Some(first) = rows.first() else { continue };
-        // A reference that failed gives no ratio ("–"), not NaN.
-        let ok = |c: &&&Case| c.error.is_none() && !c.rates.is_empty();
-        let reference = rows
-            .iter()
-            .filter(ok)
-            .find(|c| matches!(c.engine, Engine::Lammps(_, t) if t > 0))
-            .map(|c| median(&c.rates));
-        let serial = rows
-            .iter()
-            .filter(ok)
-            .find(|c| matches!(c.engine, Engine::Lammps(_, 0)))
-            .map(|c| median(&c.rates));
-        let cpu_median = |c: &Case| (!c.cpu_rates.is_empty()).then(|| median(&c.cpu_rates));
-        let serial_cpu = rows
-            .iter()
-            .filter(ok)
-            .find(|c| matches!(c.engine, Engine::Lammps(_, 0)))
-            .and_then(|c| cpu_median(c));
-        writeln!(
-            out,
-            "## {}: {} (N = {}, {} steps)\n",
-            first.sys.key, first.sys.title, first.natoms, first.steps
-        )?;
-        writeln!(
-            out,
-            "| engine | friction/noise | M atom-steps/s (median) | range | × LAMMPS dpd/omp | × LAMMPS dpd (1 thread) | M atom-steps per CPU-s (median) | per CPU-s × LAMMPS dpd |"
-        )?;
-        writeln!(out, "|---|---|---:|---:|---:|---:|---:|---:|")?;
-        for c in &rows {
-            if let Some(e) = &c.error {
-                writeln!(
-                    out,
-                    "| {} | {} | failed: {} | | | | | |",
-                    c.engine.label(),
-                    c.variant.label(),
-                    e.replace('|', "/").replace('\n', " ")
-                )?;
-                continue;
-            }
-            let m = median(&c.rates);
-            let (lo, hi) = range(&c.rates);
-            let ratio = |r: Option<f64>| r.map_or("–".to_string(), |r| format!("{:.2}", m / r));
-            let cpu = cpu_median(c);
-            let cpu_ratio = match (cpu, serial_cpu) {
-                (Some(a), Some(b)) => format!("{:.2}", a / b),
-                _ => "–".to_string(),
-            };
-            writeln!(
-                out,
-                "| {} | {} | {:.3} | {:.3}–{:.3} | {} | {} | {} | {cpu_ratio} |",
-                c.engine.label(),
-                c.variant.label(),
-                m / 1e6,
-                lo / 1e6,
-                hi / 1e6,
-                ratio(reference),
-                ratio(serial),
-                cpu.map_or("–".to_string(), |x| format!("{:.3}", x / 1e6)),
-            )?;
-        }
-        writeln!(out)?;
-        // Each variant against plain DPD on the same engine: (case, plain median / its median).
-        let against_plain = |v: Variant| -> Vec<(&Case, f64)> {
-            rows.iter()
-                .filter(|c| c.variant == v)
-                .filter(ok)
-                .filter_map(|c| {
-                    rows.iter()
-                        .filter(ok)
-                        .find(|d| d.engine == c.engine && d.variant == Variant::Plain)
-                        .map(|d| (*c, median(&d.rates) / median(&c.rates)))
-                })
-                .collect()
-        };
-        // The sheared (Lees–Edwards) path against the periodic one, per engine.
-        for (c, cost) in against_plain(Variant::Sheared) {
-            writeln!(
-                out,
-                "sheared (γ̇ = {SHEAR_RATE}) / periodic atom-steps/s, {}: {:.2}{}\n",
-                c.engine.label(),
-                1.0 / cost,
-                if matches!(c.engine, Engine::Standalone(_)) {
-                    " (target >= 0.8)"
-                } else {
-                    ""
-                }
-            )?;
-        }
-        // The sDPD step's cost against the DPD step's (plain), per engine.
-        for (c, cost) in against_plain(Variant::Sdpd) {
-            writeln!(
-                out,
-                "sdpd step cost / dpd step cost, {}: {:.2} (target <= 1.6)\n",
-                c.engine.label(),
-                cost
-            )?;
-        }
-        for c in &rows {
-            if let (Some(m), Engine::Standalone(t)) = (c.memory, &c.engine)
-                && *t == threads
-                && matches!(c.variant, Variant::Plain | Variant::Sheared)
-            {
-                let n = c.natoms as f64;
-                let lists = 4.0 * (m.pairs + m.working_pairs) as f64 / n;
-                writeln!(
-                    out,
-                    "memory (standalone, {}): {:.0} B/atom atom data + {:.0} B/atom neighbour structures, of which {lists:.0} B/atom the lists ({:.1} listed pairs/atom, {:.1} in the working list); {} list builds in {} steps\n",
-                    c.variant.label(),
-                    m.atom as f64 / n,
-                    m.neighbor as f64 / n,
-                    m.pairs as f64 / n,
-                    m.working_pairs as f64 / n,
-                    m.builds,
-                    c.steps
-                )?;
-            }
-        }
-    }
-    if !scaling.is_empty() {
-        writeln!(
-            out,
-            "## scaling: standalone engine, {threads} thread{}, ideal DPD n = 16 (create_atoms random)\n",
-            plural(threads)
-        )?;
-        writeln!(
-            out,
-            "| N | steps | time/step (ms) | ns per atom-step (median) | range | CPU ns per atom-step (median, all threads) | B/atom (data + neighbour) |"
-        )?;
-        writeln!(out, "|---:|---:|---:|---:|---:|---:|---:|")?;
-        for pt in &scaling {
-            let (n, steps) = (pt.n, pt.steps);
-            let m = median(&pt.rates);
-            let (lo, hi) = range(&pt.rates);
-            let bytes = pt.memory.map_or("–".to_string(), |m| {
-                format!(
-                    "{:.0} + {:.0}",
-                    m.atom as f64 / n as f64,
-                    m.neighbor as f64 / n as f64
-                )
-            });
-            let cpu = if pt.cpu_rates.is_empty() {
-                "–".to_string()
-            } else {
-                format!("{:.1}", 1e9 / median(&pt.cpu_rates))
-            };
-            writeln!(
-                out,
-                "| {n} | {steps} | {:.3} | {:.1} | {:.1}–{:.1} | {cpu} | {bytes} |",
-                1e3 * n as f64 / m,
-                1e9 / m,
-                1e9 / hi,
-                1e9 / lo
-            )?;
-        }
-        writeln!(out)?;
-    }
-    print!("{out}");
-    if remove_dir {
-        let _ = std::fs::remove_dir_all(&dir);
-    } else {
-        println!("inputs kept in {}", dir.display());
-    }
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
