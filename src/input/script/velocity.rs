@@ -15,6 +15,163 @@ fn scale_to(sys: &mut System, t: f64) {
     }
 }
 
+/// Mass of atom `i` (1.0 where its type has none, which the caller rules out).
+fn atom_mass(sys: &System, i: usize) -> f64 {
+    sys.mass[sys.atoms.typ[i] as usize].unwrap_or(1.0)
+}
+
+/// Remove the centre-of-mass velocity from every atom.
+fn zero_momentum(sys: &mut System) {
+    let p = sys.momentum();
+    let mtot: f64 = (0..sys.atoms.len()).map(|i| atom_mass(sys, i)).sum();
+    for v in sys.atoms.v.iter_mut() {
+        for k in 0..3 {
+            v[k] -= p[k] / mtot;
+        }
+    }
+}
+
+/// Parse the trailing `sum yes|no` / `units box|lattice` pairs of `velocity set` and
+/// `velocity ramp` from `args[start..]`; returns the `sum` flag. `what` names the style in
+/// the error for an unknown keyword.
+fn parse_sum_keywords(
+    args: &[String],
+    start: usize,
+    usage: &str,
+    what: &str,
+) -> Result<bool, String> {
+    let mut sum = false;
+    let mut k = start;
+    while k < args.len() {
+        need(&args[k..], 2, usage)?;
+        match (args[k].as_str(), args[k + 1].as_str()) {
+            ("sum", v) => sum = v == "yes",
+            ("units", "box") | ("units", "lattice") => {}
+            (o, _) => return Err(format!("unknown velocity {what} keyword '{o}'")),
+        }
+        k += 2;
+    }
+    Ok(sum)
+}
+
+/// `velocity all create T SEED [dist ..] [mom ..] [rot no] [loop ..]`.
+fn velocity_create(sys: &mut System, dim: usize, args: &[String], usage: &str) -> CmdResult {
+    need(args, 4, usage)?;
+    let t = parse_f64(&args[2], "temperature")?;
+    if t < 0.0 {
+        return Err(format!("temperature {t} must be >= 0"));
+    }
+    let seed: u32 = parse_int(&args[3], "seed")?;
+    if seed == 0 {
+        return Err("seed must be > 0".into());
+    }
+    let mut gaussian = false;
+    let mut mom = true;
+    let mut k = 4;
+    while k < args.len() {
+        need(&args[k..], 2, usage)?;
+        let val = args[k + 1].as_str();
+        match args[k].as_str() {
+            "dist" => {
+                gaussian = match val {
+                    "uniform" => false,
+                    "gaussian" => true,
+                    o => return Err(format!("dist '{o}' must be uniform or gaussian")),
+                }
+            }
+            "mom" => mom = val == "yes",
+            "rot" => {
+                if val != "no" {
+                    return Err("rot yes is not supported (periodic systems)".into());
+                }
+            }
+            "loop" | "sum" => {}
+            o => return Err(format!("unknown velocity keyword '{o}'")),
+        }
+        k += 2;
+    }
+    for i in 0..sys.atoms.len() {
+        let tag = sys.atoms.tag[i];
+        let f = 1.0 / atom_mass(sys, i).sqrt();
+        let mut v = [0.0; 3];
+        for (d, vd) in v.iter_mut().enumerate().take(dim) {
+            *vd = f * if gaussian {
+                keyed_gaussian(seed, STREAM_VELOCITY, 0, tag, d as u32)
+            } else {
+                keyed_uniform(seed, STREAM_VELOCITY, 0, tag, d as u32) - 0.5
+            };
+        }
+        sys.atoms.v[i] = v;
+    }
+    if mom {
+        zero_momentum(sys);
+    }
+    if sys.thermo().temp > 0.0 {
+        scale_to(sys, t);
+    }
+    Ok(())
+}
+
+/// `velocity all set VX VY VZ [sum yes|no] [units box|lattice]` (`NULL` leaves a component).
+fn velocity_set(sys: &mut System, dim: usize, args: &[String], usage: &str) -> CmdResult {
+    need(args, 5, usage)?;
+    let mut val = [None; 3];
+    for d in 0..3 {
+        if args[2 + d] != "NULL" {
+            val[d] = Some(parse_f64(&args[2 + d], "velocity")?);
+        }
+    }
+    let sum = parse_sum_keywords(args, 5, usage, "set")?;
+    for v in sys.atoms.v.iter_mut() {
+        for d in 0..dim {
+            if let Some(x) = val[d] {
+                v[d] = if sum { v[d] + x } else { x };
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `velocity all ramp vx|vy|vz VLO VHI x|y|z CLO CHI [sum yes|no] [units box|lattice]`.
+///
+/// LAMMPS: v_a = vlo + f (vhi − vlo), f = (x_d − clo)/(chi − clo) clamped to [0, 1];
+/// `sum yes` adds it to the current velocity.
+fn velocity_ramp(sys: &mut System, dim: usize, args: &[String]) -> CmdResult {
+    let usage = "velocity all ramp vx|vy|vz VLO VHI x|y|z CLO CHI [sum yes|no] [units box|lattice]";
+    need(args, 8, usage)?;
+    let comp = |t: &str, names: [&str; 3]| {
+        names
+            .iter()
+            .position(|n| *n == t)
+            .ok_or_else(|| format!("velocity ramp: '{t}' must be one of {names:?}"))
+    };
+    let a = comp(&args[2], ["vx", "vy", "vz"])?;
+    let (vlo, vhi) = (
+        parse_f64(&args[3], "velocity")?,
+        parse_f64(&args[4], "velocity")?,
+    );
+    let c = comp(&args[5], ["x", "y", "z"])?;
+    let (clo, chi) = (
+        parse_f64(&args[6], "coordinate")?,
+        parse_f64(&args[7], "coordinate")?,
+    );
+    if chi <= clo {
+        return Err(format!(
+            "velocity ramp: coordinate range {clo} {chi} is empty"
+        ));
+    }
+    if a >= dim || c >= dim {
+        return Err("velocity ramp: a z component in a 2-D model".into());
+    }
+    let sum = parse_sum_keywords(args, 8, usage, "ramp")?;
+    for (v, x) in sys.atoms.v.iter_mut().zip(&sys.atoms.x) {
+        let f = ((x[c] - clo) / (chi - clo)).clamp(0.0, 1.0);
+        let u = vlo + f * (vhi - vlo);
+        v[a] = if sum { v[a] + u } else { u };
+    }
+    Ok(())
+}
+
 impl Interpreter<'_> {
     pub(super) fn cmd_velocity(&mut self, args: &[String]) -> CmdResult {
         let usage = "velocity all create T SEED [dist uniform|gaussian] [mom yes|no] [rot no] [loop all|local|geom] | velocity all set VX VY VZ [sum yes|no] | velocity all zero linear | velocity all scale T";
@@ -27,152 +184,17 @@ impl Interpreter<'_> {
         if sys.mass.iter().skip(1).any(|m| m.is_none()) {
             return Err("all masses must be set before velocity".into());
         }
-        let n = sys.atoms.len();
-        let mass = |sys: &System, i: usize| sys.mass[sys.atoms.typ[i] as usize].unwrap_or(1.0);
-        let zero_momentum = |sys: &mut System| {
-            let p = sys.momentum();
-            let mtot: f64 = (0..sys.atoms.len()).map(|i| mass(sys, i)).sum();
-            for v in sys.atoms.v.iter_mut() {
-                for k in 0..3 {
-                    v[k] -= p[k] / mtot;
-                }
-            }
-        };
         match args[1].as_str() {
-            "create" => {
-                need(args, 4, usage)?;
-                let t = parse_f64(&args[2], "temperature")?;
-                if t < 0.0 {
-                    return Err(format!("temperature {t} must be >= 0"));
-                }
-                let seed: u32 = parse_int(&args[3], "seed")?;
-                if seed == 0 {
-                    return Err("seed must be > 0".into());
-                }
-                let mut gaussian = false;
-                let mut mom = true;
-                let mut k = 4;
-                while k < args.len() {
-                    need(&args[k..], 2, usage)?;
-                    let val = args[k + 1].as_str();
-                    match args[k].as_str() {
-                        "dist" => {
-                            gaussian = match val {
-                                "uniform" => false,
-                                "gaussian" => true,
-                                o => return Err(format!("dist '{o}' must be uniform or gaussian")),
-                            }
-                        }
-                        "mom" => mom = val == "yes",
-                        "rot" => {
-                            if val != "no" {
-                                return Err("rot yes is not supported (periodic systems)".into());
-                            }
-                        }
-                        "loop" | "sum" => {}
-                        o => return Err(format!("unknown velocity keyword '{o}'")),
-                    }
-                    k += 2;
-                }
-                for i in 0..n {
-                    let tag = sys.atoms.tag[i];
-                    let f = 1.0 / mass(sys, i).sqrt();
-                    let mut v = [0.0; 3];
-                    for (d, vd) in v.iter_mut().enumerate().take(dim) {
-                        *vd = f * if gaussian {
-                            keyed_gaussian(seed, STREAM_VELOCITY, 0, tag, d as u32)
-                        } else {
-                            keyed_uniform(seed, STREAM_VELOCITY, 0, tag, d as u32) - 0.5
-                        };
-                    }
-                    sys.atoms.v[i] = v;
-                }
-                if mom {
-                    zero_momentum(sys);
-                }
-                if sys.thermo().temp > 0.0 {
-                    scale_to(sys, t);
-                }
-            }
-            "set" => {
-                need(args, 5, usage)?;
-                let mut val = [None; 3];
-                for d in 0..3 {
-                    if args[2 + d] != "NULL" {
-                        val[d] = Some(parse_f64(&args[2 + d], "velocity")?);
-                    }
-                }
-                let mut sum = false;
-                let mut k = 5;
-                while k < args.len() {
-                    need(&args[k..], 2, usage)?;
-                    match (args[k].as_str(), args[k + 1].as_str()) {
-                        ("sum", v) => sum = v == "yes",
-                        ("units", "box") | ("units", "lattice") => {}
-                        (o, _) => return Err(format!("unknown velocity set keyword '{o}'")),
-                    }
-                    k += 2;
-                }
-                for v in sys.atoms.v.iter_mut() {
-                    for d in 0..dim {
-                        if let Some(x) = val[d] {
-                            v[d] = if sum { v[d] + x } else { x };
-                        }
-                    }
-                }
-            }
-            "ramp" => {
-                // LAMMPS: v_a = vlo + f (vhi − vlo), f = (x_d − clo)/(chi − clo) clamped to
-                // [0, 1]; `sum yes` adds it to the current velocity.
-                let usage = "velocity all ramp vx|vy|vz VLO VHI x|y|z CLO CHI [sum yes|no] [units box|lattice]";
-                need(args, 8, usage)?;
-                let comp = |t: &str, names: [&str; 3]| {
-                    names
-                        .iter()
-                        .position(|n| *n == t)
-                        .ok_or_else(|| format!("velocity ramp: '{t}' must be one of {names:?}"))
-                };
-                let a = comp(&args[2], ["vx", "vy", "vz"])?;
-                let (vlo, vhi) = (
-                    parse_f64(&args[3], "velocity")?,
-                    parse_f64(&args[4], "velocity")?,
-                );
-                let c = comp(&args[5], ["x", "y", "z"])?;
-                let (clo, chi) = (
-                    parse_f64(&args[6], "coordinate")?,
-                    parse_f64(&args[7], "coordinate")?,
-                );
-                if chi <= clo {
-                    return Err(format!(
-                        "velocity ramp: coordinate range {clo} {chi} is empty"
-                    ));
-                }
-                if a >= dim || c >= dim {
-                    return Err("velocity ramp: a z component in a 2-D model".into());
-                }
-                let mut sum = false;
-                let mut k = 8;
-                while k < args.len() {
-                    need(&args[k..], 2, usage)?;
-                    match (args[k].as_str(), args[k + 1].as_str()) {
-                        ("sum", v) => sum = v == "yes",
-                        ("units", "box") | ("units", "lattice") => {}
-                        (o, _) => return Err(format!("unknown velocity ramp keyword '{o}'")),
-                    }
-                    k += 2;
-                }
-                for (v, x) in sys.atoms.v.iter_mut().zip(&sys.atoms.x) {
-                    let f = ((x[c] - clo) / (chi - clo)).clamp(0.0, 1.0);
-                    let u = vlo + f * (vhi - vlo);
-                    v[a] = if sum { v[a] + u } else { u };
-                }
-            }
+            "create" => velocity_create(sys, dim, args, usage),
+            "set" => velocity_set(sys, dim, args, usage),
+            "ramp" => velocity_ramp(sys, dim, args),
             "zero" => {
                 need(args, 3, usage)?;
                 if args[2] != "linear" {
                     return Err(format!("velocity zero '{}': only 'linear'", args[2]));
                 }
                 zero_momentum(sys);
+                Ok(())
             }
             "scale" => {
                 need(args, 3, usage)?;
@@ -181,13 +203,11 @@ impl Interpreter<'_> {
                     return Err("cannot scale a zero temperature".into());
                 }
                 scale_to(sys, t);
+                Ok(())
             }
-            o => {
-                return Err(format!(
-                    "velocity style '{o}' not supported (create, set, ramp, zero, scale)"
-                ));
-            }
+            o => Err(format!(
+                "velocity style '{o}' not supported (create, set, ramp, zero, scale)"
+            )),
         }
-        Ok(())
     }
 }
