@@ -535,13 +535,17 @@ impl ValueFormatter<f64> for Axis {
     }
 }
 
-fn draw_panel<DB: DrawingBackend>(
-    panel: &Panel,
-    area: &DrawingArea<DB, Shift>,
-) -> Result<(), String> {
+/// An axis value in drawing coordinates: `log10(v)` on a log axis, `v` otherwise.
+fn axis_value(log: bool, v: f64) -> f64 {
+    if log { v.log10() } else { v }
+}
+
+/// The panel's two axes in drawing coordinates, with their ticks; `Err` for an empty or
+/// non-finite range.
+fn panel_axes(panel: &Panel) -> Result<(Axis, Axis), String> {
     let ((x0, x1), (y0, y1)) = panel.ranges();
-    let tx = |v: f64| if panel.x_log { v.log10() } else { v };
-    let ty = |v: f64| if panel.y_log { v.log10() } else { v };
+    let tx = |v: f64| axis_value(panel.x_log, v);
+    let ty = |v: f64| axis_value(panel.y_log, v);
     let (a0, a1) = (tx(x0), tx(x1));
     let (b0, b1) = (ty(y0), ty(y1));
     if !(a0.is_finite() && a1.is_finite() && b0.is_finite() && b1.is_finite())
@@ -575,6 +579,142 @@ fn draw_panel<DB: DrawingBackend>(
         log: panel.y_log,
         ticks: yt,
     };
+    Ok((x_coord, y_coord))
+}
+
+/// The chart a panel is drawn on.
+type PanelChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
+
+/// Shade the panel's x-intervals over the full height `[ylo, yhi]`.
+fn draw_bands<'a, DB: DrawingBackend + 'a>(
+    chart: &mut PanelChart<'a, DB>,
+    panel: &Panel,
+    ylo: f64,
+    yhi: f64,
+) -> Result<(), String> {
+    let tx = |v: f64| axis_value(panel.x_log, v);
+    for b in &panel.bands {
+        if !(b.lo.is_finite() && b.hi.is_finite()) || (panel.x_log && (b.lo <= 0.0 || b.hi <= 0.0))
+        {
+            continue;
+        }
+        let fill = RGBColor(120, 120, 120).mix(0.15).filled();
+        let ann = chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(tx(b.lo), ylo), (tx(b.hi), yhi)],
+                fill,
+            )))
+            .map_err(err)?;
+        if !b.label.is_empty() {
+            ann.label(b.label.as_str())
+                .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 20, y + 6)], fill));
+        }
+    }
+    Ok(())
+}
+
+/// Draw series number `k` of `panel` (error bars, then its line or points, then its legend
+/// entry); `ylo` is the bottom of the plot, where a log-axis error bar reaching below zero is cut.
+fn draw_one_series<'a, DB: DrawingBackend + 'a>(
+    chart: &mut PanelChart<'a, DB>,
+    panel: &Panel,
+    k: usize,
+    s: &Series,
+    ylo: f64,
+) -> Result<(), String> {
+    let tx = |v: f64| axis_value(panel.x_log, v);
+    let ty = |v: f64| axis_value(panel.y_log, v);
+    let color = PALETTE[s.color.unwrap_or(k) % PALETTE.len()];
+    let pts: Vec<(f64, f64, f64, f64)> = s
+        .visible(panel.x_log, panel.y_log)
+        .into_iter()
+        .map(|(x, y, e)| {
+            // Error bar ends in drawing coordinates; on a log axis a bar reaching below
+            // zero is cut at the bottom of the plot.
+            let lo = if panel.y_log && y - e <= 0.0 {
+                ylo
+            } else {
+                ty(y - e)
+            };
+            (tx(x), ty(y), lo, ty(y + e))
+        })
+        .collect();
+    if pts.is_empty() {
+        return Ok(());
+    }
+    if s.y_err.is_some() {
+        chart
+            .draw_series(pts.iter().filter(|p| p.3 > p.2).map(|&(x, y, lo, hi)| {
+                ErrorBar::new_vertical(x, lo, y, hi, color.stroke_width(1), 8)
+            }))
+            .map_err(err)?;
+    }
+    let line_style = color.stroke_width(2);
+    let xy = || pts.iter().map(|p| (p.0, p.1));
+    let ann = match s.mark {
+        Mark::Line => chart
+            .draw_series(LineSeries::new(xy(), line_style))
+            .map_err(err)?,
+        Mark::Dashed => chart
+            .draw_series(DashedLineSeries::new(xy(), 8, 6, line_style))
+            .map_err(err)?,
+        Mark::Points | Mark::PointsLine => {
+            if s.mark == Mark::PointsLine {
+                chart
+                    .draw_series(LineSeries::new(xy(), color.stroke_width(1)))
+                    .map_err(err)?;
+            }
+            chart
+                .draw_series(xy().map(|p| Circle::new(p, 4, color.filled())))
+                .map_err(err)?
+        }
+    };
+    if !s.label.is_empty() {
+        let mark = s.mark;
+        ann.label(s.label.as_str())
+            .legend(move |(x, y)| -> DynElement<'static, _, _> {
+                match mark {
+                    Mark::Points | Mark::PointsLine => {
+                        Circle::new((x + 10, y), 4, color.filled()).into_dyn()
+                    }
+                    _ => PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                        .into_dyn(),
+                }
+            });
+    }
+    Ok(())
+}
+
+/// Draw the legend box when any series or band has a label.
+fn draw_legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut PanelChart<'a, DB>,
+    panel: &Panel,
+) -> Result<(), String> {
+    let labelled = panel.series.iter().any(|s| !s.label.is_empty())
+        || panel.bands.iter().any(|b| !b.label.is_empty());
+    if labelled {
+        chart
+            .configure_series_labels()
+            .label_font(("sans-serif", 18))
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(160, 160, 160))
+            .position(match panel.legend {
+                Legend::UpperRight => SeriesLabelPosition::UpperRight,
+                Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
+                Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
+                Legend::LowerRight => SeriesLabelPosition::LowerRight,
+            })
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+fn draw_panel<DB: DrawingBackend>(
+    panel: &Panel,
+    area: &DrawingArea<DB, Shift>,
+) -> Result<(), String> {
+    let (x_coord, y_coord) = panel_axes(panel)?;
     let (nx, ny) = (x_coord.ticks.major.len(), y_coord.ticks.major.len());
     let font = ("sans-serif", 20).into_font();
     let mut chart = ChartBuilder::on(area)
@@ -601,103 +741,11 @@ fn draw_panel<DB: DrawingBackend>(
         let r = chart.y_range();
         (r.start, r.end)
     };
-    for b in &panel.bands {
-        if !(b.lo.is_finite() && b.hi.is_finite()) || (panel.x_log && (b.lo <= 0.0 || b.hi <= 0.0))
-        {
-            continue;
-        }
-        let fill = RGBColor(120, 120, 120).mix(0.15).filled();
-        let ann = chart
-            .draw_series(std::iter::once(Rectangle::new(
-                [(tx(b.lo), ylo), (tx(b.hi), yhi)],
-                fill,
-            )))
-            .map_err(err)?;
-        if !b.label.is_empty() {
-            ann.label(b.label.as_str())
-                .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 20, y + 6)], fill));
-        }
-    }
-
+    draw_bands(&mut chart, panel, ylo, yhi)?;
     for (k, s) in panel.series.iter().enumerate() {
-        let color = PALETTE[s.color.unwrap_or(k) % PALETTE.len()];
-        let pts: Vec<(f64, f64, f64, f64)> = s
-            .visible(panel.x_log, panel.y_log)
-            .into_iter()
-            .map(|(x, y, e)| {
-                // Error bar ends in drawing coordinates; on a log axis a bar reaching below
-                // zero is cut at the bottom of the plot.
-                let lo = if panel.y_log && y - e <= 0.0 {
-                    ylo
-                } else {
-                    ty(y - e)
-                };
-                (tx(x), ty(y), lo, ty(y + e))
-            })
-            .collect();
-        if pts.is_empty() {
-            continue;
-        }
-        if s.y_err.is_some() {
-            chart
-                .draw_series(pts.iter().filter(|p| p.3 > p.2).map(|&(x, y, lo, hi)| {
-                    ErrorBar::new_vertical(x, lo, y, hi, color.stroke_width(1), 8)
-                }))
-                .map_err(err)?;
-        }
-        let line_style = color.stroke_width(2);
-        let xy = || pts.iter().map(|p| (p.0, p.1));
-        let ann = match s.mark {
-            Mark::Line => chart
-                .draw_series(LineSeries::new(xy(), line_style))
-                .map_err(err)?,
-            Mark::Dashed => chart
-                .draw_series(DashedLineSeries::new(xy(), 8, 6, line_style))
-                .map_err(err)?,
-            Mark::Points | Mark::PointsLine => {
-                if s.mark == Mark::PointsLine {
-                    chart
-                        .draw_series(LineSeries::new(xy(), color.stroke_width(1)))
-                        .map_err(err)?;
-                }
-                chart
-                    .draw_series(xy().map(|p| Circle::new(p, 4, color.filled())))
-                    .map_err(err)?
-            }
-        };
-        if !s.label.is_empty() {
-            let mark = s.mark;
-            ann.label(s.label.as_str())
-                .legend(move |(x, y)| -> DynElement<'static, _, _> {
-                    match mark {
-                        Mark::Points | Mark::PointsLine => {
-                            Circle::new((x + 10, y), 4, color.filled()).into_dyn()
-                        }
-                        _ => PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                            .into_dyn(),
-                    }
-                });
-        }
+        draw_one_series(&mut chart, panel, k, s, ylo)?;
     }
-
-    let labelled = panel.series.iter().any(|s| !s.label.is_empty())
-        || panel.bands.iter().any(|b| !b.label.is_empty());
-    if labelled {
-        chart
-            .configure_series_labels()
-            .label_font(("sans-serif", 18))
-            .background_style(WHITE.mix(0.85))
-            .border_style(RGBColor(160, 160, 160))
-            .position(match panel.legend {
-                Legend::UpperRight => SeriesLabelPosition::UpperRight,
-                Legend::UpperLeft => SeriesLabelPosition::UpperLeft,
-                Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
-                Legend::LowerRight => SeriesLabelPosition::LowerRight,
-            })
-            .draw()
-            .map_err(err)?;
-    }
-    Ok(())
+    draw_legend(&mut chart, panel)
 }
 
 #[cfg(test)]
