@@ -67,6 +67,139 @@ fn real(
     })
 }
 
+/// Read one non-blank header line into `d` / `natoms`. Returns `Ok(false)` when the line is
+/// not a header line but the first section title.
+fn header_line(
+    d: &mut DataFile,
+    natoms: &mut Option<usize>,
+    toks: &[&str],
+    ctx: &dyn Fn(String) -> String,
+) -> Result<bool, String> {
+    let rest = toks[1..].join(" ");
+    match rest.as_str() {
+        "atoms" => *natoms = Some(num(toks, 0, "an atom count", ctx)?),
+        "atom types" => d.ntypes = num(toks, 0, "a type count", ctx)?,
+        "bonds" | "angles" | "dihedrals" | "impropers" | "bond types" | "angle types"
+        | "dihedral types" | "improper types" => {
+            if num::<u64>(toks, 0, "a count", ctx)? != 0 {
+                return Err(ctx(format!(
+                    "'{rest}' > 0: atom_style atomic has no topology"
+                )));
+            }
+        }
+        _ => {
+            if toks.len() == 4
+                && ["xlo xhi", "ylo yhi", "zlo zhi"].contains(&toks[2..].join(" ").as_str())
+            {
+                let a = match toks[2] {
+                    "xlo" => 0,
+                    "ylo" => 1,
+                    _ => 2,
+                };
+                d.lo[a] = real(toks, 0, "a box bound", ctx)?;
+                d.hi[a] = real(toks, 1, "a box bound", ctx)?;
+            } else if toks.len() == 6 && toks[3..] == ["xy", "xz", "yz"] {
+                return Err(ctx("triclinic boxes (xy xz yz) are not supported".into()));
+            } else if toks[0].parse::<f64>().is_ok() {
+                return Err(ctx(format!("unknown header keyword '{rest}'")));
+            } else {
+                return Ok(false); // first section
+            }
+        }
+    }
+    Ok(true)
+}
+
+/// One line of the `Masses` section: `type mass`.
+fn masses_line(
+    d: &mut DataFile,
+    toks: &[&str],
+    ctx: &dyn Fn(String) -> String,
+) -> Result<(), String> {
+    if toks.len() < 2 {
+        return Err(ctx("Masses line needs 'type mass'".into()));
+    }
+    let t: usize = num(toks, 0, "a type", ctx)?;
+    let m = real(toks, 1, "a mass", ctx)?;
+    if t == 0 || t > d.ntypes {
+        return Err(ctx(format!("type {t} out of range 1..{}", d.ntypes)));
+    }
+    if !(m > 0.0 && m.is_finite()) {
+        return Err(ctx(format!("mass {m} must be > 0")));
+    }
+    d.masses[t] = Some(m);
+    Ok(())
+}
+
+/// One line of the `Atoms` section: `id type x y z [ix iy iz]`.
+fn atoms_line(
+    d: &mut DataFile,
+    toks: &[&str],
+    ctx: &dyn Fn(String) -> String,
+) -> Result<(), String> {
+    if toks.len() != 5 && toks.len() != 8 {
+        return Err(ctx(format!(
+            "Atoms line needs 'id type x y z [ix iy iz]' (5 or 8 values), found {}",
+            toks.len()
+        )));
+    }
+    let tag: u32 = num(toks, 0, "an atom id", ctx)?;
+    let t: u32 = num(toks, 1, "an atom type", ctx)?;
+    if tag == 0 {
+        return Err(ctx("atom id 0 is not allowed".into()));
+    }
+    if t == 0 || t as usize > d.ntypes {
+        return Err(ctx(format!("atom type {t} out of range 1..{}", d.ntypes)));
+    }
+    let mut x = [0.0; 3];
+    for a in 0..3 {
+        x[a] = real(toks, 2 + a, "a coordinate", ctx)?;
+    }
+    let mut im = [0; 3];
+    if toks.len() == 8 {
+        for a in 0..3 {
+            im[a] = num(toks, 5 + a, "an image flag", ctx)?;
+        }
+    }
+    d.atoms.push((tag, t, x, im));
+    Ok(())
+}
+
+/// One line of the `Velocities` section: `id vx vy vz`.
+fn velocities_line(
+    d: &mut DataFile,
+    toks: &[&str],
+    ctx: &dyn Fn(String) -> String,
+) -> Result<(), String> {
+    if toks.len() != 4 {
+        return Err(ctx("Velocities line needs 'id vx vy vz'".into()));
+    }
+    let tag: u32 = num(toks, 0, "an atom id", ctx)?;
+    let mut v = [0.0; 3];
+    for a in 0..3 {
+        v[a] = real(toks, 1 + a, "a velocity", ctx)?;
+    }
+    d.velocities.push((tag, v));
+    Ok(())
+}
+
+/// The checks made once the whole file is read: the atom count matches the header and no atom
+/// id repeats.
+fn check_atoms(d: &DataFile, natoms: usize, name: &str) -> Result<(), String> {
+    if d.atoms.len() != natoms {
+        return Err(format!(
+            "{name}: header says {natoms} atoms, Atoms section has {}",
+            d.atoms.len()
+        ));
+    }
+    let mut tags: Vec<u32> = d.atoms.iter().map(|a| a.0).collect();
+    tags.sort_unstable();
+    if tags.windows(2).any(|w| w[0] == w[1]) {
+        return Err(format!("{name}: duplicate atom ids in the Atoms section"));
+    }
+    Ok(())
+}
+
 /// Parse a data file's text. `name` is used in error messages.
 pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
     let lines: Vec<&str> = text.lines().collect();
@@ -83,37 +216,8 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
         }
         let toks: Vec<&str> = line.split_whitespace().collect();
         let ctx = |m: String| err_at(k, m);
-        let rest = toks[1..].join(" ");
-        match rest.as_str() {
-            "atoms" => natoms = Some(num(&toks, 0, "an atom count", &ctx)?),
-            "atom types" => d.ntypes = num(&toks, 0, "a type count", &ctx)?,
-            "bonds" | "angles" | "dihedrals" | "impropers" | "bond types" | "angle types"
-            | "dihedral types" | "improper types" => {
-                if num::<u64>(&toks, 0, "a count", &ctx)? != 0 {
-                    return Err(ctx(format!(
-                        "'{rest}' > 0: atom_style atomic has no topology"
-                    )));
-                }
-            }
-            _ => {
-                if toks.len() == 4
-                    && ["xlo xhi", "ylo yhi", "zlo zhi"].contains(&toks[2..].join(" ").as_str())
-                {
-                    let a = match toks[2] {
-                        "xlo" => 0,
-                        "ylo" => 1,
-                        _ => 2,
-                    };
-                    d.lo[a] = real(&toks, 0, "a box bound", &ctx)?;
-                    d.hi[a] = real(&toks, 1, "a box bound", &ctx)?;
-                } else if toks.len() == 6 && toks[3..] == ["xy", "xz", "yz"] {
-                    return Err(ctx("triclinic boxes (xy xz yz) are not supported".into()));
-                } else if toks[0].parse::<f64>().is_ok() {
-                    return Err(ctx(format!("unknown header keyword '{rest}'")));
-                } else {
-                    break; // first section
-                }
-            }
+        if !header_line(&mut d, &mut natoms, &toks, &ctx)? {
+            break;
         }
         k += 1;
     }
@@ -162,73 +266,14 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
             let toks: Vec<&str> = strip_comment(raw).split_whitespace().collect();
             let ctx = |m: String| err_at(k, m);
             match section.as_str() {
-                "Masses" => {
-                    if toks.len() < 2 {
-                        return Err(ctx("Masses line needs 'type mass'".into()));
-                    }
-                    let t: usize = num(&toks, 0, "a type", &ctx)?;
-                    let m = real(&toks, 1, "a mass", &ctx)?;
-                    if t == 0 || t > d.ntypes {
-                        return Err(ctx(format!("type {t} out of range 1..{}", d.ntypes)));
-                    }
-                    if !(m > 0.0 && m.is_finite()) {
-                        return Err(ctx(format!("mass {m} must be > 0")));
-                    }
-                    d.masses[t] = Some(m);
-                }
-                "Atoms" => {
-                    if toks.len() != 5 && toks.len() != 8 {
-                        return Err(ctx(format!(
-                            "Atoms line needs 'id type x y z [ix iy iz]' (5 or 8 values), found {}",
-                            toks.len()
-                        )));
-                    }
-                    let tag: u32 = num(&toks, 0, "an atom id", &ctx)?;
-                    let t: u32 = num(&toks, 1, "an atom type", &ctx)?;
-                    if tag == 0 {
-                        return Err(ctx("atom id 0 is not allowed".into()));
-                    }
-                    if t == 0 || t as usize > d.ntypes {
-                        return Err(ctx(format!("atom type {t} out of range 1..{}", d.ntypes)));
-                    }
-                    let mut x = [0.0; 3];
-                    for a in 0..3 {
-                        x[a] = real(&toks, 2 + a, "a coordinate", &ctx)?;
-                    }
-                    let mut im = [0; 3];
-                    if toks.len() == 8 {
-                        for a in 0..3 {
-                            im[a] = num(&toks, 5 + a, "an image flag", &ctx)?;
-                        }
-                    }
-                    d.atoms.push((tag, t, x, im));
-                }
-                _ => {
-                    if toks.len() != 4 {
-                        return Err(ctx("Velocities line needs 'id vx vy vz'".into()));
-                    }
-                    let tag: u32 = num(&toks, 0, "an atom id", &ctx)?;
-                    let mut v = [0.0; 3];
-                    for a in 0..3 {
-                        v[a] = real(&toks, 1 + a, "a velocity", &ctx)?;
-                    }
-                    d.velocities.push((tag, v));
-                }
+                "Masses" => masses_line(&mut d, &toks, &ctx)?,
+                "Atoms" => atoms_line(&mut d, &toks, &ctx)?,
+                _ => velocities_line(&mut d, &toks, &ctx)?,
             }
             k += 1;
         }
     }
-    if d.atoms.len() != natoms {
-        return Err(format!(
-            "{name}: header says {natoms} atoms, Atoms section has {}",
-            d.atoms.len()
-        ));
-    }
-    let mut tags: Vec<u32> = d.atoms.iter().map(|a| a.0).collect();
-    tags.sort_unstable();
-    if tags.windows(2).any(|w| w[0] == w[1]) {
-        return Err(format!("{name}: duplicate atom ids in the Atoms section"));
-    }
+    check_atoms(&d, natoms, name)?;
     Ok(d)
 }
 
