@@ -121,6 +121,25 @@ pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
     ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
 }
 
+/// `run N [upto] [pre yes|no] [post yes|no]`: the step count and whether `upto` was given.
+fn parse_run_args(args: &[String]) -> Result<(u64, bool), String> {
+    need(args, 1, "run N [upto] [pre yes|no] [post yes|no]")?;
+    let n: u64 = parse_int(&args[0], "number of steps")?;
+    let mut upto = false;
+    let mut k = 1;
+    while k < args.len() {
+        match args[k].as_str() {
+            "upto" => {
+                upto = true;
+                k += 1;
+            }
+            "pre" | "post" => k += 2,
+            o => return Err(format!("run keyword '{o}' not supported (upto, pre, post)")),
+        }
+    }
+    Ok((n, upto))
+}
+
 /// Steps between blow-up checks ([`crate::engine::System::check_health`]) when no thermo
 /// output falls in between.
 const HEALTH_EVERY: u64 = 100;
@@ -165,20 +184,7 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_run(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, "run N [upto] [pre yes|no] [post yes|no]")?;
-        let mut n: u64 = parse_int(&args[0], "number of steps")?;
-        let mut upto = false;
-        let mut k = 1;
-        while k < args.len() {
-            match args[k].as_str() {
-                "upto" => {
-                    upto = true;
-                    k += 1;
-                }
-                "pre" | "post" => k += 2,
-                o => return Err(format!("run keyword '{o}' not supported (upto, pre, post)")),
-            }
-        }
+        let (mut n, upto) = parse_run_args(args)?;
         let threads = self.threads;
         let step = self.sys_mut()?.step;
         if self.console.get().interrupted() {
@@ -217,6 +223,34 @@ impl Interpreter<'_> {
             self.planned.push(plan);
             return Ok(());
         }
+        self.run_setup(notes, integ, first, dt)?;
+        let secs = self.run_steps(n, first, last)?;
+        self.out(&format!(
+            "Loop time of {secs:.6} on {threads} procs for {n} steps with {natoms} atoms\n"
+        ));
+        if secs > 0.0 && n > 0 {
+            let steps_per_s = n as f64 / secs;
+            self.out(&format!(
+                "Performance: {:.3} tau/day, {:.3} timesteps/s, {:.3} katom-step/s",
+                86400.0 * steps_per_s * dt,
+                steps_per_s,
+                steps_per_s * natoms as f64 / 1000.0
+            ));
+        }
+        self.flush_outputs();
+        Ok(())
+    }
+
+    /// The start of a real run, after the system's set-up: its notes and warnings, the
+    /// "Setting up" block, the health check, the fixes' set-up, and the output of step `first`
+    /// (thermo header and row, dumps).
+    fn run_setup(
+        &mut self,
+        notes: Vec<SetupNote>,
+        integ: Option<Integrator>,
+        first: u64,
+        dt: f64,
+    ) -> CmdResult {
         for note in notes {
             match note {
                 SetupNote::Info(text) => self.out(&text),
@@ -238,7 +272,13 @@ impl Interpreter<'_> {
         self.out(&header);
         let row = self.thermo_row()?;
         self.out(&row);
-        self.write_dumps(true)?;
+        self.write_dumps(true)
+    }
+
+    /// The time-step loop of a run of `n` steps from `first` to `last`, with its end-of-step
+    /// fixes, thermo, dump and restart output, progress and interrupt checks; returns the
+    /// seconds the loop took.
+    fn run_steps(&mut self, n: u64, first: u64, last: u64) -> Result<f64, String> {
         let every = self.thermo.every;
         let start = Instant::now();
         let mut last_progress = Instant::now();
@@ -283,21 +323,7 @@ impl Interpreter<'_> {
                 return Err(self.interrupted_at(step, restart_file));
             }
         }
-        let secs = start.elapsed().as_secs_f64();
-        self.out(&format!(
-            "Loop time of {secs:.6} on {threads} procs for {n} steps with {natoms} atoms\n"
-        ));
-        if secs > 0.0 && n > 0 {
-            let steps_per_s = n as f64 / secs;
-            self.out(&format!(
-                "Performance: {:.3} tau/day, {:.3} timesteps/s, {:.3} katom-step/s",
-                86400.0 * steps_per_s * dt,
-                steps_per_s,
-                steps_per_s * natoms as f64 / 1000.0
-            ));
-        }
-        self.flush_outputs();
-        Ok(())
+        Ok(start.elapsed().as_secs_f64())
     }
 
     /// Stop a run that [`super::Console::interrupted`] interrupted at `step`: flush the log as
