@@ -243,22 +243,7 @@ pub(crate) unsafe fn walk_pairs(
     f: *mut f64,
     tally: Option<DpdnlTally>,
 ) -> Result<(), Error> {
-    if st.step < 0 {
-        return Err(Error::invalid(format!("step = {} must be >= 0", st.step)));
-    }
-    if st.dimension != 2 && st.dimension != 3 {
-        return Err(Error::invalid(format!(
-            "dimension = {} must be 2 or 3",
-            st.dimension
-        )));
-    }
-    if atoms.nlocal < 0 || atoms.nall < atoms.nlocal {
-        return Err(Error::invalid(format!(
-            "nlocal = {} and nall = {} must satisfy 0 <= nlocal <= nall",
-            atoms.nlocal, atoms.nall
-        )));
-    }
-    let (nlocal, nall) = (atoms.nlocal as usize, atoms.nall as usize);
+    let (nlocal, nall) = counts(st, atoms)?;
     let nt = ntypes;
     // SAFETY: sizes as documented on `DpdnlAtoms`, `DpdnlNeighList` (caller's contract).
     let (x, v, tag, ty) = unsafe {
@@ -295,35 +280,8 @@ pub(crate) unsafe fn walk_pairs(
         }
     };
 
-    let t = tally.unwrap_or(DpdnlTally {
-        eflag_global: 0,
-        vflag_global: 0,
-        eng_vdwl: std::ptr::null_mut(),
-        virial: std::ptr::null_mut(),
-        eatom: std::ptr::null_mut(),
-        vatom: std::ptr::null_mut(),
-    });
-    // SAFETY: each is null or valid for its documented size, unaliased (caller's contract).
-    let mut sinks = unsafe {
-        Sinks {
-            eng: if t.eflag_global != 0 {
-                Some(t.eng_vdwl.as_mut().ok_or_else(|| Error::null("eng_vdwl"))?)
-            } else {
-                None
-            },
-            virial: if t.vflag_global != 0 {
-                Some(slice_mut(t.virial, 6, "virial")?)
-            } else {
-                None
-            },
-            eatom: (!t.eatom.is_null())
-                .then(|| slice_mut(t.eatom, nall, "eatom"))
-                .transpose()?,
-            vatom: (!t.vatom.is_null())
-                .then(|| slice_mut(t.vatom, 6 * nall, "vatom"))
-                .transpose()?,
-        }
-    };
+    // SAFETY: forwarded caller's contract.
+    let mut sinks = unsafe { Sinks::of(tally, nall)? };
     let tallying = sinks.eng.is_some()
         || sinks.virial.is_some()
         || sinks.eatom.is_some()
@@ -436,6 +394,64 @@ pub(crate) unsafe fn walk_pairs(
     bt.flush(kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
     apply.finish_row();
     Ok(())
+}
+
+/// The step's and the atoms' counts checked: (nlocal, nall).
+fn counts(st: &DpdnlStep, atoms: &DpdnlAtoms) -> Result<(usize, usize), Error> {
+    if st.step < 0 {
+        return Err(Error::invalid(format!("step = {} must be >= 0", st.step)));
+    }
+    if st.dimension != 2 && st.dimension != 3 {
+        return Err(Error::invalid(format!(
+            "dimension = {} must be 2 or 3",
+            st.dimension
+        )));
+    }
+    if atoms.nlocal < 0 || atoms.nall < atoms.nlocal {
+        return Err(Error::invalid(format!(
+            "nlocal = {} and nall = {} must satisfy 0 <= nlocal <= nall",
+            atoms.nlocal, atoms.nall
+        )));
+    }
+    Ok((atoms.nlocal as usize, atoms.nall as usize))
+}
+
+impl<'a> Sinks<'a> {
+    /// The tallies `tally` asks for (none without one), for `nall` atoms.
+    ///
+    /// # Safety
+    /// Each pointer of `tally` is null or valid for its documented size and unaliased for `'a`.
+    unsafe fn of(tally: Option<DpdnlTally>, nall: usize) -> Result<Sinks<'a>, Error> {
+        let t = tally.unwrap_or(DpdnlTally {
+            eflag_global: 0,
+            vflag_global: 0,
+            eng_vdwl: std::ptr::null_mut(),
+            virial: std::ptr::null_mut(),
+            eatom: std::ptr::null_mut(),
+            vatom: std::ptr::null_mut(),
+        });
+        // SAFETY: each is null or valid for its documented size, unaliased (caller's contract).
+        unsafe {
+            Ok(Sinks {
+                eng: if t.eflag_global != 0 {
+                    Some(t.eng_vdwl.as_mut().ok_or_else(|| Error::null("eng_vdwl"))?)
+                } else {
+                    None
+                },
+                virial: if t.vflag_global != 0 {
+                    Some(slice_mut(t.virial, 6, "virial")?)
+                } else {
+                    None
+                },
+                eatom: (!t.eatom.is_null())
+                    .then(|| slice_mut(t.eatom, nall, "eatom"))
+                    .transpose()?,
+                vatom: (!t.vatom.is_null())
+                    .then(|| slice_mut(t.vatom, 6 * nall, "vatom"))
+                    .transpose()?,
+            })
+        }
+    }
 }
 
 /// Adds evaluated pairs to the forces and tallies, in list order. The force on i is summed over
