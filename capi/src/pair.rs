@@ -401,6 +401,16 @@ fn ready(h: &DpdnlPair) -> Result<(), Error> {
     Ok(())
 }
 
+/// The style's pre-pass and type count, after its set-up (a style without one is an error).
+fn prepass_of(h: &DpdnlPair) -> Result<(&dyn dpdnl::engine::style::PrePass, usize), Error> {
+    ready(h)?;
+    let pp = h
+        .style
+        .prepass()
+        .ok_or_else(|| Error::invalid(format!("{} has no pre-pass", h.style.name())))?;
+    Ok((pp, h.style.ntypes()))
+}
+
 /// The pre-pass, pass 1: `values[0..nall]` is overwritten with Σ_j w(r_ij) over the half list
 /// `list`, added to i and to j (j owned, or any j when `newton_pair` is non-zero), without the
 /// self term. A style without a pre-pass is an error.
@@ -425,12 +435,7 @@ pub unsafe extern "C" fn dpdnl_pair_prepass(
                 list.as_ref().ok_or_else(|| Error::null("list"))?,
             )
         };
-        ready(h)?;
-        let nt = h.style.ntypes();
-        let pp = h
-            .style
-            .prepass()
-            .ok_or_else(|| Error::invalid(format!("{} has no pre-pass", h.style.name())))?;
+        let (pp, nt) = prepass_of(h)?;
         // SAFETY: forwarded caller's contract.
         let (x, ty, nlocal, nall) = unsafe { positions_types(a, nt)? };
         // SAFETY: nall doubles (caller's contract).
@@ -495,12 +500,7 @@ pub unsafe extern "C" fn dpdnl_pair_prepass_finish(
                 atoms.as_ref().ok_or_else(|| Error::null("atoms"))?,
             )
         };
-        ready(h)?;
-        let nt = h.style.ntypes();
-        let pp = h
-            .style
-            .prepass()
-            .ok_or_else(|| Error::invalid(format!("{} has no pre-pass", h.style.name())))?;
+        let (pp, nt) = prepass_of(h)?;
         // SAFETY: forwarded caller's contract.
         let (_, ty, nlocal, _) = unsafe { positions_types(a, nt)? };
         // SAFETY: nlocal entries (caller's contract).

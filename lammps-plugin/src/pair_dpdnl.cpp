@@ -39,7 +39,7 @@ static_assert(sizeof(tagint) == sizeof(int32_t), "dpdnl pair styles need 32-bit 
 static_assert(SBBITS == 30, "the C ABI reads a neighbour's special-bond class from bits 30-31");
 
 PairDpdnl::PairDpdnl(LAMMPS *lmp, const char *style_name) :
-    Pair(lmp), name(style_name), handle(nullptr), info(), values(nullptr), nmax(0)
+    Pair(lmp), name(style_name), handle(nullptr), info(), values(nullptr), nmax(0), rc_max(0.0)
 {
   restartinfo = 1;
   writedata = 1;
@@ -144,7 +144,6 @@ void PairDpdnl::init_style()
   // special_bonds lj: a bonded neighbour's pair scaled by its factor (or refused by a style
   // that cannot), in Rust; the list flags them in bits SBBITS.. of each entry.
   s.special_lj = force->special_lj;
-  double rc_max = 0.0;
   if (dpdnl_pair_init(handle, &s, &rc_max) != DPDNL_STATUS_OK) rust_error("Pair " + name);
   if (comm->me == 0) {
     std::istringstream notes(dpdnl_last_message());
@@ -165,15 +164,6 @@ void PairDpdnl::init_style()
 // standalone engine's rule): at every init and, under a box-changing fix, at every step.
 void PairDpdnl::box_check()
 {
-  double rc_max = 0.0;
-  for (int i = 1; i <= atom->ntypes; i++)
-    for (int j = i; j <= atom->ntypes; j++) {
-      double rc = 0.0;
-      int set = 0;
-      if (dpdnl_pair_cutoff(handle, i, j, &rc, &set) != DPDNL_STATUS_OK)
-        rust_error("Pair " + name);
-      if (set) rc_max = MAX(rc_max, rc);
-    }
   const double len[3] = {domain->xprd, domain->yprd, domain->zprd};
   if (dpdnl_box_check(len, domain->periodicity, domain->dimension, rc_max) != DPDNL_STATUS_OK)
     rust_error("Pair " + name);

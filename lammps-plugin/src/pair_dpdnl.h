@@ -51,6 +51,7 @@ class PairDpdnl : public Pair {
   DpdnlPairInfo info;    // what the style needs from this driver
   double *values;        // the pre-pass's value per owned and ghost atom (e.g. sdpd's density)
   int nmax;
+  double rc_max;         // the largest cut-off, from the last init (dpdnl_pair_init)
 
   void allocate();
   void adopt(DpdnlPair *h);
