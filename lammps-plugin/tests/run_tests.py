@@ -341,8 +341,8 @@ def chains_data(path, nchain=40, clen=8, box=6.0, seed=5):
 def special_bonds(tmp):
     """special_bonds lj factors scale a bonded neighbour's pair (issue 29): at rest and T ~ 0 only
     the conservative force acts, so pair dpd/nonlinear (friction none) gives LAMMPS's own pair
-    dpd's energy and pressure at step 0 (needs DPD-BASIC: the plugin's LAMMPS), and the factors
-    change the energy."""
+    dpd's energy and pressure at step 0 (needs DPD-BASIC: the plugin's LAMMPS), compute
+    pair/local (single()) the same per-pair sums, and the factors change the energy."""
     print("special_bonds lj factors (bead-spring chains)")
     d = os.path.join(tmp, "special")
     os.makedirs(d, exist_ok=True)
@@ -352,12 +352,16 @@ def special_bonds(tmp):
         "nl": "pair_style dpd/nonlinear 1.0e-20 1.0 12345\npair_coeff * * 25.0 4.5 0.0\n"
               "pair_coeff 1 2 18.0 3.0 0.0",
     }
+    # compute reduce takes a local compute as it is in LAMMPS 2021 and with 'inputs local' since.
+    local = " inputs local" if PLUGIN_MODE else ""
     for name, pair in pairs.items():
         with open(os.path.join(d, f"in.{name}"), "w") as f:
             f.write("units lj\natom_style bond\ncomm_modify vel yes\nread_data chains.data\n"
                     "mass * 1.0\nbond_style harmonic\nbond_coeff 1 50.0 0.9\n"
                     "special_bonds lj ${s1} ${s2} ${s3}\n" + pair + "\n"
-                    "thermo_style custom step pe evdwl press\n"
+                    "compute pl all pair/local eng force\n"
+                    "compute sum all reduce sum c_pl[1] c_pl[2]" + local + "\n"
+                    "thermo_style custom step pe evdwl press c_sum[1] c_sum[2]\n"
                     "thermo_modify format float %.15g\nrun 0\n")
     styles = ["nl", "dpd"] if PLUGIN_MODE else ["nl"]
     got = {}
@@ -371,11 +375,21 @@ def special_bonds(tmp):
                 check(False, f"{name} with special_bonds lj {factors} runs: {out[-300:]}")
                 continue
             got[(name, factors)] = blocks[0][1][0]
+            if name == "nl":
+                row = got[(name, factors)]
+                check(abs(row[4] - row[2]) <= 1e-12 * abs(row[2]),
+                      f"special_bonds lj {factors}: compute pair/local (single) energies sum to "
+                      f"evdwl ({row[4]:.15g} vs {row[2]:.15g})")
         if ("nl", factors) in got and ("dpd", factors) in got:
             a, b = got[("nl", factors)], got[("dpd", factors)]
             check(abs(a[2] - b[2]) <= 1e-12 * abs(b[2]) and abs(a[3] - b[3]) <= 1e-9 * abs(b[3]),
                   f"special_bonds lj {factors}: evdwl {a[2]:.15g} vs pair dpd {b[2]:.15g}, "
                   f"press {a[3]:.12g} vs {b[3]:.12g}")
+            # compute pair/local through single(): the conservative energy and force of every
+            # pair, scaled by its factor, as pair dpd's single() gives them.
+            check(all(abs(a[k] - b[k]) <= 1e-12 * abs(b[k]) for k in (4, 5)),
+                  f"special_bonds lj {factors}: compute pair/local (single) sums eng "
+                  f"{a[4]:.15g} vs {b[4]:.15g}, force {a[5]:.15g} vs {b[5]:.15g}")
     if ("nl", "0.25 0.5 0.75") in got and ("nl", "1 1 1") in got:
         check(got[("nl", "0.25 0.5 0.75")][2] < got[("nl", "1 1 1")][2],
               "the factors weaken the bonded neighbours' repulsion (evdwl "
