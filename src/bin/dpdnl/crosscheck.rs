@@ -158,13 +158,10 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
     std::fs::create_dir_all(&workdir)
         .map_err(|e| CannotRun(format!("cannot create {}: {e}", workdir.display())))?;
     let workdir = std::fs::canonicalize(&workdir)?;
-    let mut vars: Vec<(String, String)> = a
-        .var
-        .chunks(2)
-        .map(|c| (c[0].clone(), c.get(1).cloned().unwrap_or_default()))
-        .filter(|(k, _)| k != "engine")
-        .collect();
-    if a.var.chunks(2).any(|c| c[0] == "engine") {
+    let mut vars = crate::var_pairs(&a.var);
+    let engine_given = vars.iter().any(|(k, _)| k == "engine");
+    vars.retain(|(k, _)| k != "engine");
+    if engine_given {
         eprintln!("WARNING: -var engine is set by crosscheck itself; the given value is ignored");
     }
     std::env::set_current_dir(&script_dir)

@@ -40,6 +40,15 @@ enum Command {
     Bench(bench::BenchArgs),
 }
 
+/// The `-var NAME VALUE` words of a command line as (name, value) pairs, as LAMMPS's `-var`
+/// (a trailing name without a value gets "").
+pub(crate) fn var_pairs(words: &[String]) -> Vec<(String, String)> {
+    words
+        .chunks(2)
+        .map(|c| (c[0].clone(), c.get(1).cloned().unwrap_or_default()))
+        .collect()
+}
+
 /// The number of worker threads for `--threads N` (`run`, `crosscheck`, `bench`): 0 means one per
 /// CPU available to this process (`std::thread::available_parallelism`, which honours CPU
 /// affinity and cgroup quotas); N above that count is capped at it, with a warning on stderr

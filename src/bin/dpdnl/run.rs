@@ -70,11 +70,7 @@ pub fn main(a: RunArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
         .num_threads(threads)
         .build_global()
         .map_err(|e| format!("cannot start {threads} threads: {e}"))?;
-    let vars = a
-        .var
-        .chunks(2)
-        .map(|c| (c[0].clone(), c.get(1).cloned().unwrap_or_default()))
-        .collect();
+    let vars = crate::var_pairs(&a.var);
     let opts = Options {
         log: (a.log != "none").then(|| PathBuf::from(&a.log)),
         vars,

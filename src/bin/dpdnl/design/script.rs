@@ -37,11 +37,7 @@ fn planned_runs(
     path: &std::path::Path,
     a: &TheoryArgs,
 ) -> Result<Vec<PlannedRun>, Box<dyn std::error::Error>> {
-    let vars = a
-        .var
-        .chunks(2)
-        .map(|c| (c[0].clone(), c.get(1).cloned().unwrap_or_default()))
-        .collect();
+    let vars = crate::var_pairs(&a.var);
     let opts = Options {
         vars,
         ..Options::default()
