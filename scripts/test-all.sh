@@ -47,6 +47,8 @@ echo "== plugin tests in LAMMPS 22Jul2025 (the same, plus plugin load/unload, Py
 bash lammps-plugin/tests/run-plugin.sh
 echo "== plugin vs LAMMPS's pair dpd and dpd/ext, head to head (about 3 minutes)"
 DPDNL_REQUIRE_PLUGIN=1 cargo test --test plugin_head_to_head -- --ignored --nocapture
+echo "== bonded peer test: plugin (friction none) vs LAMMPS's pair dpd, polymer solution and melt (about 2 minutes)"
+DPDNL_REQUIRE_PLUGIN=1 cargo test --test plugin_peer_bonded -- --ignored --nocapture
 echo "== Python package (pip install ./python into .venv-python, pytest, the example)"
 bash python/test.sh
 echo "== all tests passed"
