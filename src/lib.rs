@@ -65,7 +65,7 @@ pub use io::data::parse_data;
 pub use io::dump_read::parse_dump;
 pub use io::lammps_log::parse_log;
 pub use kernel::{
-    Friction, Noise, PairBatch, PairCoeff, PairForce, PairInput, PairModel, PairTable, Weight,
-    pair_force, pair_forces_batch,
+    Friction, Noise, NoiseDist, PairBatch, PairCoeff, PairForce, PairInput, PairModel, PairTable,
+    Weight, pair_force, pair_forces_batch,
 };
 pub use rng::pair_gaussian;

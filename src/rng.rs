@@ -32,6 +32,11 @@
 //! pairs vectorises (no calls, no branches): see [`crate::kernel::PairBatch`]. Largest |ξ|:
 //! sqrt(−2 ln 2⁻⁵²) = 8.49 (P(|ξ| > 8.49) = 2·10⁻¹⁷).
 //!
+//! **Uniform pair noise** (`pair_style dpd/nonlinear … noise_dist uniform`, [`uniform_noise_from_bits`]):
+//! the same key and counter; `a = ((o0 << 32) | o1) >> 12` (52 bits), `u = (a + ½) 2⁻⁵² ∈ (0, 1)`,
+//! `ξ = √3 (2u − 1)`: zero mean, unit variance, symmetric (a ↦ 2⁵² − 1 − a maps ξ to −ξ exactly),
+//! |ξ| < √3. No logarithm, no cosine, half the output words.
+//!
 //! [`keyed_uniform`] (used by `create_atoms … random` and `velocity … dist uniform`) is unchanged
 //! from version 1: `b' = ((o2 << 32) | o3) >> 11`, `u = b' · 2⁻⁵³ ∈ [0, 1)`.
 //! Known-answer vectors (Random123's) and the Gaussian's test vectors live in `tests/rng.rs`.
@@ -115,6 +120,26 @@ pub fn gaussian_from_bits(o: [u32; 4]) -> f64 {
     let radius = (-2.0 * ln_normal(u1)).sqrt();
     radius * cos_turns52(b)
 }
+
+/// One zero-mean, unit-variance uniform variate from 128 bits: √3 (2u − 1) with the 52-bit
+/// midpoint uniform u = (a + ½) 2⁻⁵² of o0, o1 (module documentation). The variance-matched
+/// alternative to [`gaussian_from_bits`] for the pair noise (Groot & Warren 1997; only the first
+/// two moments enter the Fokker–Planck limit).
+#[inline(always)]
+pub fn uniform_noise_from_bits(o: [u32; 4]) -> f64 {
+    let a = ((u64::from(o[0]) << 32) | u64::from(o[1])) >> 12;
+    // x = 1 + a 2⁻⁵² ∈ [1, 2) exactly (the bits of a as the mantissa, as in
+    // `gaussian_from_bits`); 2x − 3 = 2a 2⁻⁵² − 1 and the half step 2⁻⁵² are exact (multiples of
+    // 2⁻⁵² below 1 in size), so 2u − 1 = (2a + 1) 2⁻⁵² − 1 has no rounding at all. Bit
+    // operations and adds only: vectorises on AVX2 too (no 64-bit integer conversion).
+    let x = f64::from_bits(0x3FF0_0000_0000_0000 | a);
+    SQRT_3 * ((2.0 * x - 3.0) + TWO_POW_M52)
+}
+
+const TWO_POW_M52: f64 = 1.0 / 4_503_599_627_370_496.0;
+
+#[allow(clippy::excessive_precision)]
+const SQRT_3: f64 = 1.732_050_807_568_877_293_527_446_341_505_872_367;
 
 // fdlibm's constants, digit for digit (here and in the kernels below).
 #[allow(clippy::excessive_precision)]
@@ -226,6 +251,14 @@ fn cos_turns52(b: u64) -> f64 {
 pub fn pair_gaussian(seed: u32, step: u64, tag_i: u32, tag_j: u32) -> f64 {
     let (lo, hi) = ordered_tags(tag_i, tag_j);
     gaussian_from_bits(keyed_bits(seed, STREAM_PAIR_NOISE, step, lo, hi))
+}
+
+/// The pair's uniform noise variate (zero mean, unit variance; [`uniform_noise_from_bits`]),
+/// keyed as [`pair_gaussian`]: `noise_dist uniform`.
+#[inline(always)]
+pub fn pair_uniform_noise(seed: u32, step: u64, tag_i: u32, tag_j: u32) -> f64 {
+    let (lo, hi) = ordered_tags(tag_i, tag_j);
+    uniform_noise_from_bits(keyed_bits(seed, STREAM_PAIR_NOISE, step, lo, hi))
 }
 
 /// A uniform in `[0, 1)` keyed by `(seed, stream, step, a, b)` (no reordering of `a`, `b`).

@@ -200,6 +200,7 @@ impl DpdPair {
             friction: m.friction,
             noise: m.noise,
             weight: m.weight,
+            dist: m.dist,
         };
         DpdPair::from_field_with(settings, ff)
     }

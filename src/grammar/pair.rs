@@ -4,14 +4,14 @@ use super::{
     INT_MAX, StyleSpec, at_most, coeff_types, keywords, need, parse_f64, parse_int_in,
     sets_some_pair, shown, type_pairs,
 };
-use crate::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
+use crate::kernel::{Friction, Noise, NoiseDist, PairCoeff, PairModel, Weight};
 
 /// `pair_style dpd/nonlinear …` (the words after the style name).
 pub(crate) const PAIR_STYLE: StyleSpec = StyleSpec {
     command: "pair_style",
     style: "dpd/nonlinear",
-    usage: "pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep] [weight s]",
-    keywords: &["friction", "noise", "weight"],
+    usage: "pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep] [weight s] [noise_dist gaussian|uniform]",
+    keywords: &["friction", "noise", "weight", "noise_dist"],
 };
 
 /// `pair_coeff I J a gamma0 gamma1 [rc]`.
@@ -45,18 +45,22 @@ pub struct DpdStyle {
     pub noise: Noise,
     /// Dissipative weight.
     pub weight: Weight,
+    /// Distribution of the pair variate ξ_ij.
+    pub dist: NoiseDist,
 }
 
 impl DpdStyle {
     /// The kernel's model at time step `dt`.
     pub fn model(&self, dt: f64) -> PairModel {
-        PairModel::new(self.kt, self.friction, self.noise, self.weight, dt)
+        PairModel::new(self.kt, self.friction, self.noise, self.weight, dt).with_dist(self.dist)
     }
 
     /// The words of a `pair_style dpd/nonlinear` line that gives these settings back through
     /// [`pair_style`] exactly (numbers with 17 significant digits); LAMMPS restarts use it.
+    /// `noise_dist` is written only when it is not the default, so the words of a Gaussian
+    /// style are those of the versions before the keyword.
     pub fn to_words(&self) -> Vec<String> {
-        vec![
+        let mut w = vec![
             format!("{:.17e}", self.kt),
             format!("{:.17e}", self.rc),
             self.seed.to_string(),
@@ -66,11 +70,15 @@ impl DpdStyle {
             self.noise.keyword().into(),
             "weight".into(),
             format!("{:.17e}", self.weight.exponent()),
-        ]
+        ];
+        if self.dist != NoiseDist::Gaussian {
+            w.extend(["noise_dist".into(), self.dist.keyword().into()]);
+        }
+        w
     }
 }
 
-/// Parse `pair_style dpd/nonlinear T rc seed [friction F] [noise N] [weight s]` (`args` are
+/// Parse `pair_style dpd/nonlinear T rc seed [friction F] [noise N] [weight s] [noise_dist D]` (`args` are
 /// the words after the style name).
 pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<DpdStyle, String> {
     let usage = PAIR_STYLE.usage;
@@ -91,6 +99,7 @@ pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<DpdStyle, String> {
         friction: Friction::None,
         noise: Noise::Plain,
         weight: Weight::STANDARD,
+        dist: NoiseDist::Gaussian,
     };
     keywords(&args[3..], &PAIR_STYLE, |key, val| {
         match key {
@@ -102,6 +111,11 @@ pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<DpdStyle, String> {
             "noise" => {
                 style.noise = Noise::from_keyword(val).ok_or_else(|| {
                     format!("noise '{}' must be plain, corrected or twostep", shown(val))
+                })?
+            }
+            "noise_dist" => {
+                style.dist = NoiseDist::from_keyword(val).ok_or_else(|| {
+                    format!("noise_dist '{}' must be gaussian or uniform", shown(val))
                 })?
             }
             _ => {

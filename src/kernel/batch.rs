@@ -161,8 +161,8 @@ pub(super) struct LaneCoeff {
 }
 
 /// Evaluate every pair of `b` at `step`: `b.fpair[l]` and `b.energy[l]` become exactly
-/// `pair_force(model, &coeff[b.coeff[l]], input_l)` (`table` = `PairTable::new(model, coeff)`) with `input_l.xi = pair_gaussian(seed, step,
-/// b.tag_i[l], b.tag_j[l])` (total force / r and energy; 0 out of range). The loop has no calls
+/// `pair_force(model, &coeff[b.coeff[l]], input_l)` (`table` = `PairTable::new(model, coeff)`) with `input_l.xi = model.dist.pair_xi(seed, step,
+/// b.tag_i[l], b.tag_j[l])` (the Gaussian by default; total force / r and energy; 0 out of range). The loop has no calls
 /// and no branches, so it runs in SIMD lanes ([`Isa::detect`]).
 ///
 /// Panics if a `coeff` index is outside `table` (a caller bug), or if `table` was prepared for a
@@ -340,6 +340,26 @@ pub(crate) fn pair_gaussians(b: &mut PairBatch, seed: u32, step: u64) {
     }
 }
 
+/// ξ_ij of every lane from `dist` (as [`pair_gaussians`]; the uniform variate needs only the
+/// first two words of the keyed bits and no ln or cos, [`crate::rng::uniform_noise_from_bits`]).
+#[inline(always)]
+pub(crate) fn pair_noise(b: &mut PairBatch, seed: u32, step: u64, dist: NoiseDist) {
+    if dist == NoiseDist::Gaussian {
+        return pair_gaussians(b, seed, step);
+    }
+    let bits = &mut b.scratch.bits;
+    for l in 0..BATCH {
+        let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
+        let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
+        bits[0][l] = o[0];
+        bits[1][l] = o[1];
+    }
+    let xi = &mut b.scratch.xi;
+    for l in 0..BATCH {
+        xi[l] = crate::rng::uniform_noise_from_bits([bits[0][l], bits[1][l], 0, 0]);
+    }
+}
+
 /// The lane Gaussians left by the last [`pair_gaussians`].
 #[inline(always)]
 pub(crate) fn lane_gaussians(b: &PairBatch) -> &[f64; BATCH] {
@@ -369,7 +389,7 @@ pub(super) fn lanes<const F: u8, const N: u8, const STD: bool>(
     // Three loops (random bits, Gaussians, forces) rather than one: each body is short enough
     // for the processor to overlap several iterations, which hides the long latency chains of
     // Philox, ln and the divisions. The arithmetic of each pair is unchanged.
-    pair_gaussians(b, seed, step);
+    pair_noise(b, seed, step, model.dist);
     // The stages of `pair_parts`, one loop each (see there); lane arrays in between.
     let coeff_at = |co: &LaneCoeff, l: usize| {
         (

@@ -169,6 +169,45 @@ impl Noise {
     }
 }
 
+/// The distribution of the pair variate ξ_ij (`pair_style … noise_dist gaussian|uniform`;
+/// docs/models.md §4.2, P-4a). Both have zero mean and unit variance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum NoiseDist {
+    /// Standard Gaussian (Box–Muller on the keyed bits): the papers' choice, the default.
+    #[default]
+    Gaussian,
+    /// Uniform on [−√3, √3] from the same keyed bits (Groot & Warren 1997): no ln or cos.
+    Uniform,
+}
+
+impl NoiseDist {
+    /// The keyword used by `pair_style … noise_dist KEYWORD`.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            NoiseDist::Gaussian => "gaussian",
+            NoiseDist::Uniform => "uniform",
+        }
+    }
+
+    /// Parse a `noise_dist` keyword value.
+    pub fn from_keyword(s: &str) -> Option<NoiseDist> {
+        match s {
+            "gaussian" => Some(NoiseDist::Gaussian),
+            "uniform" => Some(NoiseDist::Uniform),
+            _ => None,
+        }
+    }
+
+    /// ξ_ij of the pair (tags in either order) at `step`.
+    #[inline(always)]
+    pub fn pair_xi(self, seed: u32, step: u64, tag_i: u32, tag_j: u32) -> f64 {
+        match self {
+            NoiseDist::Gaussian => crate::rng::pair_gaussian(seed, step, tag_i, tag_j),
+            NoiseDist::Uniform => crate::rng::pair_uniform_noise(seed, step, tag_i, tag_j),
+        }
+    }
+}
+
 /// Per type-pair coefficients (`pair_coeff I J a gamma0 gamma1 [rc]`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairCoeff {
@@ -221,6 +260,8 @@ pub struct PairModel {
     pub noise: Noise,
     /// Weight w_D = (1 − r/r_c)^s.
     pub weight: Weight,
+    /// Distribution of ξ_ij (Gaussian unless set with [`PairModel::with_dist`]).
+    pub dist: NoiseDist,
     sqrt_dt: f64,
     inv_sqrt_dt: f64,
 }
@@ -233,11 +274,18 @@ impl PairModel {
             friction,
             noise,
             weight,
+            dist: NoiseDist::Gaussian,
             sqrt_dt: 1.0,
             inv_sqrt_dt: 1.0,
         };
         m.set_timestep(dt);
         m
+    }
+
+    /// The same model with ξ_ij drawn from `dist`.
+    pub fn with_dist(mut self, dist: NoiseDist) -> PairModel {
+        self.dist = dist;
+        self
     }
 
     /// Set δt: the random force scales as δt^(−1/2) (§1.1), the two-step impulse as δt^(1/2).
@@ -261,7 +309,7 @@ pub struct PairInput {
     pub dv: [f64; 3],
     /// 1/m_i + 1/m_j.
     pub inv_mass_sum: f64,
-    /// The pair's standard Gaussian ξ_ij (see [`crate::rng::pair_gaussian`]).
+    /// The pair's variate ξ_ij, zero mean and unit variance ([`NoiseDist::pair_xi`]).
     pub xi: f64,
 }
 
@@ -596,7 +644,7 @@ pub mod sdpd;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng::{keyed_uniform, pair_gaussian};
+    use crate::rng::keyed_uniform;
 
     fn ulps(a: f64, b: f64) -> u64 {
         (a.to_bits() as i64 - b.to_bits() as i64).unsigned_abs()
@@ -657,9 +705,16 @@ mod tests {
         let mut compared = 0;
         for friction in [Friction::None, Friction::Cross, Friction::Dot] {
             for noise in [Noise::Plain, Noise::Corrected, Noise::TwoStep] {
-                for s in [2.0, 1.0, 1.5] {
+                for (s, dist) in [
+                    (2.0, NoiseDist::Gaussian),
+                    (1.0, NoiseDist::Gaussian),
+                    (1.5, NoiseDist::Gaussian),
+                    (2.0, NoiseDist::Uniform),
+                    (0.5, NoiseDist::Uniform),
+                ] {
                     let model =
-                        PairModel::new(0.7, friction, noise, Weight::new(s).expect("s > 0"), 0.01);
+                        PairModel::new(0.7, friction, noise, Weight::new(s).expect("s > 0"), 0.01)
+                            .with_dist(dist);
                     for &isa in &isas {
                         let mut b = PairBatch {
                             len: BATCH - 3,
@@ -685,7 +740,7 @@ mod tests {
                                 dr,
                                 dv,
                                 inv_mass_sum: ims,
-                                xi: pair_gaussian(99, 12345, ti, tj),
+                                xi: dist.pair_xi(99, 12345, ti, tj),
                             };
                             let pf = pair_force(&model, &table[coeff], &input);
                             want.push((pf.total() * pf.inv_r, pf.energy));
@@ -703,7 +758,7 @@ mod tests {
                             assert_eq!(
                                 (b.fpair[l].to_bits(), b.energy[l].to_bits()),
                                 (fp.to_bits(), e.to_bits()),
-                                "{friction:?}/{noise:?}/s={s}/{isa:?}, pair {l}"
+                                "{friction:?}/{noise:?}/s={s}/{dist:?}/{isa:?}, pair {l}"
                             );
                             inside += usize::from(fp != 0.0);
                             compared += 1;
