@@ -12,7 +12,8 @@
 //! - a `lammps` block is an input script: it runs in the standalone engine (`dpdnl run`), in a
 //!   fresh directory holding the files named by `data=` (from `docs/examples/`); then, unless
 //!   `lammps=no`, in LAMMPS (`build/lmp_dpdnl`): `lammps=compare` (the default) through
-//!   `dpdnl crosscheck`, which must report agreement of the thermo output (rtol 1e-9), and
+//!   `dpdnl crosscheck --rtol 1e-6`, which must report agreement of the thermo output to its
+//!   printed digits (the golden cases of `tests/crosscheck.rs` hold 1e-9 at full precision), and
 //!   `lammps=run` as `lmp_dpdnl -in SCRIPT`, which must only succeed;
 //! - a `sh` block is a shell script (`bash -euo pipefail`) with `dpdnl` and `lmp_dpdnl` on PATH;
 //!   `needs=lammps` marks one that calls LAMMPS;
@@ -153,13 +154,18 @@ fn all_examples() -> Vec<Example> {
     ps.iter().flat_map(|p| extract(p)).collect()
 }
 
-/// A fresh directory for one example.
-fn workdir(name: &str) -> PathBuf {
+/// The directory of one example.
+fn workdir_path(name: &str) -> PathBuf {
     let safe: String = name
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
         .collect();
-    let d = std::env::temp_dir().join(format!("dpdnl-manual-{}/{safe}", std::process::id()));
+    std::env::temp_dir().join(format!("dpdnl-manual-{}/{safe}", std::process::id()))
+}
+
+/// A fresh directory for one example.
+fn workdir(name: &str) -> PathBuf {
+    let d = workdir_path(name);
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("create work directory");
     d
@@ -400,8 +406,12 @@ fn command_page_examples_run() {
         };
         ran += 1;
         eprintln!("{}: {:.2} s", ex.name(), t.elapsed().as_secs_f64());
-        if let Err(e) = r {
-            failures.push(format!("{}: {e}", ex.name()));
+        match r {
+            // The directory stays for a look when the example failed.
+            Ok(()) => {
+                let _ = std::fs::remove_dir_all(workdir_path(&ex.name()));
+            }
+            Err(e) => failures.push(format!("{}: {e}", ex.name())),
         }
     }
     assert!(ran > 0);
@@ -448,5 +458,6 @@ fn tutorial_sessions_run_in_order() {
             }
         }
         eprintln!("session {name}: {:.1} s", t.elapsed().as_secs_f64());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }
