@@ -184,18 +184,22 @@ fn copy_data(ex: &Example, dir: &Path) {
     }
 }
 
-/// A directory with `dpdnl` and (when built) `lmp_dpdnl`, for PATH.
+/// A directory with `dpdnl` and (when built) `lmp_dpdnl`, for PATH; made once per process (the
+/// tests run in parallel threads).
 fn bin_dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("dpdnl-manual-{}/bin", std::process::id()));
-    if !d.join("dpdnl").exists() {
+    static DIR: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    DIR.get_or_init(|| {
+        let d = std::env::temp_dir().join(format!("dpdnl-manual-{}/bin", std::process::id()));
         std::fs::create_dir_all(&d).expect("bin dir");
-        let _ = std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_dpdnl"), d.join("dpdnl"));
+        std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_dpdnl"), d.join("dpdnl"))
+            .expect("symlink dpdnl");
         let lmp = root().join("build/lmp_dpdnl");
         if lmp.is_file() {
-            let _ = std::os::unix::fs::symlink(lmp, d.join("lmp_dpdnl"));
+            std::os::unix::fs::symlink(lmp, d.join("lmp_dpdnl")).expect("symlink lmp_dpdnl");
         }
-    }
-    d
+        d
+    })
+    .clone()
 }
 
 fn path_env() -> String {
