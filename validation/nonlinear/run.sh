@@ -40,13 +40,18 @@ thin_csv() { awk 'NR <= 201 || (NR - 1) % 20 == 0' "$1" > "$1.tmp" && mv "$1.tmp
 
 [ -f "$res/runtimes.csv" ] || echo "run,engine,atoms,steps,seconds" > "$res/runtimes.csv"
 
-scheme_vars() { # friction noise gamma1
+scheme_vars() { # friction noise gamma1 noise_dist
     case "$1" in
-        ref) echo "none plain 0.0" ;;
-        cross) echo "cross plain 1.0" ;;
-        dot_plain) echo "dot plain 1.0" ;;
-        dot_corrected) echo "dot corrected 1.0" ;;
-        twostep_dot) echo "dot twostep 1.0" ;;
+        ref) echo "none plain 0.0 gaussian" ;;
+        cross) echo "cross plain 1.0 gaussian" ;;
+        dot_plain) echo "dot plain 1.0 gaussian" ;;
+        dot_corrected) echo "dot corrected 1.0 gaussian" ;;
+        twostep_dot) echo "dot twostep 1.0 gaussian" ;;
+        # The same schemes with the uniform pair variate (noise_dist uniform, docs/models.md
+        # P-4a): issue 31 asks whether the corrected scheme's excess at Pi = 13.68 comes from the
+        # fluctuations of xi^2 in F^A (variance 2 for the Gaussian, 4/5 for the uniform).
+        dot_corrected_u) echo "dot corrected 1.0 uniform" ;;
+        twostep_dot_u) echo "dot twostep 1.0 uniform" ;;
         *) echo "unknown scheme $1" >&2; exit 2 ;;
     esac
 }
@@ -54,7 +59,7 @@ scheme_vars() { # friction noise gamma1
 # run_eq NAME SCHEME ENGINE N STEPS EQ
 run_eq() {
     local name=$1 scheme=$2 engine=$3 n=$4 steps=$5 eq=$6
-    read -r fr no g1 <<<"$(scheme_vars "$scheme")"
+    read -r fr no g1 di <<<"$(scheme_vars "$scheme")"
     local d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.eq" "$d/"
     local t0=$SECONDS
     ( cd "$d"
@@ -97,15 +102,15 @@ nemd|size)
     else runs="${POINTS:-ref:0.05 ref:0.2 cross:0.05 cross:0.1 cross:0.2 dot_corrected:0.05 dot_corrected:0.2}"; fi
     # nemd1 SCHEME DP_PAPER L SEED: one run and its analysis (SEED "" = the scripts' own seed).
     nemd1() {
-        local s=$1 dpp=$2 L=$3 seed=$4 fr no g1 dp name d t0 natoms sfx="" sv=()
-        read -r fr no g1 <<<"$(scheme_vars "$s")"
+        local s=$1 dpp=$2 L=$3 seed=$4 fr no g1 di dp name d t0 natoms sfx="" sv=()
+        read -r fr no g1 di <<<"$(scheme_vars "$s")"
         dp=$(awk -v d="$dpp" -v L="$L" -v Lp="$lpaper" -v t="$dt" 'BEGIN{printf "%.10g", d*(L/Lp)^2*(t/1e-4)}')
         [ -n "$seed" ] && { sfx="_s$seed"; sv=(-var seed "$seed"); }
         name="nemd${tag}_${s}_dp${dpp}${dsfx}${sfx}"; if [ "$mode" = size ]; then name="size${tag}_${s}_dp${dpp}_L${L}"; fi
         d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.nemd" "$d/"
         t0=$SECONDS
         ( cd "$d" && "$DPDNL" run in.nemd --threads "$THREADS" --log log.dpdnl -var friction "$fr" \
-            -var noise "$no" -var gamma1 "$g1" -var L "$L" -var dp "$dp" -var n "$dens" -var steps "$steps" -var dt "$dt" -var every "$every" \
+            -var noise "$no" -var gamma1 "$g1" -var dist "$di" -var L "$L" -var dp "$dp" -var n "$dens" -var steps "$steps" -var dt "$dt" -var every "$every" \
             -var repeat "$repeat" -var freq "$freq" "${sv[@]}" > screen.txt )
         natoms=$(awk -v L="$L" -v n="$dens" 'BEGIN{printf "%d", n*2*L^3+0.5}')
         echo "$name,standalone,$natoms,$steps,$((SECONDS - t0))" >> "$res/runtimes.csv"
