@@ -31,6 +31,53 @@ def columns(path):
     return list(zip(*rows))
 
 
+def chain_rg2(dump):
+    """Per-frame <R_g^2> and <R_g,xx^2> over the chains (molecule id > 0) of a LAMMPS dump with
+    columns id mol x y z, sorted by id, chains' beads consecutive in id along the backbone.
+    Each chain is unwrapped along its bonds by the minimum image of the frame's box (tilt xy
+    from the triclinic header), so image flags are not used."""
+    out = []
+    with open(dump) as f:
+        lines = f.read().split("\n")
+    i = 0
+    while i < len(lines):
+        if not lines[i].startswith("ITEM: TIMESTEP"):
+            i += 1
+            continue
+        step = int(lines[i + 1])
+        n = int(lines[i + 3])
+        header = lines[i + 4]
+        b = [list(map(float, lines[i + 5 + k].split())) for k in range(3)]
+        xy = b[0][2] if "xy" in header else 0.0
+        lx = (b[0][1] - max(0.0, xy)) - (b[0][0] - min(0.0, xy))
+        ly, lz = b[1][1] - b[1][0], b[2][1] - b[2][0]
+        cols = lines[i + 8].split()[2:]
+        ci = {c: k for k, c in enumerate(cols)}
+        chains = {}
+        for l in lines[i + 9:i + 9 + n]:
+            t = l.split()
+            mol = int(t[ci["mol"]])
+            if mol > 0:
+                chains.setdefault(mol, []).append([float(t[ci[c]]) for c in ("x", "y", "z")])
+        rg2 = rgxx = 0.0
+        for beads in chains.values():
+            pos = [beads[0]]
+            for p in beads[1:]:
+                q = pos[-1]
+                d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
+                k = round(d[2] / lz); d[2] -= k * lz
+                k = round(d[1] / ly); d[1] -= k * ly; d[0] -= k * xy
+                k = round(d[0] / lx); d[0] -= k * lx
+                pos.append([q[0] + d[0], q[1] + d[1], q[2] + d[2]])
+            m = len(pos)
+            c = [sum(p[a] for p in pos) / m for a in range(3)]
+            rg2 += sum((p[a] - c[a]) ** 2 for p in pos for a in range(3)) / m
+            rgxx += sum((p[0] - c[0]) ** 2 for p in pos) / m
+        out.append((step, rg2 / len(chains), rgxx / len(chains)))
+        i += 9 + n
+    return out
+
+
 rows = []
 for d in sorted(glob.glob(os.path.join(work, "*_r*"))):
     name = os.path.basename(d)
@@ -39,7 +86,8 @@ for d in sorted(glob.glob(os.path.join(work, "*_r*"))):
     log = next((p for p in (os.path.join(d, "log.lammps"), os.path.join(d, "log.dpdnl"))
                 if os.path.exists(p)), None)
     text = open(log).read() if log else ""
-    if "ERROR" in text or not os.path.exists(obs) or "Total wall time" not in text:
+    if ("ERROR" in text or not os.path.exists(obs) or "Total wall time" not in text
+            or not os.path.exists(os.path.join(d, "poly.dump"))):
         msg = next((l for l in text.splitlines() if "ERROR" in l), "no output")
         rows.append(dict(friction=friction, rate=float(rate), tag=rate,
                          status="stopped: " + msg.strip()))
@@ -50,7 +98,9 @@ for d in sorted(glob.glob(os.path.join(work, "*_r*"))):
                    stdout=subprocess.DEVNULL)
     eta = json.load(open(out + ".json"))
     cols = columns(obs)
-    t, rg2, rgxx = blocks(cols[2]), blocks(cols[3]), blocks(cols[4])
+    t = blocks(cols[2])
+    frames = chain_rg2(os.path.join(d, "poly.dump"))
+    rg2, rgxx = blocks([f[1] for f in frames]), blocks([f[2] for f in frames])
     rows.append(dict(friction=friction, rate=float(rate), tag=rate, status="ok",
                      eta=eta["viscosity"], eta_err=eta["viscosity_err"], T=t[0], T_err=t[1],
                      rg2=rg2[0], rg2_err=rg2[1], rgxx=rgxx[0], rgxx_err=rgxx[1]))
