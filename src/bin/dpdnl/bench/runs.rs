@@ -184,7 +184,7 @@ pub(super) fn loop_time<'a>(lines: impl Iterator<Item = &'a str>) -> Option<f64>
 /// repeat; the minimum over 30 repeats.
 pub(super) fn kernel_micro() -> Result<String, Box<dyn std::error::Error>> {
     use dpdnl::kernel::{
-        BATCH, Friction, Isa, Noise, PairBatch, PairCoeff, PairModel, PairTable, Weight,
+        BATCH, Friction, Isa, Noise, NoiseDist, PairBatch, PairCoeff, PairModel, PairTable, Weight,
         pair_forces_batch_isa,
     };
     let coeff = [PairCoeff {
@@ -231,17 +231,22 @@ pub(super) fn kernel_micro() -> Result<String, Box<dyn std::error::Error>> {
     }
     writeln!(out)?;
     writeln!(out, "|---|{}", "---:|".repeat(isas.len()))?;
-    for (f, n) in [
-        (Friction::None, Noise::Plain),
-        (Friction::Cross, Noise::Plain),
-        (Friction::Dot, Noise::Plain),
-        (Friction::Dot, Noise::Corrected),
-        (Friction::Dot, Noise::TwoStep),
-        (Friction::Cross, Noise::TwoStep),
+    let (g, u) = (NoiseDist::Gaussian, NoiseDist::Uniform);
+    for (f, n, d) in [
+        (Friction::None, Noise::Plain, g),
+        (Friction::Cross, Noise::Plain, g),
+        (Friction::Dot, Noise::Plain, g),
+        (Friction::Dot, Noise::Corrected, g),
+        (Friction::Dot, Noise::TwoStep, g),
+        (Friction::Cross, Noise::TwoStep, g),
+        (Friction::None, Noise::Plain, u),
+        (Friction::Cross, Noise::Plain, u),
+        (Friction::Dot, Noise::TwoStep, u),
     ] {
-        let model = PairModel::new(0.1, f, n, Weight::STANDARD, 1e-3);
+        let model = PairModel::new(0.1, f, n, Weight::STANDARD, 1e-3).with_dist(d);
         let table = PairTable::new(&model, &coeff);
-        write!(out, "| {}/{} |", f.keyword(), n.keyword())?;
+        let dist = if d == u { " (noise_dist uniform)" } else { "" };
+        write!(out, "| {}/{}{dist} |", f.keyword(), n.keyword())?;
         for &isa in &isas {
             let mut best = f64::INFINITY;
             for rep in 0..30u64 {
