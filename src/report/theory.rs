@@ -156,17 +156,6 @@ pub struct DesignValuesJson {
     pub gamma: f64,
 }
 
-#[derive(Serialize)]
-pub struct LimitsJson {
-    pub p: f64,
-    pub p0: f64,
-    pub eta_max: f64,
-    pub sc_min: f64,
-    pub sc_gas_max: Option<f64>,
-    pub density_min: f64,
-    pub cutoff_min: f64,
-}
-
 /// `dpdnl design --json`.
 #[derive(Serialize)]
 pub struct DesignJson {
@@ -176,7 +165,7 @@ pub struct DesignJson {
     pub targets: TargetsJson,
     pub design: DesignValuesJson,
     pub predicted: TransportJson,
-    pub limits: LimitsJson,
+    pub limits: crate::theory::DesignLimits,
     pub pair_style: String,
     pub pair_coeff: String,
 }
@@ -211,15 +200,7 @@ impl DesignResult {
                 gamma: d.gamma,
             },
             predicted: (&self.predicted).into(),
-            limits: LimitsJson {
-                p: lim.p,
-                p0: lim.p0,
-                eta_max: lim.eta_max,
-                sc_min: lim.sc_min,
-                sc_gas_max: lim.sc_gas_max,
-                density_min: lim.density_min,
-                cutoff_min: lim.cutoff_min,
-            },
+            limits: *lim,
             pair_style: self.pair_style.clone(),
             pair_coeff: self.pair_coeff.clone(),
         }

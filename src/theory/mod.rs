@@ -269,8 +269,9 @@ pub enum DesignMode {
 }
 
 /// The bounds of s > 0 ⇔ P_d(s) > P_d(0) (eqs. 54–55 in 3-D, 63–64 in 2-D), each holding the
-/// other inputs fixed. Crossing any one of them makes s ≤ 0.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// other inputs fixed. Crossing any one of them makes s ≤ 0. Serialised as the `limits` object
+/// of `dpdnl design --json` (field order = key order).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct DesignLimits {
     /// P_d(s) required by the targets (the paper's C, eq. 52/65).
     pub p: f64,
