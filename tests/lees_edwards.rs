@@ -4,7 +4,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use dpdnl::engine::forcefield::DpdPair;
-use dpdnl::engine::lees_edwards::{Deform, Triclinic};
+use dpdnl::engine::lees_edwards::{Deform, DeformOrder, Triclinic};
 use dpdnl::engine::{Atoms, ForceField, Integrator, SimBox, System};
 use dpdnl::input::ScriptError;
 use dpdnl::kernel::{self, Friction, Noise, PairCoeff, PairInput, PairModel, Weight};
@@ -12,6 +12,17 @@ use dpdnl::rng::pair_gaussian;
 
 mod common;
 use common::run;
+
+/// The deformation of `sys` in `fix deform … order current` (the box of the current step,
+/// atoms wrapped at every step, lists with a tilt allowance).
+fn current_order(sys: &mut System) {
+    let d = sys
+        .tri
+        .as_mut()
+        .and_then(|t| t.deform.as_mut())
+        .expect("deform");
+    d.order = DeformOrder::Current;
+}
 
 /// A deterministic xorshift stream in [0, 1).
 struct Rng(u64);
@@ -228,13 +239,14 @@ fn sheared_boxes(erate_3d: f64) -> [(SimBox, usize, f64, f64); 2] {
 /// after several steps of a changing offset with moving atoms, the forces from a list built
 /// steps earlier (at another offset, atoms since then neither wrapped nor re-sorted) equal the
 /// brute-force sum at the current offset; and the list is rebuilt once the tilt has moved by a
-/// skin.
+/// skin. (`order current`: LAMMPS's order rebuilds by LAMMPS's stricter rule.)
 #[test]
 fn a_kept_list_under_a_changing_offset_equals_brute_force() {
     for (bx, n, xy, erate) in sheared_boxes(-0.4) {
         let dim = bx.dim;
         let ly = bx.len()[1];
         let mut sys = system(bx, n, xy, erate, 31);
+        current_order(&mut sys);
         sys.neighbor.skin = 0.5;
         sys.setup().expect("setup");
         let builds = sys.neighbor.builds;
@@ -279,11 +291,13 @@ fn a_kept_list_under_a_changing_offset_equals_brute_force() {
 /// ±D of its own, D growing with the previous list's lifetime (up to L_x/2 − cut-off), so with
 /// atoms at rest the lists outlive the skin's worth of tilt (0.5 here: 10 steps at 0.049 a
 /// step in 2-D, 2 at 0.18 in 3-D): forces equal the brute-force image sum at every fifth step
-/// of 80, with at most half the builds of a list rebuilt at every skin's worth of tilt.
+/// of 80, with at most half the builds of a list rebuilt at every skin's worth of tilt
+/// (`order current`, the only order with the allowance).
 #[test]
 fn the_tilt_allowance_keeps_lists_and_forces() {
     for (bx, n, xy, erate) in sheared_boxes(-4.0) {
         let mut sys = system(bx, n, xy, erate, 53);
+        current_order(&mut sys);
         sys.neighbor.skin = 0.5;
         sys.neighbor.set_working_list(Some(false));
         sys.setup().expect("setup");
@@ -322,15 +336,108 @@ fn the_working_list_follows_the_offset() {
     }
 }
 
+/// LAMMPS's order (the default): the forces of step n see the box of step n − 1 (the tilt
+/// changes in `end_of_step`, after the forces): the offset of step n's forces is
+/// xy(n − 1) mod L_x with xy(m) = xy_0 + R L_y (m − m_0) δt, the tilt changes only on
+/// multiples of N (here 3), and it flips by L_x once |xy| > L_x/2 (done at the next step, so
+/// the reported tilt exceeds L_x/2 for one step), as `fix deform` does in LAMMPS.
+#[test]
+fn lammps_order_uses_the_box_of_the_previous_step() {
+    let bx = SimBox::new(2, [0.0, -3.5, -0.5], [9.0, 3.5, 0.5]).unwrap();
+    let (lx, ly, rate, dt) = (9.0, 7.0, 0.7, 0.01);
+    let mut sys = system(bx, 300, 1.0, rate, 5);
+    // Euler: the velocities of step n's forces are those after the step (brute force).
+    sys.integrator = Some(Integrator::Euler);
+    sys.tri.as_mut().unwrap().deform.as_mut().unwrap().every = 3;
+    let start = sys.step;
+    sys.setup_run(start + 400).expect("setup");
+    // The tilt of the box at the end of step m (unflipped): that of the last multiple of 3.
+    let unflipped = |m: u64| {
+        let last = if m % 3 == 0 { m } else { m - m % 3 };
+        let last = last.max(start);
+        1.0 + rate * ly * (last - start) as f64 * dt
+    };
+    let mut flips = 0;
+    let mut prev_reported = sys.tri.as_ref().unwrap().xy;
+    for _ in 0..400 {
+        sys.step_once();
+        let n = sys.step;
+        let t = sys.tri.as_ref().unwrap();
+        // Step n's forces: the box of step n − 1.
+        let want = unflipped(n - 1).rem_euclid(lx);
+        let d = (t.le.offset - want).abs();
+        assert!(
+            d.min(lx - d) < 1e-9,
+            "step {n}: offset {} vs {want}",
+            t.le.offset
+        );
+        // The box after step n: the tilt of step n, less whole box lengths from flips.
+        let k = (unflipped(n) - t.xy) / lx;
+        assert!(
+            (k - k.round()).abs() < 1e-9,
+            "step {n}: xy {} vs {}",
+            t.xy,
+            unflipped(n)
+        );
+        assert!(
+            t.xy.abs() <= 0.5 * lx + rate * ly * dt * 3.0 + 1e-12,
+            "step {n}: xy {}",
+            t.xy
+        );
+        if (t.xy - prev_reported).abs() > 0.5 * lx {
+            flips += 1;
+        }
+        if n % 3 != 0 && t.xy != prev_reported && (t.xy - prev_reported).abs() < 0.5 * lx {
+            panic!("step {n}: the tilt changed off a multiple of N");
+        }
+        prev_reported = t.xy;
+        if n % 20 == 0 {
+            assert_matches_brute(&sys);
+        }
+    }
+    // 400 steps at 0.049 a step: 19.6 of tilt, two flips of L_x = 9.
+    assert_eq!(flips, 2, "flips");
+}
+
+/// LAMMPS's order through box flips with moving atoms: at every step the forces equal the
+/// brute-force sum over the sheared images (the list rebuilt by LAMMPS's rule, the flip's
+/// remap and the atoms left outside the box between rebuilds included).
+#[test]
+fn lammps_order_forces_equal_brute_force_through_flips() {
+    for (bx, n, xy, erate) in sheared_boxes(-2.0) {
+        let mut sys = system(bx, n, xy, erate, 77);
+        // Euler: the velocities of step n's forces are those after the step (brute force).
+        sys.integrator = Some(Integrator::Euler);
+        sys.neighbor.skin = 0.5;
+        let start = sys.step;
+        sys.setup_run(start + 60).expect("setup");
+        let mut last = sys.tri.as_ref().unwrap().xy;
+        let mut flips = 0;
+        for _ in 0..60 {
+            sys.step_once();
+            assert_matches_brute(&sys);
+            let xy = sys.tri.as_ref().unwrap().xy;
+            if (xy - last).abs() > 0.5 * sys.bx.len()[0] {
+                flips += 1;
+            }
+            last = xy;
+        }
+        assert!(flips >= 1, "no flip in 60 steps");
+    }
+}
+
 /// P_x changes only when an atom crosses y (remap v: v_x ∓ γ̇ L_y), so
 /// P_x + γ̇ L_y Σ m n_y (n_y: net y crossings, `image[1]`) and P_y are conserved by the pair
-/// forces (F_ji = −F_ij); they hold to round-off over many steps.
+/// forces (F_ji = −F_ij); they hold to round-off over many steps. (`order current`: in
+/// LAMMPS's order an atom outside the box at a flip is put back without its velocity jump, as
+/// LAMMPS's `Domain::remap` does, which breaks this bookkeeping.)
 #[test]
 fn momentum_conserved_up_to_the_boundary_remap() {
     let bx = SimBox::new(2, [0.0, 0.0, -0.5], [8.0, 8.0, 0.5]).unwrap();
     let ly = bx.len()[1];
     let rate = 0.9;
     let mut sys = system(bx, 256, 0.0, rate, 99);
+    current_order(&mut sys);
     sys.integrator = Some(Integrator::VelocityVerlet);
     sys.setup().expect("setup");
     let invariant = |s: &System| {

@@ -210,7 +210,7 @@ impl Interpreter<'_> {
                 sys.step
             ));
         }
-        sys.setup()?;
+        sys.setup_run(sys.step + n)?;
         let notes = std::mem::take(&mut sys.setup_notes);
         let integ = sys.integrator;
         let first = sys.step;
