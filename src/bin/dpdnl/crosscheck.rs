@@ -335,8 +335,9 @@ fn compare(
         pass &= print_report(&title, &r);
         if shifted > 0 {
             println!(
-                "({shifted} LAMMPS position(s) shifted by a box length to the standalone image: \
-                 LAMMPS wraps atoms back into the box only when it re-neighbours)"
+                "({shifted} LAMMPS atom position(s) moved by lattice vectors to the standalone \
+                 image: LAMMPS wraps atoms back into the box only when it re-neighbours, and \
+                 into the tilted cell of a tilted box)"
             );
         }
     }
@@ -443,51 +444,85 @@ fn print_report(title: &str, r: &ExactReport) -> bool {
     r.values_pass() && r.rows_match()
 }
 
+/// The box of a dump frame as (lo, edge lengths, xy): for a triclinic frame the bounds are
+/// LAMMPS's bounding box (`xlo_bound = xlo + min(0, xy, xz, xy + xz)`, …), undone here.
+fn frame_box(f: &DumpFrame) -> Option<([f64; 3], [f64; 3], f64)> {
+    if f.box_bounds.len() < 3 {
+        return None;
+    }
+    let [xy, xz, yz] = f.tilt.unwrap_or([0.0; 3]);
+    let b = &f.box_bounds;
+    let lo = [
+        b[0][0] - 0f64.min(xy).min(xz).min(xy + xz),
+        b[1][0] - 0f64.min(yz),
+        b[2][0],
+    ];
+    let hi = [
+        b[0][1] - 0f64.max(xy).max(xz).max(xy + xz),
+        b[1][1] - 0f64.max(yz),
+        b[2][1],
+    ];
+    let len = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+    if xz != 0.0 || yz != 0.0 || len.iter().any(|l| !(l.is_finite() && *l > 0.0)) {
+        return None;
+    }
+    Some((lo, len, xy))
+}
+
 /// Maps the `x`, `y`, `z` values of `b` to the periodic image nearest `a`'s value for the same
-/// atom and step (orthogonal boxes only), since the engines wrap atoms at different times
-/// (LAMMPS only when it re-neighbours). A value is changed only when it is more than half a box
-/// length away. Returns how many values were shifted.
+/// atom and step, since the engines wrap atoms at different times (LAMMPS only when it
+/// re-neighbours) and, in a tilted box, into different cells (LAMMPS the tilted cell, the
+/// standalone engine the orthogonal one): the image is moved by whole lattice vectors
+/// (L_x, 0, 0), (xy, L_y, 0), (0, 0, L_z), y first. A value is changed only when it is more than
+/// half a box length away. Returns how many atoms were shifted.
 fn minimum_image(a: &[DumpFrame], b: &mut [DumpFrame]) -> usize {
     let mut shifted = 0;
     for fb in b.iter_mut() {
         let Some(fa) = a.iter().find(|f| f.step == fb.step) else {
             continue;
         };
-        if fa.tilt.is_some() || fb.tilt.is_some() || fa.box_bounds.len() < 3 {
+        let Some((_, len, xy)) = frame_box(fb) else {
             continue;
-        }
-        let (Some(ida), Some(idb)) = (
-            fa.columns.iter().position(|c| c == "id"),
-            fb.columns.iter().position(|c| c == "id"),
-        ) else {
+        };
+        let col = |f: &DumpFrame, name: &str| f.columns.iter().position(|c| c == name);
+        let (Some(ida), Some(idb)) = (col(fa, "id"), col(fb, "id")) else {
             continue;
         };
         let by_id: std::collections::HashMap<i64, &Vec<f64>> =
             fa.rows.iter().map(|r| (r[ida] as i64, r)).collect();
-        for (dim, name) in ["x", "y", "z"].iter().enumerate() {
-            let (Some(ka), Some(kb)) = (
-                fa.columns.iter().position(|c| c == name),
-                fb.columns.iter().position(|c| c == name),
-            ) else {
+        let ka: Vec<Option<usize>> = ["x", "y", "z"].iter().map(|n| col(fa, n)).collect();
+        let kb: Vec<Option<usize>> = ["x", "y", "z"].iter().map(|n| col(fb, n)).collect();
+        for rb in fb.rows.iter_mut() {
+            let Some(ra) = by_id.get(&(rb[idb] as i64)) else {
                 continue;
             };
-            let len = fa.box_bounds[dim][1] - fa.box_bounds[dim][0];
-            if !(len.is_finite() && len > 0.0) {
-                continue;
-            }
-            for rb in fb.rows.iter_mut() {
-                let Some(ra) = by_id.get(&(rb[idb] as i64)) else {
-                    continue;
-                };
-                let (Some(&va), Some(vb)) = (ra.get(ka), rb.get_mut(kb)) else {
-                    continue;
-                };
-                let n = ((*vb - va) / len).round();
+            let nb = rb.len();
+            let pair = |d: usize| match (ka[d], kb[d]) {
+                (Some(i), Some(j)) if i < ra.len() && j < nb => Some((i, j)),
+                _ => None,
+            };
+            let mut moved = false;
+            // y first: a y image also moves x by the tilt.
+            if let Some((i, j)) = pair(1) {
+                let n = ((rb[j] - ra[i]) / len[1]).round();
                 if n != 0.0 && n.is_finite() {
-                    *vb -= n * len;
-                    shifted += 1;
+                    rb[j] -= n * len[1];
+                    if let Some((_, jx)) = pair(0) {
+                        rb[jx] -= n * xy;
+                    }
+                    moved = true;
                 }
             }
+            for d in [0, 2] {
+                if let Some((i, j)) = pair(d) {
+                    let n = ((rb[j] - ra[i]) / len[d]).round();
+                    if n != 0.0 && n.is_finite() {
+                        rb[j] -= n * len[d];
+                        moved = true;
+                    }
+                }
+            }
+            shifted += usize::from(moved);
         }
     }
     shifted
