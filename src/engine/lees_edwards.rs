@@ -209,6 +209,15 @@ impl Triclinic {
         }
     }
 
+    /// LAMMPS's `FixDeform::init` outside a run (as `write_data` calls it): LAMMPS's `run`
+    /// leaves `beginstep = endstep = 0`, so the run's time is 0 and h_rate = 0 (the wrap that
+    /// follows gives no velocity jump).
+    pub(crate) fn init_outside_run(&mut self, bx: &SimBox, dt: f64, step: u64) {
+        if self.lammps_order() {
+            self.start_run(bx, dt, step, Some(step));
+        }
+    }
+
     /// LAMMPS's `FixDeform::end_of_step` at `step` (LAMMPS's order only; nothing on steps that
     /// are not a multiple of N): the new tilt tilt_start + δ (tilt_stop − tilt_start),
     /// δ = (step − begin)/(end − begin), moved by whole box lengths to the value nearest the

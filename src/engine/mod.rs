@@ -333,6 +333,66 @@ impl System {
             });
     }
 
+    /// Put every atom into the box without changing a velocity, as LAMMPS's `Domain::remap`
+    /// (after `read_data`): a tilted box moves an atom through y by the tilt, its image flags
+    /// keep x + ix L_x + iy xy. Orthogonal boxes: nothing (the first build wraps them).
+    pub fn remap_into_box(&mut self) {
+        let dt = self.dt;
+        let Some(t) = self.tri.as_mut() else {
+            return;
+        };
+        t.set_step(&self.bx, dt, self.step);
+        let mut le = t.le;
+        le.rate = 0.0;
+        let bx = &self.bx;
+        for (x, im) in self.atoms.x.iter_mut().zip(self.atoms.image.iter_mut()) {
+            let mut v = [0.0; 3];
+            bx.wrap_le(x, &mut v, im, &le);
+        }
+    }
+
+    /// LAMMPS's `Domain::pbc` on a tilted box as `write_data` does it: every atom outside the
+    /// box is wrapped, through y by the tilt; `remap v`'s velocity jump is h_rate, which is 0
+    /// outside a run (`init_outside_run`), so no velocity changes. Returns the tilt as LAMMPS
+    /// reports it.
+    pub fn pbc(&mut self) -> f64 {
+        // LAMMPS's `write_data` runs `init` first, outside a run: `fix deform`'s h_rate is 0.
+        let (dt, step) = (self.dt, self.step);
+        if let Some(t) = self.tri.as_mut() {
+            t.init_outside_run(&self.bx, dt, step);
+        }
+        self.set_shear();
+        let Some(t) = self.tri.as_ref() else {
+            return 0.0;
+        };
+        let le = t.le;
+        let bx = &self.bx;
+        let a = &mut self.atoms;
+        for ((x, v), im) in a.x.iter_mut().zip(a.v.iter_mut()).zip(a.image.iter_mut()) {
+            bx.wrap_le(x, v, im, &le);
+        }
+        // (Positions moved: every run's set-up builds a fresh list.)
+        t.reported_xy(&self.bx)
+    }
+
+    /// A position of the box (orthogonal storage) and its image flags (LAMMPS's convention for
+    /// the tilt `tri.xy`) as LAMMPS holds them in the tilted cell of tilt `xy`:
+    /// x ∈ [x_lo + xy λ_y, x_hi + xy λ_y), λ_y = (y − y_lo)/L_y, same unwrapped position.
+    pub fn to_tilted_cell(&self, x: &mut [f64; 3], im: &mut [i32; 3], xy: f64) {
+        let [lx, ly, _] = self.bx.len();
+        if let Some(t) = &self.tri {
+            // Image flags relative to the written tilt (they differ by whole L_x).
+            let k = ((t.xy - xy) / lx).round();
+            im[0] = im[0].saturating_add((k * f64::from(im[1])) as i32);
+        }
+        let lambda_y = (x[1] - self.bx.lo[1]) / ly;
+        let k = ((x[0] - self.bx.lo[0] - xy * lambda_y) / lx).floor();
+        if k != 0.0 && k.is_finite() {
+            x[0] -= k * lx;
+            im[0] = im[0].saturating_add(k as i32);
+        }
+    }
+
     /// LAMMPS's `end_of_step` of `fix deform` (LAMMPS's order): the box's tilt of step
     /// `self.step`, after its forces.
     fn deform_end_of_step(&mut self) {

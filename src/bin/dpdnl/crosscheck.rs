@@ -474,7 +474,8 @@ fn frame_box(f: &DumpFrame) -> Option<([f64; 3], [f64; 3], f64)> {
 /// re-neighbours) and, in a tilted box, into different cells (LAMMPS the tilted cell, the
 /// standalone engine the orthogonal one): the image is moved by whole lattice vectors
 /// (L_x, 0, 0), (xy, L_y, 0), (0, 0, L_z), y first. A value is changed only when it is more than
-/// half a box length away. Returns how many atoms were shifted.
+/// half a box length away; image flags `ix iy iz`, when dumped, change with it (the unwrapped
+/// position is kept). Returns how many atoms were shifted.
 fn minimum_image(a: &[DumpFrame], b: &mut [DumpFrame]) -> usize {
     let mut shifted = 0;
     for fb in b.iter_mut() {
@@ -492,6 +493,7 @@ fn minimum_image(a: &[DumpFrame], b: &mut [DumpFrame]) -> usize {
             fa.rows.iter().map(|r| (r[ida] as i64, r)).collect();
         let ka: Vec<Option<usize>> = ["x", "y", "z"].iter().map(|n| col(fa, n)).collect();
         let kb: Vec<Option<usize>> = ["x", "y", "z"].iter().map(|n| col(fb, n)).collect();
+        let kimg: Vec<Option<usize>> = ["ix", "iy", "iz"].iter().map(|n| col(fb, n)).collect();
         for rb in fb.rows.iter_mut() {
             let Some(ra) = by_id.get(&(rb[idb] as i64)) else {
                 continue;
@@ -502,6 +504,13 @@ fn minimum_image(a: &[DumpFrame], b: &mut [DumpFrame]) -> usize {
                 _ => None,
             };
             let mut moved = false;
+            // A move by n lattice vectors along d changes the image flag by +n (the unwrapped
+            // position is kept).
+            let flag = |rb: &mut Vec<f64>, d: usize, n: f64| {
+                if let Some(k) = kimg[d].filter(|&k| k < nb) {
+                    rb[k] += n;
+                }
+            };
             // y first: a y image also moves x by the tilt.
             if let Some((i, j)) = pair(1) {
                 let n = ((rb[j] - ra[i]) / len[1]).round();
@@ -510,6 +519,7 @@ fn minimum_image(a: &[DumpFrame], b: &mut [DumpFrame]) -> usize {
                     if let Some((_, jx)) = pair(0) {
                         rb[jx] -= n * xy;
                     }
+                    flag(rb, 1, n);
                     moved = true;
                 }
             }
@@ -518,6 +528,7 @@ fn minimum_image(a: &[DumpFrame], b: &mut [DumpFrame]) -> usize {
                     let n = ((rb[j] - ra[i]) / len[d]).round();
                     if n != 0.0 && n.is_finite() {
                         rb[j] -= n * len[d];
+                        flag(rb, d, n);
                         moved = true;
                     }
                 }
