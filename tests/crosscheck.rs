@@ -389,3 +389,60 @@ fn sheared_write_data_matches_lammps_and_continues() {
         "c",
     );
 }
+
+/// The differences by design of a sheared run are named (issue 32): with another LAMMPS
+/// neighbour schedule (`neigh_modify every 2 delay 4`) LAMMPS wraps atoms, with the `remap v`
+/// velocity jump, on other steps, so `temp` differs: the DIFFER verdict says so and what agrees;
+/// `fix deform … order current` (standalone only) makes LAMMPS fail, and crosscheck's message
+/// says why.
+#[test]
+fn sheared_verdicts_name_the_differences_by_design() {
+    let Some(lmp) = lmp() else { return };
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("shear_verdicts");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let cases = root().join("tests/data/crosscheck");
+    std::fs::copy(cases.join("dpd3d.data"), dir.join("dpd3d.data")).expect("copy data");
+    let golden = read(&cases.join("in.shear_dot_twostep_3d"));
+    let run = |name: &str, script: String| {
+        std::fs::write(dir.join(name), script).expect("write the script");
+        Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+            .arg("crosscheck")
+            .arg(dir.join(name))
+            .arg("--lmp")
+            .arg(&lmp)
+            .arg("--workdir")
+            .arg(dir.join(format!("w.{name}")))
+            .output()
+            .expect("run dpdnl crosscheck")
+    };
+    let delayed = golden.replace(
+        "neigh_modify    delay 0 every 1 check yes",
+        "neigh_modify    delay 4 every 2 check yes",
+    );
+    assert_ne!(delayed, golden, "the golden script changed");
+    let out = run("in.delayed", delayed);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    let verdict = stdout.lines().last().unwrap_or("");
+    for part in [
+        "CROSSCHECK DIFFER",
+        "sheared box (fix deform): LAMMPS re-neighbours by `neigh_modify every 2 delay 4 check yes`",
+        "expect `temp`, `ke`, `etotal`",
+        "`temp/deform` and its pressure",
+        "use `neigh_modify delay 0 every 1 check yes`",
+    ] {
+        assert!(
+            verdict.contains(part),
+            "'{part}' not in the verdict: {verdict}"
+        );
+    }
+    let current = golden.replace("remap v", "remap v order current");
+    let out = run("in.current", current);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("is a keyword of the standalone engine only"),
+        "{stderr}"
+    );
+}

@@ -255,8 +255,28 @@ fn run_lammps(
         let tail: Vec<&str> = log.lines().rev().take(8).collect();
         let tail: Vec<&str> = tail.into_iter().rev().collect();
         let stderr = String::from_utf8_lossy(&out.stderr);
+        let script_text = std::fs::read_to_string(script).unwrap_or_default();
+        let hint = if script_text.lines().any(|l| {
+            let w: Vec<&str> = l
+                .split('#')
+                .next()
+                .unwrap_or("")
+                .split_whitespace()
+                .collect();
+            w.len() > 3
+                && w[0] == "fix"
+                && w[3] == "deform"
+                && w.windows(2).any(|p| p[0] == "order")
+        }) {
+            "\n(`fix deform … order lammps|current` is a keyword of the standalone engine only; \
+             LAMMPS refuses it. Drop it to compare: LAMMPS's order is the standalone engine's \
+             default, and `order current` gives other numbers by design: step n's forces in the \
+             box of step n instead of n − 1, atoms wrapped every step)"
+        } else {
+            ""
+        };
         return Err(CannotRun(format!(
-            "LAMMPS ({}) failed ({}); end of {}:\n{}\n{}",
+            "LAMMPS ({}) failed ({}); end of {}:\n{}\n{}{hint}",
             lmp.display(),
             out.status,
             log_l.display(),
@@ -312,6 +332,10 @@ fn compare(
     if let Some(line) = neighbor_line(&neigh) {
         println!("{line}");
     }
+    let notes = shear_notes(&text_l, &neigh);
+    for n in &notes {
+        println!("note: {n}");
+    }
     let r = compare_exact_logs(&blocks_s, &blocks_l, None, tol)
         .map_err(|e| format!("comparing thermo logs: {e}"))?;
     let mut pass = print_report("thermo (A = standalone.log, B = lammps.log)", &r);
@@ -352,7 +376,11 @@ fn compare(
     if pass {
         println!("CROSSCHECK AGREE: {what} within rtol {}", c("%g", a.rtol));
     } else {
-        println!("{}", differ_verdict(&what, a.rtol, &neigh));
+        let mut v = differ_verdict(&what, a.rtol, &neigh);
+        for n in &notes {
+            let _ = write!(v, "; {n}");
+        }
+        println!("{v}");
     }
     Ok(pass)
 }
@@ -390,6 +418,60 @@ fn dangerous_counts(n: &NeighborSummary) -> String {
         .map(|d| d.map_or("not checked".to_string(), |k| k.to_string()))
         .collect();
     format!("{} (per run: {})", n.dangerous_total(), runs.join(", "))
+}
+
+/// The differences by design of a sheared run (a `fix … deform` in LAMMPS's echo of the
+/// script), each with the agreement to expect: LAMMPS wraps atoms back into a tilted box, and
+/// `remap v` changes their v_x by the box's velocity jump, only when it re-neighbours; the
+/// standalone engine re-neighbours by LAMMPS's rule for `neigh_modify delay 0 every 1 check
+/// yes` and knows nothing of other schedules (other `neigh_modify` settings, or `restart N`,
+/// which makes LAMMPS re-neighbour on the steps it writes a restart file).
+fn shear_notes(text_l: &str, n: &NeighborSummary) -> Vec<String> {
+    let words = |l: &str| l.split_whitespace().map(str::to_string).collect::<Vec<_>>();
+    let lines: Vec<Vec<String>> = text_l.lines().map(words).collect();
+    let sheared = lines
+        .iter()
+        .any(|w| w.len() > 3 && w[0] == "fix" && w[3] == "deform");
+    if !sheared {
+        return Vec::new();
+    }
+    let mut why = Vec::new();
+    if let Some(st) = n
+        .settings
+        .last()
+        .filter(|s| !(s.every == 1 && s.delay == 0 && s.check))
+    {
+        why.push(format!(
+            "LAMMPS re-neighbours by `neigh_modify {}`",
+            st.keywords()
+        ));
+    }
+    if let Some(w) = lines
+        .iter()
+        .find(|w| w.len() > 1 && w[0] == "restart" && w[1].parse::<u64>().is_ok_and(|k| k > 0))
+    {
+        why.push(format!(
+            "LAMMPS also re-neighbours at every step it writes a restart file (`restart {} …`)",
+            w[1]
+        ));
+    }
+    why.into_iter()
+        .map(|w| {
+            format!(
+                "sheared box (fix deform): {w}, the standalone engine by LAMMPS's rule for \
+                 `neigh_modify delay 0 every 1 check yes` only, and LAMMPS wraps atoms into the \
+                 tilted box (with the `remap v` velocity jump) only when it re-neighbours, so \
+                 an atom can wait outside the box in one engine and not in the other: expect \
+                 `temp`, `ke`, `etotal`, the thermo pressure and dumped x, vx to differ (by \
+                 about m (R L_y)^2 / (d N) in temp per such atom); pe, forces, `temp/deform` and \
+                 its pressure, and xu agree to round-off only until the first box flip (LAMMPS \
+                 puts the atoms outside the box at a flip back without their velocity jump, \
+                 and which atoms those are depends on its schedule), after it they differ too; \
+                 for the same numbers use `neigh_modify delay 0 every 1 check yes` and no \
+                 `restart` during the run"
+            )
+        })
+        .collect()
 }
 
 /// The DIFFER verdict line, with the reason LAMMPS's own log gives when it gives one: dangerous
