@@ -474,6 +474,105 @@ fn momentum_conserved_up_to_the_boundary_remap() {
     );
 }
 
+/// Triclinic data files (issue 32): `write_data` of a sheared run writes the `xy xz yz` line,
+/// atoms in LAMMPS's tilted cell (x_lo + xy λ_y ≤ x < x_hi + xy λ_y) and image flags such that
+/// x + ix L_x + iy xy is the unwrapped position the engine had (LAMMPS's `unmap`); `read_data`
+/// gives back every atom's unwrapped position and velocity.
+#[test]
+fn triclinic_data_files_round_trip() {
+    let path = tmp("tri.data");
+    let deform = "fix 3 all deform 1 xy erate 0.8 remap v";
+    let region = "region box prism -4 4 -3 3 -0.5 0.5 1.25 0 0";
+    let text = format!("{}write_data {path}\n", fluid2d(region, deform, 300));
+    let (_, sys) = run(&text).expect("run");
+    let sys = sys.expect("system");
+    let xy = sys.tri.as_ref().unwrap().xy;
+    // 300 steps at 0.8 · 6 · 0.01 = 0.048 a step from 1.25: 15.65, flipped into ±4.
+    assert!((xy - (1.25 + 14.4 - 16.0)).abs() < 1e-9, "xy {xy}");
+    let d = dpdnl::io::data::parse_data(&std::fs::read_to_string(&path).unwrap(), &path)
+        .expect("parse");
+    assert_eq!(d.tilt, Some([xy, 0.0, 0.0]));
+    let mut outside = 0;
+    for &(_, _, x, im) in &d.atoms {
+        let lambda = (x[1] + 3.0) / 6.0;
+        assert!((0.0..1.0).contains(&lambda), "y {}", x[1]);
+        let lo = -4.0 + xy * lambda;
+        assert!(
+            x[0] >= lo - 1e-12 && x[0] < lo + 8.0 + 1e-12,
+            "x {} lambda {lambda}",
+            x[0]
+        );
+        outside += usize::from(im != [0; 3]);
+    }
+    assert!(outside > 20, "only {outside} atoms with image flags");
+    // The unwrapped positions and velocities the run ended with.
+    let unwrapped = |s: &System| {
+        let xy = s.tri.as_ref().map_or(0.0, |t| t.xy);
+        let mut v: Vec<(u32, [f64; 3], [f64; 3])> = (0..s.atoms.len())
+            .map(|i| {
+                let u = s.bx.unwrap_tilted(s.atoms.x[i], s.atoms.image[i], xy);
+                (s.atoms.tag[i], u, s.atoms.v[i])
+            })
+            .collect();
+        v.sort_by_key(|a| a.0);
+        v
+    };
+    let continued = format!(
+        "units lj\ndimension 2\nboundary p p p\natom_style atomic\ncomm_modify vel yes\n\
+         read_data {path}\n\
+         pair_style dpd/nonlinear 1.0 1.0 9898 friction dot noise corrected\n\
+         pair_coeff * * 25.0 4.5 0.5\nneighbor 0.3 bin\ntimestep 0.01\n"
+    );
+    let (_, back) = run(&continued).expect("read_data");
+    let back = back.expect("system");
+    for (a, b) in unwrapped(&sys).iter().zip(unwrapped(&back).iter()) {
+        assert_eq!(a.0, b.0);
+        for k in 0..3 {
+            assert!(
+                (a.1[k] - b.1[k]).abs() < 1e-12,
+                "atom {}: {:?} vs {:?}",
+                a.0,
+                a.1,
+                b.1
+            );
+        }
+        assert_eq!(a.2, b.2, "atom {} velocity", a.0);
+    }
+}
+
+/// A data file tilted in xz or yz is refused, naming the file, the line and the token.
+#[test]
+fn data_file_tilt_errors_name_file_line_and_token() {
+    let path = tmp("xz.data");
+    std::fs::write(
+        &path,
+        "title\n\n1 atoms\n1 atom types\n0 5 xlo xhi\n0 5 ylo yhi\n0 5 zlo zhi\n\
+         0.5 0.25 0 xy xz yz\n\nAtoms # atomic\n\n1 1 1 1 1\n",
+    )
+    .unwrap();
+    let e = err_of(&format!("units lj\natom_style atomic\nread_data {path}\n"));
+    assert_eq!((e.line, e.command.as_str()), (3, "read_data"), "{e}");
+    for part in [
+        &format!("{path}:8"),
+        "column 2",
+        "xz = '0.25'",
+        "xz = yz = 0",
+    ] {
+        assert!(e.message.contains(part), "'{part}' not in: {e}");
+    }
+    std::fs::write(
+        &path,
+        "title\n\n1 atoms\n1 atom types\n0 5 xlo xhi\n0 5 ylo yhi\n0 5 zlo zhi\n\
+         0.5 0 nan xy xz yz\n\nAtoms # atomic\n\n1 1 1 1 1\n",
+    )
+    .unwrap();
+    let e = err_of(&format!("units lj\natom_style atomic\nread_data {path}\n"));
+    assert!(
+        e.message.contains(&format!("{path}:8")) && e.message.contains("column 3"),
+        "{e}"
+    );
+}
+
 fn fluid2d(region: &str, deform: &str, steps: u32) -> String {
     format!(
         "units lj\ndimension 2\nboundary p p p\natom_style atomic\ncomm_modify vel yes\n\
@@ -589,7 +688,10 @@ fn bad_input_names_line_and_token() {
         ("compute t all temp/deform extra", "'extra'"),
         ("change_box all ortho", "'ortho'"),
         ("thermo_modify temp nosuch", "'nosuch'"),
-        ("write_data x.data", "triclinic"),
+        (
+            "fix 3 all deform 1 xy erate 0.1 remap v order later",
+            "'later'",
+        ),
     ] {
         let e = err_of(&format!("{tri}{line}\n"));
         assert_eq!(e.line, 7, "{line}: {e}");
