@@ -353,7 +353,7 @@ fn lammps_order_uses_the_box_of_the_previous_step() {
     sys.setup_run(start + 400).expect("setup");
     // The tilt of the box at the end of step m (unflipped): that of the last multiple of 3.
     let unflipped = |m: u64| {
-        let last = if m % 3 == 0 { m } else { m - m % 3 };
+        let last = m - m % 3;
         let last = last.max(start);
         1.0 + rate * ly * (last - start) as f64 * dt
     };
@@ -387,11 +387,11 @@ fn lammps_order_uses_the_box_of_the_previous_step() {
         if (t.xy - prev_reported).abs() > 0.5 * lx {
             flips += 1;
         }
-        if n % 3 != 0 && t.xy != prev_reported && (t.xy - prev_reported).abs() < 0.5 * lx {
+        if !n.is_multiple_of(3) && t.xy != prev_reported && (t.xy - prev_reported).abs() < 0.5 * lx {
             panic!("step {n}: the tilt changed off a multiple of N");
         }
         prev_reported = t.xy;
-        if n % 20 == 0 {
+        if n.is_multiple_of(20) {
             assert_matches_brute(&sys);
         }
     }
