@@ -387,7 +387,8 @@ fn lammps_order_uses_the_box_of_the_previous_step() {
         if (t.xy - prev_reported).abs() > 0.5 * lx {
             flips += 1;
         }
-        if !n.is_multiple_of(3) && t.xy != prev_reported && (t.xy - prev_reported).abs() < 0.5 * lx {
+        if !n.is_multiple_of(3) && t.xy != prev_reported && (t.xy - prev_reported).abs() < 0.5 * lx
+        {
             panic!("step {n}: the tilt changed off a multiple of N");
         }
         prev_reported = t.xy;
