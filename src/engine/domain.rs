@@ -284,6 +284,39 @@ mod tests {
     }
 
     #[test]
+    fn wrapping_keeps_lammps_unwrapped_position() {
+        // LAMMPS's unwrapped x + ix L_x + iy xy (tilt xy, offset = xy mod L_x) is kept by every
+        // wrap, through y (by the offset) and x, for tilts of either sign and beyond L_x.
+        let b = bx();
+        for xy in [1.3, -2.2, 7.9, -13.1] {
+            let mut le = LeesEdwards::new(0.4);
+            le.offset = f64::rem_euclid(xy, 6.0);
+            le.tilt_cells = ((le.offset - xy) / 6.0).round();
+            for x0 in [
+                [6.7, 2.4, 1.0],
+                [-0.3, -2.5, 5.2],
+                [3.0, -6.1, -0.4],
+                [11.9, 5.9, 2.0],
+            ] {
+                let (mut x, mut v, mut im) = (x0, [0.0; 3], [2, -1, 0]);
+                let u0 = b.unwrap_tilted(x, im, xy);
+                b.wrap_le(&mut x, &mut v, &mut im, &le);
+                let u1 = b.unwrap_tilted(x, im, xy);
+                for k in 0..3 {
+                    assert!(
+                        (u0[k] - u1[k]).abs() < 1e-12,
+                        "xy {xy} {x0:?}: {u0:?} vs {u1:?}"
+                    );
+                }
+                assert!(
+                    (0.0..6.0).contains(&x[0]) && (-2.0..2.0).contains(&x[1]),
+                    "{x:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn wrapping_keeps_pair_geometry_and_relative_velocity() {
         // An atom leaving through the top re-enters at the bottom shifted by −offset, with
         // v_x − γ̇L_y: its separation and relative velocity to any other atom are unchanged.
