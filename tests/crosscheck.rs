@@ -393,8 +393,8 @@ fn sheared_write_data_matches_lammps_and_continues() {
 /// The differences by design of a sheared run are named (issue 32): with another LAMMPS
 /// neighbour schedule (`neigh_modify every 2 delay 4`) LAMMPS wraps atoms, with the `remap v`
 /// velocity jump, on other steps, so `temp` differs: the DIFFER verdict says so and what agrees;
-/// `fix deform … order current` (standalone only) makes LAMMPS fail, and crosscheck's message
-/// says why.
+/// `restart N`, on whose steps LAMMPS re-neighbours too, is mirrored (AGREE); `fix deform …
+/// order current` (standalone only) makes LAMMPS fail, and crosscheck's message says why.
 #[test]
 fn sheared_verdicts_name_the_differences_by_design() {
     let Some(lmp) = lmp() else { return };
@@ -437,6 +437,13 @@ fn sheared_verdicts_name_the_differences_by_design() {
             "'{part}' not in the verdict: {verdict}"
         );
     }
+    // `restart N` makes LAMMPS re-neighbour (and so wrap atoms, with the velocity jump) on the
+    // steps it writes; the standalone engine does the same, so the numbers agree.
+    let with_restart = golden.replace("run             100", "restart 40 rst.*\nrun 100");
+    assert_ne!(with_restart, golden, "the golden script changed");
+    let out = run("in.restart", with_restart);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
     let current = golden.replace("remap v", "remap v order current");
     let out = run("in.current", current);
     let stderr = String::from_utf8_lossy(&out.stderr);

@@ -88,6 +88,9 @@ pub struct System {
     /// The last step of the coming run, when known ([`System::setup_run`]): `fix deform`'s
     /// rates depend on it as LAMMPS's do.
     run_end: Option<u64>,
+    /// Rebuild the lists at the next step (LAMMPS re-neighbours on the steps it writes a
+    /// restart file: [`System::rebuild_at_next_step`]).
+    force_rebuild: bool,
 }
 
 /// A line for the log from [`System::setup`].
@@ -162,6 +165,7 @@ impl System {
             prepass: Vec::new(),
             pair_fault: None,
             run_end: None,
+            force_rebuild: false,
         }
     }
 
@@ -196,6 +200,13 @@ impl System {
     pub fn setup_run(&mut self, last: u64) -> Result<(), String> {
         self.run_end = Some(last);
         self.setup()
+    }
+
+    /// Rebuild the neighbour lists at the next step whatever the atoms did, as LAMMPS does on a
+    /// step it writes a restart file (`restart N`: `Neighbor::decide`); under shear that is
+    /// also when atoms are wrapped with the velocity jump.
+    pub fn rebuild_at_next_step(&mut self) {
+        self.force_rebuild = true;
     }
 
     /// Check everything a run needs and evaluate the forces of the current step (LAMMPS's
@@ -413,11 +424,13 @@ impl System {
         let Some(rc_max) = self.pair.as_deref().map(|s| s.rc_max()) else {
             return;
         };
-        let rebuild = if lammps {
-            self.lammps_rebuild_due(setup)
-        } else {
-            self.neighbor.needs_rebuild(&self.atoms)
-        };
+        let forced = std::mem::take(&mut self.force_rebuild) && !setup;
+        let rebuild = forced
+            || if lammps {
+                self.lammps_rebuild_due(setup)
+            } else {
+                self.neighbor.needs_rebuild(&self.atoms)
+            };
         if rebuild {
             if lammps {
                 self.flip_box();

@@ -422,10 +422,11 @@ fn dangerous_counts(n: &NeighborSummary) -> String {
 
 /// The differences by design of a sheared run (a `fix … deform` in LAMMPS's echo of the
 /// script), each with the agreement to expect: LAMMPS wraps atoms back into a tilted box, and
-/// `remap v` changes their v_x by the box's velocity jump, only when it re-neighbours; the
-/// standalone engine re-neighbours by LAMMPS's rule for `neigh_modify delay 0 every 1 check
-/// yes` and knows nothing of other schedules (other `neigh_modify` settings, or `restart N`,
-/// which makes LAMMPS re-neighbour on the steps it writes a restart file).
+/// `remap v` changes their v_x by the box's velocity jump, only when it re-neighbours (and, with
+/// no jump, in `write_restart`, whose `init` sets the jump to 0 outside a run); the standalone
+/// engine re-neighbours by LAMMPS's rule for `neigh_modify delay 0 every 1 check yes` (and on
+/// the steps `restart N` writes, as LAMMPS), so another `neigh_modify` schedule or a
+/// `write_restart` between runs wraps atoms on other steps in LAMMPS.
 fn shear_notes(text_l: &str, n: &NeighborSummary) -> Vec<String> {
     let words = |l: &str| l.split_whitespace().map(str::to_string).collect::<Vec<_>>();
     let lines: Vec<Vec<String>> = text_l.lines().map(words).collect();
@@ -442,33 +443,35 @@ fn shear_notes(text_l: &str, n: &NeighborSummary) -> Vec<String> {
         .filter(|s| !(s.every == 1 && s.delay == 0 && s.check))
     {
         why.push(format!(
-            "LAMMPS re-neighbours by `neigh_modify {}`",
+            "LAMMPS re-neighbours by `neigh_modify {}`, the standalone engine by LAMMPS's \
+             rule for `neigh_modify delay 0 every 1 check yes` only",
             st.keywords()
         ));
     }
-    if let Some(w) = lines
+    if lines
         .iter()
-        .find(|w| w.len() > 1 && w[0] == "restart" && w[1].parse::<u64>().is_ok_and(|k| k > 0))
+        .any(|w| w.first().is_some_and(|c| c == "write_restart"))
     {
-        why.push(format!(
-            "LAMMPS also re-neighbours at every step it writes a restart file (`restart {} …`)",
-            w[1]
-        ));
+        why.push(
+            "LAMMPS's `write_restart` wraps the atoms outside the box without the velocity \
+             jump (its `fix deform` has h_rate 0 outside a run), the standalone engine's \
+             leaves them"
+                .to_string(),
+        );
     }
     why.into_iter()
         .map(|w| {
             format!(
-                "sheared box (fix deform): {w}, the standalone engine by LAMMPS's rule for \
-                 `neigh_modify delay 0 every 1 check yes` only, and LAMMPS wraps atoms into the \
-                 tilted box (with the `remap v` velocity jump) only when it re-neighbours, so \
-                 an atom can wait outside the box in one engine and not in the other: expect \
-                 `temp`, `ke`, `etotal`, the thermo pressure and dumped x, vx to differ (by \
-                 about m (R L_y)^2 / (d N) in temp per such atom); pe, forces, `temp/deform` and \
-                 its pressure, and xu agree to round-off only until the first box flip (LAMMPS \
-                 puts the atoms outside the box at a flip back without their velocity jump, \
-                 and which atoms those are depends on its schedule), after it they differ too; \
-                 for the same numbers use `neigh_modify delay 0 every 1 check yes` and no \
-                 `restart` during the run"
+                "sheared box (fix deform): {w}, and LAMMPS wraps atoms into the tilted box \
+                 (with the `remap v` velocity jump) only when it re-neighbours, so an atom can \
+                 wait outside the box in one engine and not in the other: expect `temp`, `ke`, \
+                 `etotal`, the thermo pressure and dumped x, vx to differ (by about \
+                 m (R L_y)^2 / (d N) in temp per such atom); pe, forces, `temp/deform` and its \
+                 pressure, and xu agree to round-off only until the first box flip (LAMMPS puts \
+                 the atoms outside the box at a flip back without their velocity jump, and \
+                 which atoms those are depends on its schedule), after it they differ too; for \
+                 the same numbers use `neigh_modify delay 0 every 1 check yes` and no \
+                 `write_restart` between runs"
             )
         })
         .collect()
