@@ -541,6 +541,39 @@ fn triclinic_data_files_round_trip() {
     }
 }
 
+/// `fix deform … order current` (standalone only) selects the former order: every atom is
+/// wrapped into the box at every step (LAMMPS's order leaves atoms outside between rebuilds),
+/// and the run differs from LAMMPS's order only through the lead of the image lattice.
+#[test]
+fn order_current_wraps_every_step() {
+    let region = "region box prism 0 8 0 8 -0.5 0.5 0 0 0";
+    let lammps = "fix 3 all deform 1 xy erate 0.5 remap v";
+    let current = "fix 3 all deform 1 xy erate 0.5 remap v order current";
+    let (_, a) = run(&fluid2d(region, current, 157)).expect("run");
+    let a = a.expect("system");
+    let d = a
+        .tri
+        .as_ref()
+        .and_then(|t| t.deform.as_ref())
+        .expect("deform");
+    assert_eq!(d.order, DeformOrder::Current);
+    assert!(a.atoms.x.iter().all(|x| (0.0..8.0).contains(&x[1])));
+    let (_, b) = run(&fluid2d(region, lammps, 157)).expect("run");
+    let b = b.expect("system");
+    let d = b
+        .tri
+        .as_ref()
+        .and_then(|t| t.deform.as_ref())
+        .expect("deform");
+    assert_eq!(d.order, DeformOrder::Lammps);
+    // The same tilt after the run, other trajectories.
+    assert_eq!(
+        a.tri.as_ref().unwrap().reported_xy(&a.bx),
+        b.tri.as_ref().unwrap().xy
+    );
+    assert_ne!(by_tag(&a), by_tag(&b));
+}
+
 /// A data file tilted in xz or yz is refused, naming the file, the line and the token.
 #[test]
 fn data_file_tilt_errors_name_file_line_and_token() {
