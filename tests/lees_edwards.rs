@@ -567,10 +567,9 @@ fn order_current_wraps_every_step() {
         .expect("deform");
     assert_eq!(d.order, DeformOrder::Lammps);
     // The same tilt after the run, other trajectories.
-    assert_eq!(
-        a.tri.as_ref().unwrap().reported_xy(&a.bx),
-        b.tri.as_ref().unwrap().xy
-    );
+    let xa = a.tri.as_ref().unwrap().reported_xy(&a.bx);
+    let xb = b.tri.as_ref().unwrap().xy;
+    assert!((xa - xb).abs() < 1e-12, "{xa} vs {xb}");
     assert_ne!(by_tag(&a), by_tag(&b));
 }
 
