@@ -285,3 +285,171 @@ fn differ_verdict_names_dangerous_builds_and_the_fix() {
         "{verdict}"
     );
 }
+
+/// `write_data` of a sheared box (issue 32), both directions: after the same sheared run (the
+/// mixture of `in.shear_flip_3d` at erate 1, N = 2, 113 steps: a flip behind it, tilt 0.6), the
+/// standalone engine writes the data file LAMMPS writes (the `xy xz yz` line, atoms in LAMMPS's
+/// tilted cell, image flags equal, positions and velocities to 1e-9), and a run continued from
+/// the standalone engine's file agrees between the engines (`in.shear_data_3d` continues from
+/// LAMMPS's file).
+#[test]
+fn sheared_write_data_matches_lammps_and_continues() {
+    let Some(lmp) = lmp() else { return };
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("shear_write_data");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let cases = root().join("tests/data/crosscheck");
+    std::fs::copy(cases.join("dpd3d.data"), dir.join("dpd3d.data")).expect("copy data");
+    let script = read(&cases.join("in.shear_flip_3d"))
+        .replace("erate 2.0", "erate 1.0")
+        .replace(
+            "run             100",
+            "run             113\nwrite_data      out.${engine}.data nocoeff",
+        );
+    assert!(script.contains("write_data"), "the script changed");
+    std::fs::write(dir.join("in.write"), script).expect("write the script");
+    let crosscheck = |script: &Path, extra: &[&str], work: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+            .arg("crosscheck")
+            .arg(script)
+            .arg("--lmp")
+            .arg(&lmp)
+            .arg("--workdir")
+            .arg(dir.join(work))
+            .args(extra)
+            .output()
+            .expect("run dpdnl crosscheck");
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert_eq!(out.status.code(), Some(0), "{stdout}");
+        stdout
+    };
+    crosscheck(&dir.join("in.write"), &[], "w");
+    let data = |engine: &str| {
+        let p = dir.join(format!("out.{engine}.data"));
+        dpdnl::io::data::parse_data(&read(&p), &p.display().to_string()).expect("parse")
+    };
+    let (s, l) = (data("standalone"), data("lammps"));
+    let (ts, tl) = (
+        s.tilt.expect("standalone tilt"),
+        l.tilt.expect("lammps tilt"),
+    );
+    assert!(
+        (ts[0] - 0.6).abs() < 1e-9 && (ts[0] - tl[0]).abs() < 1e-12,
+        "{ts:?} {tl:?}"
+    );
+    assert_eq!(s.atoms.len(), 500);
+    let by_tag = |d: &dpdnl::io::data::DataFile| {
+        let mut a = d.atoms.clone();
+        a.sort_by_key(|a| a.0);
+        let mut v = d.velocities.clone();
+        v.sort_by_key(|v| v.0);
+        (a, v)
+    };
+    let ((sa, sv), (la, lv)) = (by_tag(&s), by_tag(&l));
+    let mut crossed = 0;
+    for (a, b) in sa.iter().zip(&la) {
+        assert_eq!(
+            (a.0, a.1, a.3),
+            (b.0, b.1, b.3),
+            "atom {} (id type image)",
+            a.0
+        );
+        for k in 0..3 {
+            assert!(
+                (a.2[k] - b.2[k]).abs() < 1e-9,
+                "atom {}: {:?} {:?}",
+                a.0,
+                a.2,
+                b.2
+            );
+        }
+        crossed += usize::from(a.3 != [0; 3]);
+    }
+    assert!(
+        crossed > 50,
+        "only {crossed} atoms with image flags: test too weak"
+    );
+    for (a, b) in sv.iter().zip(&lv) {
+        for k in 0..3 {
+            assert!(
+                (a.1[k] - b.1[k]).abs() < 1e-9,
+                "atom {}: {:?} {:?}",
+                a.0,
+                a.1,
+                b.1
+            );
+        }
+    }
+    // LAMMPS continues from the standalone engine's file as the standalone engine does.
+    let src = dir.join("out.standalone.data");
+    let src = src.to_string_lossy();
+    crosscheck(
+        &cases.join("in.shear_data_3d"),
+        &["--var", "src", &src],
+        "c",
+    );
+}
+
+/// The differences by design of a sheared run are named (issue 32): with another LAMMPS
+/// neighbour schedule (`neigh_modify every 2 delay 4`) LAMMPS wraps atoms, with the `remap v`
+/// velocity jump, on other steps, so `temp` differs: the DIFFER verdict says so and what agrees;
+/// `restart N`, on whose steps LAMMPS re-neighbours too, is mirrored (AGREE); `fix deform …
+/// order current` (standalone only) makes LAMMPS fail, and crosscheck's message says why.
+#[test]
+fn sheared_verdicts_name_the_differences_by_design() {
+    let Some(lmp) = lmp() else { return };
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("shear_verdicts");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let cases = root().join("tests/data/crosscheck");
+    std::fs::copy(cases.join("dpd3d.data"), dir.join("dpd3d.data")).expect("copy data");
+    let golden = read(&cases.join("in.shear_dot_twostep_3d"));
+    let run = |name: &str, script: String| {
+        std::fs::write(dir.join(name), script).expect("write the script");
+        Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+            .arg("crosscheck")
+            .arg(dir.join(name))
+            .arg("--lmp")
+            .arg(&lmp)
+            .arg("--workdir")
+            .arg(dir.join(format!("w.{name}")))
+            .output()
+            .expect("run dpdnl crosscheck")
+    };
+    let delayed = golden.replace(
+        "neigh_modify    delay 0 every 1 check yes",
+        "neigh_modify    delay 4 every 2 check yes",
+    );
+    assert_ne!(delayed, golden, "the golden script changed");
+    let out = run("in.delayed", delayed);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    let verdict = stdout.lines().last().unwrap_or("");
+    for part in [
+        "CROSSCHECK DIFFER",
+        "sheared box (fix deform): LAMMPS re-neighbours by `neigh_modify every 2 delay 4 check yes`",
+        "expect `temp`, `ke`, `etotal`",
+        "`temp/deform` and its pressure",
+        "use `neigh_modify delay 0 every 1 check yes`",
+    ] {
+        assert!(
+            verdict.contains(part),
+            "'{part}' not in the verdict: {verdict}"
+        );
+    }
+    // `restart N` makes LAMMPS re-neighbour (and so wrap atoms, with the velocity jump) on the
+    // steps it writes; the standalone engine does the same, so the numbers agree.
+    let with_restart = golden.replace("run             100", "restart 40 rst.*\nrun 100");
+    assert_ne!(with_restart, golden, "the golden script changed");
+    let out = run("in.restart", with_restart);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    let current = golden.replace("remap v", "remap v order current");
+    let out = run("in.current", current);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("is a keyword of the standalone engine only"),
+        "{stderr}"
+    );
+}

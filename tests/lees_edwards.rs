@@ -4,7 +4,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use dpdnl::engine::forcefield::DpdPair;
-use dpdnl::engine::lees_edwards::{Deform, Triclinic};
+use dpdnl::engine::lees_edwards::{Deform, DeformOrder, Triclinic};
 use dpdnl::engine::{Atoms, ForceField, Integrator, SimBox, System};
 use dpdnl::input::ScriptError;
 use dpdnl::kernel::{self, Friction, Noise, PairCoeff, PairInput, PairModel, Weight};
@@ -12,6 +12,17 @@ use dpdnl::rng::pair_gaussian;
 
 mod common;
 use common::run;
+
+/// The deformation of `sys` in `fix deform … order current` (the box of the current step,
+/// atoms wrapped at every step, lists with a tilt allowance).
+fn current_order(sys: &mut System) {
+    let d = sys
+        .tri
+        .as_mut()
+        .and_then(|t| t.deform.as_mut())
+        .expect("deform");
+    d.order = DeformOrder::Current;
+}
 
 /// A deterministic xorshift stream in [0, 1).
 struct Rng(u64);
@@ -228,13 +239,14 @@ fn sheared_boxes(erate_3d: f64) -> [(SimBox, usize, f64, f64); 2] {
 /// after several steps of a changing offset with moving atoms, the forces from a list built
 /// steps earlier (at another offset, atoms since then neither wrapped nor re-sorted) equal the
 /// brute-force sum at the current offset; and the list is rebuilt once the tilt has moved by a
-/// skin.
+/// skin. (`order current`: LAMMPS's order rebuilds by LAMMPS's stricter rule.)
 #[test]
 fn a_kept_list_under_a_changing_offset_equals_brute_force() {
     for (bx, n, xy, erate) in sheared_boxes(-0.4) {
         let dim = bx.dim;
         let ly = bx.len()[1];
         let mut sys = system(bx, n, xy, erate, 31);
+        current_order(&mut sys);
         sys.neighbor.skin = 0.5;
         sys.setup().expect("setup");
         let builds = sys.neighbor.builds;
@@ -279,11 +291,13 @@ fn a_kept_list_under_a_changing_offset_equals_brute_force() {
 /// ±D of its own, D growing with the previous list's lifetime (up to L_x/2 − cut-off), so with
 /// atoms at rest the lists outlive the skin's worth of tilt (0.5 here: 10 steps at 0.049 a
 /// step in 2-D, 2 at 0.18 in 3-D): forces equal the brute-force image sum at every fifth step
-/// of 80, with at most half the builds of a list rebuilt at every skin's worth of tilt.
+/// of 80, with at most half the builds of a list rebuilt at every skin's worth of tilt
+/// (`order current`, the only order with the allowance).
 #[test]
 fn the_tilt_allowance_keeps_lists_and_forces() {
     for (bx, n, xy, erate) in sheared_boxes(-4.0) {
         let mut sys = system(bx, n, xy, erate, 53);
+        current_order(&mut sys);
         sys.neighbor.skin = 0.5;
         sys.neighbor.set_working_list(Some(false));
         sys.setup().expect("setup");
@@ -322,15 +336,109 @@ fn the_working_list_follows_the_offset() {
     }
 }
 
+/// LAMMPS's order (the default): the forces of step n see the box of step n − 1 (the tilt
+/// changes in `end_of_step`, after the forces): the offset of step n's forces is
+/// xy(n − 1) mod L_x with xy(m) = xy_0 + R L_y (m − m_0) δt, the tilt changes only on
+/// multiples of N (here 3), and it flips by L_x once |xy| > L_x/2 (done at the next step, so
+/// the reported tilt exceeds L_x/2 for one step), as `fix deform` does in LAMMPS.
+#[test]
+fn lammps_order_uses_the_box_of_the_previous_step() {
+    let bx = SimBox::new(2, [0.0, -3.5, -0.5], [9.0, 3.5, 0.5]).unwrap();
+    let (lx, ly, rate, dt) = (9.0, 7.0, 0.7, 0.01);
+    let mut sys = system(bx, 300, 1.0, rate, 5);
+    // Euler: the velocities of step n's forces are those after the step (brute force).
+    sys.integrator = Some(Integrator::Euler);
+    sys.tri.as_mut().unwrap().deform.as_mut().unwrap().every = 3;
+    let start = sys.step;
+    sys.setup_run(start + 400).expect("setup");
+    // The tilt of the box at the end of step m (unflipped): that of the last multiple of 3.
+    let unflipped = |m: u64| {
+        let last = m - m % 3;
+        let last = last.max(start);
+        1.0 + rate * ly * (last - start) as f64 * dt
+    };
+    let mut flips = 0;
+    let mut prev_reported = sys.tri.as_ref().unwrap().xy;
+    for _ in 0..400 {
+        sys.step_once();
+        let n = sys.step;
+        let t = sys.tri.as_ref().unwrap();
+        // Step n's forces: the box of step n − 1.
+        let want = unflipped(n - 1).rem_euclid(lx);
+        let d = (t.le.offset - want).abs();
+        assert!(
+            d.min(lx - d) < 1e-9,
+            "step {n}: offset {} vs {want}",
+            t.le.offset
+        );
+        // The box after step n: the tilt of step n, less whole box lengths from flips.
+        let k = (unflipped(n) - t.xy) / lx;
+        assert!(
+            (k - k.round()).abs() < 1e-9,
+            "step {n}: xy {} vs {}",
+            t.xy,
+            unflipped(n)
+        );
+        assert!(
+            t.xy.abs() <= 0.5 * lx + rate * ly * dt * 3.0 + 1e-12,
+            "step {n}: xy {}",
+            t.xy
+        );
+        if (t.xy - prev_reported).abs() > 0.5 * lx {
+            flips += 1;
+        }
+        if !n.is_multiple_of(3) && t.xy != prev_reported && (t.xy - prev_reported).abs() < 0.5 * lx
+        {
+            panic!("step {n}: the tilt changed off a multiple of N");
+        }
+        prev_reported = t.xy;
+        if n.is_multiple_of(20) {
+            assert_matches_brute(&sys);
+        }
+    }
+    // 400 steps at 0.049 a step: 19.6 of tilt, two flips of L_x = 9.
+    assert_eq!(flips, 2, "flips");
+}
+
+/// LAMMPS's order through box flips with moving atoms: at every step the forces equal the
+/// brute-force sum over the sheared images (the list rebuilt by LAMMPS's rule, the flip's
+/// remap and the atoms left outside the box between rebuilds included).
+#[test]
+fn lammps_order_forces_equal_brute_force_through_flips() {
+    for (bx, n, xy, erate) in sheared_boxes(-2.0) {
+        let mut sys = system(bx, n, xy, erate, 77);
+        // Euler: the velocities of step n's forces are those after the step (brute force).
+        sys.integrator = Some(Integrator::Euler);
+        sys.neighbor.skin = 0.5;
+        let start = sys.step;
+        sys.setup_run(start + 60).expect("setup");
+        let mut last = sys.tri.as_ref().unwrap().xy;
+        let mut flips = 0;
+        for _ in 0..60 {
+            sys.step_once();
+            assert_matches_brute(&sys);
+            let xy = sys.tri.as_ref().unwrap().xy;
+            if (xy - last).abs() > 0.5 * sys.bx.len()[0] {
+                flips += 1;
+            }
+            last = xy;
+        }
+        assert!(flips >= 1, "no flip in 60 steps");
+    }
+}
+
 /// P_x changes only when an atom crosses y (remap v: v_x ∓ γ̇ L_y), so
 /// P_x + γ̇ L_y Σ m n_y (n_y: net y crossings, `image[1]`) and P_y are conserved by the pair
-/// forces (F_ji = −F_ij); they hold to round-off over many steps.
+/// forces (F_ji = −F_ij); they hold to round-off over many steps. (`order current`: in
+/// LAMMPS's order an atom outside the box at a flip is put back without its velocity jump, as
+/// LAMMPS's `Domain::remap` does, which breaks this bookkeeping.)
 #[test]
 fn momentum_conserved_up_to_the_boundary_remap() {
     let bx = SimBox::new(2, [0.0, 0.0, -0.5], [8.0, 8.0, 0.5]).unwrap();
     let ly = bx.len()[1];
     let rate = 0.9;
     let mut sys = system(bx, 256, 0.0, rate, 99);
+    current_order(&mut sys);
     sys.integrator = Some(Integrator::VelocityVerlet);
     sys.setup().expect("setup");
     let invariant = |s: &System| {
@@ -364,6 +472,137 @@ fn momentum_conserved_up_to_the_boundary_remap() {
     assert!(
         (p1[0] - p0[0]).abs() < 1e-10 && (p1[1] - p0[1]).abs() < 1e-10,
         "{p0:?} -> {p1:?}"
+    );
+}
+
+/// Triclinic data files (issue 32): `write_data` of a sheared run writes the `xy xz yz` line,
+/// atoms in LAMMPS's tilted cell (x_lo + xy λ_y ≤ x < x_hi + xy λ_y) and image flags such that
+/// x + ix L_x + iy xy is the unwrapped position the engine had (LAMMPS's `unmap`); `read_data`
+/// gives back every atom's unwrapped position and velocity.
+#[test]
+fn triclinic_data_files_round_trip() {
+    let path = tmp("tri.data");
+    let deform = "fix 3 all deform 1 xy erate 0.8 remap v";
+    let region = "region box prism -4 4 -3 3 -0.5 0.5 1.25 0 0";
+    let text = format!("{}write_data {path}\n", fluid2d(region, deform, 300));
+    let (_, sys) = run(&text).expect("run");
+    let sys = sys.expect("system");
+    let xy = sys.tri.as_ref().unwrap().xy;
+    // 300 steps at 0.8 · 6 · 0.01 = 0.048 a step from 1.25: 15.65, flipped into ±4.
+    assert!((xy - (1.25 + 14.4 - 16.0)).abs() < 1e-9, "xy {xy}");
+    let d = dpdnl::io::data::parse_data(&std::fs::read_to_string(&path).unwrap(), &path)
+        .expect("parse");
+    assert_eq!(d.tilt, Some([xy, 0.0, 0.0]));
+    let mut outside = 0;
+    for &(_, _, x, im) in &d.atoms {
+        let lambda = (x[1] + 3.0) / 6.0;
+        assert!((0.0..1.0).contains(&lambda), "y {}", x[1]);
+        let lo = -4.0 + xy * lambda;
+        assert!(
+            x[0] >= lo - 1e-12 && x[0] < lo + 8.0 + 1e-12,
+            "x {} lambda {lambda}",
+            x[0]
+        );
+        outside += usize::from(im != [0; 3]);
+    }
+    assert!(outside > 20, "only {outside} atoms with image flags");
+    // The unwrapped positions and velocities the run ended with.
+    let unwrapped = |s: &System| {
+        let xy = s.tri.as_ref().map_or(0.0, |t| t.xy);
+        let mut v: Vec<(u32, [f64; 3], [f64; 3])> = (0..s.atoms.len())
+            .map(|i| {
+                let u = s.bx.unwrap_tilted(s.atoms.x[i], s.atoms.image[i], xy);
+                (s.atoms.tag[i], u, s.atoms.v[i])
+            })
+            .collect();
+        v.sort_by_key(|a| a.0);
+        v
+    };
+    let continued = format!(
+        "units lj\ndimension 2\nboundary p p p\natom_style atomic\ncomm_modify vel yes\n\
+         read_data {path}\n\
+         pair_style dpd/nonlinear 1.0 1.0 9898 friction dot noise corrected\n\
+         pair_coeff * * 25.0 4.5 0.5\nneighbor 0.3 bin\ntimestep 0.01\n"
+    );
+    let (_, back) = run(&continued).expect("read_data");
+    let back = back.expect("system");
+    for (a, b) in unwrapped(&sys).iter().zip(unwrapped(&back).iter()) {
+        assert_eq!(a.0, b.0);
+        for k in 0..3 {
+            assert!(
+                (a.1[k] - b.1[k]).abs() < 1e-12,
+                "atom {}: {:?} vs {:?}",
+                a.0,
+                a.1,
+                b.1
+            );
+        }
+        assert_eq!(a.2, b.2, "atom {} velocity", a.0);
+    }
+}
+
+/// `fix deform … order current` (standalone only) selects the former order: every atom is
+/// wrapped into the box at every step (LAMMPS's order leaves atoms outside between rebuilds),
+/// and the run differs from LAMMPS's order only through the lead of the image lattice.
+#[test]
+fn order_current_wraps_every_step() {
+    let region = "region box prism 0 8 0 8 -0.5 0.5 0 0 0";
+    let lammps = "fix 3 all deform 1 xy erate 0.5 remap v";
+    let current = "fix 3 all deform 1 xy erate 0.5 remap v order current";
+    let (_, a) = run(&fluid2d(region, current, 157)).expect("run");
+    let a = a.expect("system");
+    let d = a
+        .tri
+        .as_ref()
+        .and_then(|t| t.deform.as_ref())
+        .expect("deform");
+    assert_eq!(d.order, DeformOrder::Current);
+    assert!(a.atoms.x.iter().all(|x| (0.0..8.0).contains(&x[1])));
+    let (_, b) = run(&fluid2d(region, lammps, 157)).expect("run");
+    let b = b.expect("system");
+    let d = b
+        .tri
+        .as_ref()
+        .and_then(|t| t.deform.as_ref())
+        .expect("deform");
+    assert_eq!(d.order, DeformOrder::Lammps);
+    // The same tilt after the run, other trajectories.
+    let xa = a.tri.as_ref().unwrap().reported_xy(&a.bx);
+    let xb = b.tri.as_ref().unwrap().xy;
+    assert!((xa - xb).abs() < 1e-12, "{xa} vs {xb}");
+    assert_ne!(by_tag(&a), by_tag(&b));
+}
+
+/// A data file tilted in xz or yz is refused, naming the file, the line and the token.
+#[test]
+fn data_file_tilt_errors_name_file_line_and_token() {
+    let path = tmp("xz.data");
+    std::fs::write(
+        &path,
+        "title\n\n1 atoms\n1 atom types\n0 5 xlo xhi\n0 5 ylo yhi\n0 5 zlo zhi\n\
+         0.5 0.25 0 xy xz yz\n\nAtoms # atomic\n\n1 1 1 1 1\n",
+    )
+    .unwrap();
+    let e = err_of(&format!("units lj\natom_style atomic\nread_data {path}\n"));
+    assert_eq!((e.line, e.command.as_str()), (3, "read_data"), "{e}");
+    for part in [
+        &format!("{path}:8"),
+        "column 2",
+        "xz = '0.25'",
+        "xz = yz = 0",
+    ] {
+        assert!(e.message.contains(part), "'{part}' not in: {e}");
+    }
+    std::fs::write(
+        &path,
+        "title\n\n1 atoms\n1 atom types\n0 5 xlo xhi\n0 5 ylo yhi\n0 5 zlo zhi\n\
+         0.5 0 nan xy xz yz\n\nAtoms # atomic\n\n1 1 1 1 1\n",
+    )
+    .unwrap();
+    let e = err_of(&format!("units lj\natom_style atomic\nread_data {path}\n"));
+    assert!(
+        e.message.contains(&format!("{path}:8")) && e.message.contains("column 3"),
+        "{e}"
     );
 }
 
@@ -482,7 +721,10 @@ fn bad_input_names_line_and_token() {
         ("compute t all temp/deform extra", "'extra'"),
         ("change_box all ortho", "'ortho'"),
         ("thermo_modify temp nosuch", "'nosuch'"),
-        ("write_data x.data", "triclinic"),
+        (
+            "fix 3 all deform 1 xy erate 0.1 remap v order later",
+            "'later'",
+        ),
     ] {
         let e = err_of(&format!("{tri}{line}\n"));
         assert_eq!(e.line, 7, "{line}: {e}");

@@ -8,7 +8,8 @@
 Checks, for every input in inputs/ (3-D vv, 2-D vv + enforce2d, 3-D Euler, 3-D PeX, a 3-D
 polymer solution with harmonic bonds and fractional special_bonds lj factors):
 newton on vs off and 1 vs 2, 4 (1x2x2) and 3 (uneven 3x1x1) MPI ranks give the same thermo and
-dumps (<= 1e-12 relative);
+dumps (<= 1e-12 relative); a sheared box that flips (fix deform) gives the same thermo on 1,
+2 and 4 ranks and the tilt of fix deform;
 total momentum is conserved; the restart continues the run; bad arguments give LAMMPS ERROR
 lines with clear messages; the styles survive `clear`. Prints the measured differences.
 
@@ -260,6 +261,62 @@ def consistency(tmp):
             f2 = rows[-1][header.index("f_2")]
             check(abs(f2 - 100 * 0.05) < 1e-12, f"pex3d: f_2 after 100 pushes = {f2!r} (5.0)")
     return results
+
+
+def sheared_flip(tmp):
+    """The golden cross-engine case tests/data/crosscheck/in.shear_flip_3d (fix deform every 2
+    steps at erate 2 on a triclinic box of L_x = 5, flipping twice in 100 steps) on 1, 2 and 4
+    ranks: the tilt follows fix deform (xy = 0.1 m, m the last even step, less whole L_x after a
+    flip, |xy| <= L_x/2 but for the one step before a flip), and 2 and 4 ranks give the thermo
+    of 1 rank. In plugin mode the 1-rank thermo is also compared with build/lmp_dpdnl (Debian's
+    LAMMPS), which `dpdnl crosscheck` compares with the standalone engine (tests/crosscheck.rs).
+    """
+    print("sheared box with flips (in.shear_flip_3d) on 1, 2, 4 ranks")
+    cases = os.path.join(ROOT, "tests", "data", "crosscheck")
+    script = os.path.join(cases, "in.shear_flip_3d")
+    runs = {}
+    for np in (1, 2, 4):
+        wd = os.path.join(tmp, "shear_flip", f"np{np}")
+        rc, log, out = run_lammps(wd, "shear_flip", script, np, cwd=cases,
+                                  variables={"engine": f"runtests_np{np}"})
+        for f in os.listdir(cases):
+            if f.startswith("dump.shear_flip_3d.runtests_"):
+                os.remove(os.path.join(cases, f))
+        check(rc == 0, f"shear_flip np{np} runs" + ("" if rc == 0 else ": " + out[-2000:]))
+        if rc == 0:
+            runs[np] = thermo_blocks(log)[-1]
+    if 1 not in runs:
+        return
+    header, rows = runs[1]
+    ixy = header.index("Xy")
+    bad = []
+    flips = 0
+    for k, r in enumerate(rows):
+        step, xy = int(r[0]), r[ixy]
+        m = step - step % 2
+        n = (0.1 * m - xy) / 5.0
+        if abs(n - round(n)) > 1e-9 or abs(xy) > 2.5 + 0.2 + 1e-12:
+            bad.append((step, xy))
+        if k and abs(xy - rows[k - 1][ixy]) > 2.5:
+            flips += 1
+    check(not bad and flips == 2, f"shear_flip: tilt follows fix deform with 2 flips "
+          f"(flips {flips}, off {bad[:3]})")
+    for np in (2, 4):
+        if np in runs:
+            rt, rv = rel_diff_rows(rows, runs[np][1])
+            check(rt <= LAST_TOL, f"shear_flip: np1 vs np{np}: thermo {rt:.2e} (per value {rv:.2e})")
+    if PLUGIN_MODE and os.access(LAUNCHER, os.X_OK):
+        wd = os.path.join(tmp, "shear_flip", "launcher")
+        rc, log, out = run_lammps(wd, "shear_flip", script, 1, lmp=LAUNCHER, env={}, cwd=cases,
+                                  variables={"engine": "runtests_launcher"})
+        for f in os.listdir(cases):
+            if f.startswith("dump.shear_flip_3d.runtests_"):
+                os.remove(os.path.join(cases, f))
+        if rc == 0:
+            rt, rv = rel_diff_rows(rows, thermo_blocks(log)[-1][1])
+            check(rt <= LAST_TOL, f"shear_flip: plugin vs build/lmp_dpdnl: thermo {rt:.2e}")
+        else:
+            check(False, "shear_flip build/lmp_dpdnl runs: " + out[-2000:])
 
 
 def restart(tmp):
@@ -624,6 +681,7 @@ def main():
     tmp = args.keep or tempfile.mkdtemp(prefix="dpdnl-lammps-")
     try:
         consistency(tmp)
+        sheared_flip(tmp)
         restart(tmp)
         errors(tmp)
         special_bonds(tmp)

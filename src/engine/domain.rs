@@ -96,6 +96,15 @@ impl SimBox {
         }
     }
 
+    /// The unwrapped position of a box with tilt xy, LAMMPS's `Domain::unmap`:
+    /// x + ix L_x + iy xy along x.
+    #[inline]
+    pub fn unwrap_tilted(&self, x: [f64; 3], image: [i32; 3], xy: f64) -> [f64; 3] {
+        let mut u = self.unwrap(x, image);
+        u[0] += xy * f64::from(image[1]);
+        u
+    }
+
     /// The unwrapped position x + image · L.
     #[inline]
     pub fn unwrap(&self, x: [f64; 3], image: [i32; 3]) -> [f64; 3] {
@@ -119,12 +128,20 @@ pub struct LeesEdwards {
     pub rate: f64,
     /// Current x displacement of the +L_y image, in [0, L_x).
     pub offset: f64,
+    /// offset − xy in box lengths L_x (an integer): an atom crossing y moves by the offset
+    /// instead of the tilt, so its x image flag changes by this much (LAMMPS's unwrapped
+    /// x + ix L_x + iy xy is kept).
+    pub tilt_cells: f64,
 }
 
 impl LeesEdwards {
     /// No displacement yet (t = 0).
     pub fn new(rate: f64) -> LeesEdwards {
-        LeesEdwards { rate, offset: 0.0 }
+        LeesEdwards {
+            rate,
+            offset: 0.0,
+            tilt_cells: 0.0,
+        }
     }
 
     /// The velocity jump γ̇ L_y of the +L_y image.
@@ -164,8 +181,9 @@ impl SimBox {
     /// Map a position back into the box under Lees–Edwards boundaries: crossing y_hi (y_lo)
     /// moves the atom by −offset (+offset) along x and changes v_x by −γ̇ L_y (+γ̇ L_y), so it
     /// re-enters with the velocity of the image it becomes; then x and z wrap periodically.
-    /// `image` counts the y and z crossings; x crossings are not counted (an unwrapped x has no
-    /// meaning in the sheared frame).
+    /// `image` counts the crossings as LAMMPS does for a tilted box: the unwrapped position
+    /// x + ix L_x + iy xy (LAMMPS's `Domain::unmap`) is kept, so a y crossing also changes ix
+    /// by [`LeesEdwards::tilt_cells`].
     pub fn wrap_le(
         &self,
         x: &mut [f64; 3],
@@ -179,18 +197,21 @@ impl SimBox {
             x[0] -= ny * le.offset;
             v[0] -= ny * le.jump(self);
             image[1] = image[1].saturating_add(ny as i32); // saturating: as in `wrap`
+            image[0] = image[0].saturating_add((ny * le.tilt_cells) as i32);
             // Round-off can leave y == hi: that point is the image of lo, one more crossing.
             if x[1] >= self.hi[1] {
                 x[1] = self.lo[1];
                 x[0] -= le.offset;
                 v[0] -= le.jump(self);
                 image[1] = image[1].saturating_add(1);
+                image[0] = image[0].saturating_add(le.tilt_cells as i32);
             }
         }
         let mut im = [0; 3];
         let mut y = *x;
         self.wrap(&mut y, &mut im);
         x[0] = y[0];
+        image[0] = image[0].saturating_add(im[0]);
         if self.dim == 3 {
             x[2] = y[2];
             image[2] = image[2].saturating_add(im[2]);
@@ -259,6 +280,39 @@ mod tests {
             assert_eq!([-a[0], -a[1], -a[2]], m, "{d:?}");
             assert_eq!(-dva, dvm);
             assert!(a[0].abs() <= 3.0 + 1e-12 && a[1].abs() <= 2.0 + 1e-12);
+        }
+    }
+
+    #[test]
+    fn wrapping_keeps_lammps_unwrapped_position() {
+        // LAMMPS's unwrapped x + ix L_x + iy xy (tilt xy, offset = xy mod L_x) is kept by every
+        // wrap, through y (by the offset) and x, for tilts of either sign and beyond L_x.
+        let b = bx();
+        for xy in [1.3, -2.2, 7.9, -13.1] {
+            let mut le = LeesEdwards::new(0.4);
+            le.offset = f64::rem_euclid(xy, 6.0);
+            le.tilt_cells = ((le.offset - xy) / 6.0).round();
+            for x0 in [
+                [6.7, 2.4, 1.0],
+                [-0.3, -2.5, 5.2],
+                [3.0, -6.1, -0.4],
+                [11.9, 5.9, 2.0],
+            ] {
+                let (mut x, mut v, mut im) = (x0, [0.0; 3], [2, -1, 0]);
+                let u0 = b.unwrap_tilted(x, im, xy);
+                b.wrap_le(&mut x, &mut v, &mut im, &le);
+                let u1 = b.unwrap_tilted(x, im, xy);
+                for k in 0..3 {
+                    assert!(
+                        (u0[k] - u1[k]).abs() < 1e-12,
+                        "xy {xy} {x0:?}: {u0:?} vs {u1:?}"
+                    );
+                }
+                assert!(
+                    (0.0..6.0).contains(&x[0]) && (-2.0..2.0).contains(&x[1]),
+                    "{x:?}"
+                );
+            }
         }
     }
 

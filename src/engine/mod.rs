@@ -85,6 +85,12 @@ pub struct System {
     /// The first fault of the last force evaluation (a non-finite many-body term), reported
     /// by [`System::check_health`].
     pair_fault: Option<String>,
+    /// The last step of the coming run, when known ([`System::setup_run`]): `fix deform`'s
+    /// rates depend on it as LAMMPS's do.
+    run_end: Option<u64>,
+    /// Rebuild the lists at the next step (LAMMPS re-neighbours on the steps it writes a
+    /// restart file: [`System::rebuild_at_next_step`]).
+    force_rebuild: bool,
 }
 
 /// A line for the log from [`System::setup`].
@@ -158,6 +164,8 @@ impl System {
             inv_mass: Vec::new(),
             prepass: Vec::new(),
             pair_fault: None,
+            run_end: None,
+            force_rebuild: false,
         }
     }
 
@@ -185,6 +193,20 @@ impl System {
     /// Dimension (2 or 3).
     pub fn dim(&self) -> usize {
         self.bx.dim
+    }
+
+    /// [`System::setup`] for a run that ends at step `last` (LAMMPS's `endstep`): `fix deform`
+    /// forms its tilt and rate from the run's length, as LAMMPS does, so the same bits.
+    pub fn setup_run(&mut self, last: u64) -> Result<(), String> {
+        self.run_end = Some(last);
+        self.setup()
+    }
+
+    /// Rebuild the neighbour lists at the next step whatever the atoms did, as LAMMPS does on a
+    /// step it writes a restart file (`restart N`: `Neighbor::decide`); under shear that is
+    /// also when atoms are wrapped with the velocity jump.
+    pub fn rebuild_at_next_step(&mut self) {
+        self.force_rebuild = true;
     }
 
     /// Check everything a run needs and evaluate the forces of the current step (LAMMPS's
@@ -230,14 +252,15 @@ impl System {
                 v[2] = 0.0;
             }
         }
+        let end = self.run_end.take();
         if let Some(t) = self.tri.as_mut() {
-            t.start_run(self.step);
+            t.start_run(&self.bx, self.dt, self.step, end);
         }
         // Every run starts from a fresh list (so a continuation from a restart file, which
         // builds one too, gets the same bits).
         self.set_shear();
         self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
-        self.compute_forces();
+        self.compute_forces(true);
         Ok(())
     }
 
@@ -248,23 +271,175 @@ impl System {
         let dt = self.dt;
         let shear = self.tri.as_mut().map(|t| {
             t.set_step(&self.bx, dt, self.step);
-            (t.le, t.xy, t.le.rate * ly * dt)
+            // LAMMPS's order rebuilds by LAMMPS's rule: no tilt allowance.
+            let drift = if t.lammps_order() {
+                0.0
+            } else {
+                t.le.rate * ly * dt
+            };
+            (t.le, t.xy, drift)
         });
         self.neighbor.set_shear(shear);
     }
 
-    /// The forces of the current step through the pair style (`style.rs`): its pre-pass, if
-    /// it has one, then its kernel, over the same list (periodic or sheared).
-    fn compute_forces(&mut self) {
+    /// LAMMPS's reneighbouring decision for a triclinic box (`Neighbor::decide` with
+    /// `delay 0 every 1 check yes`, `check_distance` with its box check): a flip pending, or
+    /// an atom moved more than δ = ½ (skin − (Δ1 + Δ2)) since the last build, Δ1 ≥ Δ2 the two
+    /// largest displacements of the box's corners (here the tilt's change, on the corners at
+    /// y_hi), formed with LAMMPS's operations.
+    fn lammps_rebuild_due(&self, setup: bool) -> bool {
+        let Some(t) = self.tri.as_ref() else {
+            return self.neighbor.needs_rebuild(&self.atoms);
+        };
+        if t.flip_pending() && !setup {
+            return true;
+        }
+        let (h0, lo) = (self.bx.len()[0], self.bx.lo[0]);
+        let (xy0, xy1) = (self.neighbor.xy_at_build(), t.xy);
+        let (mut d1, mut d2) = (0.0f64, 0.0f64);
+        for c in 0..8u32 {
+            let (l0, l1, l2) = (f64::from(c & 1), f64::from((c >> 1) & 1), f64::from(c >> 2));
+            let corner = |xy: f64| h0 * l0 + xy * l1 + 0.0 * l2 + lo;
+            let delx = corner(xy1) - corner(xy0);
+            let delta = (delx * delx).sqrt();
+            if delta > d1 {
+                d1 = delta;
+            } else if delta > d2 {
+                d2 = delta;
+            }
+        }
+        let delta = (0.5 * (self.neighbor.skin - (d1 + d2))).max(0.0);
+        // The list's own validity too: LAMMPS's rule is the stricter one whenever δ > 0, but
+        // with δ = 0 it rebuilds only once an atom moves at all (atoms at rest: never).
+        self.neighbor.moved_beyond(&self.atoms, delta * delta)
+            || self.neighbor.needs_rebuild(&self.atoms)
+    }
+
+    /// A flip decided at the end of the last step (LAMMPS's `FixDeform::pre_exchange`, before
+    /// the rebuild): the tilt changes by a box length, every x image flag by −flipxy · iy
+    /// (`Domain::image_flip`), and every atom outside the box is put back into it
+    /// (`Domain::remap`: its velocity is left alone, also for an atom through y, whose velocity
+    /// jump LAMMPS's `remap` does not apply).
+    fn flip_box(&mut self) {
+        let Some(flipxy) = self.tri.as_mut().and_then(|t| t.take_flip()) else {
+            return;
+        };
+        for im in self.atoms.image.iter_mut() {
+            im[0] = im[0].saturating_sub(flipxy.saturating_mul(im[1]));
+        }
         self.set_shear();
-        self.neighbor.wrap_sheared(&mut self.atoms, &self.bx);
+        let Some(t) = self.tri.as_ref() else {
+            return;
+        };
+        let mut le = t.le;
+        le.rate = 0.0;
+        let bx = &self.bx;
+        self.atoms
+            .x
+            .par_iter_mut()
+            .zip(self.atoms.image.par_iter_mut())
+            .for_each(|(x, im)| {
+                let mut v = [0.0; 3];
+                bx.wrap_le(x, &mut v, im, &le);
+            });
+    }
+
+    /// Put every atom into the box without changing a velocity, as LAMMPS's `Domain::remap`
+    /// (after `read_data`): a tilted box moves an atom through y by the tilt, its image flags
+    /// keep x + ix L_x + iy xy. Orthogonal boxes: nothing (the first build wraps them).
+    pub fn remap_into_box(&mut self) {
+        let dt = self.dt;
+        let Some(t) = self.tri.as_mut() else {
+            return;
+        };
+        t.set_step(&self.bx, dt, self.step);
+        let mut le = t.le;
+        le.rate = 0.0;
+        let bx = &self.bx;
+        for (x, im) in self.atoms.x.iter_mut().zip(self.atoms.image.iter_mut()) {
+            let mut v = [0.0; 3];
+            bx.wrap_le(x, &mut v, im, &le);
+        }
+    }
+
+    /// LAMMPS's `Domain::pbc` on a tilted box as `write_data` does it: every atom outside the
+    /// box is wrapped, through y by the tilt; `remap v`'s velocity jump is h_rate, which is 0
+    /// outside a run (`init_outside_run`), so no velocity changes. Returns the tilt as LAMMPS
+    /// reports it.
+    pub fn pbc(&mut self) -> f64 {
+        // LAMMPS's `write_data` runs `init` first, outside a run: `fix deform`'s h_rate is 0.
+        let (dt, step) = (self.dt, self.step);
+        if let Some(t) = self.tri.as_mut() {
+            t.init_outside_run(&self.bx, dt, step);
+        }
+        self.set_shear();
+        let Some(t) = self.tri.as_ref() else {
+            return 0.0;
+        };
+        let le = t.le;
+        let bx = &self.bx;
+        let a = &mut self.atoms;
+        for ((x, v), im) in a.x.iter_mut().zip(a.v.iter_mut()).zip(a.image.iter_mut()) {
+            bx.wrap_le(x, v, im, &le);
+        }
+        // (Positions moved: every run's set-up builds a fresh list.)
+        t.reported_xy(&self.bx)
+    }
+
+    /// A position of the box (orthogonal storage) and its image flags (LAMMPS's convention for
+    /// the tilt `tri.xy`) as LAMMPS holds them in the tilted cell of tilt `xy`:
+    /// x ∈ [x_lo + xy λ_y, x_hi + xy λ_y), λ_y = (y − y_lo)/L_y, same unwrapped position.
+    pub fn to_tilted_cell(&self, x: &mut [f64; 3], im: &mut [i32; 3], xy: f64) {
+        let [lx, ly, _] = self.bx.len();
+        if let Some(t) = &self.tri {
+            // Image flags relative to the written tilt (they differ by whole L_x).
+            let k = ((t.xy - xy) / lx).round();
+            im[0] = im[0].saturating_add((k * f64::from(im[1])) as i32);
+        }
+        let lambda_y = (x[1] - self.bx.lo[1]) / ly;
+        let k = ((x[0] - self.bx.lo[0] - xy * lambda_y) / lx).floor();
+        if k != 0.0 && k.is_finite() {
+            x[0] -= k * lx;
+            im[0] = im[0].saturating_add(k as i32);
+        }
+    }
+
+    /// LAMMPS's `end_of_step` of `fix deform` (LAMMPS's order): the box's tilt of step
+    /// `self.step`, after its forces.
+    fn deform_end_of_step(&mut self) {
+        if let Some(t) = self.tri.as_mut() {
+            t.end_of_step(&self.bx, self.step);
+        }
+    }
+
+    /// The forces of the current step through the pair style (`style.rs`): its pre-pass, if
+    /// it has one, then its kernel, over the same list (periodic or sheared). `setup`: the
+    /// set-up's evaluation, right after a build (a pending flip waits for the first step).
+    fn compute_forces(&mut self, setup: bool) {
+        self.set_shear();
+        let lammps = self.tri.as_ref().is_some_and(|t| t.lammps_order());
+        if !lammps {
+            self.neighbor.wrap_sheared(&mut self.atoms, &self.bx);
+        }
+        let Some(rc_max) = self.pair.as_deref().map(|s| s.rc_max()) else {
+            return;
+        };
+        let forced = std::mem::take(&mut self.force_rebuild) && !setup;
+        let rebuild = forced
+            || if lammps {
+                self.lammps_rebuild_due(setup)
+            } else {
+                self.neighbor.needs_rebuild(&self.atoms)
+            };
+        if rebuild {
+            if lammps {
+                self.flip_box();
+            }
+            self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
+        }
         let Some(style) = self.pair.as_deref_mut() else {
             return;
         };
-        if self.neighbor.needs_rebuild(&self.atoms) {
-            self.neighbor
-                .build(&mut self.atoms, &self.bx, style.rc_max());
-        }
         let ntypes = style.ntypes();
         let mut extra_energy = 0.0;
         self.pair_fault = None;
@@ -339,7 +514,7 @@ impl System {
                             x[k] += dt * v[k];
                         }
                     });
-                self.compute_forces();
+                self.compute_forces(false);
                 let a = &mut self.atoms;
                 a.v.par_iter_mut()
                     .zip(a.f.par_iter().zip(a.typ.par_iter()))
@@ -358,9 +533,9 @@ impl System {
                     .for_each(|((x, v), (f, &t))| {
                         fixes::euler_update(x, v, f, dt, dtfm[t as usize])
                     });
-                self.compute_forces();
+                self.compute_forces(false);
             }
-            None => self.compute_forces(),
+            None => self.compute_forces(false),
         }
         if self.dim() == 2 {
             for (v, f) in self.atoms.v.iter_mut().zip(self.atoms.f.iter_mut()) {
@@ -368,6 +543,7 @@ impl System {
                 f[2] = 0.0;
             }
         }
+        self.deform_end_of_step();
     }
 
     /// The end-of-step action of PeX push `k` (index into [`System::pex`]) at the current step;

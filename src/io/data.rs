@@ -1,7 +1,8 @@
 //! LAMMPS data files (`read_data` / `write_data`) for `atom_style atomic`.
 //!
-//! Supported: the header keywords `atoms`, `atom types`, `xlo xhi`, `ylo yhi`, `zlo zhi` (and the
-//! counts of bonds/angles/… when they are 0); the sections `Masses`, `Atoms` (`id type x y z`
+//! Supported: the header keywords `atoms`, `atom types`, `xlo xhi`, `ylo yhi`, `zlo zhi`,
+//! `xy xz yz` (a triclinic box tilted in xy only: xz = yz = 0) (and the counts of
+//! bonds/angles/… when they are 0); the sections `Masses`, `Atoms` (`id type x y z`
 //! with optional image flags `ix iy iz`) and `Velocities` (`id vx vy vz`). Anything else is an
 //! error naming the file and line. Real numbers (box bounds, masses, coordinates, velocities)
 //! must be finite: `nan`, `inf` or `1e999` is an error naming the file, line and column.
@@ -17,6 +18,8 @@ pub struct DataFile {
     pub lo: [f64; 3],
     /// Box upper corner.
     pub hi: [f64; 3],
+    /// The tilt factors `[xy, xz, yz]` of a triclinic box (xz = yz = 0), None: orthogonal.
+    pub tilt: Option<[f64; 3]>,
     /// Masses by type (1-based, index 0 unused); None where the file gives none.
     pub masses: Vec<Option<f64>>,
     /// Atoms: (tag, type, x, image).
@@ -99,7 +102,24 @@ fn header_line(
                 d.lo[a] = real(toks, 0, "a box bound", ctx)?;
                 d.hi[a] = real(toks, 1, "a box bound", ctx)?;
             } else if toks.len() == 6 && toks[3..] == ["xy", "xz", "yz"] {
-                return Err(ctx("triclinic boxes (xy xz yz) are not supported".into()));
+                let mut t = [0.0; 3];
+                for (a, v) in t.iter_mut().enumerate() {
+                    *v = real(toks, a, "a tilt factor", ctx)?;
+                }
+                for (a, name) in [(1, "xz"), (2, "yz")] {
+                    if t[a] != 0.0 {
+                        return Err(ctx(format!(
+                            "column {}: tilt {name} = '{}': only boxes tilted in xy are \
+                             supported (xz = yz = 0; Lees–Edwards shear along x, gradient y)",
+                            a + 1,
+                            toks[a]
+                        )));
+                    }
+                }
+                if d.tilt.is_some() {
+                    return Err(ctx("a second 'xy xz yz' line".into()));
+                }
+                d.tilt = Some(t);
             } else if toks[0].parse::<f64>().is_ok() {
                 return Err(ctx(format!("unknown header keyword '{rest}'")));
             } else {
@@ -285,6 +305,9 @@ pub fn format_data(d: &DataFile, title: &str) -> String {
     let _ = writeln!(s, "{} atom types\n", d.ntypes);
     for (a, n) in ["x", "y", "z"].iter().enumerate() {
         let _ = writeln!(s, "{:.16e} {:.16e} {n}lo {n}hi", d.lo[a], d.hi[a]);
+    }
+    if let Some(t) = d.tilt {
+        let _ = writeln!(s, "{:.16e} {:.16e} {:.16e} xy xz yz", t[0], t[1], t[2]);
     }
     if d.masses.iter().skip(1).any(|m| m.is_some()) {
         let _ = writeln!(s, "\nMasses\n");

@@ -255,8 +255,28 @@ fn run_lammps(
         let tail: Vec<&str> = log.lines().rev().take(8).collect();
         let tail: Vec<&str> = tail.into_iter().rev().collect();
         let stderr = String::from_utf8_lossy(&out.stderr);
+        let script_text = std::fs::read_to_string(script).unwrap_or_default();
+        let hint = if script_text.lines().any(|l| {
+            let w: Vec<&str> = l
+                .split('#')
+                .next()
+                .unwrap_or("")
+                .split_whitespace()
+                .collect();
+            w.len() > 3
+                && w[0] == "fix"
+                && w[3] == "deform"
+                && w.windows(2).any(|p| p[0] == "order")
+        }) {
+            "\n(`fix deform … order lammps|current` is a keyword of the standalone engine only; \
+             LAMMPS refuses it. Drop it to compare: LAMMPS's order is the standalone engine's \
+             default, and `order current` gives other numbers by design: step n's forces in the \
+             box of step n instead of n − 1, atoms wrapped every step)"
+        } else {
+            ""
+        };
         return Err(CannotRun(format!(
-            "LAMMPS ({}) failed ({}); end of {}:\n{}\n{}",
+            "LAMMPS ({}) failed ({}); end of {}:\n{}\n{}{hint}",
             lmp.display(),
             out.status,
             log_l.display(),
@@ -312,6 +332,10 @@ fn compare(
     if let Some(line) = neighbor_line(&neigh) {
         println!("{line}");
     }
+    let notes = shear_notes(&text_l, &neigh);
+    for n in &notes {
+        println!("note: {n}");
+    }
     let r = compare_exact_logs(&blocks_s, &blocks_l, None, tol)
         .map_err(|e| format!("comparing thermo logs: {e}"))?;
     let mut pass = print_report("thermo (A = standalone.log, B = lammps.log)", &r);
@@ -335,8 +359,9 @@ fn compare(
         pass &= print_report(&title, &r);
         if shifted > 0 {
             println!(
-                "({shifted} LAMMPS position(s) shifted by a box length to the standalone image: \
-                 LAMMPS wraps atoms back into the box only when it re-neighbours)"
+                "({shifted} LAMMPS atom position(s) moved by lattice vectors to the standalone \
+                 image: LAMMPS wraps atoms back into the box only when it re-neighbours, and \
+                 into the tilted cell of a tilted box)"
             );
         }
     }
@@ -351,7 +376,11 @@ fn compare(
     if pass {
         println!("CROSSCHECK AGREE: {what} within rtol {}", c("%g", a.rtol));
     } else {
-        println!("{}", differ_verdict(&what, a.rtol, &neigh));
+        let mut v = differ_verdict(&what, a.rtol, &neigh);
+        for n in &notes {
+            let _ = write!(v, "; {n}");
+        }
+        println!("{v}");
     }
     Ok(pass)
 }
@@ -389,6 +418,63 @@ fn dangerous_counts(n: &NeighborSummary) -> String {
         .map(|d| d.map_or("not checked".to_string(), |k| k.to_string()))
         .collect();
     format!("{} (per run: {})", n.dangerous_total(), runs.join(", "))
+}
+
+/// The differences by design of a sheared run (a `fix … deform` in LAMMPS's echo of the
+/// script), each with the agreement to expect: LAMMPS wraps atoms back into a tilted box, and
+/// `remap v` changes their v_x by the box's velocity jump, only when it re-neighbours (and, with
+/// no jump, in `write_restart`, whose `init` sets the jump to 0 outside a run); the standalone
+/// engine re-neighbours by LAMMPS's rule for `neigh_modify delay 0 every 1 check yes` (and on
+/// the steps `restart N` writes, as LAMMPS), so another `neigh_modify` schedule or a
+/// `write_restart` between runs wraps atoms on other steps in LAMMPS.
+fn shear_notes(text_l: &str, n: &NeighborSummary) -> Vec<String> {
+    let words = |l: &str| l.split_whitespace().map(str::to_string).collect::<Vec<_>>();
+    let lines: Vec<Vec<String>> = text_l.lines().map(words).collect();
+    let sheared = lines
+        .iter()
+        .any(|w| w.len() > 3 && w[0] == "fix" && w[3] == "deform");
+    if !sheared {
+        return Vec::new();
+    }
+    let mut why = Vec::new();
+    if let Some(st) = n
+        .settings
+        .last()
+        .filter(|s| !(s.every == 1 && s.delay == 0 && s.check))
+    {
+        why.push(format!(
+            "LAMMPS re-neighbours by `neigh_modify {}`, the standalone engine by LAMMPS's \
+             rule for `neigh_modify delay 0 every 1 check yes` only",
+            st.keywords()
+        ));
+    }
+    if lines
+        .iter()
+        .any(|w| w.first().is_some_and(|c| c == "write_restart"))
+    {
+        why.push(
+            "LAMMPS's `write_restart` wraps the atoms outside the box without the velocity \
+             jump (its `fix deform` has h_rate 0 outside a run), the standalone engine's \
+             leaves them"
+                .to_string(),
+        );
+    }
+    why.into_iter()
+        .map(|w| {
+            format!(
+                "sheared box (fix deform): {w}, and LAMMPS wraps atoms into the tilted box \
+                 (with the `remap v` velocity jump) only when it re-neighbours, so an atom can \
+                 wait outside the box in one engine and not in the other: expect `temp`, `ke`, \
+                 `etotal`, the thermo pressure and dumped x, vx to differ (by about \
+                 m (R L_y)^2 / (d N) in temp per such atom); pe, forces, `temp/deform` and its \
+                 pressure, and xu agree to round-off only until the first box flip (LAMMPS puts \
+                 the atoms outside the box at a flip back without their velocity jump, and \
+                 which atoms those are depends on its schedule), after it they differ too; for \
+                 the same numbers use `neigh_modify delay 0 every 1 check yes` and no \
+                 `write_restart` between runs"
+            )
+        })
+        .collect()
 }
 
 /// The DIFFER verdict line, with the reason LAMMPS's own log gives when it gives one: dangerous
@@ -443,51 +529,96 @@ fn print_report(title: &str, r: &ExactReport) -> bool {
     r.values_pass() && r.rows_match()
 }
 
+/// The box of a dump frame as (lo, edge lengths, xy): for a triclinic frame the bounds are
+/// LAMMPS's bounding box (`xlo_bound = xlo + min(0, xy, xz, xy + xz)`, …), undone here.
+fn frame_box(f: &DumpFrame) -> Option<([f64; 3], [f64; 3], f64)> {
+    if f.box_bounds.len() < 3 {
+        return None;
+    }
+    let [xy, xz, yz] = f.tilt.unwrap_or([0.0; 3]);
+    let b = &f.box_bounds;
+    let lo = [
+        b[0][0] - 0f64.min(xy).min(xz).min(xy + xz),
+        b[1][0] - 0f64.min(yz),
+        b[2][0],
+    ];
+    let hi = [
+        b[0][1] - 0f64.max(xy).max(xz).max(xy + xz),
+        b[1][1] - 0f64.max(yz),
+        b[2][1],
+    ];
+    let len = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+    if xz != 0.0 || yz != 0.0 || len.iter().any(|l| !(l.is_finite() && *l > 0.0)) {
+        return None;
+    }
+    Some((lo, len, xy))
+}
+
 /// Maps the `x`, `y`, `z` values of `b` to the periodic image nearest `a`'s value for the same
-/// atom and step (orthogonal boxes only), since the engines wrap atoms at different times
-/// (LAMMPS only when it re-neighbours). A value is changed only when it is more than half a box
-/// length away. Returns how many values were shifted.
+/// atom and step, since the engines wrap atoms at different times (LAMMPS only when it
+/// re-neighbours) and, in a tilted box, into different cells (LAMMPS the tilted cell, the
+/// standalone engine the orthogonal one): the image is moved by whole lattice vectors
+/// (L_x, 0, 0), (xy, L_y, 0), (0, 0, L_z), y first. A value is changed only when it is more than
+/// half a box length away; image flags `ix iy iz`, when dumped, change with it (the unwrapped
+/// position is kept). Returns how many atoms were shifted.
 fn minimum_image(a: &[DumpFrame], b: &mut [DumpFrame]) -> usize {
     let mut shifted = 0;
     for fb in b.iter_mut() {
         let Some(fa) = a.iter().find(|f| f.step == fb.step) else {
             continue;
         };
-        if fa.tilt.is_some() || fb.tilt.is_some() || fa.box_bounds.len() < 3 {
+        let Some((_, len, xy)) = frame_box(fb) else {
             continue;
-        }
-        let (Some(ida), Some(idb)) = (
-            fa.columns.iter().position(|c| c == "id"),
-            fb.columns.iter().position(|c| c == "id"),
-        ) else {
+        };
+        let col = |f: &DumpFrame, name: &str| f.columns.iter().position(|c| c == name);
+        let (Some(ida), Some(idb)) = (col(fa, "id"), col(fb, "id")) else {
             continue;
         };
         let by_id: std::collections::HashMap<i64, &Vec<f64>> =
             fa.rows.iter().map(|r| (r[ida] as i64, r)).collect();
-        for (dim, name) in ["x", "y", "z"].iter().enumerate() {
-            let (Some(ka), Some(kb)) = (
-                fa.columns.iter().position(|c| c == name),
-                fb.columns.iter().position(|c| c == name),
-            ) else {
+        let ka: Vec<Option<usize>> = ["x", "y", "z"].iter().map(|n| col(fa, n)).collect();
+        let kb: Vec<Option<usize>> = ["x", "y", "z"].iter().map(|n| col(fb, n)).collect();
+        let kimg: Vec<Option<usize>> = ["ix", "iy", "iz"].iter().map(|n| col(fb, n)).collect();
+        for rb in fb.rows.iter_mut() {
+            let Some(ra) = by_id.get(&(rb[idb] as i64)) else {
                 continue;
             };
-            let len = fa.box_bounds[dim][1] - fa.box_bounds[dim][0];
-            if !(len.is_finite() && len > 0.0) {
-                continue;
-            }
-            for rb in fb.rows.iter_mut() {
-                let Some(ra) = by_id.get(&(rb[idb] as i64)) else {
-                    continue;
-                };
-                let (Some(&va), Some(vb)) = (ra.get(ka), rb.get_mut(kb)) else {
-                    continue;
-                };
-                let n = ((*vb - va) / len).round();
+            let nb = rb.len();
+            let pair = |d: usize| match (ka[d], kb[d]) {
+                (Some(i), Some(j)) if i < ra.len() && j < nb => Some((i, j)),
+                _ => None,
+            };
+            let mut moved = false;
+            // A move by n lattice vectors along d changes the image flag by +n (the unwrapped
+            // position is kept).
+            let flag = |rb: &mut Vec<f64>, d: usize, n: f64| {
+                if let Some(k) = kimg[d].filter(|&k| k < nb) {
+                    rb[k] += n;
+                }
+            };
+            // y first: a y image also moves x by the tilt.
+            if let Some((i, j)) = pair(1) {
+                let n = ((rb[j] - ra[i]) / len[1]).round();
                 if n != 0.0 && n.is_finite() {
-                    *vb -= n * len;
-                    shifted += 1;
+                    rb[j] -= n * len[1];
+                    if let Some((_, jx)) = pair(0) {
+                        rb[jx] -= n * xy;
+                    }
+                    flag(rb, 1, n);
+                    moved = true;
                 }
             }
+            for d in [0, 2] {
+                if let Some((i, j)) = pair(d) {
+                    let n = ((rb[j] - ra[i]) / len[d]).round();
+                    if n != 0.0 && n.is_finite() {
+                        rb[j] -= n * len[d];
+                        flag(rb, d, n);
+                        moved = true;
+                    }
+                }
+            }
+            shifted += usize::from(moved);
         }
     }
     shifted

@@ -355,6 +355,28 @@ impl NeighborList {
             })
     }
 
+    /// The tilt xy of the last build (Lees–Edwards).
+    pub(crate) fn xy_at_build(&self) -> f64 {
+        self.xy_at_build
+    }
+
+    /// LAMMPS's displacement check (`Neighbor::check_distance`) with its threshold: true when
+    /// the list was never built or some atom moved more than √`deltasq` since the last build
+    /// (the caller forms `deltasq` from the skin and the box's change, as LAMMPS does).
+    pub(crate) fn moved_beyond(&self, atoms: &Atoms, deltasq: f64) -> bool {
+        if self.x_at_build.len() != atoms.len() || self.builds == 0 {
+            return true;
+        }
+        atoms
+            .x
+            .par_iter()
+            .zip(self.x_at_build.par_iter())
+            .any(|(x, x0)| {
+                let d = [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]];
+                d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > deltasq
+            })
+    }
+
     /// Number of pairs held in the list.
     pub fn pairs(&self) -> usize {
         self.slabs.iter().map(|b| b.nbr.len()).sum()

@@ -2,7 +2,7 @@
 //! (Lees–Edwards), and the averaging fixes, which [`crate::input::observe`] parses.
 
 use super::{CmdResult, Interpreter};
-use crate::engine::lees_edwards::Deform;
+use crate::engine::lees_edwards::{Deform, DeformOrder};
 use crate::engine::{Integrator, PexPush, System};
 use crate::grammar::{self, need, parse_f64, parse_int};
 use crate::input::observe::Observe;
@@ -92,7 +92,7 @@ impl Interpreter<'_> {
     /// `fix ID all deform N xy erate R remap v [flip yes|no] [units box|lattice]`: the only
     /// form Couette flow needs (Lees–Edwards, `engine::lees_edwards`).
     fn fix_deform(sys: &mut System, id: &str, args: &[String]) -> CmdResult {
-        let usage = "fix ID all deform N xy erate R remap v [flip yes|no] [units box|lattice]";
+        let usage = "fix ID all deform N xy erate R remap v [flip yes|no] [units box|lattice] [order lammps|current]";
         need(args, 7, usage)?;
         let every: u64 = parse_int(&args[3], "deform interval N")?;
         if every == 0 {
@@ -114,7 +114,7 @@ impl Interpreter<'_> {
         if !erate.is_finite() {
             return Err(format!("fix deform: erate '{}' must be finite", args[6]));
         }
-        let (mut remap_v, mut flip) = (false, true);
+        let (mut remap_v, mut flip, mut order) = (false, true, DeformOrder::Lammps);
         let mut k = 7;
         while k < args.len() {
             need(&args[k..], 2, usage)?;
@@ -129,6 +129,13 @@ impl Interpreter<'_> {
                 ("flip", "yes") => flip = true,
                 ("flip", "no") => flip = false,
                 ("flip", o) => return Err(format!("fix deform flip '{o}' must be yes or no")),
+                ("order", "lammps") => order = DeformOrder::Lammps,
+                ("order", "current") => order = DeformOrder::Current,
+                ("order", o) => {
+                    return Err(format!(
+                        "fix deform order '{o}' must be lammps or current (standalone only)"
+                    ));
+                }
                 ("units", "box" | "lattice") => {}
                 (o, _) => {
                     return Err(format!(
@@ -153,7 +160,9 @@ impl Interpreter<'_> {
         if tri.deform.is_some() {
             return Err("only one fix deform is allowed".into());
         }
-        tri.deform = Some(Deform::new(id.to_string(), every, erate, flip));
+        let mut d = Deform::new(id.to_string(), every, erate, flip);
+        d.order = order;
+        tri.deform = Some(d);
         Ok(())
     }
 

@@ -143,13 +143,27 @@ impl Interpreter<'_> {
             order.sort_by_key(|&i| sys.atoms.tag[i]);
             let w = &mut d.writer;
             let io = |e: std::io::Error| format!("cannot write dump file: {e}");
+            // A triclinic box: LAMMPS's header (the bounding box, then the tilts).
+            let tilt = sys.tri.as_ref().map(|t| t.reported_xy(&sys.bx));
             writeln!(
                 w,
-                "ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{n}\nITEM: BOX BOUNDS pp pp pp"
+                "ITEM: TIMESTEP\n{step}\nITEM: NUMBER OF ATOMS\n{n}\nITEM: BOX BOUNDS {}pp pp pp",
+                if tilt.is_some() { "xy xz yz " } else { "" }
             )
             .map_err(io)?;
             for a in 0..3 {
-                writeln!(w, "{:.16e} {:.16e}", sys.bx.lo[a], sys.bx.hi[a]).map_err(io)?;
+                let (mut lo, mut hi) = (sys.bx.lo[a], sys.bx.hi[a]);
+                match tilt {
+                    Some(xy) => {
+                        if a == 0 {
+                            lo += xy.min(0.0);
+                            hi += xy.max(0.0);
+                        }
+                        let t = if a == 0 { xy } else { 0.0 };
+                        writeln!(w, "{lo:.16e} {hi:.16e} {t:.16e}").map_err(io)?;
+                    }
+                    None => writeln!(w, "{lo:.16e} {hi:.16e}").map_err(io)?,
+                }
             }
             writeln!(w, "ITEM: ATOMS {}", d.columns.join(" ")).map_err(io)?;
             let per_atom: Vec<Option<Vec<f64>>> = d
@@ -166,8 +180,15 @@ impl Interpreter<'_> {
                 line.clear();
                 let mut x = sys.atoms.x[i];
                 let mut im = sys.atoms.image[i];
-                sys.bx.wrap(&mut x, &mut im);
-                let xu = sys.bx.unwrap(x, im);
+                // A sheared box: positions as they are (as LAMMPS, wrapped when the lists are
+                // rebuilt) and LAMMPS's unwrapped x + ix L_x + iy xy.
+                let xu = match &sys.tri {
+                    Some(t) => sys.bx.unwrap_tilted(x, im, t.reported_xy(&sys.bx)),
+                    None => {
+                        sys.bx.wrap(&mut x, &mut im);
+                        sys.bx.unwrap(x, im)
+                    }
+                };
                 for (k, c) in d.columns.iter().enumerate() {
                     let (int, val) = match c.as_str() {
                         _ if per_atom[k].is_some() => {

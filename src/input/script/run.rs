@@ -210,7 +210,7 @@ impl Interpreter<'_> {
                 sys.step
             ));
         }
-        sys.setup()?;
+        sys.setup_run(sys.step + n)?;
         let notes = std::mem::take(&mut sys.setup_notes);
         let integ = sys.integrator;
         let first = sys.step;
@@ -284,7 +284,13 @@ impl Interpreter<'_> {
         let mut last_progress = Instant::now();
         let measuring = self.obs.has_fixes();
         for _ in 0..n {
+            // LAMMPS re-neighbours on the steps it writes a restart file.
+            let next = self.sys_mut()?.step + 1;
+            let rebuild = self.restart_due(next);
             let sys = self.sys_mut()?;
+            if rebuild {
+                sys.rebuild_at_next_step();
+            }
             if measuring {
                 sys.advance();
             } else {

@@ -288,11 +288,17 @@ impl Interpreter<'_> {
         }
         self.new_system(d.ntypes, d.lo, d.hi)?;
         let sys = self.sys_mut()?;
+        if let Some(t) = d.tilt {
+            sys.tri = Some(Triclinic::new(t[0]));
+        }
         let mut index = BTreeMap::new();
         for (k, &(tag, t, x, im)) in d.atoms.iter().enumerate() {
             sys.atoms.push(tag, t, x, [0.0; 3], im);
             index.insert(tag, k);
         }
+        // A tilted box: every atom into the box as LAMMPS's `read_data` remaps it (through y
+        // with the tilt, no velocity change), x + ix L_x + iy xy kept.
+        sys.remap_into_box();
         for (tag, v) in &d.velocities {
             let k = index
                 .get(tag)
@@ -319,13 +325,12 @@ impl Interpreter<'_> {
                 return Err(format!("write_data keyword '{a}' not supported"));
             }
         }
+        let sys = self.sys.as_mut().ok_or("needs a simulation box first")?;
+        // A tilted box: LAMMPS's `write_data` wraps the atoms first (`Domain::pbc`, with the
+        // velocity jump of `remap v` for an atom through y), then writes them in its tilted
+        // cell with its image flags.
+        let tilt = sys.tri.is_some().then(|| sys.pbc());
         let sys = self.sys.as_ref().ok_or("needs a simulation box first")?;
-        if sys.is_triclinic() {
-            return Err(
-                "write_data of a triclinic (Lees–Edwards) box is not supported: read_data could not read its tilt back"
-                    .into(),
-            );
-        }
         let mut order: Vec<usize> = (0..sys.atoms.len()).collect();
         order.sort_by_key(|&i| sys.atoms.tag[i]);
         let mut atoms = Vec::with_capacity(order.len());
@@ -333,7 +338,10 @@ impl Interpreter<'_> {
         for &i in &order {
             let mut x = sys.atoms.x[i];
             let mut im = sys.atoms.image[i];
-            sys.bx.wrap(&mut x, &mut im);
+            match tilt {
+                Some(xy) => sys.to_tilted_cell(&mut x, &mut im, xy),
+                None => sys.bx.wrap(&mut x, &mut im),
+            }
             atoms.push((sys.atoms.tag[i], sys.atoms.typ[i], x, im));
             vels.push((sys.atoms.tag[i], sys.atoms.v[i]));
         }
@@ -341,6 +349,7 @@ impl Interpreter<'_> {
             ntypes: sys.ntypes,
             lo: sys.bx.lo,
             hi: sys.bx.hi,
+            tilt: tilt.map(|xy| [xy, 0.0, 0.0]),
             masses: sys.mass.clone(),
             atoms,
             velocities: vels,
