@@ -552,6 +552,7 @@ fn decode_atoms(i: &mut In, ntypes: u32) -> Field<Atoms> {
         tag,
         typ,
         image,
+        mol: Vec::new(),
     })
 }
 
