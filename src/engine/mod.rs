@@ -318,7 +318,13 @@ impl System {
                 Some(b) => {
                     if let Some(k) = b.missing() {
                         return Err(format!(
-                            "All bond coeffs are not set (bond type {k} has none: bond_coeff)"
+                            "Bond coeffs are not set (bond type {k} has none: bond_coeff)"
+                        ));
+                    }
+                    let lj = t.special.lj;
+                    if b.kind == bonded::BondKind::Fene && lj[1..] != [0.0, 1.0, 1.0] {
+                        self.setup_notes.push(SetupNote::Warning(
+                            "Use special bonds = 0,1,1 with bond style fene".into(),
                         ));
                     }
                 }
@@ -332,7 +338,7 @@ impl System {
                 Some(a) => {
                     if let Some(k) = a.missing() {
                         return Err(format!(
-                            "All angle coeffs are not set (angle type {k} has none: angle_coeff)"
+                            "Angle coeffs are not set (angle type {k} has none: angle_coeff)"
                         ));
                     }
                 }
@@ -341,6 +347,27 @@ impl System {
         self.partners = t.special_partners();
         t.index(&self.atoms.tag, &self.partners, action, &mut self.bonded)?;
         self.bonded.build = self.neighbor.builds;
+        // LAMMPS's warning when a bonded interaction, stretched by 10 %, could span half a
+        // periodic box length (its `box_too_small_check`): longest bond × 1.1, × 2 with angles.
+        let longest = self
+            .bonded
+            .bonds
+            .iter()
+            .map(|&[i, j, _]| {
+                let (xi, xj) = (self.atoms.x[i as usize], self.atoms.x[j as usize]);
+                let d = self
+                    .bx
+                    .min_image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
+                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+            })
+            .fold(0.0, f64::max);
+        let reach = longest * 1.1 * if t.angles.is_empty() { 1.0 } else { 2.0 };
+        let len = self.bx.len();
+        if (0..self.bx.dim).any(|k| reach > 0.5 * len[k]) {
+            self.setup_notes.push(SetupNote::Warning(
+                "Bond/angle/dihedral extent > half of periodic box length".into(),
+            ));
+        }
         Ok(())
     }
 
@@ -375,17 +402,17 @@ impl System {
                     let (ti, tj) = (a.tag[i], a.tag[j]);
                     if self.warnings.len() < 100 {
                         self.warnings.push(format!(
-                            "FENE bond too long: {} {ti} {tj} {:.8}",
+                            "FENE bond too long: {} {ti} {tj} {}",
                             self.step,
-                            rsq.sqrt()
+                            eight_digits(rsq.sqrt())
                         ));
                     }
                     if flag == bonded::BondFlag::Bad && self.pair_fault.is_none() {
                         self.pair_fault = Some(format!(
-                            "Bad FENE bond: atoms {ti} {tj} at step {} are {:.8} apart, \
+                            "Bad FENE bond: atoms {ti} {tj} at step {} are {} apart, \
                              (r/R0)² − 1 ≥ 3 (bond_coeff R0 of type {typ})",
                             self.step,
-                            rsq.sqrt()
+                            eight_digits(rsq.sqrt())
                         ));
                     }
                 }
@@ -792,4 +819,11 @@ fn special_actions(lj: [f64; 4], scales: bool, ntypes: usize) -> [topology::Spec
         };
     }
     out
+}
+
+/// A length with 8 significant digits in its shortest form (LAMMPS's `{:.8}` of a double in its
+/// FENE warning: 3.3, 1.4999999).
+fn eight_digits(x: f64) -> String {
+    let rounded: f64 = format!("{x:.7e}").parse().unwrap_or(x);
+    format!("{rounded}")
 }
