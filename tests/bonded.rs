@@ -348,3 +348,62 @@ fn write_data_round_trips_the_topology() {
         );
     }
 }
+
+/// `compute chunk/atom molecule` with `fix ave/chunk`: one chunk per molecule id 1 … 24 (the
+/// solvent, molecule 0, in none), each chain's 10 beads counted, density/number over the whole
+/// box (LAMMPS's volume for chunks that are not bins), mass averaged per atom 1.5; and
+/// `compute gyration` is the square root of its tensor's trace, computed here from the
+/// unwrapped positions.
+#[test]
+fn chunks_by_molecule_and_gyration() {
+    let dir = std::env::temp_dir().join(format!("dpdnl-bonded-chunk-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("chunk.out");
+    let text = polymer(
+        "lj 0 1 1",
+        "cross",
+        25.0,
+        4.5,
+        &format!(
+            "compute mol all chunk/atom molecule\ncompute rg all gyration\n\
+             fix c all ave/chunk 5 2 10 mol density/number mass file {}\n\
+             thermo 10\nthermo_style custom step c_rg c_rg[1] c_rg[2] c_rg[3]\n\
+             thermo_modify format float %.17g\nrun 10\n",
+            file.display()
+        ),
+    );
+    let (lines, sys) = run_on(2, &text);
+    let out = std::fs::read_to_string(&file).unwrap();
+    let body: Vec<&str> = out.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(body[0].split_whitespace().nth(1), Some("24"), "{out}");
+    let vol = 8.0f64.powi(3);
+    for (k, row) in body[1..25].iter().enumerate() {
+        let v: Vec<f64> = row.split_whitespace().map(|t| t.parse().unwrap()).collect();
+        assert_eq!(v[0], (k + 1) as f64);
+        assert_eq!(v[1], 10.0, "{row}");
+        // Printed with %g: 6 significant digits.
+        assert!((v[2] - 10.0 / vol).abs() < 5e-6 * 10.0 / vol, "{row}");
+        assert!((v[3] - 1.5).abs() < 1e-12, "{row}");
+    }
+    let (_, rows) = thermo(&lines);
+    let last = rows.last().unwrap();
+    // The tensor of the final state, independently.
+    let n = sys.atoms.len();
+    let mass = |i: usize| if sys.atoms.typ[i] == 2 { 1.5 } else { 1.0 };
+    let u = |i: usize| sys.bx.unwrap(sys.atoms.x[i], sys.atoms.image[i]);
+    let mtot: f64 = (0..n).map(mass).sum();
+    let cm = [0, 1, 2].map(|c| (0..n).map(|i| mass(i) * u(i)[c]).sum::<f64>() / mtot);
+    let g = [0, 1, 2].map(|c| {
+        (0..n)
+            .map(|i| mass(i) * (u(i)[c] - cm[c]).powi(2))
+            .sum::<f64>()
+            / mtot
+    });
+    for c in 0..3 {
+        assert!(
+            (last[2 + c] - g[c]).abs() < 1e-10 * g[c],
+            "{c}: {last:?} {g:?}"
+        );
+    }
+    assert!((last[1] - (g[0] + g[1] + g[2]).sqrt()).abs() < 1e-10 * last[1]);
+}

@@ -28,6 +28,12 @@ pub(super) enum ComputeKind {
     Msd(Msd),
     /// `chunk/atom bin/1d`: per-atom chunk index.
     Chunk(Bin1d),
+    /// `chunk/atom molecule`: chunk = molecule id (1 … the largest id; atoms of molecule 0 in
+    /// no chunk), LAMMPS's `compress no`.
+    ChunkMolecule,
+    /// `gyration`: scalar R_g of the unwrapped, mass-weighted positions; vector of 6, the
+    /// gyration tensor (xx yy zz xy xz yz).
+    Gyration,
     /// `sdpd/density`: per atom the number density d_i of `pair_style sdpd`'s last evaluation;
     /// vector [mean d, rms(d − mean)/mean].
     SdpdDensity,
@@ -42,7 +48,8 @@ impl ComputeKind {
             ComputeKind::Pe => "pe",
             ComputeKind::Ke => "ke",
             ComputeKind::Msd(_) => "msd",
-            ComputeKind::Chunk(_) => "chunk/atom",
+            ComputeKind::Chunk(_) | ComputeKind::ChunkMolecule => "chunk/atom",
+            ComputeKind::Gyration => "gyration",
             ComputeKind::SdpdDensity => "sdpd/density",
         }
     }
@@ -55,12 +62,21 @@ impl ComputeKind {
                 | ComputeKind::Pressure(_)
                 | ComputeKind::Pe
                 | ComputeKind::Ke
+                | ComputeKind::Gyration
         )
+    }
+
+    /// A `chunk/atom` compute (any style).
+    pub(super) fn is_chunk(&self) -> bool {
+        matches!(self, ComputeKind::Chunk(_) | ComputeKind::ChunkMolecule)
     }
 
     pub(super) fn vector_len(&self) -> Option<usize> {
         match self {
-            ComputeKind::Temp | ComputeKind::TempDeform | ComputeKind::Pressure(_) => Some(6),
+            ComputeKind::Temp
+            | ComputeKind::TempDeform
+            | ComputeKind::Pressure(_)
+            | ComputeKind::Gyration => Some(6),
             ComputeKind::Msd(_) => Some(4),
             ComputeKind::SdpdDensity => Some(2),
             _ => None,
@@ -93,7 +109,7 @@ impl Observe {
 
     /// Parse `compute ID all STYLE ARGS…` (checked against `env`, not yet added).
     pub fn parse_compute(args: &[String], env: &dyn Env) -> Result<ComputeDef, String> {
-        let usage = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | sdpd/density | msd [com yes|no] | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+        let usage = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | gyration | sdpd/density | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
         if args.len() < 3 {
             return Err(format!("missing arguments; usage: {usage}"));
         }
@@ -141,6 +157,10 @@ impl Observe {
             "ke" => {
                 extra(3)?;
                 ComputeKind::Ke
+            }
+            "gyration" => {
+                extra(3)?;
+                ComputeKind::Gyration
             }
             "sdpd/density" => {
                 extra(3)?;
@@ -200,6 +220,17 @@ impl Observe {
                 }
                 ComputeKind::Msd(Msd::new(sys, com))
             }
+            "chunk/atom" if args.get(3).map(String::as_str) == Some("molecule") => {
+                extra(4)?;
+                if sys.topo.is_none() {
+                    return Err(
+                        "compute chunk/atom molecule needs molecule ids (atom_style bond, \
+                         angle, molecular or full)"
+                            .into(),
+                    );
+                }
+                ComputeKind::ChunkMolecule
+            }
             "chunk/atom" => ComputeKind::Chunk(Self::parse_chunk(args, sys)?),
             o => {
                 return Err(format!("compute style '{o}' not supported; usage: {usage}"));
@@ -216,7 +247,7 @@ impl Observe {
         let style = arg(args, 3, usage)?;
         if style != "bin/1d" {
             return Err(format!(
-                "compute chunk/atom style '{style}' not supported: only bin/1d"
+                "compute chunk/atom style '{style}' not supported: only bin/1d and molecule"
             ));
         }
         let axis_of = |t: &str| -> Result<usize, String> {
@@ -401,6 +432,10 @@ impl Observe {
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.press,
             ComputeKind::Pe => sys.tally.energy,
             ComputeKind::Ke => sys.thermo().ke,
+            ComputeKind::Gyration => {
+                let g = gyration_tensor(sys);
+                (g[0] + g[1] + g[2]).sqrt()
+            }
             k => {
                 return Err(format!(
                     "compute {} '{}' does not calculate a global scalar",
@@ -417,6 +452,7 @@ impl Observe {
             ComputeKind::TempDeform => sys.thermo_deform().ke_tensor.to_vec(),
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.p_tensor.to_vec(),
             ComputeKind::Msd(m) => m.compute(sys)?.to_vec(),
+            ComputeKind::Gyration => gyration_tensor(sys).to_vec(),
             ComputeKind::SdpdDensity => {
                 let d = sdpd_densities(c, sys)?;
                 let n = d.len().max(1) as f64;
@@ -472,4 +508,31 @@ fn sdpd_densities<'a>(c: &ComputeDef, sys: &'a System) -> Result<&'a [f64], Stri
         ));
     }
     Ok(&sd.density)
+}
+
+/// LAMMPS's `compute gyration` of group all: the mass-weighted tensor
+/// Σ m (r − r_cm)_a (r − r_cm)_b / M of the unwrapped positions (by image flags), components
+/// xx yy zz xy xz yz; R_g is the square root of its trace.
+fn gyration_tensor(sys: &System) -> [f64; 6] {
+    let cm = crate::engine::measure::center_of_mass(sys);
+    let mut g = [0.0; 6];
+    let mut mtot = 0.0;
+    for i in 0..sys.atoms.len() {
+        let m = crate::engine::measure::mass_of(sys, i);
+        let u = crate::engine::measure::unwrapped(sys, i);
+        let d = [u[0] - cm[0], u[1] - cm[1], u[2] - cm[2]];
+        g[0] += m * d[0] * d[0];
+        g[1] += m * d[1] * d[1];
+        g[2] += m * d[2] * d[2];
+        g[3] += m * d[0] * d[1];
+        g[4] += m * d[0] * d[2];
+        g[5] += m * d[1] * d[2];
+        mtot += m;
+    }
+    if mtot > 0.0 {
+        for v in g.iter_mut() {
+            *v /= mtot;
+        }
+    }
+    g
 }
