@@ -161,7 +161,7 @@ impl BondStyle {
         let nt = self.coeff.len() - 1;
         let k = self.kind;
         let ((lo, hi), c) = coeff_line(args, nt, k.ncoeff(), k.usage(), "bond")?;
-        if k == BondKind::Fene && !(c[1] > 0.0) {
+        if k == BondKind::Fene && c[1] <= 0.0 {
             return Err(format!("bond fene: R0 = {} must be > 0", c[1]));
         }
         for t in lo..=hi {

@@ -395,7 +395,7 @@ impl Interpreter<'_> {
                 let rows = |c: &[Option<Vec<f64>>]| -> Option<Vec<Vec<f64>>> {
                     c.iter()
                         .skip(1)
-                        .map(|r| r.clone())
+                        .cloned()
                         .collect::<Option<Vec<_>>>()
                         .map(|mut v| {
                             v.insert(0, Vec::new());
