@@ -407,3 +407,51 @@ fn chunks_by_molecule_and_gyration() {
     }
     assert!((last[1] - (g[0] + g[1] + g[2]).sqrt()).abs() < 1e-10 * last[1]);
 }
+
+/// Bonds through the sheared boundary of a Lees–Edwards box (`change_box all triclinic`, `fix
+/// deform … remap v`): every bond and angle arm takes the sliding-brick minimum image, so after
+/// the image has slid by more than a box length (γ̇ L_y t = 0.5 · 8 · 4 = 16 > L_x = 8) no
+/// bond is stretched: the longest stays below 1.5 (bonds of r0 = 0.85, K = 50 at kT ≈ 1
+/// fluctuate by ~0.1). A bond joined through the wrong image would be O(L) = 8 long and its
+/// energy K (8 − 0.85)² ≈ 2600. Also bit-identical on 1 and 2 threads.
+#[test]
+fn bonds_through_the_sheared_boundary() {
+    let text = polymer(
+        "lj 0.5 0.75 1",
+        "cross",
+        25.0,
+        4.5,
+        "change_box all triclinic\nfix 3 all deform 1 xy erate 0.5 remap v\n\
+         thermo 50\nthermo_style custom step temp ebond eangle\n\
+         thermo_modify format float %.17g\nrun 400\n",
+    );
+    let (l1, s1) = run_on(1, &text);
+    let (l2, s2) = run_on(2, &text);
+    assert_eq!(common::state_by_tag(&s1), common::state_by_tag(&s2));
+    assert_eq!(thermo(&l1), thermo(&l2));
+    let tri = s1.tri.as_ref().expect("triclinic");
+    let le = tri.le;
+    let idx: std::collections::HashMap<u32, usize> =
+        (0..s1.atoms.len()).map(|i| (s1.atoms.tag[i], i)).collect();
+    let mut longest: f64 = 0.0;
+    let mut crossing = 0;
+    for b in &s1.topo.as_ref().unwrap().bonds {
+        let (i, j) = (idx[&b.atoms[0]], idx[&b.atoms[1]]);
+        let (xi, xj) = (s1.atoms.x[i], s1.atoms.x[j]);
+        let raw = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
+        let (d, _) = s1.bx.min_image_le(raw, &le);
+        if (raw[1] - d[1]).abs() > 1.0 {
+            crossing += 1;
+        }
+        longest = longest.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+    }
+    assert!(
+        crossing > 0,
+        "no bond through the y boundary: the test tests nothing"
+    );
+    assert!(longest < 1.5, "longest bond {longest}");
+    let (header, rows) = thermo(&l1);
+    let eb = header.iter().position(|h| h == "E_bond").unwrap();
+    // ebond per atom (norm yes): 216 bonds of ~kT/2 each over 1536 atoms ≈ 0.07.
+    assert!(rows.iter().all(|r| r[eb] < 0.5), "{rows:?}");
+}
