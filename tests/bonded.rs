@@ -455,3 +455,60 @@ fn bonds_through_the_sheared_boundary() {
     // ebond per atom (norm yes): 216 bonds of ~kT/2 each over 1536 atoms ≈ 0.07.
     assert!(rows.iter().all(|r| r[eb] < 0.5), "{rows:?}");
 }
+
+/// `compute gyration/chunk` over `chunk/atom molecule`, averaged by `fix ave/time … mode
+/// vector`: one R_g per chain, equal to the value computed here from the unwrapped positions
+/// (a single sample, so the file holds the instantaneous values, printed with %g).
+#[test]
+fn gyration_per_molecule() {
+    let dir = std::env::temp_dir().join(format!("dpdnl-bonded-rgc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("rg.out");
+    let text = polymer(
+        "lj 0 1 1",
+        "cross",
+        25.0,
+        4.5,
+        &format!(
+            "compute mol all chunk/atom molecule\ncompute rgc all gyration/chunk mol\n\
+             fix r all ave/time 20 1 20 c_rgc mode vector file {}\nrun 20\n",
+            file.display()
+        ),
+    );
+    let (_, sys) = run_on(2, &text);
+    let out = std::fs::read_to_string(&file).unwrap();
+    // Blocks at steps 0 and 20 ("STEP 24", then 24 rows): the last one is the final state.
+    let lines: Vec<&str> = out.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(lines.len(), 50, "{out}");
+    assert_eq!(lines[25], "20 24");
+    let rows: Vec<Vec<f64>> = lines[26..]
+        .iter()
+        .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
+        .collect();
+    let a = &sys.atoms;
+    for (c, row) in rows.iter().enumerate() {
+        let members: Vec<usize> = (0..a.len())
+            .filter(|&i| a.mol_of(i) == c as u32 + 1)
+            .collect();
+        assert_eq!(members.len(), 10);
+        let u: Vec<[f64; 3]> = members
+            .iter()
+            .map(|&i| sys.bx.unwrap(a.x[i], a.image[i]))
+            .collect();
+        // Equal masses within a chain: the plain centroid.
+        let cm = [0, 1, 2].map(|k| u.iter().map(|p| p[k]).sum::<f64>() / 10.0);
+        let rg = (u
+            .iter()
+            .map(|p| (0..3).map(|k| (p[k] - cm[k]).powi(2)).sum::<f64>())
+            .sum::<f64>()
+            / 10.0)
+            .sqrt();
+        assert_eq!(row[0], (c + 1) as f64);
+        assert!(
+            (row[1] - rg).abs() < 5e-6 * rg,
+            "chain {}: {} vs {rg}",
+            c + 1,
+            row[1]
+        );
+    }
+}

@@ -34,6 +34,14 @@ pub(super) enum ComputeKind {
     /// `gyration`: scalar R_g of the unwrapped, mass-weighted positions; vector of 6, the
     /// gyration tensor (xx yy zz xy xz yz).
     Gyration,
+    /// `gyration/chunk CHUNK-ID` over `chunk/atom molecule`: vector of R_g per molecule
+    /// 1 … `nchunk` (the largest molecule id when defined; ids do not change).
+    GyrationChunk {
+        /// The chunk compute.
+        chunk: String,
+        /// Number of chunks.
+        nchunk: usize,
+    },
     /// `sdpd/density`: per atom the number density d_i of `pair_style sdpd`'s last evaluation;
     /// vector [mean d, rms(d − mean)/mean].
     SdpdDensity,
@@ -50,6 +58,7 @@ impl ComputeKind {
             ComputeKind::Msd(_) => "msd",
             ComputeKind::Chunk(_) | ComputeKind::ChunkMolecule => "chunk/atom",
             ComputeKind::Gyration => "gyration",
+            ComputeKind::GyrationChunk { .. } => "gyration/chunk",
             ComputeKind::SdpdDensity => "sdpd/density",
         }
     }
@@ -78,6 +87,7 @@ impl ComputeKind {
             | ComputeKind::Pressure(_)
             | ComputeKind::Gyration => Some(6),
             ComputeKind::Msd(_) => Some(4),
+            ComputeKind::GyrationChunk { nchunk, .. } => Some(*nchunk),
             ComputeKind::SdpdDensity => Some(2),
             _ => None,
         }
@@ -161,6 +171,30 @@ impl Observe {
             "gyration" => {
                 extra(3)?;
                 ComputeKind::Gyration
+            }
+            "gyration/chunk" => {
+                let chunk = arg(args, 3, "compute ID all gyration/chunk CHUNK-ID")?;
+                extra(4)?;
+                match env.observe().compute(chunk).map(|c| &c.kind) {
+                    Some(ComputeKind::ChunkMolecule) => {}
+                    Some(_) => {
+                        return Err(format!(
+                            "compute gyration/chunk: compute '{chunk}' is not a chunk/atom \
+                             molecule compute (the only chunk style supported here)"
+                        ));
+                    }
+                    None => {
+                        return Err(format!(
+                            "compute gyration/chunk: chunk/atom compute '{chunk}' does not exist"
+                        ));
+                    }
+                }
+                let a = &sys.atoms;
+                let nchunk = (0..a.len()).map(|i| a.mol_of(i)).max().unwrap_or(0) as usize;
+                ComputeKind::GyrationChunk {
+                    chunk: chunk.to_string(),
+                    nchunk,
+                }
             }
             "sdpd/density" => {
                 extra(3)?;
@@ -417,7 +451,12 @@ impl Observe {
             }
         }
         for c in &self.computes {
-            if c.id != id && matches!(&c.kind, ComputeKind::Pressure(t) if t == id) {
+            let uses = match &c.kind {
+                ComputeKind::Pressure(t) => t == id,
+                ComputeKind::GyrationChunk { chunk, .. } => chunk == id,
+                _ => false,
+            };
+            if c.id != id && uses {
                 return Err(format!("compute '{id}' is used by compute '{}'", c.id));
             }
         }
@@ -453,6 +492,7 @@ impl Observe {
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.p_tensor.to_vec(),
             ComputeKind::Msd(m) => m.compute(sys)?.to_vec(),
             ComputeKind::Gyration => gyration_tensor(sys).to_vec(),
+            ComputeKind::GyrationChunk { nchunk, .. } => gyration_by_molecule(sys, *nchunk),
             ComputeKind::SdpdDensity => {
                 let d = sdpd_densities(c, sys)?;
                 let n = d.len().max(1) as f64;
@@ -535,4 +575,43 @@ fn gyration_tensor(sys: &System) -> [f64; 6] {
         }
     }
     g
+}
+
+/// LAMMPS's `compute gyration/chunk` over molecules 1 … `n`: per molecule, the mass-weighted
+/// R_g of its atoms' unwrapped positions about its own centre of mass (0 for a molecule with
+/// no mass).
+fn gyration_by_molecule(sys: &System, n: usize) -> Vec<f64> {
+    use crate::engine::measure::{mass_of, unwrapped};
+    let a = &sys.atoms;
+    let chunk = |i: usize| (a.mol_of(i) as usize).checked_sub(1).filter(|&c| c < n);
+    let mut mass = vec![0.0; n];
+    let mut cm = vec![[0.0; 3]; n];
+    for i in 0..a.len() {
+        if let Some(c) = chunk(i) {
+            let (m, u) = (mass_of(sys, i), unwrapped(sys, i));
+            mass[c] += m;
+            for k in 0..3 {
+                cm[c][k] += m * u[k];
+            }
+        }
+    }
+    for (c, m) in cm.iter_mut().zip(&mass) {
+        if *m > 0.0 {
+            for v in c.iter_mut() {
+                *v /= m;
+            }
+        }
+    }
+    let mut rg = vec![0.0; n];
+    for i in 0..a.len() {
+        if let Some(c) = chunk(i) {
+            let u = unwrapped(sys, i);
+            let d = [u[0] - cm[c][0], u[1] - cm[c][1], u[2] - cm[c][2]];
+            rg[c] += mass_of(sys, i) * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        }
+    }
+    for (r, m) in rg.iter_mut().zip(&mass) {
+        *r = if *m > 0.0 { (*r / m).sqrt() } else { 0.0 };
+    }
+    rg
 }
