@@ -285,9 +285,6 @@ impl System {
         self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
         self.setup_topology(action)?;
         self.compute_forces();
-        if let Some(e) = self.pair_fault.take() {
-            return Err(e);
-        }
         Ok(())
     }
 
