@@ -248,17 +248,6 @@ impl System {
         style::check_special(style, ctx.special_lj)?;
         self.setup_notes = style.setup(&ctx)?;
         let action = special_actions(ctx.special_lj, style.scales_special(), style.ntypes());
-        if style.prepass().is_some()
-            && self.topo.as_ref().is_some_and(|t| !t.bonds.is_empty())
-            && action.contains(&topology::SpecialAction::Exclude)
-        {
-            return Err(format!(
-                "pair_style {} with bonded neighbours left out (special_bonds lj factor 0) is not \
-                 supported by the standalone engine: its density pre-pass would need the \
-                 exclusions; use special_bonds lj 1 1 1 or run it in LAMMPS",
-                style.name()
-            ));
-        }
         let rc_max = style.rc_max();
         for p in &self.pex {
             crate::grammar::fix::pex_box_check(p.width, self.bx.len()[0], self.tri.is_some(), true)
@@ -483,6 +472,16 @@ impl System {
         let ntypes = style.ntypes();
         let mut extra_energy = 0.0;
         self.pair_fault = None;
+        if self.topo.is_some() && self.bonded.build != self.neighbor.builds {
+            let action = self.bonded.special.action;
+            if let Some(t) = &self.topo
+                && let Err(e) = t.index(&self.atoms.tag, &self.partners, action, &mut self.bonded)
+            {
+                self.pair_fault.get_or_insert(e);
+            }
+            self.bonded.build = self.neighbor.builds;
+        }
+        let special = (!self.bonded.special.tag.is_empty()).then_some(&self.bonded.special);
         if let Some(pp) = style.prepass() {
             let mut sums = std::mem::take(&mut self.prepass);
             self.neighbor.pair_sum(
@@ -493,6 +492,7 @@ impl System {
                 |k, rsq| pp.weight(k, rsq),
                 |k, rsq, out| pp.weights(k, rsq, out),
                 &mut sums,
+                special,
             );
             for (k, d) in sums.iter_mut().enumerate() {
                 let t = self.atoms.typ[k] as usize;
@@ -509,16 +509,6 @@ impl System {
             style.set_atom_values(&sums, &self.atoms.typ);
             self.prepass = sums;
         }
-        if self.topo.is_some() && self.bonded.build != self.neighbor.builds {
-            let action = self.bonded.special.action;
-            if let Some(t) = &self.topo
-                && let Err(e) = t.index(&self.atoms.tag, &self.partners, action, &mut self.bonded)
-            {
-                self.pair_fault.get_or_insert(e);
-            }
-            self.bonded.build = self.neighbor.builds;
-        }
-        let special = (!self.bonded.special.tag.is_empty()).then_some(&self.bonded.special);
         let style = &*style;
         let kernel = style.kernel(self.neighbor.isa());
         self.tally = self.neighbor.compute_forces(
