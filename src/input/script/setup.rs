@@ -276,13 +276,56 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_read_data(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, "read_data FILE")?;
-        if args.len() > 1 {
-            return Err(format!("read_data keyword '{}' not supported", args[1]));
+        let usage = "read_data FILE [extra/atom/types N] [extra/bond/types N] [extra/angle/types N] [extra/bond|angle|dihedral|improper|special/per/atom N]";
+        need(args, 1, usage)?;
+        // LAMMPS's keywords that make room for more (types added to the file's counts; the
+        // per-atom ones only size LAMMPS's arrays and change nothing here).
+        let mut extra_types = [0usize; 3];
+        let mut k = 1;
+        while k < args.len() {
+            let slot = match args[k].as_str() {
+                "extra/atom/types" => Some(0),
+                "extra/bond/types" => Some(1),
+                "extra/angle/types" => Some(2),
+                "extra/bond/per/atom"
+                | "extra/angle/per/atom"
+                | "extra/dihedral/per/atom"
+                | "extra/improper/per/atom"
+                | "extra/special/per/atom" => None,
+                other => {
+                    return Err(format!(
+                        "read_data keyword '{}' not supported; usage: {usage}",
+                        crate::grammar::shown(other)
+                    ));
+                }
+            };
+            let v = args
+                .get(k + 1)
+                .ok_or_else(|| format!("read_data {} needs a count", args[k]))?;
+            let n: usize = parse_int(v, &args[k])?;
+            if let Some(s) = slot {
+                if s > 0 && !self.atom_style.molecular() {
+                    return Err(format!(
+                        "read_data {}: atom_style {} has no bonds",
+                        args[k],
+                        self.atom_style.word()
+                    ));
+                }
+                extra_types[s] = n;
+            }
+            k += 2;
         }
         let text = std::fs::read_to_string(&args[0])
             .map_err(|e| format!("cannot read data file {}: {e}", args[0]))?;
-        let d = parse_data_styled(&text, &args[0], self.atom_style)?;
+        let mut d = parse_data_styled(&text, &args[0], self.atom_style)?;
+        d.ntypes = d.ntypes.saturating_add(extra_types[0]);
+        d.nbondtypes = d.nbondtypes.saturating_add(extra_types[1]);
+        d.nangletypes = d.nangletypes.saturating_add(extra_types[2]);
+        crate::engine::check_ntypes(d.ntypes)?;
+        for n in [d.nbondtypes, d.nangletypes] {
+            crate::engine::check_ntypes(n.max(1))?;
+        }
+        d.masses.resize(d.ntypes + 1, None);
         if self.dim == 2 && d.atoms.iter().any(|a| a.2[2] != 0.0) {
             return Err(format!(
                 "{}: a 2-D system needs z = 0 for every atom",
