@@ -514,3 +514,41 @@ fn gyration_per_molecule() {
         );
     }
 }
+
+/// `dump custom … mol` writes each atom's molecule id (0 for the solvent), and an atomic
+/// system refuses the column.
+#[test]
+fn dump_writes_molecule_ids() {
+    let dir = std::env::temp_dir().join(format!("dpdnl-bonded-dump-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("mol.dump");
+    let text = polymer(
+        "lj 0 1 1",
+        "cross",
+        25.0,
+        4.5,
+        &format!(
+            "dump d all custom 1 {} id mol type\ndump_modify d sort id\nrun 0\n",
+            file.display()
+        ),
+    );
+    run_on(1, &text);
+    let out = std::fs::read_to_string(&file).unwrap();
+    let rows: Vec<Vec<u32>> = out
+        .lines()
+        .skip_while(|l| !l.starts_with("ITEM: ATOMS"))
+        .skip(1)
+        .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 1536);
+    // The data file: chain k (1..24) holds atoms 10(k-1)+1 … 10k, all of type 2; then solvent.
+    for r in &rows {
+        let want = if r[0] <= 240 { (r[0] - 1) / 10 + 1 } else { 0 };
+        assert_eq!(r[1], want, "{r:?}");
+        assert_eq!(r[2], if r[0] <= 240 { 2 } else { 1 });
+    }
+    let atomic = "units lj\nregion b block 0 5 0 5 0 5\ncreate_box 1 b\n\
+                  dump d all custom 1 x.dump id mol\n";
+    let e = common::run(atomic).unwrap_err();
+    assert!(e.message.contains("no molecule ids"), "{e}");
+}
