@@ -19,6 +19,9 @@ struct Case {
     /// LAMMPS's own text, for a command LAMMPS implements itself (`lammps:` line); else the
     /// same text as `expect` (this project's styles: one message for both engines).
     lammps: Option<String>,
+    /// `data: FILE STYLE`: read this file of `tests/data/bad_input/` with this atom style
+    /// instead of the prelude's `atomic` dpd3d.data (the bonded cases).
+    data: Option<(String, String)>,
     body: String,
 }
 
@@ -32,6 +35,7 @@ fn cases() -> Vec<Case> {
                 label: label.to_string(),
                 expect: None,
                 lammps: None,
+                data: None,
                 body: String::new(),
             });
         } else if let Some(c) = out.last_mut() {
@@ -39,6 +43,9 @@ fn cases() -> Vec<Case> {
                 c.expect = (e != "ok").then(|| e.to_string());
             } else if let Some(e) = line.strip_prefix("lammps: ") {
                 c.lammps = Some(e.to_string());
+            } else if let Some(e) = line.strip_prefix("data: ") {
+                let (file, style) = e.split_once(' ').expect("data: FILE STYLE");
+                c.data = Some((file.to_string(), style.to_string()));
             } else if !line.trim().is_empty() {
                 c.body.push_str(line);
                 c.body.push('\n');
@@ -49,8 +56,17 @@ fn cases() -> Vec<Case> {
 }
 
 fn script(case: &Case, data: &Path) -> String {
+    let (data, style) = match &case.data {
+        Some((file, style)) => (
+            plugin_support::root()
+                .join("tests/data/bad_input")
+                .join(file),
+            style.as_str(),
+        ),
+        None => (data.to_path_buf(), "atomic"),
+    };
     format!(
-        "units lj\natom_style atomic\ncomm_modify vel yes\nread_data {}\nmass * 1.0\n{}",
+        "units lj\natom_style {style}\ncomm_modify vel yes\nread_data {}\nmass * 1.0\n{}",
         data.display(),
         case.body
     )
@@ -120,7 +136,12 @@ fn same_verdict_and_message_in_both_engines() {
         let text = script(c, &data);
         let v = standalone(&text);
         check(&c.label, "standalone", &v, &c.expect, &mut bad);
-        let lammps_expect = c.lammps.clone().or_else(|| c.expect.clone());
+        // `lammps: ok`: LAMMPS runs what this engine refuses (documented in the case).
+        let lammps_expect = match c.lammps.as_deref() {
+            Some("ok") => None,
+            Some(t) => Some(t.to_string()),
+            None => c.expect.clone(),
+        };
         if let Some(lmp) = &shim {
             let mut cmd = Command::new(lmp);
             cmd.env("OMP_NUM_THREADS", "1");

@@ -1,7 +1,8 @@
 //! Exact restart (issue 16, "Build"): `run 50` + `run 50` in one interpreter gives the same bits
 //! as `run 50` + `write_restart`, then `read_restart` + `run 50` in a fresh one, for
-//! velocity-Verlet and Euler, periodic and Lees–Edwards boxes, 1 and 2 threads, with
-//! `fix pex/push`; periodic `restart N FILE` (names with `*`, two alternating files) and the
+//! velocity-Verlet and Euler, periodic and Lees–Edwards boxes, a bonded polymer solution
+//! (topology, molecule ids, FENE and cosine styles, fractional special_bonds), 1 and 2 threads,
+//! with `fix pex/push`; periodic `restart N FILE` (names with `*`, two alternating files) and the
 //! file written at an interrupt; and refusals of corrupted, truncated, foreign and newer files with the file, line and command.
 
 use dpdnl::engine::System;
@@ -112,8 +113,31 @@ fn sdpd() -> Case {
     }
 }
 
+/// The polymer solution of the bonded golden cases: bonds and angles through the periodic
+/// boundaries, molecule ids, fractional special_bonds (scaled coefficient blocks) and FENE
+/// bonds with cosine angles: everything of the topology the restart file carries.
+fn bonded() -> Case {
+    Case {
+        name: "bonded 3-D nve",
+        system: format!(
+            "units lj\natom_style angle\nbond_style fene\nangle_style cosine\n\
+             special_bonds lj 0.5 0.75 1 angle yes\nread_data {}/tests/data/crosscheck/polymer3d.data\n\
+             mass 1 1.0\nmass 2 1.5\n\
+             pair_style dpd/nonlinear 1.0 1.0 7919 friction dot noise twostep\n\
+             pair_coeff * * 25.0 4.5 0.5\nbond_coeff 1 30.0 1.5 1.0 1.0\nangle_coeff 1 2.0\n\
+             timestep 0.01\n",
+            env!("CARGO_MANIFEST_DIR")
+        ),
+        settings: "fix 1 all nve\nthermo 10\n\
+                   thermo_style custom step temp press pxy pe ebond eangle\n\
+                   thermo_modify format float %.17g\n"
+            .into(),
+    }
+}
+
 fn cases() -> Vec<Case> {
     vec![
+        bonded(),
         periodic("nve"),
         periodic("nve/euler"),
         lees_edwards("nve", 2),

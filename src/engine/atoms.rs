@@ -16,6 +16,9 @@ pub struct Atoms {
     pub typ: Vec<u32>,
     /// Periodic image counters.
     pub image: Vec<[i32; 3]>,
+    /// Molecule ids (`atom_style bond|angle|molecular|full`); empty for `atomic`, else one per
+    /// atom, permuted with the rest.
+    pub mol: Vec<u32>,
 }
 
 impl Atoms {
@@ -37,6 +40,9 @@ impl Atoms {
         self.tag.push(tag);
         self.typ.push(typ);
         self.image.push(image);
+        if !self.mol.is_empty() {
+            self.mol.push(0);
+        }
     }
 
     /// Reserve room for `n` more atoms in every array; an allocation failure is an error, not an
@@ -47,7 +53,35 @@ impl Atoms {
         self.f.try_reserve(n)?;
         self.tag.try_reserve(n)?;
         self.typ.try_reserve(n)?;
+        if !self.mol.is_empty() {
+            self.mol.try_reserve(n)?;
+        }
         self.image.try_reserve(n)
+    }
+
+    /// Append one atom with molecule id `mol` (a system with molecule ids: every atom has one).
+    pub fn push_mol(
+        &mut self,
+        tag: u32,
+        typ: u32,
+        mol: u32,
+        x: [f64; 3],
+        v: [f64; 3],
+        image: [i32; 3],
+    ) {
+        self.mol.resize(self.x.len(), 0);
+        self.x.push(x);
+        self.v.push(v);
+        self.f.push([0.0; 3]);
+        self.tag.push(tag);
+        self.typ.push(typ);
+        self.image.push(image);
+        self.mol.push(mol);
+    }
+
+    /// The molecule id of atom `i` (0 without molecule ids, as LAMMPS's `atomic` style).
+    pub fn mol_of(&self, i: usize) -> u32 {
+        self.mol.get(i).copied().unwrap_or(0)
     }
 
     /// The largest tag, 0 when empty.
@@ -69,5 +103,8 @@ impl Atoms {
         apply(&mut self.tag, &mut scratch.tag, perm);
         apply(&mut self.typ, &mut scratch.typ, perm);
         apply(&mut self.image, &mut scratch.image, perm);
+        if !self.mol.is_empty() {
+            apply(&mut self.mol, &mut scratch.mol, perm);
+        }
     }
 }

@@ -3,6 +3,7 @@
 //! LAMMPS reports (same definitions, so one log parser and one diff read both engines).
 
 pub mod atoms;
+pub mod bonded;
 pub mod domain;
 pub mod fixes;
 pub mod forcefield;
@@ -13,12 +14,14 @@ pub mod pair;
 pub mod sdpd;
 pub mod simd;
 pub mod style;
+pub mod topology;
 
 pub use atoms::Atoms;
 pub use domain::SimBox;
 pub use forcefield::ForceField;
 pub use neighbor::{NeighborList, PairTally};
 pub use style::{PairStyle, SetupContext};
+pub use topology::Topology;
 
 use rayon::prelude::*;
 
@@ -82,8 +85,8 @@ pub struct System {
     inv_mass: Vec<f64>,
     /// The per-atom values of a many-body style's pre-pass (engine order).
     prepass: Vec<f64>,
-    /// The first fault of the last force evaluation (a non-finite many-body term), reported
-    /// by [`System::check_health`].
+    /// The first fault of the last force evaluation (a non-finite many-body term, a bad FENE
+    /// bond), reported by [`System::check_health`] and [`System::fault`].
     pair_fault: Option<String>,
     /// The last step of the coming run, when known ([`System::setup_run`]): `fix deform`'s
     /// rates depend on it as LAMMPS's do.
@@ -91,6 +94,29 @@ pub struct System {
     /// Rebuild the lists at the next step (LAMMPS re-neighbours on the steps it writes a
     /// restart file: [`System::rebuild_at_next_step`]).
     force_rebuild: bool,
+    /// Bonds, angles, molecule style and `special_bonds` (None: `atom_style atomic`).
+    pub topo: Option<Topology>,
+    /// The energies of the last force evaluation by kind.
+    pub energies: Energies,
+    /// Warnings of the force evaluations since the caller last took them (LAMMPS's "FENE bond
+    /// too long"), for the caller to print.
+    pub warnings: Vec<String>,
+    /// The special partners of every atom id, from the last set-up.
+    partners: std::collections::HashMap<u32, Vec<(u32, u8)>>,
+    /// The topology as indices of the current order (rebuilt after every sort).
+    bonded: topology::BondedIndex,
+}
+
+/// The energies of one force evaluation by kind (LAMMPS's `evdwl`, `ebond`, `eangle`);
+/// [`System::tally`] holds their sum and the virial of every force.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Energies {
+    /// Pair energy (`epair`, `evdwl`).
+    pub epair: f64,
+    /// Bond energy (`ebond`).
+    pub ebond: f64,
+    /// Angle energy (`eangle`).
+    pub eangle: f64,
 }
 
 /// A line for the log from [`System::setup`].
@@ -117,8 +143,10 @@ pub struct Thermo {
     pub p_tensor: [f64; 6],
     /// Total kinetic energy Σ m v² / 2.
     pub ke: f64,
-    /// Total pair energy.
+    /// Total potential energy (pair + bond + angle).
     pub pe: f64,
+    /// Its parts.
+    pub energies: Energies,
     /// Volume (area in 2-D).
     pub vol: f64,
 }
@@ -166,6 +194,11 @@ impl System {
             pair_fault: None,
             run_end: None,
             force_rebuild: false,
+            topo: None,
+            energies: Energies::default(),
+            warnings: Vec::new(),
+            partners: Default::default(),
+            bonded: Default::default(),
         }
     }
 
@@ -228,13 +261,15 @@ impl System {
             mass: &self.mass,
             dt: self.dt,
             euler: self.integrator == Some(Integrator::Euler),
-            special_lj: [1.0; 4],
+            special_lj: self.special_lj(),
         };
         let style = self
             .pair
             .as_deref_mut()
             .ok_or("no pair style defined (pair_style dpd/nonlinear … or sdpd …)")?;
+        style::check_special(style, ctx.special_lj)?;
         self.setup_notes = style.setup(&ctx)?;
+        let action = special_actions(ctx.special_lj, style.scales_special(), style.ntypes());
         let rc_max = style.rc_max();
         for p in &self.pex {
             crate::grammar::fix::pex_box_check(p.width, self.bx.len()[0], self.tri.is_some(), true)
@@ -260,8 +295,171 @@ impl System {
         // builds one too, gets the same bits).
         self.set_shear();
         self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
+        self.setup_topology(action)?;
         self.compute_forces(true);
         Ok(())
+    }
+
+    /// The `special_bonds lj` factors of the pair loop ([1; 4] without a topology).
+    pub fn special_lj(&self) -> [f64; 4] {
+        match &self.topo {
+            Some(t) if !t.bonds.is_empty() => t.special.lj,
+            _ => [1.0; 4],
+        }
+    }
+
+    /// The set-up of the bonded terms: styles and coefficients present (LAMMPS's checks and
+    /// warnings), the special partners, the index form of the topology.
+    fn setup_topology(&mut self, action: [topology::SpecialAction; 4]) -> Result<(), String> {
+        let Some(t) = &self.topo else { return Ok(()) };
+        if !t.bonds.is_empty() {
+            match &t.bond_style {
+                None => {
+                    self.setup_notes.push(SetupNote::Warning(
+                        "Bonds are defined but no bond style is set".into(),
+                    ));
+                    if t.special.lj[1] != 1.0 || t.special.coul[1] != 1.0 {
+                        self.setup_notes.push(SetupNote::Warning(
+                            "Likewise 1-2 special neighbor interactions != 1.0".into(),
+                        ));
+                    }
+                }
+                Some(b) => {
+                    if let Some(k) = b.missing() {
+                        return Err(format!(
+                            "Bond coeffs are not set (bond type {k} has none: bond_coeff)"
+                        ));
+                    }
+                    let lj = t.special.lj;
+                    if b.kind == bonded::BondKind::Fene && lj[1..] != [0.0, 1.0, 1.0] {
+                        self.setup_notes.push(SetupNote::Warning(
+                            "Use special bonds = 0,1,1 with bond style fene".into(),
+                        ));
+                    }
+                }
+            }
+        }
+        if !t.angles.is_empty() {
+            match &t.angle_style {
+                None => self.setup_notes.push(SetupNote::Warning(
+                    "Angles are defined but no angle style is set".into(),
+                )),
+                Some(a) => {
+                    if let Some(k) = a.missing() {
+                        return Err(format!(
+                            "Angle coeffs are not set (angle type {k} has none: angle_coeff)"
+                        ));
+                    }
+                }
+            }
+        }
+        self.partners = t.special_partners();
+        t.index(&self.atoms.tag, &self.partners, action, &mut self.bonded)?;
+        self.bonded.build = self.neighbor.builds;
+        // LAMMPS's warning when a bonded interaction, stretched by 10 %, could span half a
+        // periodic box length (its `box_too_small_check`): longest bond × 1.1, × 2 with angles.
+        let longest = self
+            .bonded
+            .bonds
+            .iter()
+            .map(|&[i, j, _]| {
+                let (xi, xj) = (self.atoms.x[i as usize], self.atoms.x[j as usize]);
+                let d = self
+                    .bx
+                    .min_image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
+                (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+            })
+            .fold(0.0, f64::max);
+        let reach = longest * 1.1 * if t.angles.is_empty() { 1.0 } else { 2.0 };
+        let len = self.bx.len();
+        if (0..self.bx.dim).any(|k| reach > 0.5 * len[k]) {
+            self.setup_notes.push(SetupNote::Warning(
+                "Bond/angle/dihedral extent > half of periodic box length".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The fault of the last force evaluation, if any (a bad FENE bond, a non-finite
+    /// many-body term): cheap, for a check at every step.
+    pub fn fault(&self) -> Option<&str> {
+        self.pair_fault.as_deref()
+    }
+
+    /// The bond and angle forces of the current positions, added to `atoms.f` in topology
+    /// order (bonds, then angles: LAMMPS's order), with their energies and virial. Minimum
+    /// images as the pair loop's (periodic, or the sliding brick of a sheared box).
+    fn bonded_forces(&mut self) -> PairTally {
+        let mut tb = PairTally::default();
+        let mut ta = PairTally::default();
+        let Some(t) = &self.topo else { return tb };
+        let le = self.tri.as_ref().map(|t| t.le);
+        let bx = &self.bx;
+        let image = |d: [f64; 3]| match &le {
+            None => bx.min_image(d),
+            Some(le) => bx.min_image_le(d, le).0,
+        };
+        let a = &mut self.atoms;
+        if let Some(style) = &t.bond_style {
+            for &[i, j, typ] in &self.bonded.bonds {
+                let (i, j) = (i as usize, j as usize);
+                let (xi, xj) = (a.x[i], a.x[j]);
+                let d = image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
+                let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                let (fbond, e, flag) = style.eval(typ as usize, rsq);
+                if flag != bonded::BondFlag::Ok {
+                    let (ti, tj) = (a.tag[i], a.tag[j]);
+                    if self.warnings.len() < 100 {
+                        self.warnings.push(format!(
+                            "FENE bond too long: {} {ti} {tj} {}",
+                            self.step,
+                            eight_digits(rsq.sqrt())
+                        ));
+                    }
+                    if flag == bonded::BondFlag::Bad && self.pair_fault.is_none() {
+                        self.pair_fault = Some(format!(
+                            "Bad FENE bond: atoms {ti} {tj} at step {} are {} apart, \
+                             (r/R0)² − 1 ≥ 3 (bond_coeff R0 of type {typ})",
+                            self.step,
+                            eight_digits(rsq.sqrt())
+                        ));
+                    }
+                }
+                let fv = [d[0] * fbond, d[1] * fbond, d[2] * fbond];
+                for k in 0..3 {
+                    a.f[i][k] += fv[k];
+                    a.f[j][k] -= fv[k];
+                }
+                tb.add_pair(d, fv, e);
+            }
+        }
+        if let Some(style) = &t.angle_style {
+            for &[i, j, k, typ] in &self.bonded.angles {
+                let (i, j, k) = (i as usize, j as usize, k as usize);
+                let (x1, x2, x3) = (a.x[i], a.x[j], a.x[k]);
+                let d1 = image([x1[0] - x2[0], x1[1] - x2[1], x1[2] - x2[2]]);
+                let d2 = image([x3[0] - x2[0], x3[1] - x2[1], x3[2] - x2[2]]);
+                let (f1, f3, e) = style.eval(typ as usize, d1, d2);
+                for c in 0..3 {
+                    a.f[i][c] += f1[c];
+                    a.f[j][c] -= f1[c] + f3[c];
+                    a.f[k][c] += f3[c];
+                }
+                ta.energy += e;
+                ta.virial[0] += d1[0] * f1[0] + d2[0] * f3[0];
+                ta.virial[1] += d1[1] * f1[1] + d2[1] * f3[1];
+                ta.virial[2] += d1[2] * f1[2] + d2[2] * f3[2];
+                ta.virial[3] += d1[0] * f1[1] + d2[0] * f3[1];
+                ta.virial[4] += d1[0] * f1[2] + d2[0] * f3[2];
+                ta.virial[5] += d1[1] * f1[2] + d2[1] * f3[2];
+            }
+        }
+        self.energies.ebond = tb.energy;
+        self.energies.eangle = ta.energy;
+        for c in 0..6 {
+            tb.virial[c] += ta.virial[c];
+        }
+        tb
     }
 
     /// A sheared box: the tilt, offset and rate of the current step, handed to the neighbour
@@ -412,10 +610,17 @@ impl System {
         }
     }
 
-    /// The forces of the current step through the pair style (`style.rs`): its pre-pass, if
-    /// it has one, then its kernel, over the same list (periodic or sheared). `setup`: the
+    /// The forces of the current step: the pair style's, then the bonded terms. `setup`: the
     /// set-up's evaluation, right after a build (a pending flip waits for the first step).
     fn compute_forces(&mut self, setup: bool) {
+        self.compute_pair_forces(setup);
+        self.add_bonded();
+    }
+
+    /// The pair part of [`System::compute_forces`] through the pair style (`style.rs`): its
+    /// pre-pass, if it has one, then its kernel, over the same list (periodic or sheared),
+    /// after the list's rebuild when one is due.
+    fn compute_pair_forces(&mut self, setup: bool) {
         self.set_shear();
         let lammps = self.tri.as_ref().is_some_and(|t| t.lammps_order());
         if !lammps {
@@ -443,6 +648,16 @@ impl System {
         let ntypes = style.ntypes();
         let mut extra_energy = 0.0;
         self.pair_fault = None;
+        if self.topo.is_some() && self.bonded.build != self.neighbor.builds {
+            let action = self.bonded.special.action;
+            if let Some(t) = &self.topo
+                && let Err(e) = t.index(&self.atoms.tag, &self.partners, action, &mut self.bonded)
+            {
+                self.pair_fault.get_or_insert(e);
+            }
+            self.bonded.build = self.neighbor.builds;
+        }
+        let special = (!self.bonded.special.tag.is_empty()).then_some(&self.bonded.special);
         if let Some(pp) = style.prepass() {
             let mut sums = std::mem::take(&mut self.prepass);
             self.neighbor.pair_sum(
@@ -453,6 +668,7 @@ impl System {
                 |k, rsq| pp.weight(k, rsq),
                 |k, rsq, out| pp.weights(k, rsq, out),
                 &mut sums,
+                special,
             );
             for (k, d) in sums.iter_mut().enumerate() {
                 let t = self.atoms.typ[k] as usize;
@@ -479,8 +695,21 @@ impl System {
             ntypes,
             &self.inv_mass,
             self.step,
+            special,
         );
         self.tally.energy += extra_energy;
+        self.energies.epair = self.tally.energy;
+    }
+
+    /// The bonded forces after the pair forces: energies and virial into the tally.
+    fn add_bonded(&mut self) {
+        if self.topo.is_some() {
+            let b = self.bonded_forces();
+            self.tally.energy = self.energies.epair + self.energies.ebond + self.energies.eangle;
+            for c in 0..6 {
+                self.tally.virial[c] += b.virial[c];
+            }
+        }
     }
 
     /// Advance one step with the configured integrator (after [`System::setup`]), then apply
@@ -670,6 +899,7 @@ impl System {
             p_tensor: p,
             ke: 0.5 * mv2,
             pe: self.tally.energy,
+            energies: self.energies,
             vol,
         }
     }
@@ -734,4 +964,30 @@ pub fn check_atoms(
         }
     }
     Ok(())
+}
+
+/// What the pair loop does with each special class under factors `lj`: factor 1 an ordinary
+/// pair, 0 left out, fractional the style's scaled block (`PairStyle::scales_special`; other
+/// styles refuse fractional factors at `check_special`).
+fn special_actions(lj: [f64; 4], scales: bool, ntypes: usize) -> [topology::SpecialAction; 4] {
+    use topology::SpecialAction as A;
+    let block = ((ntypes + 1) * (ntypes + 1)) as u32;
+    let mut out = [A::Keep; 4];
+    for c in 1..4 {
+        out[c] = if lj[c] == 0.0 {
+            A::Exclude
+        } else if lj[c] == 1.0 || !scales {
+            A::Keep
+        } else {
+            A::Offset(c as u32 * block)
+        };
+    }
+    out
+}
+
+/// A length with 8 significant digits in its shortest form (LAMMPS's `{:.8}` of a double in its
+/// FENE warning: 3.3, 1.4999999).
+fn eight_digits(x: f64) -> String {
+    let rounded: f64 = format!("{x:.7e}").parse().unwrap_or(x);
+    format!("{rounded}")
 }

@@ -17,9 +17,11 @@
 //! 2. the pairs in range go through [`PairStyle::kernel`] in batches (`engine::pair`), whose
 //!    central forces are applied ±, so momentum is conserved exactly for every style.
 //!
-//! Bonded terms (bonds, angles) will be a second kind of force term beside this one: a
-//! `BondStyle` with its own coefficients and set-up, evaluated over a topology instead of a
-//! neighbour list; they share [`SetupContext`] and the tallies, not this trait.
+//! Bonded terms (bonds, angles) are a second kind of force term beside this one
+//! (`engine::bonded`, `engine::topology`): styles with their own coefficients, evaluated over a
+//! topology instead of a neighbour list; they share the tallies, not this trait. The pair
+//! style sees the topology only through `SetupContext::special_lj` and the special pairs the
+//! pair loop applies ([`PairStyle::scales_special`]).
 
 use std::any::Any;
 use std::fmt::Debug;

@@ -1,13 +1,22 @@
-//! LAMMPS data files (`read_data` / `write_data`) for `atom_style atomic`.
+//! LAMMPS data files (`read_data` / `write_data`) for `atom_style atomic`, `bond`, `angle`,
+//! `molecular` and `full`.
 //!
-//! Supported: the header keywords `atoms`, `atom types`, `xlo xhi`, `ylo yhi`, `zlo zhi`,
-//! `xy xz yz` (a triclinic box tilted in xy only: xz = yz = 0) (and the counts of
-//! bonds/angles/… when they are 0); the sections `Masses`, `Atoms` (`id type x y z`
-//! with optional image flags `ix iy iz`) and `Velocities` (`id vx vy vz`). Anything else is an
-//! error naming the file and line. Real numbers (box bounds, masses, coordinates, velocities)
-//! must be finite: `nan`, `inf` or `1e999` is an error naming the file, line and column.
+//! Supported: the header keywords `atoms`, `atom types`, `bonds`, `bond types`, `angles`,
+//! `angle types` (dihedrals and impropers: 0), the `extra … per atom` counts LAMMPS writes
+//! (accepted, not needed), `xlo xhi`, `ylo yhi`, `zlo zhi`, `xy xz yz` (a triclinic box tilted
+//! in xy only: xz = yz = 0); the sections `Masses`, `Atoms` (the
+//! style's columns, `id [mol] type [q] x y z`, with optional image flags `ix iy iz`),
+//! `Velocities` (`id vx vy vz`), `Bonds` (`id type a1 a2`), `Angles` (`id type a1 a2 a3`),
+//! `Bond Coeffs`, `Angle Coeffs` (kept as words for the styles). Anything else is an error naming
+//! the file and line. Real numbers (box bounds, masses, coordinates, velocities) must be finite:
+//! `nan`, `inf` or `1e999` is an error naming the file, line and column. A bond or angle naming
+//! an atom id the file lacks, a type out of range, or bonded atoms further apart than half the
+//! box by their image flags (the minimum image would join other images) is an error naming the
+//! file and line.
 
 use std::fmt::Write as _;
+
+use crate::engine::topology::{Angle, AtomStyle, Bond};
 
 /// The content of a data file.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -26,6 +35,32 @@ pub struct DataFile {
     pub atoms: Vec<(u32, u32, [f64; 3], [i32; 3])>,
     /// Velocities by tag, in file order (empty when the file has no Velocities section).
     pub velocities: Vec<(u32, [f64; 3])>,
+    /// The atom style of the `Atoms` columns.
+    pub style: AtomStyle,
+    /// Molecule ids, one per atom of `atoms` (empty for `atomic`).
+    pub mol: Vec<u32>,
+    /// Number of bond types.
+    pub nbondtypes: usize,
+    /// Number of angle types.
+    pub nangletypes: usize,
+    /// Bonds, in file order.
+    pub bonds: Vec<Bond>,
+    /// Angles, in file order.
+    pub angles: Vec<Angle>,
+    /// `Bond Coeffs` lines: (1-based line number, words), and the style named after `#`.
+    pub bond_coeffs: Vec<(usize, Vec<String>)>,
+    /// `Angle Coeffs` lines, likewise.
+    pub angle_coeffs: Vec<(usize, Vec<String>)>,
+    /// The style names after `#` of `Bond Coeffs` and `Angle Coeffs` (write_data's hints).
+    pub coeff_styles: [Option<String>; 2],
+}
+
+/// Header counts of a molecular file.
+#[derive(Default)]
+struct Counts {
+    atoms: Option<usize>,
+    bonds: usize,
+    angles: usize,
 }
 
 fn strip_comment(line: &str) -> &str {
@@ -74,19 +109,44 @@ fn real(
 /// not a header line but the first section title.
 fn header_line(
     d: &mut DataFile,
-    natoms: &mut Option<usize>,
+    counts: &mut Counts,
     toks: &[&str],
     ctx: &dyn Fn(String) -> String,
 ) -> Result<bool, String> {
     let rest = toks[1..].join(" ");
+    let topo = |n: usize, what: &str| -> Result<usize, String> {
+        if n > 0 && !d.style.molecular() {
+            return Err(ctx(format!(
+                "'{n} {what}': atom_style atomic has no topology (use atom_style bond, angle, \
+                 molecular or full)"
+            )));
+        }
+        if n > 0 && what.starts_with("angle") && !d.style.has_angles() {
+            return Err(ctx(format!(
+                "'{n} {what}': atom_style {} has no angles (use angle, molecular or full)",
+                d.style.word()
+            )));
+        }
+        Ok(n)
+    };
     match rest.as_str() {
-        "atoms" => *natoms = Some(num(toks, 0, "an atom count", ctx)?),
+        "atoms" => counts.atoms = Some(num(toks, 0, "an atom count", ctx)?),
         "atom types" => d.ntypes = num(toks, 0, "a type count", ctx)?,
-        "bonds" | "angles" | "dihedrals" | "impropers" | "bond types" | "angle types"
-        | "dihedral types" | "improper types" => {
+        "bonds" => counts.bonds = topo(num(toks, 0, "a bond count", ctx)?, &rest)?,
+        "bond types" => d.nbondtypes = topo(num(toks, 0, "a type count", ctx)?, &rest)?,
+        "angles" => counts.angles = topo(num(toks, 0, "an angle count", ctx)?, &rest)?,
+        "angle types" => d.nangletypes = topo(num(toks, 0, "a type count", ctx)?, &rest)?,
+        "extra bond per atom"
+        | "extra angle per atom"
+        | "extra dihedral per atom"
+        | "extra improper per atom"
+        | "extra special per atom" => {
+            num::<u64>(toks, 0, "a count", ctx)?;
+        }
+        "dihedrals" | "impropers" | "dihedral types" | "improper types" => {
             if num::<u64>(toks, 0, "a count", ctx)? != 0 {
                 return Err(ctx(format!(
-                    "'{rest}' > 0: atom_style atomic has no topology"
+                    "'{rest}' > 0: dihedrals and impropers are not supported"
                 )));
             }
         }
@@ -151,20 +211,44 @@ fn masses_line(
     Ok(())
 }
 
-/// One line of the `Atoms` section: `id type x y z [ix iy iz]`.
+/// One line of the `Atoms` section: the style's columns (`id [mol] type [q] x y z`), then
+/// optionally `ix iy iz`.
 fn atoms_line(
     d: &mut DataFile,
     toks: &[&str],
     ctx: &dyn Fn(String) -> String,
 ) -> Result<(), String> {
-    if toks.len() != 5 && toks.len() != 8 {
+    let cols = d.style.columns();
+    let n = cols.split_whitespace().count();
+    if toks.len() != n && toks.len() != n + 3 {
         return Err(ctx(format!(
-            "Atoms line needs 'id type x y z [ix iy iz]' (5 or 8 values), found {}",
+            "Atoms line of atom_style {} needs '{cols} [ix iy iz]' ({n} or {} values), found {}",
+            d.style.word(),
+            n + 3,
             toks.len()
         )));
     }
     let tag: u32 = num(toks, 0, "an atom id", ctx)?;
-    let t: u32 = num(toks, 1, "an atom type", ctx)?;
+    // The columns after the id: [mol] type [q] x y z.
+    let (tcol, xcol) = match d.style {
+        AtomStyle::Atomic => (1, 2),
+        AtomStyle::Full => (2, 4),
+        _ => (2, 3),
+    };
+    if d.style.molecular() {
+        let mol: u32 = num(toks, 1, "a molecule id", ctx)?;
+        d.mol.push(mol);
+    }
+    if d.style == AtomStyle::Full {
+        let q = real(toks, 3, "a charge", ctx)?;
+        if q != 0.0 {
+            return Err(ctx(format!(
+                "atom {tag} has charge {q}: this engine has no Coulomb interactions, every \
+                 charge must be 0"
+            )));
+        }
+    }
+    let t: u32 = num(toks, tcol, "an atom type", ctx)?;
     if tag == 0 {
         return Err(ctx("atom id 0 is not allowed".into()));
     }
@@ -173,12 +257,12 @@ fn atoms_line(
     }
     let mut x = [0.0; 3];
     for a in 0..3 {
-        x[a] = real(toks, 2 + a, "a coordinate", ctx)?;
+        x[a] = real(toks, xcol + a, "a coordinate", ctx)?;
     }
     let mut im = [0; 3];
-    if toks.len() == 8 {
+    if toks.len() == n + 3 {
         for a in 0..3 {
-            im[a] = num(toks, 5 + a, "an image flag", ctx)?;
+            im[a] = num(toks, n + a, "an image flag", ctx)?;
         }
     }
     d.atoms.push((tag, t, x, im));
@@ -203,6 +287,92 @@ fn velocities_line(
     Ok(())
 }
 
+/// One line of `Bonds` (`id type a1 a2`, n = 2) or `Angles` (`id type a1 a2 a3`, n = 3): the
+/// type and atom ids (checked against the atoms at the end, [`check_topology`]).
+fn topo_line(
+    toks: &[&str],
+    n: usize,
+    ntypes: usize,
+    section: &str,
+    ctx: &dyn Fn(String) -> String,
+) -> Result<(u32, [u32; 3]), String> {
+    let what = if n == 2 { "bond" } else { "angle" };
+    if toks.len() != n + 2 {
+        return Err(ctx(format!(
+            "Incorrect format in {section} section of data file: need 'id type {}', found {} \
+             values",
+            if n == 2 { "a1 a2" } else { "a1 a2 a3" },
+            toks.len()
+        )));
+    }
+    num::<u64>(toks, 0, &format!("a {what} id"), ctx)?;
+    let t: u32 = num(toks, 1, &format!("a {what} type"), ctx)?;
+    if t == 0 || t as usize > ntypes {
+        return Err(ctx(format!(
+            "Invalid {what} type in {section} section of data file: {t} (types are 1..{ntypes})"
+        )));
+    }
+    let mut a = [0u32; 3];
+    for k in 0..n {
+        a[k] = num(toks, 2 + k, "an atom id", ctx)?;
+    }
+    Ok((t, a))
+}
+
+/// Every bond and angle names atoms of the file, and bonded atoms are within half a box length
+/// of each other by their image flags along every axis (so the minimum image joins the same
+/// images); `lines[k]` is the line of bond k (then of angle k − bonds).
+fn check_topology(d: &DataFile, lines: &[usize], name: &str) -> Result<(), String> {
+    let mut at = std::collections::HashMap::new();
+    for (tag, _, x, im) in &d.atoms {
+        at.insert(*tag, (*x, *im));
+    }
+    let len = [d.hi[0] - d.lo[0], d.hi[1] - d.lo[1], d.hi[2] - d.lo[2]];
+    let unwrapped = |x: [f64; 3], im: [i32; 3]| [0, 1, 2].map(|k| x[k] + f64::from(im[k]) * len[k]);
+    let members = d
+        .bonds
+        .iter()
+        .map(|b| ("Bonds", vec![b.atoms[0], b.atoms[1]]))
+        .chain(d.angles.iter().map(|a| ("Angles", a.atoms.to_vec())));
+    for (k, (section, ids)) in members.enumerate() {
+        let line = lines.get(k).copied().unwrap_or(0);
+        let mut pos = Vec::with_capacity(3);
+        for &id in &ids {
+            let Some(&(x, im)) = at.get(&id) else {
+                return Err(format!(
+                    "{name}:{line}: Invalid atom ID in {section} section of data file: no atom \
+                     has id {id}"
+                ));
+            };
+            pos.push(unwrapped(x, im));
+        }
+        // Bonds: the two atoms; angles: each arm from the middle atom.
+        let arms: Vec<(usize, usize)> = if ids.len() == 2 {
+            vec![(0, 1)]
+        } else {
+            vec![(0, 1), (2, 1)]
+        };
+        for (p, q) in arms {
+            for a in 0..3 {
+                let dx = pos[p][a] - pos[q][a];
+                if dx.abs() > 0.5 * len[a] {
+                    return Err(format!(
+                        "{name}:{line}: {section}: atoms {} and {} are {:.6} apart along {} by \
+                         their coordinates and image flags, more than half the box length {}: \
+                         the minimum image would join other images (fix the image flags)",
+                        ids[p],
+                        ids[q],
+                        dx.abs(),
+                        ["x", "y", "z"][a],
+                        len[a]
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The checks made once the whole file is read: the atom count matches the header and no atom
 /// id repeats.
 fn check_atoms(d: &DataFile, natoms: usize, name: &str) -> Result<(), String> {
@@ -220,11 +390,20 @@ fn check_atoms(d: &DataFile, natoms: usize, name: &str) -> Result<(), String> {
     Ok(())
 }
 
-/// Parse a data file's text. `name` is used in error messages.
+/// Parse a data file's text for `atom_style atomic`. `name` is used in error messages.
 pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
+    parse_data_styled(text, name, AtomStyle::Atomic)
+}
+
+/// Parse a data file's text whose `Atoms` lines have the columns of `style`. `name` is used in
+/// error messages.
+pub fn parse_data_styled(text: &str, name: &str, style: AtomStyle) -> Result<DataFile, String> {
     let lines: Vec<&str> = text.lines().collect();
-    let mut d = DataFile::default();
-    let mut natoms: Option<usize> = None;
+    let mut d = DataFile {
+        style,
+        ..DataFile::default()
+    };
+    let mut counts = Counts::default();
     let mut k = 1; // the first line is a title, always skipped
     let err_at = |k: usize, m: String| format!("{name}:{}: {m}", k + 1);
     // Header.
@@ -236,19 +415,35 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
         }
         let toks: Vec<&str> = line.split_whitespace().collect();
         let ctx = |m: String| err_at(k, m);
-        if !header_line(&mut d, &mut natoms, &toks, &ctx)? {
+        if !header_line(&mut d, &mut counts, &toks, &ctx)? {
             break;
         }
         k += 1;
     }
-    let natoms = natoms.ok_or_else(|| format!("{name}: header has no 'atoms' line"))?;
+    let natoms = counts
+        .atoms
+        .ok_or_else(|| format!("{name}: header has no 'atoms' line"))?;
     if d.ntypes == 0 {
         return Err(format!(
             "{name}: header has no 'atom types' line (or 0 types)"
         ));
     }
     crate::engine::check_ntypes(d.ntypes).map_err(|m| format!("{name}: {m}"))?;
+    for (n, nt, what) in [
+        (counts.bonds, d.nbondtypes, "bond"),
+        (counts.angles, d.nangletypes, "angle"),
+    ] {
+        if n > 0 && nt == 0 {
+            return Err(format!(
+                "{name}: header has {n} {what}s but no '{what} types' line (or 0 types)"
+            ));
+        }
+        crate::engine::check_ntypes(nt.max(1)).map_err(|m| format!("{name}: {what} types: {m}"))?;
+    }
     d.masses = vec![None; d.ntypes + 1];
+    let mut topo_lines = Vec::new();
+    let mut angle_lines = Vec::new();
+    let mut seen = Vec::new();
     // Sections.
     while k < lines.len() {
         let line = strip_comment(lines[k]).trim();
@@ -257,7 +452,8 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
             continue;
         }
         let section = line.to_string();
-        let style = lines[k].split_once('#').map(|(_, s)| s.trim().to_string());
+        let hint = lines[k].split_once('#').map(|(_, s)| s.trim().to_string());
+        let title = k;
         k += 1;
         // A blank line follows the section title.
         while k < lines.len() && strip_comment(lines[k]).trim().is_empty() {
@@ -266,16 +462,38 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
         let count = match section.as_str() {
             "Masses" => d.ntypes,
             "Atoms" | "Velocities" => natoms,
-            other => return Err(err_at(k - 1, format!("unsupported section '{other}'"))),
+            "Bonds" => counts.bonds,
+            "Angles" => counts.angles,
+            "Bond Coeffs" => d.nbondtypes,
+            "Angle Coeffs" => d.nangletypes,
+            other => return Err(err_at(title, format!("unsupported section '{other}'"))),
         };
+        if count == 0 && section != "Atoms" && section != "Velocities" {
+            return Err(err_at(
+                title,
+                format!("section {section}, but the header counts none (or no types)"),
+            ));
+        }
+        if seen.contains(&section) {
+            return Err(err_at(title, format!("second {section} section")));
+        }
+        seen.push(section.clone());
         if section == "Atoms"
-            && let Some(s) = &style
-            && s != "atomic"
+            && let Some(s) = &hint
+            && s != style.word()
         {
             return Err(err_at(
-                k - 1,
-                format!("Atoms section style '{s}': only 'atomic' is supported"),
+                title,
+                format!(
+                    "Atoms section of atom_style '{s}', but the script has atom_style {}",
+                    style.word()
+                ),
             ));
+        }
+        match section.as_str() {
+            "Bond Coeffs" => d.coeff_styles[0] = hint.clone(),
+            "Angle Coeffs" => d.coeff_styles[1] = hint.clone(),
+            _ => {}
         }
         for _ in 0..count {
             let Some(raw) = lines.get(k) else {
@@ -288,21 +506,74 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
             match section.as_str() {
                 "Masses" => masses_line(&mut d, &toks, &ctx)?,
                 "Atoms" => atoms_line(&mut d, &toks, &ctx)?,
+                "Bonds" => {
+                    let (typ, a) = topo_line(&toks, 2, d.nbondtypes, "Bonds", &ctx)?;
+                    d.bonds.push(Bond {
+                        typ,
+                        atoms: [a[0], a[1]],
+                    });
+                    topo_lines.push(k + 1);
+                }
+                "Angles" => {
+                    let (typ, atoms) = topo_line(&toks, 3, d.nangletypes, "Angles", &ctx)?;
+                    d.angles.push(Angle { typ, atoms });
+                    angle_lines.push(k + 1);
+                }
+                "Bond Coeffs" => d
+                    .bond_coeffs
+                    .push((k + 1, toks.iter().map(|t| t.to_string()).collect())),
+                "Angle Coeffs" => d
+                    .angle_coeffs
+                    .push((k + 1, toks.iter().map(|t| t.to_string()).collect())),
                 _ => velocities_line(&mut d, &toks, &ctx)?,
             }
             k += 1;
         }
     }
     check_atoms(&d, natoms, name)?;
+    for (n, got, what) in [
+        (counts.bonds, d.bonds.len(), "Bonds"),
+        (counts.angles, d.angles.len(), "Angles"),
+    ] {
+        if n != got {
+            return Err(format!(
+                "{name}: header says {n} {}, the file has no {what} section",
+                what.to_lowercase()
+            ));
+        }
+    }
+    topo_lines.extend(angle_lines);
+    check_topology(&d, &topo_lines, name)?;
     Ok(d)
 }
 
-/// Write a data file (LAMMPS `write_data` layout, 17 significant digits so it reads back exactly).
+/// Write a data file (LAMMPS `write_data` layout, 17 significant digits so it reads back
+/// exactly): header, `Masses`, the coefficient sections given in `coeffs` (bond, angle: the
+/// style name and the words after the type of each type's line), `Atoms` in the style's
+/// columns with image flags, `Velocities`, `Bonds`, `Angles`.
 pub fn format_data(d: &DataFile, title: &str) -> String {
+    format_data_with(d, title, &[None, None])
+}
+
+/// The style name and, by type (index 0 unused), the numbers of a coefficient section.
+pub type CoeffSection = Option<(String, Vec<Vec<f64>>)>;
+
+/// [`format_data`] with `Bond Coeffs` and `Angle Coeffs` sections.
+pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffSection; 2]) -> String {
     let mut s = String::new();
+    let molecular = d.style.molecular();
     let _ = writeln!(s, "{title}\n");
     let _ = writeln!(s, "{} atoms", d.atoms.len());
-    let _ = writeln!(s, "{} atom types\n", d.ntypes);
+    let _ = writeln!(s, "{} atom types", d.ntypes);
+    if molecular {
+        let _ = writeln!(s, "{} bonds", d.bonds.len());
+        let _ = writeln!(s, "{} bond types", d.nbondtypes);
+        if d.style.has_angles() {
+            let _ = writeln!(s, "{} angles", d.angles.len());
+            let _ = writeln!(s, "{} angle types", d.nangletypes);
+        }
+    }
+    let _ = writeln!(s);
     for (a, n) in ["x", "y", "z"].iter().enumerate() {
         let _ = writeln!(s, "{:.16e} {:.16e} {n}lo {n}hi", d.lo[a], d.hi[a]);
     }
@@ -317,11 +588,29 @@ pub fn format_data(d: &DataFile, title: &str) -> String {
             }
         }
     }
-    let _ = writeln!(s, "\nAtoms # atomic\n");
-    for (tag, t, x, im) in &d.atoms {
+    for (c, what) in coeffs.iter().zip(["Bond", "Angle"]) {
+        if let Some((style, rows)) = c {
+            let _ = writeln!(s, "\n{what} Coeffs # {style}\n");
+            for (t, row) in rows.iter().enumerate().skip(1) {
+                let _ = write!(s, "{t}");
+                for v in row {
+                    let _ = write!(s, " {v:.16e}");
+                }
+                let _ = writeln!(s);
+            }
+        }
+    }
+    let _ = writeln!(s, "\nAtoms # {}\n", d.style.word());
+    for (k, (tag, t, x, im)) in d.atoms.iter().enumerate() {
+        let mol = d.mol.get(k).copied().unwrap_or(0);
+        let lead = match d.style {
+            AtomStyle::Atomic => format!("{tag} {t}"),
+            AtomStyle::Full => format!("{tag} {mol} {t} 0"),
+            _ => format!("{tag} {mol} {t}"),
+        };
         let _ = writeln!(
             s,
-            "{tag} {t} {:.16e} {:.16e} {:.16e} {} {} {}",
+            "{lead} {:.16e} {:.16e} {:.16e} {} {} {}",
             x[0], x[1], x[2], im[0], im[1], im[2]
         );
     }
@@ -329,6 +618,19 @@ pub fn format_data(d: &DataFile, title: &str) -> String {
         let _ = writeln!(s, "\nVelocities\n");
         for (tag, v) in &d.velocities {
             let _ = writeln!(s, "{tag} {:.16e} {:.16e} {:.16e}", v[0], v[1], v[2]);
+        }
+    }
+    if !d.bonds.is_empty() {
+        let _ = writeln!(s, "\nBonds\n");
+        for (k, b) in d.bonds.iter().enumerate() {
+            let _ = writeln!(s, "{} {} {} {}", k + 1, b.typ, b.atoms[0], b.atoms[1]);
+        }
+    }
+    if !d.angles.is_empty() {
+        let _ = writeln!(s, "\nAngles\n");
+        for (k, a) in d.angles.iter().enumerate() {
+            let [p, q, r] = a.atoms;
+            let _ = writeln!(s, "{} {} {p} {q} {r}", k + 1, a.typ);
         }
     }
     s

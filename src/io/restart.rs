@@ -15,7 +15,8 @@
 //! FNV-1a changes its state bijectively with every byte, so a file differing from the written
 //! one in any single byte never passes the check; a truncated file fails the length test first.
 
-use crate::engine::{Atoms, PairTally};
+use crate::engine::topology::{Angle, AtomStyle, Bond, SpecialBonds};
+use crate::engine::{Atoms, Energies, PairTally};
 use std::fmt;
 use std::io::Write;
 use std::path::Path;
@@ -23,8 +24,9 @@ use std::path::Path;
 /// The first 8 bytes of every restart file.
 pub const MAGIC: &[u8; 8] = b"DPDNLRST";
 
-/// The format version this build writes; it reads this one and every older one.
-pub const FORMAT_VERSION: u32 = 1;
+/// The format version this build writes; it reads this one and every older one (version 1:
+/// no topology block, an `atomic` system).
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Bytes before the payload: magic, version and payload length.
 const HEADER: usize = 8 + 4 + 8;
@@ -63,6 +65,33 @@ pub struct Restart {
     pub atoms: Atoms,
     /// Energy and virial of the last force evaluation.
     pub tally: PairTally,
+    /// The topology of a molecular system (version 2; None: `atom_style atomic`).
+    pub topo: Option<TopoRecord>,
+}
+
+/// The topology block (version 2): what `read_restart` needs to rebuild bonds, angles,
+/// molecule ids, their styles and `special_bonds` exactly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TopoRecord {
+    /// The atom style.
+    pub style: AtomStyle,
+    /// Number of bond types.
+    pub nbondtypes: u32,
+    /// Number of angle types.
+    pub nangletypes: u32,
+    /// Bonds in topology order.
+    pub bonds: Vec<Bond>,
+    /// Angles in topology order.
+    pub angles: Vec<Angle>,
+    /// Molecule ids in the atoms' storage order.
+    pub mol: Vec<u32>,
+    /// `special_bonds`.
+    pub special: SpecialBonds,
+    /// The `bond_style`/`bond_coeff` and `angle_style`/`angle_coeff` lines (words, command
+    /// first) that rebuild the styles.
+    pub lines: Vec<Vec<String>>,
+    /// The energies of the last force evaluation by kind.
+    pub energies: Energies,
 }
 
 /// The tilt of a triclinic box and the sliding-brick state of its last force evaluation.
@@ -237,7 +266,7 @@ pub fn decode(bytes: &[u8]) -> Result<Restart, RestartError> {
     if stored != computed {
         return Err(RestartError::Checksum { stored, computed });
     }
-    decode_payload(&bytes[HEADER..end]).map_err(RestartError::Malformed)
+    decode_payload(&bytes[HEADER..end], version).map_err(RestartError::Malformed)
 }
 
 /// Write `bytes` to `path` through a temporary file in the same directory, synced and then
@@ -362,6 +391,104 @@ fn encode_payload(r: &Restart, buf: &mut Vec<u8>) {
         .for_each(|im| im.iter().for_each(|&k| o.i32(k)));
     o.f64(r.tally.energy);
     r.tally.virial.iter().for_each(|&w| o.f64(w));
+    match &r.topo {
+        None => o.u8(0),
+        Some(t) => {
+            o.u8(1);
+            o.u8(t.style.code());
+            o.u32(t.nbondtypes);
+            o.u32(t.nangletypes);
+            o.u64(t.bonds.len() as u64);
+            for b in &t.bonds {
+                o.u32(b.typ);
+                b.atoms.iter().for_each(|&a| o.u32(a));
+            }
+            o.u64(t.angles.len() as u64);
+            for a in &t.angles {
+                o.u32(a.typ);
+                a.atoms.iter().for_each(|&k| o.u32(k));
+            }
+            o.u64(t.mol.len() as u64);
+            t.mol.iter().for_each(|&m| o.u32(m));
+            t.special.lj.iter().for_each(|&f| o.f64(f));
+            t.special.coul.iter().for_each(|&f| o.f64(f));
+            o.u8(u8::from(t.special.angle));
+            o.u8(u8::from(t.special.dihedral));
+            o.len(t.lines.len());
+            t.lines.iter().for_each(|l| o.words(l));
+            o.f64(t.energies.epair);
+            o.f64(t.energies.ebond);
+            o.f64(t.energies.eangle);
+        }
+    }
+}
+
+/// The topology block of a version-2 payload.
+fn decode_topo(i: &mut In, natoms: usize) -> Field<TopoRecord> {
+    let code = i.u8("atom style")?;
+    let style =
+        AtomStyle::from_code(code).ok_or_else(|| format!("atom style code {code} (0..4)"))?;
+    let nbondtypes = i.u32("bond types")?;
+    let nangletypes = i.u32("angle types")?;
+    let nb = i.u64("number of bonds")?;
+    let nb = usize::try_from(nb).map_err(|_| format!("{nb} bonds"))?;
+    i.check_room(nb, 12, "bonds")?;
+    let mut bonds = Vec::with_capacity(nb);
+    for _ in 0..nb {
+        let typ = i.u32("bonds")?;
+        let atoms = [i.u32("bonds")?, i.u32("bonds")?];
+        if typ == 0 || typ > nbondtypes {
+            return Err(format!("bond type {typ} (types are 1..{nbondtypes})"));
+        }
+        bonds.push(Bond { typ, atoms });
+    }
+    let na = i.u64("number of angles")?;
+    let na = usize::try_from(na).map_err(|_| format!("{na} angles"))?;
+    i.check_room(na, 16, "angles")?;
+    let mut angles = Vec::with_capacity(na);
+    for _ in 0..na {
+        let typ = i.u32("angles")?;
+        let atoms = [i.u32("angles")?, i.u32("angles")?, i.u32("angles")?];
+        if typ == 0 || typ > nangletypes {
+            return Err(format!("angle type {typ} (types are 1..{nangletypes})"));
+        }
+        angles.push(Angle { typ, atoms });
+    }
+    let nm = i.u64("molecule ids")?;
+    if nm != natoms as u64 {
+        return Err(format!("{nm} molecule ids for {natoms} atoms"));
+    }
+    i.check_room(natoms, 4, "molecule ids")?;
+    let mol = many(i, natoms, |i| i.u32("molecule ids"))?;
+    let mut special = SpecialBonds::default();
+    for f in special.lj.iter_mut().chain(special.coul.iter_mut()) {
+        *f = i.f64("special_bonds")?;
+        if !(0.0..=1.0).contains(f) {
+            return Err(format!("special_bonds factor {f} (must be in [0, 1])"));
+        }
+    }
+    special.angle = i.u8("special_bonds")? == 1;
+    special.dihedral = i.u8("special_bonds")? == 1;
+    let nlines = i.count(4, "bond and angle style lines")?;
+    let lines = (0..nlines)
+        .map(|_| i.words("bond or angle style line"))
+        .collect::<Field<Vec<_>>>()?;
+    let energies = Energies {
+        epair: i.f64("energies")?,
+        ebond: i.f64("energies")?,
+        eangle: i.f64("energies")?,
+    };
+    Ok(TopoRecord {
+        style,
+        nbondtypes,
+        nangletypes,
+        bonds,
+        angles,
+        mol,
+        special,
+        lines,
+        energies,
+    })
 }
 
 /// Little-endian readers with bounds checks: running past the end is an error naming the field.
@@ -425,7 +552,7 @@ impl<'a> In<'a> {
     }
 }
 
-fn decode_payload(buf: &[u8]) -> Field<Restart> {
+fn decode_payload(buf: &[u8], version: u32) -> Field<Restart> {
     let mut i = In { buf, pos: 0 };
     let dim = i.u32("dimension")?;
     if dim != 2 && dim != 3 {
@@ -483,6 +610,15 @@ fn decode_payload(buf: &[u8]) -> Field<Restart> {
     for w in virial.iter_mut() {
         *w = i.f64("virial")?;
     }
+    let topo = if version >= 2 {
+        match i.u8("topology flag")? {
+            0 => None,
+            1 => Some(decode_topo(&mut i, atoms.len())?),
+            o => return Err(format!("topology flag {o} (must be 0 or 1)")),
+        }
+    } else {
+        None
+    };
     if i.pos != buf.len() {
         return Err(format!("{} bytes after the last field", buf.len() - i.pos));
     }
@@ -500,6 +636,7 @@ fn decode_payload(buf: &[u8]) -> Field<Restart> {
         fixes,
         atoms,
         tally: PairTally { energy, virial },
+        topo,
     })
 }
 
@@ -552,6 +689,7 @@ fn decode_atoms(i: &mut In, ntypes: u32) -> Field<Atoms> {
         tag,
         typ,
         image,
+        mol: Vec::new(),
     })
 }
 
@@ -591,7 +729,50 @@ mod tests {
                 energy: -1.5,
                 virial: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0],
             },
+            topo: Some(TopoRecord {
+                style: AtomStyle::Angle,
+                nbondtypes: 1,
+                nangletypes: 2,
+                bonds: vec![Bond {
+                    typ: 1,
+                    atoms: [3, 1],
+                }],
+                angles: vec![Angle {
+                    typ: 2,
+                    atoms: [3, 1, 3],
+                }],
+                mol: vec![7, 0],
+                special: SpecialBonds {
+                    lj: [1.0, 0.0, 0.5, 1.0],
+                    coul: [1.0, 0.0, 0.0, 0.0],
+                    angle: true,
+                    dihedral: false,
+                },
+                lines: vec![vec!["bond_style".into(), "fene".into()]],
+                energies: Energies {
+                    epair: 1.0,
+                    ebond: -2.0,
+                    eangle: -0.5,
+                },
+            }),
         }
+    }
+
+    /// A version-1 file (before topology): no topology block, read as an atomic system.
+    #[test]
+    fn version_1_files_still_read() {
+        let mut r = sample();
+        r.topo = None;
+        let v2 = encode(&r);
+        // Version 1's payload is version 2's without the topology flag (its last byte).
+        let payload = &v2[HEADER..v2.len() - 9];
+        let mut v1 = MAGIC.to_vec();
+        v1.extend_from_slice(&1u32.to_le_bytes());
+        v1.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+        v1.extend_from_slice(payload);
+        let sum = fnv1a64(&v1);
+        v1.extend_from_slice(&sum.to_le_bytes());
+        assert_eq!(decode(&v1), Ok(r));
     }
 
     #[test]
@@ -624,8 +805,8 @@ mod tests {
         b[30] ^= 1;
         assert!(matches!(decode(&b), Err(RestartError::Checksum { .. })));
         let mut b = bytes.clone();
-        b[8..12].copy_from_slice(&2u32.to_le_bytes());
-        assert_eq!(decode(&b), Err(RestartError::NewerVersion(2)));
+        b[8..12].copy_from_slice(&3u32.to_le_bytes());
+        assert_eq!(decode(&b), Err(RestartError::NewerVersion(3)));
         assert_eq!(
             decode(b"LammpS RestartT\0\0\0\0\0\0\0\0\0\0"),
             Err(RestartError::WrongMagic { lammps: true })

@@ -273,6 +273,7 @@ pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch
         tag,
         typ,
         image,
+        mol,
     } = atoms;
     gather(x, perm, &mut scratch.vec3);
     gather(v, perm, &mut scratch.vec3);
@@ -280,6 +281,9 @@ pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch
     gather(tag, perm, &mut scratch.u32s);
     gather(typ, perm, &mut scratch.u32s);
     gather(image, perm, &mut scratch.int3);
+    if !mol.is_empty() {
+        gather(mol, perm, &mut scratch.u32s);
+    }
 }
 
 /// Scratch arrays of [`permute`], one per element type (kept between builds).

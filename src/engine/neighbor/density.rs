@@ -11,7 +11,9 @@ impl NeighborList {
     /// and `rcsq` the squared cut-offs by that index. With one atom type, `w_lanes(k, rsq, out)`
     /// (the same function on a row of squared distances, 0 beyond the cut-off) is used instead,
     /// a row at a time. Requires a current list (as [`NeighborList::compute_forces`]); `out` is
-    /// resized to the number of atoms.
+    /// resized to the number of atoms. `special`: bonded pairs of a class left out (factor 0)
+    /// add nothing (their weight is replaced by +0, which leaves every sum's bits as they would
+    /// be without the pair).
     #[allow(clippy::too_many_arguments)]
     pub fn pair_sum<W, L>(
         &mut self,
@@ -22,6 +24,7 @@ impl NeighborList {
         w: W,
         w_lanes: L,
         out: &mut Vec<f64>,
+        special: Option<&crate::engine::topology::SpecialPairs>,
     ) where
         W: Fn(usize, f64) -> f64 + Sync,
         L: Fn(usize, &[f64], &mut [f64]) + Sync,
@@ -32,6 +35,9 @@ impl NeighborList {
             "neighbour list built for a different number of atoms"
         );
         let n = atoms.len();
+        if let Some(sp) = special {
+            assert_eq!(sp.start.len(), n + 1, "special partners of another order");
+        }
         let nt = ntypes + 1;
         self.refresh_inner(atoms, bx);
         out.clear();
@@ -77,6 +83,16 @@ impl NeighborList {
                     for ((wk, &q), &j) in wv.iter_mut().zip(&rsq).zip(row) {
                         let k = ti + typ[j as usize] as usize;
                         *wk = if q < rcsq[k] { w(k, q) } else { 0.0 };
+                    }
+                }
+                if let Some(sp) = special
+                    && sp.start[i] != sp.start[i + 1]
+                {
+                    for (wk, &j) in wv.iter_mut().zip(row) {
+                        let class = sp.class_of(i, atoms.tag[j as usize]);
+                        if sp.action[class] == crate::engine::topology::SpecialAction::Exclude {
+                            *wk = 0.0;
+                        }
                     }
                 }
                 // Out-of-range entries add +0: the sums are those of the in-range pairs.

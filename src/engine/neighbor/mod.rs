@@ -704,7 +704,10 @@ impl NeighborList {
     /// Evaluate all pair forces of `kernel` at `step` (the noise key), overwrite `atoms.f`, and
     /// return the energy and virial. `cut` holds the cut-offs of the `ntypes` types (dense,
     /// `(ntypes + 1)²`), `inv_mass[t]` is 1/m of type t. Requires a current list; `isa` is the
-    /// instruction set of the distance pass (the kernel has its own).
+    /// instruction set of the distance pass (the kernel has its own). `special`: the bonded
+    /// partners of each atom of the current order and what their pairs get (left out, or
+    /// another coefficient block), applied to each batch before it is evaluated; `None` (no
+    /// special pairs) leaves the loop as it is without a topology.
     #[allow(clippy::too_many_arguments)]
     pub fn compute_forces(
         &mut self,
@@ -715,6 +718,7 @@ impl NeighborList {
         ntypes: usize,
         inv_mass: &[f64],
         step: u64,
+        special: Option<&crate::engine::topology::SpecialPairs>,
     ) -> PairTally {
         // The invariants the unchecked (SIMD gather) reads rely on: the list was built for these
         // atoms (so every listed index is < n), and every type indexes the table.
@@ -733,7 +737,15 @@ impl NeighborList {
         self.rcsq.clear();
         self.rcsq.extend(cut.iter().map(|&rc| rc * rc));
         let isa = self.isa();
+        if let Some(sp) = special {
+            assert_eq!(
+                sp.start.len(),
+                atoms.len() + 1,
+                "special partners of another order"
+            );
+        }
         let ctx = Ctx {
+            special,
             le: self.le,
             inner: self.inner_on,
             isa,

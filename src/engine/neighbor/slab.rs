@@ -7,6 +7,8 @@ use crate::kernel::{BATCH, Isa, MIN_PAIR_DISTANCE, PairBatch};
 
 /// Everything a slab task reads.
 pub(super) struct Ctx<'a> {
+    /// Bonded partners and what their pairs get (None: no special pairs).
+    pub(super) special: Option<&'a crate::engine::topology::SpecialPairs>,
     /// Lees–Edwards boundaries of this step (None: periodic).
     pub(super) le: Option<LeesEdwards>,
     /// Iterate the working list instead of the list.
@@ -475,7 +477,10 @@ pub(super) fn flush<const ONE_TYPE: bool>(
     at: (usize, usize),
     tally: &mut PairTally,
 ) {
-    let n = p.batch.len.min(BATCH);
+    let mut n = p.batch.len.min(BATCH);
+    if let Some(sp) = ctx.special {
+        n = apply_special(sp, p, n);
+    }
     if n == 0 {
         return;
     }
@@ -515,4 +520,43 @@ pub(super) fn flush<const ONE_TYPE: bool>(
     own[cur] = fi;
     *tally = t;
     b.len = 0;
+}
+
+/// The special pairs of a batch of `n` lanes (`docs/models.md` §4.8): a pair of bonded
+/// partners whose class has factor 0 is removed (the lanes after it move up, in order), one of
+/// a fractional factor gets the coefficient index of its class's block. Returns the lanes left.
+#[inline(never)]
+fn apply_special(sp: &crate::engine::topology::SpecialPairs, p: &mut Pending, n: usize) -> usize {
+    use crate::engine::topology::SpecialAction;
+    let mut w = 0;
+    for l in 0..n {
+        let class = sp.class_of(p.i[l] as usize, p.batch.tag_j[l]);
+        let keep = match sp.action[class] {
+            SpecialAction::Keep => true,
+            SpecialAction::Exclude => false,
+            SpecialAction::Offset(o) => {
+                p.batch.coeff[l] += o;
+                true
+            }
+        };
+        if !keep {
+            continue;
+        }
+        if w != l {
+            let b = &mut p.batch;
+            for c in 0..3 {
+                b.dr[c][w] = b.dr[c][l];
+                b.dv[c][w] = b.dv[c][l];
+            }
+            b.inv_mass_sum[w] = b.inv_mass_sum[l];
+            b.coeff[w] = b.coeff[l];
+            b.tag_i[w] = b.tag_i[l];
+            b.tag_j[w] = b.tag_j[l];
+            p.i[w] = p.i[l];
+            p.j[w] = p.j[l];
+        }
+        w += 1;
+    }
+    p.batch.len = w;
+    w
 }

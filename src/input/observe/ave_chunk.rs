@@ -30,6 +30,8 @@ pub(super) struct AveChunk {
     norm: Norm,
     adof: f64,
     nchunk: usize,
+    /// Chunks are spatial bins with a coordinate column (bin/1d); molecules have none.
+    spatial: bool,
     coord: Vec<f64>,
     count_many: Vec<f64>,
     values_many: Vec<f64>,
@@ -91,8 +93,8 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveChunk, Vec<Stri
     } = f;
     let obs = env.observe();
     let cid = &args[6];
-    match obs.compute(cid) {
-        Some(c) if matches!(c.kind, ComputeKind::Chunk(_)) => {}
+    let spatial = match obs.compute(cid) {
+        Some(c) if c.kind.is_chunk() => matches!(c.kind, ComputeKind::Chunk(_)),
         Some(_) => {
             return Err(format!(
                 "fix ave/chunk: compute '{cid}' is not a chunk/atom compute"
@@ -103,7 +105,7 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveChunk, Vec<Stri
                 "fix ave/chunk: chunk/atom compute '{cid}' does not exist"
             ));
         }
-    }
+    };
     let mut values = Vec::new();
     for w in &raw_values {
         values.push(match *w {
@@ -151,9 +153,13 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveChunk, Vec<Stri
         titles[1]
             .clone()
             .unwrap_or_else(|| "# Timestep Number-of-chunks Total-count".into()),
-        titles[2]
-            .clone()
-            .unwrap_or_else(|| format!("# Chunk Coord1 Ncount {}", raw_values.join(" "))),
+        titles[2].clone().unwrap_or_else(|| {
+            if spatial {
+                format!("# Chunk Coord1 Ncount {}", raw_values.join(" "))
+            } else {
+                format!("# Chunk Ncount {}", raw_values.join(" "))
+            }
+        }),
     ];
     Ok((
         AveChunk {
@@ -162,6 +168,7 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveChunk, Vec<Stri
             norm,
             adof: sys.dim() as f64,
             nchunk: 0,
+            spatial,
             coord: Vec::new(),
             count_many: Vec::new(),
             values_many: Vec::new(),
@@ -315,12 +322,16 @@ fn epoch_text(c: &AveChunk, step: u64) -> Result<String, String> {
         sprintf("%g", &[FmtArg::Float(total)])?
     ));
     for m in 0..n {
-        text.push_str(&format!(
-            "  {} {} {}",
-            m + 1,
-            sprintf("%g", &[FmtArg::Float(c.coord[m])])?,
-            sprintf("%g", &[FmtArg::Float(c.avg.total[m] / norm)])?
-        ));
+        let count = sprintf("%g", &[FmtArg::Float(c.avg.total[m] / norm)])?;
+        if c.spatial {
+            text.push_str(&format!(
+                "  {} {} {count}",
+                m + 1,
+                sprintf("%g", &[FmtArg::Float(c.coord[m])])?,
+            ));
+        } else {
+            text.push_str(&format!("  {} {count}", m + 1));
+        }
         for j in 0..nv {
             let v = c.avg.total[n + m * nv + j] / norm;
             text.push_str(&sprintf(&c.format, &[FmtArg::Float(v)])?);
@@ -411,15 +422,29 @@ impl Observe {
         env: &dyn Env,
         sys: &System,
     ) -> Result<Sample, String> {
-        let Some(ComputeKind::Chunk(b)) = self.compute(&c.chunk).map(|d| &d.kind) else {
-            return Err(format!(
-                "chunk/atom compute '{}' for fix ave/chunk does not exist",
-                c.chunk
-            ));
+        let (bins, coord, volume) = match self.compute(&c.chunk).map(|d| &d.kind) {
+            Some(ComputeKind::Chunk(b)) => {
+                let layout = b.layout(&sys.bx)?;
+                (layout.assign(sys), layout.coord, layout.volume)
+            }
+            // Molecules: chunk = molecule id (compress no: 1 … the largest id), the whole box
+            // as the volume of a density (LAMMPS, for chunks that are not bins).
+            Some(ComputeKind::ChunkMolecule) => {
+                let a = &sys.atoms;
+                let n = (0..a.len()).map(|i| a.mol_of(i)).max().unwrap_or(0) as usize;
+                let bins = (0..a.len())
+                    .map(|i| (a.mol_of(i) as usize).checked_sub(1))
+                    .collect();
+                (bins, vec![0.0; n], sys.bx.volume())
+            }
+            _ => {
+                return Err(format!(
+                    "chunk/atom compute '{}' for fix ave/chunk does not exist",
+                    c.chunk
+                ));
+            }
         };
-        let layout = b.layout(&sys.bx)?;
-        let bins = layout.assign(sys);
-        let n = layout.len();
+        let n = coord.len();
         let nv = c.values.len();
         let mut count = vec![0.0; n];
         let mut values = vec![0.0; n * nv];
@@ -450,8 +475,8 @@ impl Observe {
             }
         }
         Ok(Sample::Chunk {
-            coord: layout.coord,
-            volume: layout.volume,
+            coord,
+            volume,
             count,
             values,
         })

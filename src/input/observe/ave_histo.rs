@@ -3,7 +3,6 @@
 
 use super::ave_args::{Epoch, FixArgs};
 use super::average::{Ave, Averager};
-use super::compute::ComputeKind;
 use super::per_atom::atom_value;
 use super::{Env, Observe, Sample, Source, ValueRef, VarStyle, parse_i64, parse_num, parse_ref};
 use crate::engine::System;
@@ -76,9 +75,7 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveHisto, Vec<Stri
                 continue;
             }
             if let Source::Compute(cid) = &source
-                && obs
-                    .compute(cid)
-                    .is_some_and(|c| matches!(c.kind, ComputeKind::Chunk(_)))
+                && obs.compute(cid).is_some_and(|c| c.kind.is_chunk())
             {
                 return Err(format!(
                     "{e}: per-atom computes are not supported in fix ave/histo"

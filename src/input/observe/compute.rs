@@ -28,6 +28,20 @@ pub(super) enum ComputeKind {
     Msd(Msd),
     /// `chunk/atom bin/1d`: per-atom chunk index.
     Chunk(Bin1d),
+    /// `chunk/atom molecule`: chunk = molecule id (1 … the largest id; atoms of molecule 0 in
+    /// no chunk), LAMMPS's `compress no`.
+    ChunkMolecule,
+    /// `gyration`: scalar R_g of the unwrapped, mass-weighted positions; vector of 6, the
+    /// gyration tensor (xx yy zz xy xz yz).
+    Gyration,
+    /// `gyration/chunk CHUNK-ID` over `chunk/atom molecule`: vector of R_g per molecule
+    /// 1 … `nchunk` (the largest molecule id when defined; ids do not change).
+    GyrationChunk {
+        /// The chunk compute.
+        chunk: String,
+        /// Number of chunks.
+        nchunk: usize,
+    },
     /// `sdpd/density`: per atom the number density d_i of `pair_style sdpd`'s last evaluation;
     /// vector [mean d, rms(d − mean)/mean].
     SdpdDensity,
@@ -42,7 +56,9 @@ impl ComputeKind {
             ComputeKind::Pe => "pe",
             ComputeKind::Ke => "ke",
             ComputeKind::Msd(_) => "msd",
-            ComputeKind::Chunk(_) => "chunk/atom",
+            ComputeKind::Chunk(_) | ComputeKind::ChunkMolecule => "chunk/atom",
+            ComputeKind::Gyration => "gyration",
+            ComputeKind::GyrationChunk { .. } => "gyration/chunk",
             ComputeKind::SdpdDensity => "sdpd/density",
         }
     }
@@ -55,13 +71,23 @@ impl ComputeKind {
                 | ComputeKind::Pressure(_)
                 | ComputeKind::Pe
                 | ComputeKind::Ke
+                | ComputeKind::Gyration
         )
+    }
+
+    /// A `chunk/atom` compute (any style).
+    pub(super) fn is_chunk(&self) -> bool {
+        matches!(self, ComputeKind::Chunk(_) | ComputeKind::ChunkMolecule)
     }
 
     pub(super) fn vector_len(&self) -> Option<usize> {
         match self {
-            ComputeKind::Temp | ComputeKind::TempDeform | ComputeKind::Pressure(_) => Some(6),
+            ComputeKind::Temp
+            | ComputeKind::TempDeform
+            | ComputeKind::Pressure(_)
+            | ComputeKind::Gyration => Some(6),
             ComputeKind::Msd(_) => Some(4),
+            ComputeKind::GyrationChunk { nchunk, .. } => Some(*nchunk),
             ComputeKind::SdpdDensity => Some(2),
             _ => None,
         }
@@ -93,7 +119,7 @@ impl Observe {
 
     /// Parse `compute ID all STYLE ARGS…` (checked against `env`, not yet added).
     pub fn parse_compute(args: &[String], env: &dyn Env) -> Result<ComputeDef, String> {
-        let usage = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | sdpd/density | msd [com yes|no] | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+        let usage = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | gyration | sdpd/density | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
         if args.len() < 3 {
             return Err(format!("missing arguments; usage: {usage}"));
         }
@@ -141,6 +167,34 @@ impl Observe {
             "ke" => {
                 extra(3)?;
                 ComputeKind::Ke
+            }
+            "gyration" => {
+                extra(3)?;
+                ComputeKind::Gyration
+            }
+            "gyration/chunk" => {
+                let chunk = arg(args, 3, "compute ID all gyration/chunk CHUNK-ID")?;
+                extra(4)?;
+                match env.observe().compute(chunk).map(|c| &c.kind) {
+                    Some(ComputeKind::ChunkMolecule) => {}
+                    Some(_) => {
+                        return Err(format!(
+                            "compute gyration/chunk: compute '{chunk}' is not a chunk/atom \
+                             molecule compute (the only chunk style supported here)"
+                        ));
+                    }
+                    None => {
+                        return Err(format!(
+                            "compute gyration/chunk: chunk/atom compute '{chunk}' does not exist"
+                        ));
+                    }
+                }
+                let a = &sys.atoms;
+                let nchunk = (0..a.len()).map(|i| a.mol_of(i)).max().unwrap_or(0) as usize;
+                ComputeKind::GyrationChunk {
+                    chunk: chunk.to_string(),
+                    nchunk,
+                }
             }
             "sdpd/density" => {
                 extra(3)?;
@@ -200,6 +254,17 @@ impl Observe {
                 }
                 ComputeKind::Msd(Msd::new(sys, com))
             }
+            "chunk/atom" if args.get(3).map(String::as_str) == Some("molecule") => {
+                extra(4)?;
+                if sys.topo.is_none() {
+                    return Err(
+                        "compute chunk/atom molecule needs molecule ids (atom_style bond, \
+                         angle, molecular or full)"
+                            .into(),
+                    );
+                }
+                ComputeKind::ChunkMolecule
+            }
             "chunk/atom" => ComputeKind::Chunk(Self::parse_chunk(args, sys)?),
             o => {
                 return Err(format!("compute style '{o}' not supported; usage: {usage}"));
@@ -216,7 +281,7 @@ impl Observe {
         let style = arg(args, 3, usage)?;
         if style != "bin/1d" {
             return Err(format!(
-                "compute chunk/atom style '{style}' not supported: only bin/1d"
+                "compute chunk/atom style '{style}' not supported: only bin/1d and molecule"
             ));
         }
         let axis_of = |t: &str| -> Result<usize, String> {
@@ -386,7 +451,12 @@ impl Observe {
             }
         }
         for c in &self.computes {
-            if c.id != id && matches!(&c.kind, ComputeKind::Pressure(t) if t == id) {
+            let uses = match &c.kind {
+                ComputeKind::Pressure(t) => t == id,
+                ComputeKind::GyrationChunk { chunk, .. } => chunk == id,
+                _ => false,
+            };
+            if c.id != id && uses {
                 return Err(format!("compute '{id}' is used by compute '{}'", c.id));
             }
         }
@@ -401,6 +471,10 @@ impl Observe {
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.press,
             ComputeKind::Pe => sys.tally.energy,
             ComputeKind::Ke => sys.thermo().ke,
+            ComputeKind::Gyration => {
+                let g = gyration_tensor(sys);
+                (g[0] + g[1] + g[2]).sqrt()
+            }
             k => {
                 return Err(format!(
                     "compute {} '{}' does not calculate a global scalar",
@@ -417,6 +491,8 @@ impl Observe {
             ComputeKind::TempDeform => sys.thermo_deform().ke_tensor.to_vec(),
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.p_tensor.to_vec(),
             ComputeKind::Msd(m) => m.compute(sys)?.to_vec(),
+            ComputeKind::Gyration => gyration_tensor(sys).to_vec(),
+            ComputeKind::GyrationChunk { nchunk, .. } => gyration_by_molecule(sys, *nchunk),
             ComputeKind::SdpdDensity => {
                 let d = sdpd_densities(c, sys)?;
                 let n = d.len().max(1) as f64;
@@ -472,4 +548,70 @@ fn sdpd_densities<'a>(c: &ComputeDef, sys: &'a System) -> Result<&'a [f64], Stri
         ));
     }
     Ok(&sd.density)
+}
+
+/// LAMMPS's `compute gyration` of group all: the mass-weighted tensor
+/// Σ m (r − r_cm)_a (r − r_cm)_b / M of the unwrapped positions (by image flags), components
+/// xx yy zz xy xz yz; R_g is the square root of its trace.
+fn gyration_tensor(sys: &System) -> [f64; 6] {
+    let cm = crate::engine::measure::center_of_mass(sys);
+    let mut g = [0.0; 6];
+    let mut mtot = 0.0;
+    for i in 0..sys.atoms.len() {
+        let m = crate::engine::measure::mass_of(sys, i);
+        let u = crate::engine::measure::unwrapped(sys, i);
+        let d = [u[0] - cm[0], u[1] - cm[1], u[2] - cm[2]];
+        g[0] += m * d[0] * d[0];
+        g[1] += m * d[1] * d[1];
+        g[2] += m * d[2] * d[2];
+        g[3] += m * d[0] * d[1];
+        g[4] += m * d[0] * d[2];
+        g[5] += m * d[1] * d[2];
+        mtot += m;
+    }
+    if mtot > 0.0 {
+        for v in g.iter_mut() {
+            *v /= mtot;
+        }
+    }
+    g
+}
+
+/// LAMMPS's `compute gyration/chunk` over molecules 1 … `n`: per molecule, the mass-weighted
+/// R_g of its atoms' unwrapped positions about its own centre of mass (0 for a molecule with
+/// no mass).
+fn gyration_by_molecule(sys: &System, n: usize) -> Vec<f64> {
+    use crate::engine::measure::{mass_of, unwrapped};
+    let a = &sys.atoms;
+    let chunk = |i: usize| (a.mol_of(i) as usize).checked_sub(1).filter(|&c| c < n);
+    let mut mass = vec![0.0; n];
+    let mut cm = vec![[0.0; 3]; n];
+    for i in 0..a.len() {
+        if let Some(c) = chunk(i) {
+            let (m, u) = (mass_of(sys, i), unwrapped(sys, i));
+            mass[c] += m;
+            for k in 0..3 {
+                cm[c][k] += m * u[k];
+            }
+        }
+    }
+    for (c, m) in cm.iter_mut().zip(&mass) {
+        if *m > 0.0 {
+            for v in c.iter_mut() {
+                *v /= m;
+            }
+        }
+    }
+    let mut rg = vec![0.0; n];
+    for i in 0..a.len() {
+        if let Some(c) = chunk(i) {
+            let u = unwrapped(sys, i);
+            let d = [u[0] - cm[c][0], u[1] - cm[c][1], u[2] - cm[c][2]];
+            rg[c] += mass_of(sys, i) * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        }
+    }
+    for (r, m) in rg.iter_mut().zip(&mass) {
+        *r = if *m > 0.0 { (*r / m).sqrt() } else { 0.0 };
+    }
+    rg
 }

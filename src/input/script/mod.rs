@@ -20,6 +20,7 @@
 //! - `restart`: `write_restart`, `read_restart`, `restart N FILE` (the file format is
 //!   [`crate::io::restart`]).
 
+mod bonded;
 mod fix;
 mod output;
 mod pair;
@@ -152,6 +153,10 @@ pub struct Interpreter<'c> {
     /// Tilt factors (xy, xz, yz) of `region … prism` regions.
     prisms: BTreeMap<String, [f64; 3]>,
     sys: Option<System>,
+    /// `atom_style` (the columns `read_data` reads; molecular styles carry a topology).
+    atom_style: crate::engine::topology::AtomStyle,
+    /// `bond_style`, `angle_style` words and `special_bonds` given before the box exists.
+    pre_topo: bonded::PreTopology,
     skin: f64,
     dry_run: bool,
     planned: Vec<PlannedRun>,
@@ -237,6 +242,8 @@ impl<'c> Interpreter<'c> {
             regions: BTreeMap::new(),
             prisms: BTreeMap::new(),
             sys: None,
+            atom_style: Default::default(),
+            pre_topo: Default::default(),
             skin: 0.3,
             dry_run: false,
             planned: Vec::new(),
@@ -457,12 +464,17 @@ impl<'c> Interpreter<'c> {
             "units" => Self::cmd_units(args),
             "dimension" => self.cmd_dimension(args),
             "boundary" => Self::cmd_boundary(args),
-            "atom_style" => Self::cmd_atom_style(args),
+            "atom_style" => self.cmd_atom_style(args),
             "variable" => self.cmd_variable(args),
             "region" => self.cmd_region(args),
             "create_box" => self.cmd_create_box(args),
             "create_atoms" => self.cmd_create_atoms(args),
             "read_data" => self.cmd_read_data(args),
+            "bond_style" => self.cmd_bond_style(args),
+            "bond_coeff" => self.cmd_bond_coeff(args),
+            "angle_style" => self.cmd_angle_style(args),
+            "angle_coeff" => self.cmd_angle_coeff(args),
+            "special_bonds" => self.cmd_special_bonds(args),
             "write_data" => self.cmd_write_data(args),
             "mass" => self.cmd_mass(args),
             "velocity" => self.cmd_velocity(args),

@@ -50,9 +50,17 @@ impl Interpreter<'_> {
                 }
                 continue;
             }
+            if c == "mol" && self.sys.as_ref().is_none_or(|s| s.topo.is_none()) {
+                return Err(
+                    "dump column 'mol': the atom style has no molecule ids (atom_style bond, \
+                     angle, molecular or full)"
+                        .into(),
+                );
+            }
             if !matches!(
                 c.as_str(),
-                "id" | "type"
+                "id" | "mol"
+                    | "type"
                     | "mass"
                     | "x"
                     | "y"
@@ -196,6 +204,7 @@ impl Interpreter<'_> {
                         }
                         "id" => (true, f64::from(sys.atoms.tag[i])),
                         "type" => (true, f64::from(sys.atoms.typ[i])),
+                        "mol" => (true, f64::from(sys.atoms.mol_of(i))),
                         "ix" => (true, f64::from(im[0])),
                         "iy" => (true, f64::from(im[1])),
                         "iz" => (true, f64::from(im[2])),

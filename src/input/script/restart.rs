@@ -11,10 +11,11 @@
 
 use super::fix::FixKind;
 use super::{CmdResult, Interpreter};
-use crate::engine::System;
 use crate::engine::lees_edwards::Triclinic;
+use crate::engine::topology::AtomStyle;
+use crate::engine::{System, Topology};
 use crate::grammar::{at_most, need, parse_int};
-use crate::io::restart::{self, FixRecord, Restart, Tilt};
+use crate::io::restart::{self, FixRecord, Restart, Tilt, TopoRecord};
 use std::path::Path;
 
 /// `restart N FILE [FILE2]`: write every N steps, to FILE (its `*` replaced by the step) or
@@ -94,6 +95,7 @@ impl Interpreter<'_> {
         self.dim = r.dim as usize;
         self.dt = r.dt;
         self.skin = r.skin;
+        self.atom_style = r.topo.as_ref().map_or(AtomStyle::Atomic, |t| t.style);
         self.new_system(r.ntypes as usize, r.lo, r.hi)
             .map_err(bad)?;
         let natoms = r.atoms.len();
@@ -102,6 +104,34 @@ impl Interpreter<'_> {
         sys.mass = r.masses;
         sys.atoms = r.atoms;
         sys.tally = r.tally;
+        let topo_lines = match r.topo {
+            Some(t) => {
+                sys.atoms.mol = t.mol;
+                sys.energies = t.energies;
+                sys.topo = Some(Topology {
+                    style: t.style,
+                    nbondtypes: t.nbondtypes as usize,
+                    nangletypes: t.nangletypes as usize,
+                    bonds: t.bonds,
+                    angles: t.angles,
+                    special: t.special,
+                    ..Topology::default()
+                });
+                t.lines
+            }
+            None => Vec::new(),
+        };
+        for line in &topo_lines {
+            let Some((cmd, args)) = line.split_first() else {
+                return Err(bad("an empty bond or angle style line".into()));
+            };
+            if !["bond_style", "bond_coeff", "angle_style", "angle_coeff"].contains(&cmd.as_str()) {
+                return Err(bad(format!("'{cmd}' among the bond and angle style lines")));
+            }
+            self.command(cmd, args)
+                .map_err(|e| bad(format!("its line '{}' is refused: {e}", line.join(" "))))?;
+        }
+        let sys = self.sys_mut()?;
         sys.tri = r.tilt.map(|t| {
             let mut tri = Triclinic::new(t.xy);
             tri.le.rate = t.rate;
@@ -168,6 +198,26 @@ impl Interpreter<'_> {
             masses: sys.mass.clone(),
             pair,
             fixes,
+            topo: sys.topo.as_ref().map(|t| TopoRecord {
+                style: t.style,
+                nbondtypes: t.nbondtypes as u32,
+                nangletypes: t.nangletypes as u32,
+                bonds: t.bonds.clone(),
+                angles: t.angles.clone(),
+                mol: if sys.atoms.mol.is_empty() {
+                    vec![0; sys.atoms.len()]
+                } else {
+                    sys.atoms.mol.clone()
+                },
+                special: t.special,
+                lines: t
+                    .bond_style
+                    .iter()
+                    .flat_map(|b| b.lines())
+                    .chain(t.angle_style.iter().flat_map(|a| a.lines()))
+                    .collect(),
+                energies: sys.energies,
+            }),
             atoms: std::mem::take(&mut sys.atoms),
             tally: sys.tally,
         };

@@ -265,6 +265,9 @@ impl Interpreter<'_> {
             _ => "velocity-Verlet (nve)",
         };
         self.out(&format!("Setting up {scheme} run ...\n  Unit style    : lj\n  Current step  : {first}\n  Time step     : {dt}"));
+        for w in std::mem::take(&mut self.sys_mut()?.warnings) {
+            self.warn(&w);
+        }
         self.sys_mut()?.check_health()?;
         self.obs.init(first);
         self.end_of_step(true)?;
@@ -298,7 +301,13 @@ impl Interpreter<'_> {
             }
             let step = sys.step;
             let thermo_due = (every > 0 && step % every == 0) || step == last;
-            if (thermo_due || step % HEALTH_EVERY == 0)
+            if !sys.warnings.is_empty() {
+                for w in std::mem::take(&mut sys.warnings) {
+                    self.warn(&w);
+                }
+            }
+            let sys = self.sys_mut()?;
+            if (thermo_due || step % HEALTH_EVERY == 0 || sys.fault().is_some())
                 && let Err(e) = sys.check_health()
             {
                 self.flush_outputs();

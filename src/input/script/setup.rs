@@ -4,9 +4,10 @@
 
 use super::{CmdResult, Interpreter, type_range};
 use crate::engine::lees_edwards::Triclinic;
+use crate::engine::topology::AtomStyle;
 use crate::engine::{SimBox, System};
 use crate::grammar::{at_most, need, parse_f64, parse_int};
-use crate::io::data::{DataFile, format_data, parse_data};
+use crate::io::data::{DataFile, format_data_with, parse_data_styled};
 use crate::rng::{STREAM_CREATE_ATOMS, keyed_uniform};
 use std::collections::BTreeMap;
 
@@ -43,14 +44,13 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    pub(super) fn cmd_atom_style(args: &[String]) -> CmdResult {
-        exact(args, 1, "atom_style atomic")?;
-        if args[0] != "atomic" {
-            return Err(format!(
-                "atom_style '{}' not supported: only 'atomic'",
-                args[0]
-            ));
+    pub(super) fn cmd_atom_style(&mut self, args: &[String]) -> CmdResult {
+        exact(args, 1, "atom_style atomic|bond|angle|molecular|full")?;
+        let style = AtomStyle::from_word(&args[0])?;
+        if self.sys.is_some() {
+            return Err("atom_style command after simulation box is defined".into());
         }
+        self.atom_style = style;
         Ok(())
     }
 
@@ -142,6 +142,9 @@ impl Interpreter<'_> {
         let mut sys = System::new(bx, ntypes);
         sys.dt = self.dt;
         sys.neighbor = crate::engine::NeighborList::new(self.skin);
+        if self.atom_style.molecular() {
+            sys.topo = Some(self.pre_topo.topology(self.atom_style, 0, 0)?);
+        }
         self.sys = Some(sys);
         Ok(())
     }
@@ -273,27 +276,89 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_read_data(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, "read_data FILE")?;
-        if args.len() > 1 {
-            return Err(format!("read_data keyword '{}' not supported", args[1]));
+        let usage = "read_data FILE [extra/atom/types N] [extra/bond/types N] [extra/angle/types N] [extra/bond|angle|dihedral|improper|special/per/atom N]";
+        need(args, 1, usage)?;
+        // LAMMPS's keywords that make room for more (types added to the file's counts; the
+        // per-atom ones only size LAMMPS's arrays and change nothing here).
+        let mut extra_types = [0usize; 3];
+        let mut k = 1;
+        while k < args.len() {
+            let slot = match args[k].as_str() {
+                "extra/atom/types" => Some(0),
+                "extra/bond/types" => Some(1),
+                "extra/angle/types" => Some(2),
+                "extra/bond/per/atom"
+                | "extra/angle/per/atom"
+                | "extra/dihedral/per/atom"
+                | "extra/improper/per/atom"
+                | "extra/special/per/atom" => None,
+                other => {
+                    return Err(format!(
+                        "read_data keyword '{}' not supported; usage: {usage}",
+                        crate::grammar::shown(other)
+                    ));
+                }
+            };
+            let v = args
+                .get(k + 1)
+                .ok_or_else(|| format!("read_data {} needs a count", args[k]))?;
+            let n: usize = parse_int(v, &args[k])?;
+            if let Some(s) = slot {
+                if s > 0 && !self.atom_style.molecular() {
+                    return Err(format!(
+                        "read_data {}: atom_style {} has no bonds",
+                        args[k],
+                        self.atom_style.word()
+                    ));
+                }
+                extra_types[s] = n;
+            }
+            k += 2;
         }
         let text = std::fs::read_to_string(&args[0])
             .map_err(|e| format!("cannot read data file {}: {e}", args[0]))?;
-        let d = parse_data(&text, &args[0])?;
+        let mut d = parse_data_styled(&text, &args[0], self.atom_style)?;
+        d.ntypes = d.ntypes.saturating_add(extra_types[0]);
+        d.nbondtypes = d.nbondtypes.saturating_add(extra_types[1]);
+        d.nangletypes = d.nangletypes.saturating_add(extra_types[2]);
+        crate::engine::check_ntypes(d.ntypes)?;
+        for n in [d.nbondtypes, d.nangletypes] {
+            crate::engine::check_ntypes(n.max(1))?;
+        }
+        d.masses.resize(d.ntypes + 1, None);
         if self.dim == 2 && d.atoms.iter().any(|a| a.2[2] != 0.0) {
             return Err(format!(
                 "{}: a 2-D system needs z = 0 for every atom",
                 args[0]
             ));
         }
+        // The topology first (styles given before read_data take the type counts, and the
+        // coefficient sections need them), then the box.
+        let mut topo = if self.atom_style.molecular() {
+            Some(
+                self.pre_topo
+                    .topology(self.atom_style, d.nbondtypes, d.nangletypes)?,
+            )
+        } else {
+            None
+        };
+        if let Some(t) = topo.as_mut() {
+            apply_coeff_section(t, &d, &args[0])?;
+            t.bonds = d.bonds.clone();
+            t.angles = d.angles.clone();
+        }
         self.new_system(d.ntypes, d.lo, d.hi)?;
         let sys = self.sys_mut()?;
         if let Some(t) = d.tilt {
             sys.tri = Some(Triclinic::new(t[0]));
         }
+        sys.topo = topo;
         let mut index = BTreeMap::new();
         for (k, &(tag, t, x, im)) in d.atoms.iter().enumerate() {
-            sys.atoms.push(tag, t, x, [0.0; 3], im);
+            match d.mol.get(k) {
+                Some(&m) => sys.atoms.push_mol(tag, t, m, x, [0.0; 3], im),
+                None => sys.atoms.push(tag, t, x, [0.0; 3], im),
+            }
             index.insert(tag, k);
         }
         // A tilted box: every atom into the box as LAMMPS's `read_data` remaps it (through y
@@ -315,15 +380,26 @@ impl Interpreter<'_> {
             "Read data file {}: {n} atoms, {} atom types",
             args[0], d.ntypes
         ));
+        if self.atom_style.molecular() {
+            self.out(&format!(
+                "  {} bonds, {} bond types, {} angles, {} angle types",
+                d.bonds.len(),
+                d.nbondtypes,
+                d.angles.len(),
+                d.nangletypes
+            ));
+        }
         Ok(())
     }
 
     pub(super) fn cmd_write_data(&mut self, args: &[String]) -> CmdResult {
         need(args, 1, "write_data FILE [nocoeff]")?;
+        let mut nocoeff = false;
         for a in &args[1..] {
             if a != "nocoeff" {
                 return Err(format!("write_data keyword '{a}' not supported"));
             }
+            nocoeff = true;
         }
         let sys = self.sys.as_mut().ok_or("needs a simulation box first")?;
         // A tilted box: LAMMPS's `write_data` wraps the atoms first (`Domain::pbc`, with the
@@ -335,6 +411,7 @@ impl Interpreter<'_> {
         order.sort_by_key(|&i| sys.atoms.tag[i]);
         let mut atoms = Vec::with_capacity(order.len());
         let mut vels = Vec::with_capacity(order.len());
+        let mut mol = Vec::new();
         for &i in &order {
             let mut x = sys.atoms.x[i];
             let mut im = sys.atoms.image[i];
@@ -344,8 +421,11 @@ impl Interpreter<'_> {
             }
             atoms.push((sys.atoms.tag[i], sys.atoms.typ[i], x, im));
             vels.push((sys.atoms.tag[i], sys.atoms.v[i]));
+            if sys.topo.is_some() {
+                mol.push(sys.atoms.mol_of(i));
+            }
         }
-        let d = DataFile {
+        let mut d = DataFile {
             ntypes: sys.ntypes,
             lo: sys.bx.lo,
             hi: sys.bx.hi,
@@ -353,12 +433,44 @@ impl Interpreter<'_> {
             masses: sys.mass.clone(),
             atoms,
             velocities: vels,
+            mol,
+            ..DataFile::default()
         };
+        let mut coeffs = [None, None];
+        if let Some(t) = &sys.topo {
+            d.style = t.style;
+            d.nbondtypes = t.nbondtypes;
+            d.nangletypes = t.nangletypes;
+            d.bonds = t.bonds.clone();
+            d.angles = t.angles.clone();
+            if !nocoeff {
+                let rows = |c: &[Option<Vec<f64>>]| -> Option<Vec<Vec<f64>>> {
+                    c.iter()
+                        .skip(1)
+                        .cloned()
+                        .collect::<Option<Vec<_>>>()
+                        .map(|mut v| {
+                            v.insert(0, Vec::new());
+                            v
+                        })
+                };
+                if let Some(b) = &t.bond_style
+                    && t.nbondtypes > 0
+                {
+                    coeffs[0] = rows(&b.coeff).map(|r| (b.kind.word().to_string(), r));
+                }
+                if let Some(a) = &t.angle_style
+                    && t.nangletypes > 0
+                {
+                    coeffs[1] = rows(&a.coeff).map(|r| (a.kind.word().to_string(), r));
+                }
+            }
+        }
         let title = format!(
             "LAMMPS data file via write_data (dpdnl), timestep = {}",
             sys.step
         );
-        std::fs::write(&args[0], format_data(&d, &title))
+        std::fs::write(&args[0], format_data_with(&d, &title, &coeffs))
             .map_err(|e| format!("cannot write {}: {e}", args[0]))
     }
 
@@ -466,4 +578,43 @@ fn available_memory() -> Option<u64> {
 fn exact(args: &[String], n: usize, usage: &str) -> CmdResult {
     need(args, n, usage)?;
     at_most(args, n, usage)
+}
+
+/// The `Bond Coeffs` and `Angle Coeffs` sections of a data file applied to the styles (which
+/// must be defined before `read_data`, as in LAMMPS); an error names the file and line.
+fn apply_coeff_section(t: &mut crate::engine::Topology, d: &DataFile, file: &str) -> CmdResult {
+    for (k, (lines, what)) in [(&d.bond_coeffs, "bond"), (&d.angle_coeffs, "angle")]
+        .into_iter()
+        .enumerate()
+    {
+        for (line, words) in lines.iter() {
+            let res = if k == 0 {
+                t.bond_style
+                    .as_mut()
+                    .ok_or_else(|| "Must define bond_style before Bond Coeffs".to_string())
+                    .and_then(|b| b.set_coeff(words))
+            } else {
+                t.angle_style
+                    .as_mut()
+                    .ok_or_else(|| "Must define angle_style before Angle Coeffs".to_string())
+                    .and_then(|a| a.set_coeff(words))
+            };
+            res.map_err(|e| format!("{file}:{line}: {what} coefficients: {e}"))?;
+        }
+        let hint = &d.coeff_styles[k];
+        let have = if k == 0 {
+            t.bond_style.as_ref().map(|b| b.kind.word())
+        } else {
+            t.angle_style.as_ref().map(|a| a.kind.word())
+        };
+        if let (Some(h), Some(w)) = (hint, have)
+            && h != w
+        {
+            return Err(format!(
+                "{file}: {} Coeffs section is for {what}_style {h}, but the script has {what}_style {w}",
+                if k == 0 { "Bond" } else { "Angle" }
+            ));
+        }
+    }
+    Ok(())
 }

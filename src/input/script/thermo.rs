@@ -54,6 +54,8 @@ fn thermo_header(kw: &str) -> String {
         "epair" => "E_pair".into(),
         "evdwl" => "E_vdwl".into(),
         "emol" => "E_mol".into(),
+        "ebond" => "E_bond".into(),
+        "eangle" => "E_angle".into(),
         "etotal" => "TotEng".into(),
         "vol" => "Volume".into(),
         "density" => "Density".into(),
@@ -96,7 +98,9 @@ impl Interpreter<'_> {
             return match kw {
                 "step" | "elapsed" | "dt" | "time" | "atoms" | "temp" | "press" | "pxx" | "pyy"
                 | "pzz" | "pxy" | "pxz" | "pyz" | "ke" | "pe" | "epair" | "evdwl" | "emol"
-                | "etotal" | "vol" | "lx" | "ly" | "lz" | "density" => no_box(),
+                | "ebond" | "eangle" | "etotal" | "vol" | "lx" | "ly" | "lz" | "density" => {
+                    no_box()
+                }
                 _ => None,
             };
         };
@@ -140,8 +144,11 @@ impl Interpreter<'_> {
             "xy" => sys.tri.as_ref().map_or(0.0, |tr| tr.reported_xy(&sys.bx)),
             "xz" | "yz" => 0.0,
             "ke" => t.ke * norm,
-            "pe" | "epair" | "evdwl" => t.pe * norm,
-            "emol" => 0.0,
+            "pe" => t.pe * norm,
+            "epair" | "evdwl" => t.energies.epair * norm,
+            "emol" => (t.energies.ebond + t.energies.eangle) * norm,
+            "ebond" => t.energies.ebond * norm,
+            "eangle" => t.energies.eangle * norm,
             "etotal" => (t.ke + t.pe) * norm,
             "vol" => t.vol,
             "lx" => len[0],
@@ -242,6 +249,8 @@ impl Interpreter<'_> {
                                 | "epair"
                                 | "evdwl"
                                 | "emol"
+                                | "ebond"
+                                | "eangle"
                                 | "etotal"
                                 | "vol"
                                 | "lx"
