@@ -2,13 +2,16 @@
 """Writes a polymer-solution data file (atom_style bond) for the examples in this folder.
 
     python3 gen_solution.py [--L 8] [--density 3] [--chains 16] [--beads 10] [--bond 0.7]
-                            [--seed 1] > solution.data
+                            [--seed 1] [--temp T] > solution.data
 
 Chains (type 2, molecule ids 1..chains) are random walks of step --bond from a uniformly random
 first bead; they cross the periodic boundaries (coordinates wrapped, image flags written).
 Solvent beads (type 1, molecule 0) fill the box at uniformly random positions up to the number
 density. The generator is SplitMix64, fixed and documented, so a seed gives the same file on
 every machine. DPD's soft repulsion lets the engines start from these overlapping positions.
+With --temp T the file has a Velocities section: Maxwell-Boltzmann at kT = T (unit masses, Box-
+Muller on the same generator), total momentum removed, so both engines start from the same
+state (`velocity create` draws different numbers in LAMMPS and in the standalone engine).
 """
 import argparse
 import math
@@ -34,6 +37,7 @@ def main():
     p.add_argument("--beads", type=int, default=10, help="beads per chain")
     p.add_argument("--bond", type=float, default=0.7, help="random-walk step")
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--temp", type=float, default=None, help="write Velocities at this kT")
     a = p.parse_args()
     rng = SplitMix64(a.seed)
     L = a.L
@@ -64,6 +68,18 @@ def main():
         im = [math.floor(c / L) for c in x]
         w = [c - L * k for c, k in zip(x, im)]
         out.append(f"{i + 1} {mol} {typ} {w[0]:.10f} {w[1]:.10f} {w[2]:.10f} {im[0]} {im[1]} {im[2]}")
+    if a.temp is not None:
+        vel = []
+        for _ in atoms:
+            g = []
+            for _ in range(3):
+                u1, u2 = 1.0 - rng.uniform(), rng.uniform()
+                g.append(math.sqrt(-2.0 * math.log(u1)) * math.cos(2.0 * math.pi * u2))
+            vel.append([math.sqrt(a.temp) * x for x in g])
+        mean = [sum(v[k] for v in vel) / len(vel) for k in range(3)]
+        out += ["", "Velocities", ""]
+        out += [f"{i + 1} {v[0] - mean[0]:.17g} {v[1] - mean[1]:.17g} {v[2] - mean[2]:.17g}"
+                for i, v in enumerate(vel)]
     out += ["", "Bonds", ""]
     out += [f"{k + 1} 1 {i} {j}" for k, (i, j) in enumerate(bonds)]
     print("\n".join(out))

@@ -12,8 +12,9 @@
 # paper's gamma1 at its kT = 0.1).
 # Environment (defaults in brackets):
 #   POINTS ["none:0.1 none:0.2 none:0.35 none:0.5 none:1.0 cross:0.1 cross:0.2 cross:0.35 cross:0.5 cross:1.0"]
-#   ENGINE [lammps]: lammps runs LMP [build/lmp_dpdnl] (Debian's LAMMPS with the styles);
-#          dpdnl runs the standalone engine DPDNL [target/release/dpdnl] with THREADS [1]
+#   ENGINE [dpdnl]: dpdnl runs the standalone engine DPDNL [target/release/dpdnl] with
+#          THREADS [2] (results in results/); lammps runs LMP [build/lmp_dpdnl] (Debian's LAMMPS
+#          with the styles; results in results/lammps/, the same runs in the other engine)
 #   EQ [5000]  STEPS [20000]  PAR [1] runs at a time
 # Raw outputs go to validation/polymer/work/ (ignored); the summary (summary.md, summary.csv,
 # flowcurve.png/svg) and the wall time of every run (runtimes.csv) to results/.
@@ -22,11 +23,12 @@ here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 cd "$root"
 DPDNL="$(realpath "${DPDNL:-${CARGO_TARGET_DIR:-$root/target}/release/dpdnl}")"
-ENGINE="${ENGINE:-lammps}"
-THREADS="${THREADS:-1}"
+ENGINE="${ENGINE:-dpdnl}"
+THREADS="${THREADS:-2}"
 EQ="${EQ:-5000}"; STEPS="${STEPS:-20000}"; PAR="${PAR:-1}"
 POINTS="${POINTS:-none:0.1 none:0.2 none:0.35 none:0.5 none:1.0 cross:0.1 cross:0.2 cross:0.35 cross:0.5 cross:1.0}"
 work="$here/work"; res="$here/results"
+if [ "$ENGINE" = lammps ]; then work="$here/work/lammps"; res="$here/results/lammps"; fi
 mkdir -p "$work" "$res"
 [ -f "$res/runtimes.csv" ] || echo "run,engine,atoms,steps,seconds" > "$res/runtimes.csv"
 
@@ -42,7 +44,7 @@ run_point() { # FRICTION RATE
         ( cd "$d" && "$lmp" -in in.couette_polymer "${vars[@]}" -log log.lammps -screen none -nocite ) ||
             { echo "$name: LAMMPS failed (see $d/log.lammps)" >&2; tail -3 "$d/log.lammps" >&2; return 0; }
     else
-        ( cd "$d" && "$DPDNL" run in.couette_polymer --threads "$THREADS" --log log.dpdnl "${vars[@]}" > screen.txt ) ||
+        ( cd "$d" && "$DPDNL" run in.couette_polymer --threads "$THREADS" --log log.dpdnl "${vars[@]}" > screen.txt 2>&1 ) ||
             { echo "$name: dpdnl failed (see $d/screen.txt)" >&2; return 0; }
     fi
     echo "$name,$ENGINE,1536,$((EQ + STEPS)),$((SECONDS - t0))" >> "$res/runtimes.csv"

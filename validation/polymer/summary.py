@@ -80,13 +80,17 @@ def chain_rg2(dump):
 
 rows = []
 for d in sorted(glob.glob(os.path.join(work, "*_r*"))):
+    if not os.path.isdir(d):
+        continue
     name = os.path.basename(d)
     friction, rate = name.split("_r")
     obs = os.path.join(d, "obs.ave")
-    log = next((p for p in (os.path.join(d, "log.lammps"), os.path.join(d, "log.dpdnl"))
-                if os.path.exists(p)), None)
-    text = open(log).read() if log else ""
-    if ("ERROR" in text or not os.path.exists(obs) or "Total wall time" not in text
+    text = ""
+    for f in ("log.lammps", "log.dpdnl", "screen.txt"):
+        if os.path.exists(os.path.join(d, f)):
+            text += open(os.path.join(d, f)).read()
+    finished = "Total wall time" in text or text.count("Loop time of") >= 2
+    if ("ERROR" in text or not os.path.exists(obs) or not finished
             or not os.path.exists(os.path.join(d, "poly.dump"))):
         msg = next((l for l in text.splitlines() if "ERROR" in l), "no output")
         rows.append(dict(friction=friction, rate=float(rate), tag=rate,

@@ -478,7 +478,8 @@ fn shear_notes(text_l: &str, n: &NeighborSummary) -> Vec<String> {
 }
 
 /// The DIFFER verdict line, with the reason LAMMPS's own log gives when it gives one: dangerous
-/// builds (its neighbour lists missed pairs), or lists it rebuilt every N > 1 steps unchecked.
+/// builds (its neighbour lists missed pairs, unless they were checked every step), or lists it
+/// rebuilt every N > 1 steps unchecked.
 fn differ_verdict(what: &str, rtol: f64, n: &NeighborSummary) -> String {
     let mut v = format!(
         "CROSSCHECK DIFFER: {what} not within rtol {} (see the table(s) above)",
@@ -489,7 +490,20 @@ fn differ_verdict(what: &str, rtol: f64, n: &NeighborSummary) -> String {
     });
     let fix = "add `neigh_modify delay 0 every 1 check yes` to the script and run again to see \
                what difference remains (the standalone engine checks its lists every step)";
-    if n.dangerous_total() > 0 {
+    let every_step = n.settings.last().is_some_and(|s| s.checks_every_step());
+    if n.dangerous_total() > 0 && every_step {
+        // LAMMPS counts a build as dangerous when it comes at the first step it could
+        // (ago == max(every, delay)): with every 1 delay 0 that is any build one step after the
+        // previous, e.g. every build under fast shear. The lists were checked before every
+        // force evaluation, so no pair was missed: the count explains nothing here.
+        let _ = write!(
+            v,
+            "; LAMMPS logged Dangerous builds = {}{settings}: with lists checked every step \
+             that only counts rebuilds on consecutive steps (fast shear or fast atoms), not \
+             missed pairs, so the difference has another cause",
+            dangerous_counts(n)
+        );
+    } else if n.dangerous_total() > 0 {
         let _ = write!(
             v,
             "; LAMMPS logged Dangerous builds = {}{settings}: some atom had moved more than half \
@@ -622,4 +636,32 @@ fn minimum_image(a: &[DumpFrame], b: &mut [DumpFrame]) -> usize {
         }
     }
     shifted
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dpdnl::io::lammps_log::NeighborSettings;
+
+    fn summary(every: u64, delay: u64, dangerous: u64) -> NeighborSummary {
+        NeighborSummary {
+            settings: vec![NeighborSettings {
+                every,
+                delay,
+                check: true,
+            }],
+            dangerous: vec![Some(dangerous)],
+        }
+    }
+
+    /// Late builds (delay 10) may miss pairs and the verdict says so; with lists checked every
+    /// step LAMMPS's count only means consecutive rebuilds, and the verdict must not blame it.
+    #[test]
+    fn dangerous_builds_blamed_only_when_lists_were_not_checked_every_step() {
+        let late = differ_verdict("thermo", 1e-9, &summary(1, 10, 2));
+        assert!(late.contains("so it missed pairs"), "{late}");
+        let checked = differ_verdict("thermo", 1e-9, &summary(1, 0, 290));
+        assert!(checked.contains("not missed pairs"), "{checked}");
+        assert!(!checked.contains("so it missed pairs"), "{checked}");
+    }
 }
