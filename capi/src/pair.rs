@@ -293,6 +293,21 @@ pub unsafe extern "C" fn dpdnl_pair_info(h: *const DpdnlPair) -> DpdnlPairInfo {
 /// # Safety
 /// `h` is a live handle; `setup` is valid for reading (its `mass` null or `ntypes + 1`
 /// doubles); `rc_max` is valid for writing.
+/// A set-up error as LAMMPS users meet it: a type pair without coefficients is most often a
+/// sub-style of `pair_style hybrid` given only some type pairs, which these styles refuse (their
+/// noise and set-up cover every type pair); `hybrid/overlay` with coefficients for all pairs
+/// works as the style alone.
+fn lammps_hint(e: String) -> String {
+    if e.contains("are not set (pair_coeff)") {
+        format!(
+            "{e}; as a sub-style of pair_style hybrid this style needs coefficients for every \
+             type pair (pair_style hybrid/overlay adds it to other styles over all pairs)"
+        )
+    } else {
+        e
+    }
+}
+
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dpdnl_pair_init(
     h: *mut DpdnlPair,
@@ -346,7 +361,7 @@ pub unsafe extern "C" fn dpdnl_pair_init(
             euler: s.euler != 0,
             special_lj: special,
         };
-        let notes = h.style.setup(&ctx).map_err(Error::invalid)?;
+        let notes = h.style.setup(&ctx).map_err(|e| Error::invalid(lammps_hint(e)))?;
         let text: Vec<String> = notes
             .into_iter()
             .map(|n| match n {

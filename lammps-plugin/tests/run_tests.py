@@ -457,6 +457,48 @@ def special_bonds(tmp):
               f"{got[('nl', '0.25 0.5 0.75')][2]:.6g} < {got[('nl', '1 1 1')][2]:.6g})")
 
 
+def hybrid(tmp):
+    """pair_style hybrid/overlay: dpd/nonlinear beside another style (soft with A = 0) gives the
+    numbers of dpd/nonlinear alone (the sub-style's list holds the same pairs); pair_style hybrid
+    with dpd/nonlinear on some type pairs only is refused with an error that says why."""
+    print("pair_style hybrid/overlay and hybrid")
+    d = os.path.join(tmp, "hybrid")
+    os.makedirs(d, exist_ok=True)
+    head = ("units lj\natom_style atomic\ncomm_modify vel yes\nread_data " +
+            os.path.join(DATA, "dpd3d.data") + "\nmass * 1.0\n")
+    tail = ("neighbor 1.0 bin\nneigh_modify delay 0 every 1 check yes\ntimestep 0.01\n"
+            "fix 1 all nve\nthermo 50\nthermo_style custom step temp press pe pxy\n"
+            "thermo_modify format float %.15g\nrun 100\n")
+    style = "dpd/nonlinear 1.0 1.0 34387 friction dot noise twostep"
+    pairs = {
+        "alone": f"pair_style {style}\npair_coeff * * 5.0 4.5 1.0\n",
+        "overlay": f"pair_style hybrid/overlay {style} soft 1.0\n"
+                   "pair_coeff * * dpd/nonlinear 5.0 4.5 1.0\npair_coeff * * soft 0.0\n",
+        "partial": f"pair_style hybrid {style} soft 1.0\npair_coeff 1 1 dpd/nonlinear 5.0 4.5 1.0\n"
+                   "pair_coeff 1 2 soft 0.0\npair_coeff 2 2 soft 0.0\n",
+    }
+    got = {}
+    for name, pair in pairs.items():
+        path = os.path.join(d, f"in.{name}")
+        with open(path, "w") as f:
+            f.write(head + pair + tail)
+        rc, log, out = run_lammps(d, name, path, cwd=d)
+        got[name] = (rc, log, out)
+    rc, log, out = got["partial"]
+    errs = error_lines(log + out)
+    check(rc != 0 and any("sub-style of pair_style hybrid" in e for e in errs),
+          "pair_style hybrid with dpd/nonlinear on type pair 1 1 only is refused, naming hybrid: "
+          + (errs[0] if errs else out[-300:]))
+    if got["alone"][0] != 0 or got["overlay"][0] != 0:
+        check(False, "hybrid/overlay runs: " + got["overlay"][2][-300:])
+        return
+    a = thermo_blocks(got["alone"][1])[-1][1]
+    b = thermo_blocks(got["overlay"][1])[-1][1]
+    rt, rv = rel_diff_rows(a, b)
+    check(rt <= TOL, f"hybrid/overlay dpd/nonlinear + soft (A = 0) equals dpd/nonlinear alone: "
+          f"thermo {rt:.2e} over 100 steps")
+
+
 def errors(tmp):
     print("bad arguments give LAMMPS ERROR lines")
     data = os.path.join(DATA, "dpd3d.data")
@@ -685,6 +727,7 @@ def main():
         restart(tmp)
         errors(tmp)
         special_bonds(tmp)
+        hybrid(tmp)
         survives_clear(tmp)
         if PLUGIN_MODE:
             plugin_commands(tmp)
