@@ -361,7 +361,10 @@ pub unsafe extern "C" fn dpdnl_pair_init(
             euler: s.euler != 0,
             special_lj: special,
         };
-        let notes = h.style.setup(&ctx).map_err(|e| Error::invalid(lammps_hint(e)))?;
+        let notes = h
+            .style
+            .setup(&ctx)
+            .map_err(|e| Error::invalid(lammps_hint(e)))?;
         let text: Vec<String> = notes
             .into_iter()
             .map(|n| match n {
