@@ -285,14 +285,6 @@ pub unsafe extern "C" fn dpdnl_pair_info(h: *const DpdnlPair) -> DpdnlPairInfo {
     }
 }
 
-/// Set-up of a run (`Pair::init_style`): every pair set, (η, Sc) targets resolved at the
-/// current density, the per-run tables built, the Euler warning. `*rc_max` gets the largest
-/// cut-off; [`crate::dpdnl_last_message`] holds the lines to log, one per line, warnings
-/// starting with "WARNING: ".
-///
-/// # Safety
-/// `h` is a live handle; `setup` is valid for reading (its `mass` null or `ntypes + 1`
-/// doubles); `rc_max` is valid for writing.
 /// A set-up error as LAMMPS users meet it: a type pair without coefficients is most often a
 /// sub-style of `pair_style hybrid` given only some type pairs, which these styles refuse (their
 /// noise and set-up cover every type pair); `hybrid/overlay` with coefficients for all pairs
@@ -308,6 +300,14 @@ fn lammps_hint(e: String) -> String {
     }
 }
 
+/// Set-up of a run (`Pair::init_style`): every pair set, (η, Sc) targets resolved at the
+/// current density, the per-run tables built, the Euler warning. `*rc_max` gets the largest
+/// cut-off; [`crate::dpdnl_last_message`] holds the lines to log, one per line, warnings
+/// starting with "WARNING: ".
+///
+/// # Safety
+/// `h` is a live handle; `setup` is valid for reading (its `mass` null or `ntypes + 1`
+/// doubles); `rc_max` is valid for writing.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dpdnl_pair_init(
     h: *mut DpdnlPair,
