@@ -15,9 +15,9 @@
 //! each; a uniform velocity distribution (kurtosis 1.8) would be 40 σ off. The variance is the
 //! temperature, checked above.
 
+mod common;
+
 use dpdnl::input::{Collect, Interpreter, Options};
-use dpdnl::io::lammps_log::parse_log;
-use dpdnl::stats::block_average;
 
 const T0: f64 = 0.1;
 
@@ -33,37 +33,15 @@ fn script(friction: &str, noise: &str, gamma1: f64, steps: usize) -> String {
 }
 
 fn assert_samples_t0(friction: &str, noise: &str, gamma1: f64) {
-    let mut console = Collect::default();
-    let mut interp = Interpreter::new(&mut console, &Options::default()).expect("interpreter");
-    interp
-        .run_text(&script(friction, noise, gamma1, 10_000), "uniform.in")
-        .expect("runs");
-    drop(interp);
-    let blocks = parse_log(&console.0.join("\n")).expect("log parses");
-    let b = &blocks[0];
-    let (step, temp) = (
-        b.column_index("Step").expect("Step"),
-        b.column_index("Temp").expect("Temp"),
-    );
-    let series: Vec<f64> = b
-        .rows
-        .iter()
-        .filter(|r| r[step] > 1000.0)
-        .map(|r| r[temp])
-        .collect();
-    let est = block_average(&series);
-    let tol = 4.0 * est.stderr + 0.015 * T0;
+    let script = script(friction, noise, gamma1, 10_000);
+    let (mean, stderr, n) = common::mean_temperature(&script, "uniform.in", 1000.0);
+    let tol = 4.0 * stderr + 0.015 * T0;
     eprintln!(
-        "{friction}/{noise}/uniform: <T> = {:.6} ± {:.6} ({} samples), tolerance {tol:.6}",
-        est.mean,
-        est.stderr,
-        series.len()
+        "{friction}/{noise}/uniform: <T> = {mean:.6} ± {stderr:.6} ({n} samples), tolerance {tol:.6}"
     );
     assert!(
-        (est.mean - T0).abs() < tol,
-        "{friction}/{noise}/uniform: <T> = {} ± {}, |T − T0| ≥ {tol}",
-        est.mean,
-        est.stderr
+        (mean - T0).abs() < tol,
+        "{friction}/{noise}/uniform: <T> = {mean} ± {stderr}, |T − T0| ≥ {tol}"
     );
 }
 

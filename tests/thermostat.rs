@@ -12,9 +12,7 @@
 //! deviations threefold, as an O(δt) error should. The same test demands that `dot` with plain
 //! noise is off by more than 5% (it is ~+17%): the error the correction removes must be visible.
 
-use dpdnl::input::{Collect, Interpreter, Options};
-use dpdnl::io::lammps_log::parse_log;
-use dpdnl::stats::block_average;
+mod common;
 
 const T0: f64 = 0.1;
 
@@ -26,30 +24,12 @@ fn temperature(friction: &str, noise: &str, gamma1: f64) -> (f64, f64) {
          pair_coeff 1 1 0.0 5.0 {gamma1}\ntimestep 0.005\nfix 1 all nve\nthermo 10\n\
          thermo_style custom step temp\nthermo_modify format float %20.15g\nrun 10000\n"
     );
-    let mut console = Collect::default();
-    let mut interp = Interpreter::new(&mut console, &Options::default()).expect("interpreter");
-    interp.run_text(&script, "thermostat.in").expect("runs");
-    drop(interp);
-    let blocks = parse_log(&console.0.join("\n")).expect("log parses");
-    let b = &blocks[0];
-    let (step, temp) = (
-        b.column_index("Step").expect("Step"),
-        b.column_index("Temp").expect("Temp"),
-    );
-    let series: Vec<f64> = b
-        .rows
-        .iter()
-        .filter(|r| r[step] > 1000.0)
-        .map(|r| r[temp])
-        .collect();
-    let est = block_average(&series);
+    let (mean, stderr, n) = common::mean_temperature(&script, "thermostat.in", 1000.0);
     eprintln!(
         "{friction}/{noise}: <T> = {:.6} ± {:.6} ({} samples)",
-        est.mean,
-        est.stderr,
-        series.len()
+        mean, stderr, n
     );
-    (est.mean, est.stderr)
+    (mean, stderr)
 }
 
 fn assert_samples_t0(friction: &str, noise: &str, gamma1: f64) {

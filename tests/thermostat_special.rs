@@ -19,9 +19,7 @@
 //! bonds. Measured here (run with --nocapture): none/plain 0.9963 ± 0.0041, cross/corrected
 //! 0.9992 ± 0.0048, dot/twostep 0.9904 ± 0.0040.
 
-use dpdnl::input::{Collect, Interpreter, Options};
-use dpdnl::io::lammps_log::parse_log;
-use dpdnl::stats::block_average;
+mod common;
 
 const KT: f64 = 1.0;
 
@@ -37,32 +35,12 @@ fn temperature(friction: &str, noise: &str, gamma1: f64, special: &str) -> (f64,
          thermo_modify format float %20.15g\nrun 12000\n",
         env!("CARGO_MANIFEST_DIR")
     );
-    let mut console = Collect::default();
-    let mut interp = Interpreter::new(&mut console, &Options::default()).expect("interpreter");
-    interp
-        .run_text(&script, "thermostat_special.in")
-        .expect("runs");
-    drop(interp);
-    let blocks = parse_log(&console.0.join("\n")).expect("log parses");
-    let b = &blocks[0];
-    let (step, temp) = (
-        b.column_index("Step").expect("Step"),
-        b.column_index("Temp").expect("Temp"),
-    );
-    let series: Vec<f64> = b
-        .rows
-        .iter()
-        .filter(|r| r[step] > 2000.0)
-        .map(|r| r[temp])
-        .collect();
-    let est = block_average(&series);
+    let (mean, stderr, n) = common::mean_temperature(&script, "thermostat_special.in", 2000.0);
     eprintln!(
         "{friction}/{noise}, special_bonds {special}: <T> = {:.6} ± {:.6} ({} samples)",
-        est.mean,
-        est.stderr,
-        series.len()
+        mean, stderr, n
     );
-    (est.mean, est.stderr)
+    (mean, stderr)
 }
 
 fn assert_samples_kt(friction: &str, noise: &str, gamma1: f64) {

@@ -58,3 +58,29 @@ pub fn value(text: &str, key: &str) -> f64 {
 pub fn paper_fluid(rc: f64) -> dpdnl::theory::Fluid {
     dpdnl::theory::Fluid::new(2, 4.0, rc, 1.0, 1.0).expect("valid fluid")
 }
+
+/// Runs a script in the standalone engine whose first thermo block has `Step` and `Temp`
+/// columns, and block-averages (Flyvbjerg–Petersen) the temperatures of the steps after
+/// `after_step`: the mean, its standard error and the number of samples. The temperature tests
+/// of the noise schemes share it.
+#[allow(dead_code)] // not every test crate that includes this module calls it
+pub fn mean_temperature(script: &str, name: &str, after_step: f64) -> (f64, f64, usize) {
+    let mut console = Collect::default();
+    let mut interp = Interpreter::new(&mut console, &Options::default()).expect("interpreter");
+    interp.run_text(script, name).expect("runs");
+    drop(interp);
+    let blocks = dpdnl::io::lammps_log::parse_log(&console.0.join("\n")).expect("log parses");
+    let b = &blocks[0];
+    let (step, temp) = (
+        b.column_index("Step").expect("Step"),
+        b.column_index("Temp").expect("Temp"),
+    );
+    let series: Vec<f64> = b
+        .rows
+        .iter()
+        .filter(|r| r[step] > after_step)
+        .map(|r| r[temp])
+        .collect();
+    let est = dpdnl::stats::block_average(&series);
+    (est.mean, est.stderr, series.len())
+}
