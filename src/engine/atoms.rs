@@ -34,15 +34,20 @@ impl Atoms {
 
     /// Append one atom (zero force).
     pub fn push(&mut self, tag: u32, typ: u32, x: [f64; 3], v: [f64; 3], image: [i32; 3]) {
+        if !self.mol.is_empty() {
+            self.mol.push(0);
+        }
+        self.push_common(tag, typ, x, v, image);
+    }
+
+    /// The arrays every atom has (all but `mol`).
+    fn push_common(&mut self, tag: u32, typ: u32, x: [f64; 3], v: [f64; 3], image: [i32; 3]) {
         self.x.push(x);
         self.v.push(v);
         self.f.push([0.0; 3]);
         self.tag.push(tag);
         self.typ.push(typ);
         self.image.push(image);
-        if !self.mol.is_empty() {
-            self.mol.push(0);
-        }
     }
 
     /// Reserve room for `n` more atoms in every array; an allocation failure is an error, not an
@@ -70,13 +75,8 @@ impl Atoms {
         image: [i32; 3],
     ) {
         self.mol.resize(self.x.len(), 0);
-        self.x.push(x);
-        self.v.push(v);
-        self.f.push([0.0; 3]);
-        self.tag.push(tag);
-        self.typ.push(typ);
-        self.image.push(image);
         self.mol.push(mol);
+        self.push_common(tag, typ, x, v, image);
     }
 
     /// The molecule id of atom `i` (0 without molecule ids, as LAMMPS's `atomic` style).
