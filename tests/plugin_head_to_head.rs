@@ -32,7 +32,7 @@
 
 mod plugin_support;
 
-use dpdnl::io::lammps_log::{ThermoBlock, parse_log, z_score};
+use dpdnl::io::lammps_log::{ThermoBlock, parse_log};
 use dpdnl::stats::{BlockEstimate, block_average};
 use std::path::{Path, PathBuf};
 
@@ -170,26 +170,7 @@ fn head_to_head(label: &str, plugin_pair: &str, reference: &str, reference_pair:
          {:<12} {:>24} {:>24} {:>7}\n",
         "", "plugin", reference, "z"
     );
-    let mut failed = Vec::new();
-    for (name, x, y) in rows {
-        let z = z_score(&x, &y);
-        report += &format!(
-            "{name:<12} {:>12.6} ± {:<9.6} {:>12.6} ± {:<9.6} {z:>7.2}{}\n",
-            x.mean,
-            x.stderr,
-            y.mean,
-            y.stderr,
-            if x.converged && y.converged {
-                ""
-            } else {
-                "  (blocking: no plateau)"
-            }
-        );
-        let pass = z.abs() < ZMAX; // a NaN z fails
-        if !pass {
-            failed.push(name);
-        }
-    }
+    let failed = plugin_support::z_rows(&mut report, &rows, ZMAX);
     eprintln!("{report}");
     assert!(
         failed.is_empty(),

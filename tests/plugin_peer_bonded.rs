@@ -35,7 +35,7 @@
 
 mod plugin_support;
 
-use dpdnl::io::lammps_log::{ThermoBlock, parse_log, z_score};
+use dpdnl::io::lammps_log::{ThermoBlock, parse_log};
 use dpdnl::stats::{BlockEstimate, block_average};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -214,36 +214,19 @@ fn peer(label: &str, data: &str, special: &str, a12: f64) {
     });
     let mut report = format!(
         "{label} (special_bonds lj {special}): dpd/nonlinear friction none (plugin) vs pair dpd, \
-         {PRODUCTION} steps every {EVERY}\n{:<8} {:>26} {:>26} {:>7}\n",
+         {PRODUCTION} steps every {EVERY}\n{:<12} {:>24} {:>24} {:>7}\n",
         "", "plugin", "pair dpd", "z"
     );
-    let mut failed = Vec::new();
-    for (name, column) in [
+    let rows: Vec<_> = [
         ("<T>", "Temp"),
         ("<P>", "Press"),
         ("<Rg^2>", "v_rg2"),
         ("<b>", "c_blm"),
-    ] {
-        let (x, y) = (estimate(&a, column), estimate(&b, column));
-        let z = z_score(&x, &y);
-        let _ = writeln!(
-            report,
-            "{name:<8} {:>13.6} ± {:<10.6} {:>13.6} ± {:<10.6} {z:>7.2}{}",
-            x.mean,
-            x.stderr,
-            y.mean,
-            y.stderr,
-            if x.converged && y.converged {
-                ""
-            } else {
-                "  (blocking: no plateau)"
-            }
-        );
-        let pass = z.abs() < ZMAX; // a NaN z fails
-        if !pass {
-            failed.push(name);
-        }
-    }
+    ]
+    .into_iter()
+    .map(|(name, column)| (name, estimate(&a, column), estimate(&b, column)))
+    .collect();
+    let failed = plugin_support::z_rows(&mut report, &rows, ZMAX);
     eprintln!("{report}");
     assert!(
         failed.is_empty(),

@@ -74,3 +74,39 @@ pub fn find() -> Option<PluginLammps> {
     eprintln!("SKIPPED: plugin tests: {msg}");
     None
 }
+
+/// The peer tests' table: one line per observable (plugin mean ± error, reference mean ± error,
+/// z = Δmean / sqrt(err_A² + err_B²), a note where blocking found no plateau), appended to
+/// `report`; returns the observables with |z| ≥ `zmax` (a NaN z fails too).
+#[allow(dead_code)] // used by the peer tests, not by every test that includes this module
+pub fn z_rows<'a>(
+    report: &mut String,
+    rows: &[(
+        &'a str,
+        dpdnl::stats::BlockEstimate,
+        dpdnl::stats::BlockEstimate,
+    )],
+    zmax: f64,
+) -> Vec<&'a str> {
+    let mut failed = Vec::new();
+    for (name, x, y) in rows {
+        let z = dpdnl::io::lammps_log::z_score(x, y);
+        *report += &format!(
+            "{name:<12} {:>12.6} ± {:<9.6} {:>12.6} ± {:<9.6} {z:>7.2}{}\n",
+            x.mean,
+            x.stderr,
+            y.mean,
+            y.stderr,
+            if x.converged && y.converged {
+                ""
+            } else {
+                "  (blocking: no plateau)"
+            }
+        );
+        let pass = z.abs() < zmax;
+        if !pass {
+            failed.push(*name);
+        }
+    }
+    failed
+}
