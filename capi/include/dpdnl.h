@@ -351,6 +351,18 @@ enum DpdnlStatus dpdnl_pair_cutoff(struct DpdnlPair *h,
                                    double *rc,
                                    int32_t *set);
 
+// The number of threads of [`dpdnl_pair_compute`] on this handle (1 to 1024; 1 when never
+// set). The LAMMPS styles pass LAMMPS's OpenMP threads per MPI rank (`package omp N`, `-pk omp
+// N`, `-sf omp`, or `OMP_NUM_THREADS` at start-up) before every run's set-up
+// ([`dpdnl_pair_init`] then names a count above 1 in its notes). Forces, energy and
+// virial are the same bits for every count: the rows are evaluated in parallel, and every sum is
+// formed in list order as with one thread. The threads come from a pool per count, created
+// once and shared by the handles. sDPD's pre-pass ([`dpdnl_pair_prepass`]) runs on one thread.
+//
+// # Safety
+// `h` is a live handle.
+enum DpdnlStatus dpdnl_pair_threads(struct DpdnlPair *h, int32_t threads);
+
 // What the style needs from its driver (a null handle gives all zeros).
 //
 // # Safety

@@ -1,10 +1,13 @@
 //! [`dpdnl_compute`]: one LAMMPS neighbour list walked in Rust, its pairs evaluated through the
 //! pair-style seam (`dpdnl::engine::pair`) and added with LAMMPS's `ev_tally` conventions.
 
+use std::sync::{Arc, Mutex, PoisonError};
+
 use dpdnl::engine::pair::{Batcher, lane_force};
 use dpdnl::engine::simd::within_cut;
 use dpdnl::kernel::Isa;
 use dpdnl::{DpdKernel, PairBatch, PairKernel, PairTable};
+use rayon::prelude::*;
 
 use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
 
@@ -155,7 +158,11 @@ pub(crate) unsafe fn compute(
     };
     let cut: Vec<f64> = table.iter().map(|c| c.rc).collect();
     // SAFETY: forwarded caller's contract.
-    unsafe { walk_pairs(&kernel, &cut, p.ntypes, None, atoms, list, st, f, tally) }
+    unsafe {
+        walk_pairs(
+            &kernel, &cut, p.ntypes, None, atoms, list, st, f, tally, None,
+        )
+    }
 }
 
 /// LAMMPS's special-bond class of a raw neighbour entry (bits 30–31, `SBBITS` = 30 in every
@@ -177,8 +184,8 @@ pub(crate) struct Special {
 
 /// The rows of a LAMMPS neighbour list, checked: `visit(i, row, mask)` for every i of `ilist`,
 /// in order, with its raw neighbour entries; `j = entry as u32 as usize & mask` (the
-/// special-bond bits off) is < `nall` for every entry, checked before the visit. The list walk of every pass over a LAMMPS list
-/// (forces, sDPD's densities).
+/// special-bond bits off) is < `nall` for every entry, checked before the visit. The list walk
+/// of the single-threaded passes over a LAMMPS list (sDPD's densities).
 ///
 /// # Safety
 /// `list` as documented on [`DpdnlNeighList`]: `ilist` holds `inum` ints, and `numneigh` and
@@ -188,6 +195,24 @@ pub(crate) unsafe fn for_each_row(
     nall: usize,
     mut visit: impl FnMut(usize, &[i32], usize) -> Result<(), Error>,
 ) -> Result<(), Error> {
+    // SAFETY: forwarded caller's contract.
+    let ilist = unsafe { list_ilist(list)? };
+    let mask = list.neighmask as u32 as usize;
+    for &i in ilist {
+        // SAFETY: forwarded caller's contract.
+        let (i, jlist) = unsafe { list_row(list, i, nall)? };
+        check_row(i, jlist, mask, nall)?;
+        visit(i, jlist, mask)?;
+    }
+    Ok(())
+}
+
+/// The `ilist` of `list` (`inum` checked), with `numneigh`/`firstneigh` present when it has
+/// rows.
+///
+/// # Safety
+/// As [`for_each_row`].
+unsafe fn list_ilist<'a>(list: &DpdnlNeighList) -> Result<&'a [i32], Error> {
     if list.inum < 0 {
         return Err(Error::invalid(format!("inum = {} must be >= 0", list.inum)));
     }
@@ -197,25 +222,237 @@ pub(crate) unsafe fn for_each_row(
     if inum > 0 && (list.numneigh.is_null() || list.firstneigh.is_null()) {
         return Err(Error::null("numneigh/firstneigh"));
     }
-    let mask = list.neighmask as u32 as usize;
-    for &i in ilist {
-        if i < 0 || i as usize >= nall {
-            return Err(Error::invalid(format!("ilist entry {i} outside 0..{nall}")));
-        }
-        let i = i as usize;
-        // SAFETY: `numneigh` and `firstneigh` are valid for every i in ilist (caller's contract).
-        let (n, first) = unsafe { (*list.numneigh.add(i), *list.firstneigh.add(i)) };
-        // SAFETY: `firstneigh[i]` holds `numneigh[i]` ints (caller's contract).
-        let jlist = unsafe { slice(first, n.max(0) as usize, "firstneigh[i]")? };
-        if let Some(&bad) = jlist.iter().find(|&&j| j as u32 as usize & mask >= nall) {
-            return Err(Error::invalid(format!(
-                "neighbour index {} of atom {i} outside 0..{nall}",
-                bad as u32 as usize & mask
-            )));
-        }
-        visit(i, jlist, mask)?;
+    Ok(ilist)
+}
+
+/// Row `i` (an `ilist` entry) of `list`: the index, checked against `nall`, and its raw
+/// neighbour entries (checked by [`check_row`]).
+///
+/// # Safety
+/// As [`for_each_row`], and `list_ilist(list)` succeeded.
+#[inline(always)]
+unsafe fn list_row<'a>(
+    list: &DpdnlNeighList,
+    i: i32,
+    nall: usize,
+) -> Result<(usize, &'a [i32]), Error> {
+    if i < 0 || i as usize >= nall {
+        return Err(Error::invalid(format!("ilist entry {i} outside 0..{nall}")));
     }
-    Ok(())
+    let i = i as usize;
+    // SAFETY: `numneigh` and `firstneigh` are valid for every i in ilist (caller's contract).
+    let (n, first) = unsafe { (*list.numneigh.add(i), *list.firstneigh.add(i)) };
+    // SAFETY: `firstneigh[i]` holds `numneigh[i]` ints (caller's contract).
+    let jlist = unsafe { slice(first, n.max(0) as usize, "firstneigh[i]")? };
+    Ok((i, jlist))
+}
+
+/// Every entry of atom i's row names an atom below `nall` (special-bond bits masked off).
+#[inline(always)]
+fn check_row(i: usize, jlist: &[i32], mask: usize, nall: usize) -> Result<(), Error> {
+    match jlist.iter().find(|&&j| j as u32 as usize & mask >= nall) {
+        Some(&bad) => Err(Error::invalid(format!(
+            "neighbour index {} of atom {i} outside 0..{nall}",
+            bad as u32 as usize & mask
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Row blocks per thread of a threaded walk (rayon balances them).
+const BLOCKS_PER_THREAD: usize = 4;
+
+/// The threads of a pair style's walk over a LAMMPS list ([`walk_pairs`]) and their buffers,
+/// kept from step to step. Phase 1 splits `ilist` into contiguous row blocks; each block
+/// filters, batches and evaluates its pairs and stores, in list order, atom i, atom j, the force
+/// on i and (when tallying) what the tallies need. Phase 2 adds them in list order: each task
+/// owns a contiguous range of atoms and scans every record, adding only to its atoms, so every
+/// atom's force and per-atom tallies are summed in the single-threaded order; the global energy
+/// and virial are summed by one more task over all records in list order. The bits do not
+/// depend on the thread count (tested with 1, 2 and 3).
+pub(crate) struct Workers {
+    pool: Arc<rayon::ThreadPool>,
+    blocks: Vec<Block>,
+}
+
+/// One row block's buffers (phase 1).
+#[derive(Default)]
+struct Block {
+    bt: Batcher,
+    near: Vec<u32>,
+    pairs: Vec<PairRec>,
+    tally: Vec<TallyRec>,
+    err: Option<Error>,
+}
+
+/// An evaluated pair: atoms i and j and the force on i (−it on j).
+#[derive(Clone, Copy)]
+struct PairRec {
+    i: u32,
+    j: u32,
+    f: [f64; 3],
+}
+
+/// What the tallies of an evaluated pair need: energy, fpair, r_ij.
+#[derive(Clone, Copy)]
+struct TallyRec {
+    energy: f64,
+    fpair: f64,
+    dr: [f64; 3],
+}
+
+impl Workers {
+    /// `threads` (≥ 2) threads, from a pool shared by every handle with that count and created
+    /// once.
+    pub(crate) fn new(threads: usize) -> Result<Workers, Error> {
+        static POOLS: Mutex<Vec<Arc<rayon::ThreadPool>>> = Mutex::new(Vec::new());
+        let mut pools = POOLS.lock().unwrap_or_else(PoisonError::into_inner);
+        let pool = match pools.iter().find(|p| p.current_num_threads() == threads) {
+            Some(p) => p.clone(),
+            None => {
+                let p = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .thread_name(|k| format!("dpdnl-pair-{k}"))
+                    .build()
+                    .map_err(|e| Error::invalid(format!("cannot start {threads} threads: {e}")))?;
+                let p = Arc::new(p);
+                pools.push(p.clone());
+                p
+            }
+        };
+        Ok(Workers {
+            pool,
+            blocks: (0..threads * BLOCKS_PER_THREAD)
+                .map(|_| Block::default())
+                .collect(),
+        })
+    }
+
+    /// The number of threads.
+    pub(crate) fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+}
+
+/// What the walk over a LAMMPS list reads, checked once per call (shared by its threads).
+struct Walk<'a> {
+    kernel: &'a dyn PairKernel,
+    cut: &'a [f64],
+    nt: usize,
+    special: Option<Special>,
+    x: &'a [f64],
+    v: &'a [f64],
+    tag: &'a [i32],
+    ty: &'a [i32],
+    /// 1/m per atom (`per_atom`) or per type.
+    inv_mass: Vec<f64>,
+    per_atom: bool,
+    /// The largest cut-off² of each type's row of the table.
+    row_cutsq: Vec<f64>,
+    isa: Isa,
+    step: u64,
+    mask: usize,
+    nall: usize,
+}
+
+impl Walk<'_> {
+    #[inline(always)]
+    fn inv_m(&self, i: usize) -> f64 {
+        if self.per_atom {
+            self.inv_mass[i]
+        } else {
+            self.inv_mass[self.ty[i] as usize - 1]
+        }
+    }
+
+    /// The rows `rows` (atom, raw entries), in order, each checked: every pair in range
+    /// through the kernel, handed to `apply(batch, lane, i, j)` in list order; the last batch is
+    /// flushed.
+    #[inline(always)]
+    fn rows<'r>(
+        &self,
+        rows: impl Iterator<Item = Result<(usize, &'r [i32]), Error>>,
+        bt: &mut Batcher,
+        near: &mut Vec<u32>,
+        mut apply: impl FnMut(&PairBatch, usize, usize, usize),
+    ) -> Result<(), Error> {
+        let (x, ty, cut, nt, mask) = (self.x, self.ty, self.cut, self.nt, self.mask);
+        let kernel = self.kernel;
+        let step = self.step;
+        // The lanes' v_ij, 1/m_i + 1/m_j and tags (r_ij and the coefficient index are in place).
+        let gather = |b: &mut PairBatch, l: usize, i: usize, j: usize| {
+            for d in 0..3 {
+                b.dv[d][l] = self.v[3 * i + d] - self.v[3 * j + d];
+            }
+            b.inv_mass_sum[l] = self.inv_m(i) + self.inv_m(j);
+            b.tag_i[l] = self.tag[i] as u32;
+            b.tag_j[l] = self.tag[j] as u32;
+        };
+        let block = (nt + 1) * (nt + 1);
+        for r in rows {
+            let (i, jlist) = r?;
+            check_row(i, jlist, mask, self.nall)?;
+            let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
+            let row = ty[i] as usize * (nt + 1);
+            // A row with bonded neighbours: each entry with its special class, in list order
+            // (rows without them take the filtered pass below).
+            if let Some(sp) = self.special
+                && jlist.iter().any(|&jr| special_class(jr) != 0)
+            {
+                for &jr in jlist {
+                    let class = special_class(jr);
+                    let factor = sp.lj[class];
+                    if factor == 0.0 {
+                        continue;
+                    }
+                    let j = jr as u32 as usize & mask;
+                    let k = row + ty[j] as usize;
+                    let rc = cut[k];
+                    let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
+                    let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+                    let l = bt.lane();
+                    for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
+                        lane[l] = c;
+                    }
+                    bt.batch.coeff[l] = (k + if sp.scaled { class * block } else { 0 }) as u32;
+                    if bt.commit(i as u32, j as u32, rsq < rc * rc) {
+                        bt.flush(kernel, step, gather, &mut apply);
+                    }
+                }
+                continue;
+            }
+            let n = within_cut(
+                self.isa,
+                xi,
+                x,
+                jlist,
+                mask as u32,
+                self.row_cutsq[ty[i] as usize],
+                near,
+            );
+            for &j in &near[..n] {
+                let j = j as usize;
+                let k = row + ty[j] as usize;
+                let rc = cut[k];
+                let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
+                let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+                // Every candidate is written to the next lane, and only a pair in range keeps it
+                // (the kernel checks again): with several types some candidates are beyond
+                // their pair's cut-off, and a branch would be mispredicted. The rest of the lane
+                // (velocities, masses, tags) is gathered for the kept pairs only, in `gather`.
+                let l = bt.lane();
+                for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
+                    lane[l] = c;
+                }
+                bt.batch.coeff[l] = k as u32;
+                if bt.commit(i as u32, j as u32, rsq < rc * rc) {
+                    bt.flush(kernel, step, gather, &mut apply);
+                }
+            }
+        }
+        bt.flush(kernel, step, gather, &mut apply);
+        Ok(())
+    }
 }
 
 /// The list walk of [`dpdnl_compute`] for any pair style: every listed pair within `cut[k]`
@@ -227,10 +464,11 @@ pub(crate) unsafe fn for_each_row(
 /// the table is scaled; without it (the low-level [`dpdnl_compute`]) the flags are masked away
 /// and every pair has its full strength.
 ///
+/// With `workers` of 2 or more threads the rows are evaluated in parallel and added in list
+/// order ([`Workers`]): the same bits as one thread.
+///
 /// # Safety
 /// As [`dpdnl_compute`].
-// Kept in one piece (over 120 lines) on purpose: the hot loop of the LAMMPS styles, so the
-// compiler sees the whole walk, its batch fill and its tallies at once.
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn walk_pairs(
     kernel: &dyn PairKernel,
@@ -242,6 +480,7 @@ pub(crate) unsafe fn walk_pairs(
     st: &DpdnlStep,
     f: *mut f64,
     tally: Option<DpdnlTally>,
+    workers: Option<&mut Workers>,
 ) -> Result<(), Error> {
     let (nlocal, nall) = counts(st, atoms)?;
     let nt = ntypes;
@@ -272,50 +511,17 @@ pub(crate) unsafe fn walk_pairs(
         let rmass = unsafe { slice(atoms.rmass, nall, "rmass")? };
         (inverse_masses(rmass, 0)?, true)
     };
-    let inv_m = |i: usize| {
-        if per_atom {
-            inv_mass[i]
-        } else {
-            inv_mass[ty[i] as usize - 1]
-        }
-    };
 
     // SAFETY: forwarded caller's contract.
     let mut sinks = unsafe { Sinks::of(tally, nall)? };
-    let tallying = sinks.eng.is_some()
-        || sinks.virial.is_some()
-        || sinks.eatom.is_some()
-        || sinks.vatom.is_some();
-
-    let full = list.full != 0;
-    let newton = st.newton_pair != 0;
-    let step = st.step as u64;
-
-    // In-range pairs are gathered, in list order, into batches of BATCH (`Batcher`, the seam's
-    // driver) evaluated through the pair style's kernel;
-    // `Apply` then adds the forces and tallies in list order as the pair-by-pair loop did, so
-    // every sum is formed in the same order.
-    let mut bt = Batcher::default();
-    // The lanes' v_ij, 1/m_i + 1/m_j and tags (r_ij and the coefficient index are in place).
-    let gather = |b: &mut PairBatch, l: usize, i: usize, j: usize| {
-        for d in 0..3 {
-            b.dv[d][l] = v[3 * i + d] - v[3 * j + d];
-        }
-        b.inv_mass_sum[l] = inv_m(i) + inv_m(j);
-        b.tag_i[l] = tag[i] as u32;
-        b.tag_j[l] = tag[j] as u32;
-    };
-    let mut apply = Apply {
-        f,
-        sinks: &mut sinks,
-        tallying,
-        full,
-        newton,
+    let flags = Flags {
+        full: list.full != 0,
+        newton: st.newton_pair != 0,
         nlocal,
-        row: None,
     };
+
     // The largest cut-off² of each type's row of the table: a first pass over a row keeps
-    // the entries within it (`within_cut`, in SIMD lanes), the loop below tests each of them
+    // the entries within it (`within_cut`, in SIMD lanes), the loop over them tests each
     // against its own type pair's cut-off (the same rsq, so the same pairs as testing all).
     let row_cutsq: Vec<f64> = (0..=nt)
         .map(|t| {
@@ -325,75 +531,172 @@ pub(crate) unsafe fn walk_pairs(
                 .fold(0.0, f64::max)
         })
         .collect();
-    let isa = Isa::detect();
-    let mut near: Vec<u32> = Vec::new();
-    let block = (nt + 1) * (nt + 1);
-    // SAFETY: `list` as documented (caller's contract).
-    unsafe {
-        for_each_row(list, nall, |i, jlist, mask| {
-            let xi = [x[3 * i], x[3 * i + 1], x[3 * i + 2]];
-            let row = ty[i] as usize * (nt + 1);
-            // A row with bonded neighbours: each entry with its special class, in list order
-            // (rows without them take the filtered pass below).
-            if let Some(sp) = special
-                && jlist.iter().any(|&jr| special_class(jr) != 0)
-            {
-                for &jr in jlist {
-                    let class = special_class(jr);
-                    let factor = sp.lj[class];
-                    if factor == 0.0 {
-                        continue;
-                    }
-                    let j = jr as u32 as usize & mask;
-                    let k = row + ty[j] as usize;
-                    let rc = cut[k];
-                    let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
-                    let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-                    let l = bt.lane();
-                    for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
-                        lane[l] = c;
-                    }
-                    bt.batch.coeff[l] = (k + if sp.scaled { class * block } else { 0 }) as u32;
-                    if bt.commit(i as u32, j as u32, rsq < rc * rc) {
-                        bt.flush(kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
-                    }
-                }
-                return Ok(());
-            }
-            let n = within_cut(
-                isa,
-                xi,
-                x,
-                jlist,
-                mask as u32,
-                row_cutsq[ty[i] as usize],
-                &mut near,
-            );
-            for &j in &near[..n] {
-                let j = j as usize;
-                let k = row + ty[j] as usize;
-                let rc = cut[k];
-                let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
-                let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-                // Every candidate is written to the next lane, and only a pair in range keeps it
-                // (the kernel checks again): with several types some candidates are beyond
-                // their pair's cut-off, and a branch would be mispredicted. The rest of the lane
-                // (velocities, masses, tags) is gathered for the kept pairs only, in `gather`.
-                let l = bt.lane();
-                for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
-                    lane[l] = c;
-                }
-                bt.batch.coeff[l] = k as u32;
-                if bt.commit(i as u32, j as u32, rsq < rc * rc) {
-                    bt.flush(kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
-                }
-            }
-            Ok(())
-        })?
+    let walk = Walk {
+        kernel,
+        cut,
+        nt,
+        special,
+        x,
+        v,
+        tag,
+        ty,
+        inv_mass,
+        per_atom,
+        row_cutsq,
+        isa: Isa::detect(),
+        step: st.step as u64,
+        mask: list.neighmask as u32 as usize,
+        nall,
     };
-    bt.flush(kernel, step, gather, |b, l, i, j| apply.lane(b, l, i, j));
-    apply.finish_row();
+    // SAFETY: `list` as documented (caller's contract).
+    let ilist = unsafe { list_ilist(list)? };
+    // SAFETY: `list` as documented, `list_ilist` succeeded (caller's contract).
+    let row = |&i: &i32| unsafe { list_row(list, i, nall) };
+    match workers {
+        Some(w) if w.threads() > 1 && !ilist.is_empty() => {
+            let rows = ilist.iter().map(row).collect::<Result<Vec<_>, Error>>()?;
+            threaded(&walk, w, &rows, f, &mut sinks, flags)
+        }
+        _ => {
+            // In-range pairs are gathered, in list order, into batches of BATCH (`Batcher`,
+            // the seam's driver) evaluated through the pair style's kernel; `Apply` then adds
+            // the forces and tallies in list order as the pair-by-pair loop did, so every sum
+            // is formed in the same order.
+            let mut apply = Apply::new(f, 0, &mut sinks, flags);
+            let (mut bt, mut near) = (Batcher::default(), Vec::new());
+            walk.rows(ilist.iter().map(row), &mut bt, &mut near, |b, l, i, j| {
+                apply.lane(b, l, i, j)
+            })?;
+            apply.finish_row();
+            Ok(())
+        }
+    }
+}
+
+/// The list, newton and ownership settings of a walk's sums.
+#[derive(Clone, Copy)]
+struct Flags {
+    full: bool,
+    newton: bool,
+    nlocal: usize,
+}
+
+/// [`walk_pairs`] on the threads of `w` ([`Workers`]).
+fn threaded(
+    walk: &Walk,
+    w: &mut Workers,
+    rows: &[(usize, &[i32])],
+    f: &mut [f64],
+    sinks: &mut Sinks,
+    flags: Flags,
+) -> Result<(), Error> {
+    let tallying = sinks.any();
+    // Phase 1: contiguous row blocks, evaluated in parallel into their records.
+    let per = rows.len().div_ceil(w.blocks.len());
+    let pool = &w.pool;
+    pool.install(|| {
+        w.blocks.par_iter_mut().enumerate().for_each(|(k, b)| {
+            let part = &rows[(k * per).min(rows.len())..((k + 1) * per).min(rows.len())];
+            b.pairs.clear();
+            b.tally.clear();
+            let (pairs, tally) = (&mut b.pairs, &mut b.tally);
+            b.err = walk
+                .rows(
+                    part.iter().map(|&r| Ok(r)),
+                    &mut b.bt,
+                    &mut b.near,
+                    |bt, l, i, j| {
+                        let (dr, fv) = lane_force(bt, l);
+                        pairs.push(PairRec {
+                            i: i as u32,
+                            j: j as u32,
+                            f: fv,
+                        });
+                        if tallying {
+                            tally.push(TallyRec {
+                                energy: bt.energy[l],
+                                fpair: bt.fpair[l],
+                                dr,
+                            });
+                        }
+                    },
+                )
+                .err();
+        })
+    });
+    if let Some(e) = w.blocks.iter_mut().find_map(|b| b.err.take()) {
+        return Err(e);
+    }
+
+    // Phase 2: every record in list order, once per range of atoms (forces and per-atom
+    // tallies), and once for the global energy and virial.
+    let nall = f.len() / 3;
+    let tasks = w.blocks.len() / BLOCKS_PER_THREAD;
+    let chunk = nall.div_ceil(tasks).max(1);
+    let ntasks = nall.div_ceil(chunk);
+    fn split(s: Option<&mut [f64]>, len: usize, count: usize) -> Vec<Option<&mut [f64]>> {
+        match s {
+            Some(s) => s.chunks_mut(len).map(Some).collect(),
+            None => (0..count).map(|_| None).collect(),
+        }
+    }
+    let eatom = split(sinks.eatom.as_deref_mut(), chunk, ntasks);
+    let vatom = split(sinks.vatom.as_deref_mut(), 6 * chunk, ntasks);
+    let parts: Vec<_> = f
+        .chunks_mut(3 * chunk)
+        .zip(eatom.into_iter().zip(vatom))
+        .enumerate()
+        .map(|(k, (f, (eatom, vatom)))| {
+            let s = Sinks {
+                eng: None,
+                virial: None,
+                eatom,
+                vatom,
+            };
+            (k * chunk, f, s)
+        })
+        .collect();
+    let mut global = Sinks {
+        eng: sinks.eng.as_deref_mut(),
+        virial: sinks.virial.as_deref_mut(),
+        eatom: None,
+        vatom: None,
+    };
+    let blocks = &w.blocks;
+    pool.install(|| {
+        rayon::join(
+            || {
+                if global.any() {
+                    replay(blocks, &mut [], 0, &mut global, flags);
+                }
+            },
+            || {
+                parts.into_par_iter().for_each(|(lo, f, mut s)| {
+                    replay(blocks, f, lo, &mut s, flags);
+                })
+            },
+        )
+    });
     Ok(())
+}
+
+/// Phase 2 of a threaded walk: every record of `blocks` in list order, added to the atoms `lo..`
+/// of `f` and to `sinks` (its per-atom arrays start at atom `lo` too).
+fn replay(blocks: &[Block], f: &mut [f64], lo: usize, sinks: &mut Sinks, flags: Flags) {
+    let tallying = sinks.any();
+    let mut apply = Apply::new(f, lo, sinks, flags);
+    for b in blocks {
+        if tallying {
+            for (p, t) in b.pairs.iter().zip(&b.tally) {
+                apply.pair(p.i as usize, p.j as usize, p.f, t.energy, t.fpair, t.dr);
+            }
+        } else {
+            for p in &b.pairs {
+                apply.pair(p.i as usize, p.j as usize, p.f, 0.0, 0.0, [0.0; 3]);
+            }
+        }
+    }
+    apply.finish_row();
 }
 
 /// The step's and the atoms' counts checked: (nlocal, nall).
@@ -417,6 +720,11 @@ fn counts(st: &DpdnlStep, atoms: &DpdnlAtoms) -> Result<(usize, usize), Error> {
 }
 
 impl<'a> Sinks<'a> {
+    /// Whether anything is tallied.
+    fn any(&self) -> bool {
+        self.eng.is_some() || self.virial.is_some() || self.eatom.is_some() || self.vatom.is_some()
+    }
+
     /// The tallies `tally` asks for (none without one), for `nall` atoms.
     ///
     /// # Safety
@@ -456,56 +764,82 @@ impl<'a> Sinks<'a> {
 
 /// Adds evaluated pairs to the forces and tallies, in list order. The force on i is summed over
 /// its row in `row` and added to f[i] when the next row starts (or at the end), as the
-/// pair-by-pair loop did.
+/// pair-by-pair loop did. Only atoms `lo..lo + n` are touched (`f` and the per-atom tallies hold
+/// them): the single-threaded walk owns all atoms, a task of a threaded walk's phase 2 a range.
 pub(crate) struct Apply<'a, 'b> {
     f: &'a mut [f64],
+    lo: usize,
+    n: usize,
     sinks: &'a mut Sinks<'b>,
     tallying: bool,
-    full: bool,
-    newton: bool,
-    nlocal: usize,
+    flags: Flags,
     /// The row being summed: atom i and the force on it so far.
     row: Option<(usize, [f64; 3])>,
 }
 
-impl Apply<'_, '_> {
+impl<'a, 'b> Apply<'a, 'b> {
+    fn new(f: &'a mut [f64], lo: usize, sinks: &'a mut Sinks<'b>, flags: Flags) -> Self {
+        Apply {
+            n: f.len() / 3,
+            f,
+            lo,
+            tallying: sinks.any(),
+            sinks,
+            flags,
+            row: None,
+        }
+    }
+
     #[inline(always)]
     fn lane(&mut self, b: &PairBatch, l: usize, i: usize, j: usize) {
+        let (dr, fv) = lane_force(b, l);
+        self.pair(i, j, fv, b.energy[l], b.fpair[l], dr);
+    }
+
+    /// Pair (i, j) with force `fv` on i; `energy`, `fpair` and `dr` for the tallies.
+    #[inline(always)]
+    fn pair(&mut self, i: usize, j: usize, fv: [f64; 3], energy: f64, fpair: f64, dr: [f64; 3]) {
         if self.row.is_some_and(|(r, _)| r != i) {
             self.finish_row();
         }
-        let (dr, fv) = lane_force(b, l);
-        let fi = &mut self.row.get_or_insert((i, [0.0; 3])).1;
-        fi[0] += fv[0];
-        fi[1] += fv[1];
-        fi[2] += fv[2];
-        let j_owned = j < self.nlocal;
-        if !self.full && (self.newton || j_owned) {
-            self.f[3 * j] -= fv[0];
-            self.f[3 * j + 1] -= fv[1];
-            self.f[3 * j + 2] -= fv[2];
+        if i.wrapping_sub(self.lo) < self.n {
+            let fi = &mut self.row.get_or_insert((i, [0.0; 3])).1;
+            fi[0] += fv[0];
+            fi[1] += fv[1];
+            fi[2] += fv[2];
+        }
+        let Flags {
+            full,
+            newton,
+            nlocal,
+        } = self.flags;
+        let j_owned = j < nlocal;
+        let lj = j.wrapping_sub(self.lo);
+        if !full && (newton || j_owned) && lj < self.n {
+            self.f[3 * lj] -= fv[0];
+            self.f[3 * lj + 1] -= fv[1];
+            self.f[3 * lj + 2] -= fv[2];
         }
         if self.tallying {
             tally_pair(
                 self.sinks,
+                (self.lo, self.n),
                 i,
                 j,
-                b.energy[l],
-                b.fpair[l],
+                energy,
+                fpair,
                 dr,
-                self.full,
-                self.newton,
-                i < self.nlocal,
-                j_owned,
+                self.flags,
             );
         }
     }
 
     fn finish_row(&mut self) {
         if let Some((i, fi)) = self.row.take() {
-            self.f[3 * i] += fi[0];
-            self.f[3 * i + 1] += fi[1];
-            self.f[3 * i + 2] += fi[2];
+            let li = i - self.lo;
+            self.f[3 * li] += fi[0];
+            self.f[3 * li + 1] += fi[1];
+            self.f[3 * li + 2] += fi[2];
         }
     }
 }
@@ -527,21 +861,26 @@ pub(crate) fn inverse_masses(m: &[f64], offset: usize) -> Result<Vec<f64>, Error
         .collect()
 }
 
-/// LAMMPS `ev_tally` (half list) / `ev_tally_full` (full list) for one pair.
+/// LAMMPS `ev_tally` (half list) / `ev_tally_full` (full list) for one pair; the per-atom
+/// tallies only for the atoms of `(lo, n)`, `lo..lo + n`, whose entries the per-atom arrays
+/// start with.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub(crate) fn tally_pair(
+fn tally_pair(
     s: &mut Sinks,
+    (lo, n): (usize, usize),
     i: usize,
     j: usize,
     evdwl: f64,
     fpair: f64,
     d: [f64; 3],
-    full: bool,
-    newton: bool,
-    i_owned: bool,
-    j_owned: bool,
+    Flags {
+        full,
+        newton,
+        nlocal,
+    }: Flags,
 ) {
+    let (i_owned, j_owned) = (i < nlocal, j < nlocal);
     let v = [
         d[0] * d[0] * fpair,
         d[1] * d[1] * fpair,
@@ -584,25 +923,26 @@ pub(crate) fn tally_pair(
             }
         }
     }
-    let to_i = full || newton || i_owned;
-    let to_j = !full && (newton || j_owned);
+    let (li, lj) = (i.wrapping_sub(lo), j.wrapping_sub(lo));
+    let to_i = (full || newton || i_owned) && li < n;
+    let to_j = !full && (newton || j_owned) && lj < n;
     if let Some(ea) = s.eatom.as_deref_mut() {
         let half = 0.5 * evdwl;
         if to_i {
-            ea[i] += half;
+            ea[li] += half;
         }
         if to_j {
-            ea[j] += half;
+            ea[lj] += half;
         }
     }
     if let Some(va) = s.vatom.as_deref_mut() {
         for k in 0..6 {
             let half = 0.5 * v[k];
             if to_i {
-                va[6 * i + k] += half;
+                va[6 * li + k] += half;
             }
             if to_j {
-                va[6 * j + k] += half;
+                va[6 * lj + k] += half;
             }
         }
     }

@@ -20,7 +20,7 @@ use dpdnl::engine::style::{STYLES, check_special, from_restart_lines};
 use dpdnl::kernel::Isa;
 use dpdnl::{PairStyle, SetupContext, new_pair_style};
 
-use crate::compute::{Special, for_each_row, special_class, walk_pairs};
+use crate::compute::{Special, Workers, for_each_row, special_class, walk_pairs};
 use crate::init::set_last_message;
 use crate::styles::{put, words};
 use crate::{
@@ -37,6 +37,8 @@ pub struct DpdnlPair {
     typ: Vec<u32>,
     /// The text of the last [`dpdnl_pair_restart`].
     text: Vec<u8>,
+    /// The threads of [`dpdnl_pair_compute`] when more than one ([`dpdnl_pair_threads`]).
+    workers: Option<Workers>,
 }
 
 /// What a style needs from its C++ driver.
@@ -146,6 +148,7 @@ unsafe fn emit(out: *mut *mut DpdnlPair, style: Box<dyn PairStyle>) -> Result<()
         special: [1.0; 4],
         typ: Vec::new(),
         text: Vec::new(),
+        workers: None,
     });
     // SAFETY: forwarded caller's contract.
     unsafe { put(out, Box::into_raw(h)) }
@@ -258,6 +261,37 @@ pub unsafe extern "C" fn dpdnl_pair_cutoff(
     })
 }
 
+/// The most threads [`dpdnl_pair_threads`] accepts.
+const MAX_THREADS: i32 = 1024;
+
+/// The number of threads of [`dpdnl_pair_compute`] on this handle (1 to 1024; 1 when never
+/// set). The LAMMPS styles pass LAMMPS's OpenMP threads per MPI rank (`package omp N`, `-pk omp
+/// N`, `-sf omp`, or `OMP_NUM_THREADS` at start-up) before every run's set-up
+/// ([`dpdnl_pair_init`] then names a count above 1 in its notes). Forces, energy and
+/// virial are the same bits for every count: the rows are evaluated in parallel, and every sum is
+/// formed in list order as with one thread. The threads come from a pool per count, created
+/// once and shared by the handles. sDPD's pre-pass ([`dpdnl_pair_prepass`]) runs on one thread.
+///
+/// # Safety
+/// `h` is a live handle.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_threads(h: *mut DpdnlPair, threads: i32) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let h = unsafe { handle(h)? };
+        if !(1..=MAX_THREADS).contains(&threads) {
+            return Err(Error::invalid(format!(
+                "threads = {threads} must be in 1..={MAX_THREADS}"
+            )));
+        }
+        let n = threads as usize;
+        if h.workers.as_ref().map_or(1, Workers::threads) != n {
+            h.workers = if n > 1 { Some(Workers::new(n)?) } else { None };
+        }
+        Ok(())
+    })
+}
+
 /// Checked 1-based types of the style.
 fn type_pair(h: &DpdnlPair, i: i32, j: i32) -> Result<(usize, usize), Error> {
     let nt = h.style.ntypes() as i32;
@@ -365,13 +399,20 @@ pub unsafe extern "C" fn dpdnl_pair_init(
             .style
             .setup(&ctx)
             .map_err(|e| Error::invalid(lammps_hint(e)))?;
-        let text: Vec<String> = notes
+        let mut text: Vec<String> = notes
             .into_iter()
             .map(|n| match n {
                 SetupNote::Info(t) => t,
                 SetupNote::Warning(t) => format!("WARNING: {t}"),
             })
             .collect();
+        if let Some(w) = &h.workers {
+            text.push(format!(
+                "pair_style {}: {} threads per MPI task (the same bits for every count)",
+                h.style.name(),
+                w.threads()
+            ));
+        }
         // SAFETY: valid for writing (caller's contract).
         unsafe { put(rc_max, h.style.rc_max())? };
         set_last_message(&text.join("\n"));
@@ -612,6 +653,7 @@ pub unsafe extern "C" fn dpdnl_pair_compute(
         h.style.set_timestep(st.dt);
         let style = &*h.style;
         let kernel = style.kernel(Isa::detect());
+        let workers = h.workers.as_mut();
         let special = Special {
             lj: h.special,
             scaled: style.scales_special(),
@@ -630,6 +672,7 @@ pub unsafe extern "C" fn dpdnl_pair_compute(
                 st,
                 f,
                 t,
+                workers,
             )
         }
     })

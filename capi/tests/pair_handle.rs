@@ -881,3 +881,196 @@ fn sdpd_refuses_fractional_special_factors() {
         last_error()
     );
 }
+
+/// One evaluation of the thread test: every array as the entry point left it (ghosts not
+/// folded), from non-zero starting values so that the order of the additions shows.
+#[derive(Debug)]
+struct Sums {
+    f: Vec<f64>,
+    energy: f64,
+    virial: [f64; 6],
+    eatom: Vec<f64>,
+    vatom: Vec<f64>,
+}
+
+impl Sums {
+    fn bits(&self) -> Vec<u64> {
+        let mut all = self.f.clone();
+        all.push(self.energy);
+        all.extend(self.virial);
+        all.extend(&self.eatom);
+        all.extend(&self.vatom);
+        all.iter().map(|x| x.to_bits()).collect()
+    }
+}
+
+/// `dpdnl_pair_compute` of `h` on `threads` threads over the rows `ilist` of `lists`.
+#[allow(clippy::too_many_arguments)]
+fn compute_threads(
+    h: &Handle,
+    a: &Atoms,
+    ilist: &[i32],
+    lists: &[Vec<i32>],
+    full: bool,
+    newton: bool,
+    values: &[f64],
+    threads: i32,
+) -> Sums {
+    // SAFETY: a live handle.
+    let st = unsafe { dpdnl_pair_threads(h.0, threads) };
+    assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
+    let n = a.nall();
+    let start = |k: u32, len: usize| -> Vec<f64> {
+        (0..len as u32).map(|i| uniform(k, i, -1.0, 1.0)).collect()
+    };
+    let mut s = Sums {
+        f: start(1, 3 * n),
+        energy: 0.375,
+        virial: [0.1, -0.2, 0.3, -0.4, 0.5, -0.6],
+        eatom: start(2, n),
+        vatom: start(3, 6 * n),
+    };
+    let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
+    let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
+    let atoms = DpdnlAtoms {
+        x: a.x.as_ptr(),
+        v: a.v.as_ptr(),
+        tag: a.tag.as_ptr(),
+        atom_type: a.ty.as_ptr(),
+        mass: MASS.as_ptr(),
+        rmass: null(),
+        nlocal: a.nlocal as i32,
+        nall: n as i32,
+    };
+    let list = DpdnlNeighList {
+        inum: ilist.len() as i32,
+        ilist: ilist.as_ptr(),
+        numneigh: numneigh.as_ptr(),
+        firstneigh: firstneigh.as_ptr(),
+        neighmask: 0x1FFF_FFFF,
+        full: i32::from(full),
+    };
+    let st = DpdnlStep {
+        step: 11,
+        dt: DT,
+        newton_pair: i32::from(newton),
+        dimension: 3,
+    };
+    let mut tally = DpdnlTally {
+        eflag_global: 1,
+        vflag_global: 1,
+        eng_vdwl: &mut s.energy,
+        virial: s.virial.as_mut_ptr(),
+        eatom: s.eatom.as_mut_ptr(),
+        vatom: s.vatom.as_mut_ptr(),
+    };
+    // SAFETY: arrays as documented; `values` holds nall doubles or is unused.
+    let code = unsafe {
+        dpdnl_pair_compute(
+            h.0,
+            &atoms,
+            &list,
+            &st,
+            if values.is_empty() {
+                null()
+            } else {
+                values.as_ptr()
+            },
+            s.f.as_mut_ptr(),
+            &mut tally,
+        )
+    };
+    assert_eq!(code, DpdnlStatus::Ok, "{}", last_error());
+    s
+}
+
+#[test]
+fn threads_give_the_same_bits_as_one() {
+    // 500 atoms with ghosts, rows in a shuffled order, half lists (newton on and off) and a
+    // full list, bonded neighbours flagged on a third of the entries (special_bonds lj 0.5 0
+    // 0.25 for dpd/nonlinear: scaled, left out; factors 1 for sdpd), all tallies on.
+    let a = Atoms::new(500, 5.0, 1.2);
+    let n = a.nlocal;
+    let ilist: Vec<i32> = (0..n).map(|k| ((k * 7919) % n) as i32).collect();
+    let flagged = |lists: Vec<Vec<i32>>| -> Vec<Vec<i32>> {
+        lists
+            .into_iter()
+            .enumerate()
+            .map(|(i, l)| {
+                l.into_iter()
+                    .map(|j| j | ((class_of(&a, i, j as usize) as i32) << 30))
+                    .collect()
+            })
+            .collect()
+    };
+    let half = flagged(a.half_list(1.2));
+    let full: Vec<Vec<i32>> = flagged(
+        (0..n)
+            .map(|i| {
+                (0..a.nall())
+                    .filter(|&j| {
+                        let rsq: f64 = (0..3)
+                            .map(|d| (a.x[3 * i + d] - a.x[3 * j + d]).powi(2))
+                            .sum();
+                        j != i && rsq < 1.2 * 1.2
+                    })
+                    .map(|j| j as i32)
+                    .collect()
+            })
+            .collect(),
+    );
+    let special = [0.0, 0.5, 0.0, 0.25];
+    let setup = |h: &Handle, special: Option<&[f64; 4]>| {
+        let s = DpdnlSetup {
+            dimension: 3,
+            natoms: n as i64,
+            volume: 125.0,
+            mass: MASS.as_ptr(),
+            dt: DT,
+            euler: 0,
+            special_lj: special.map_or(null(), |s| s.as_ptr()),
+        };
+        let mut rc = 0.0;
+        // SAFETY: a live handle; `s` valid, 4 special factors when not null.
+        let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
+        assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
+    };
+    let rho: Vec<f64> = (0..a.nall())
+        .map(|g| uniform(a.owner[g] as u32, 9, 1.8, 2.6))
+        .collect();
+    let mut cases = Vec::new();
+    for (fr, no) in [("dot", "twostep"), ("none", "plain")] {
+        let h = dpd_handle(fr, no);
+        setup(&h, Some(&special));
+        cases.push((format!("dpd/nonlinear {fr}/{no}"), h, Vec::new()));
+    }
+    let h = sdpd_handle();
+    setup(&h, None);
+    cases.push(("sdpd".to_string(), h, rho));
+    for (label, h, values) in &cases {
+        for (lists, full, newton) in [
+            (&half, false, true),
+            (&half, false, false),
+            (&full, true, false),
+        ] {
+            let one = compute_threads(h, &a, &ilist, lists, full, newton, values, 1);
+            // (sDPD's energy is its pre-pass's: the pair pass adds none.)
+            assert!(one.virial[0] != 0.1, "{label}: nothing tallied");
+            for threads in [2, 3, 1] {
+                let got = compute_threads(h, &a, &ilist, lists, full, newton, values, threads);
+                assert!(
+                    got.bits() == one.bits(),
+                    "{label}, full {full}, newton {newton}: {threads} threads differ from 1"
+                );
+            }
+        }
+    }
+    // Counts outside 1..=1024 are refused.
+    let h = &cases[0].1;
+    for bad in [0, -1, 1025] {
+        // SAFETY: a live handle.
+        let st = unsafe { dpdnl_pair_threads(h.0, bad) };
+        assert_eq!(st, DpdnlStatus::InvalidArgument);
+        assert!(last_error().contains("threads"), "{}", last_error());
+    }
+}

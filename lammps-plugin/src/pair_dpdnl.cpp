@@ -144,6 +144,10 @@ void PairDpdnl::init_style()
   // special_bonds lj: a bonded neighbour's pair scaled by its factor (or refused by a style
   // that cannot), in Rust; the list flags them in bits SBBITS.. of each entry.
   s.special_lj = force->special_lj;
+  // Threads of the force pass inside this rank: LAMMPS's OpenMP threads per MPI task
+  // (package omp N, -pk omp N, -sf omp, or OMP_NUM_THREADS at start-up); the same bits for
+  // every count. Before the set-up, whose notes name the count.
+  if (dpdnl_pair_threads(handle, comm->nthreads) != DPDNL_STATUS_OK) rust_error("Pair " + name);
   if (dpdnl_pair_init(handle, &s, &rc_max) != DPDNL_STATUS_OK) rust_error("Pair " + name);
   if (comm->me == 0) {
     std::istringstream notes(dpdnl_last_message());

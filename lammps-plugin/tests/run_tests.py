@@ -10,6 +10,7 @@ polymer solution with harmonic bonds and fractional special_bonds lj factors):
 newton on vs off and 1 vs 2, 4 (1x2x2) and 3 (uneven 3x1x1) MPI ranks give the same thermo and
 dumps (<= 1e-12 relative); a sheared box that flips (fix deform) gives the same thermo on 1,
 2 and 4 ranks and the tilt of fix deform;
+1, 2 and 3 threads per rank give identical thermo and dumps (threads());
 total momentum is conserved; the restart continues the run; bad arguments give LAMMPS ERROR
 lines with clear messages; the styles survive `clear`. Prints the measured differences.
 
@@ -261,6 +262,54 @@ def consistency(tmp):
             f2 = rows[-1][header.index("f_2")]
             check(abs(f2 - 100 * 0.05) < 1e-12, f"pex3d: f_2 after 100 pushes = {f2!r} (5.0)")
     return results
+
+
+def threads(tmp):
+    """Threads inside a rank (issue 30): the pair styles take LAMMPS's OpenMP threads per MPI
+    task (OMP_NUM_THREADS in Debian's LAMMPS, which has no OPENMP package; `package omp N` in
+    the plugin's). 2 and 3 threads give thermo and dumps identical, at %.17g, to 1 thread, on
+    1 and 2 ranks; 2 ranks x 1 thread and 1 rank x 2 threads agree as rank counts do."""
+    print("threads inside a rank (thermo and dumps at %.17g: identical to 1 thread)")
+    for name, newton in [("dpd3d", True), ("dpd3d", False), ("sdpd2d", True),
+                         ("polymer3d", True)]:
+        src = open(os.path.join(INPUTS, name + ".in")).read().replace("%20.15g", "%.17g")
+        data = os.path.join(DATA, DATAFILE[name] + ".data")
+        tag = name + ("" if newton else "_off")
+        runs = {}
+        for np, nthreads in [(1, 1), (1, 2), (1, 3), (2, 1), (2, 2)]:
+            label = f"np{np}_t{nthreads}"
+            wd = os.path.join(tmp, "threads", tag, label)
+            os.makedirs(wd, exist_ok=True)
+            script = os.path.join(wd, "script.in")
+            with open(script, "w") as f:
+                f.write((f"package omp {nthreads}\n" if PLUGIN_MODE else "") + src)
+            dump = os.path.join(wd, "dump")
+            rc, log, out = run_lammps(wd, name, script, np, newton, {"data": data, "dump": dump},
+                                      env=dict(ENV, OMP_NUM_THREADS=str(nthreads)))
+            check(rc == 0, f"{tag} {label} runs" + ("" if rc == 0 else ": " + out[-2000:]))
+            if rc != 0:
+                continue
+            said = f"{nthreads} threads per MPI task" in log
+            check(said == (nthreads > 1), f"{tag} {label}: the style "
+                  + ("names its threads" if nthreads > 1 else "runs on one thread"))
+            runs[label] = ([rows for _, rows in thermo_blocks(log)], open(dump).read())
+        for ref, label in [("np1_t1", "np1_t2"), ("np1_t1", "np1_t3"), ("np2_t1", "np2_t2")]:
+            if ref in runs and label in runs:
+                same = runs[ref] == runs[label]
+                check(same and len(runs[ref][1]) > 0,
+                      f"{tag}: {label} identical to {ref} (thermo and dump)")
+        if "np2_t1" in runs and "np1_t2" in runs:
+            (t1, d1), (t2, d2) = runs["np2_t1"], runs["np1_t2"]
+            rt, _ = rel_diff_rows(t1[-1], t2[-1])
+            dumps = [read_dump(os.path.join(tmp, "threads", tag, lab, "dump"))
+                     for lab in ("np2_t1", "np1_t2")]
+            per = {st: rel_diff_dumps({st: dumps[0][st]}, {st: dumps[1][st]}) for st in dumps[0]}
+            last = max(per)
+            ok = sorted(dumps[0]) == sorted(dumps[1]) and all(
+                v <= (LAST_TOL if st == last else TOL) for st, v in per.items())
+            check(rt <= TOL and ok, f"{tag}: 2 ranks x 1 thread vs 1 rank x 2 threads: thermo "
+                  f"{rt:.2e}, dump " + ", ".join(f"{v:.2e} (step {st})"
+                                                   for st, v in sorted(per.items())))
 
 
 def sheared_flip(tmp):
@@ -723,6 +772,7 @@ def main():
     tmp = args.keep or tempfile.mkdtemp(prefix="dpdnl-lammps-")
     try:
         consistency(tmp)
+        threads(tmp)
         sheared_flip(tmp)
         restart(tmp)
         errors(tmp)
