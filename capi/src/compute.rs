@@ -262,14 +262,19 @@ fn check_row(i: usize, jlist: &[i32], mask: usize, nall: usize) -> Result<(), Er
 /// Row blocks per thread of a threaded walk (rayon balances them).
 const BLOCKS_PER_THREAD: usize = 4;
 
+/// Rows of a threaded walk's window: its records (33 pairs a row at n = 16, 32 B each: about
+/// 1 MB) stay in the cache from phase 1 to phase 2.
+const WINDOW_ROWS: usize = 1024;
+
 /// The threads of a pair style's walk over a LAMMPS list ([`walk_pairs`]) and their buffers,
-/// kept from step to step. Phase 1 splits `ilist` into contiguous row blocks; each block
-/// filters, batches and evaluates its pairs and stores, in list order, atom i, atom j, the force
-/// on i and (when tallying) what the tallies need. Phase 2 adds them in list order: each task
-/// owns a contiguous range of atoms and scans every record, adding only to its atoms, so every
-/// atom's force and per-atom tallies are summed in the single-threaded order; the global energy
-/// and virial are summed by one more task over all records in list order. The bits do not
-/// depend on the thread count (tested with 1, 2 and 3).
+/// kept from step to step. The rows are taken in windows of [`WINDOW_ROWS`], in list order.
+/// Phase 1 splits a window into contiguous row blocks; each block filters, batches and
+/// evaluates its pairs and stores, in list order, atom i, atom j, the force on i and (when
+/// tallying) what the tallies need. Phase 2 adds them in list order: each task owns a
+/// contiguous range of atoms and scans every record of the window, adding only to its atoms, so
+/// every atom's force and per-atom tallies are summed in the single-threaded order; the global
+/// energy and virial are summed by one more task over all records in list order. The bits do
+/// not depend on the thread count (tested with 1, 2 and 3).
 pub(crate) struct Workers {
     pool: Arc<rayon::ThreadPool>,
     blocks: Vec<Block>,
@@ -591,45 +596,8 @@ fn threaded(
     flags: Flags,
 ) -> Result<(), Error> {
     let tallying = sinks.any();
-    // Phase 1: contiguous row blocks, evaluated in parallel into their records.
-    let per = rows.len().div_ceil(w.blocks.len());
-    let pool = &w.pool;
-    pool.install(|| {
-        w.blocks.par_iter_mut().enumerate().for_each(|(k, b)| {
-            let part = &rows[(k * per).min(rows.len())..((k + 1) * per).min(rows.len())];
-            b.pairs.clear();
-            b.tally.clear();
-            let (pairs, tally) = (&mut b.pairs, &mut b.tally);
-            b.err = walk
-                .rows(
-                    part.iter().map(|&r| Ok(r)),
-                    &mut b.bt,
-                    &mut b.near,
-                    |bt, l, i, j| {
-                        let (dr, fv) = lane_force(bt, l);
-                        pairs.push(PairRec {
-                            i: i as u32,
-                            j: j as u32,
-                            f: fv,
-                        });
-                        if tallying {
-                            tally.push(TallyRec {
-                                energy: bt.energy[l],
-                                fpair: bt.fpair[l],
-                                dr,
-                            });
-                        }
-                    },
-                )
-                .err();
-        })
-    });
-    if let Some(e) = w.blocks.iter_mut().find_map(|b| b.err.take()) {
-        return Err(e);
-    }
-
-    // Phase 2: every record in list order, once per range of atoms (forces and per-atom
-    // tallies), and once for the global energy and virial.
+    // Phase 2's tasks: contiguous ranges of atoms, each with its part of f, eatom and vatom;
+    // one more task for the global energy and virial.
     let nall = f.len() / 3;
     let tasks = w.blocks.len() / BLOCKS_PER_THREAD;
     let chunk = nall.div_ceil(tasks).max(1);
@@ -642,7 +610,7 @@ fn threaded(
     }
     let eatom = split(sinks.eatom.as_deref_mut(), chunk, ntasks);
     let vatom = split(sinks.vatom.as_deref_mut(), 6 * chunk, ntasks);
-    let parts: Vec<_> = f
+    let mut parts: Vec<_> = f
         .chunks_mut(3 * chunk)
         .zip(eatom.into_iter().zip(vatom))
         .enumerate()
@@ -662,22 +630,64 @@ fn threaded(
         eatom: None,
         vatom: None,
     };
-    let blocks = &w.blocks;
+    let (pool, blocks) = (&w.pool, &mut w.blocks);
+    let nb = blocks.len();
+    // Window by window (whole rows, in list order), so that the records of a window stay in
+    // the cache between the phases: one `install` per call, the phases inside it.
     pool.install(|| {
-        rayon::join(
-            || {
-                if global.any() {
-                    replay(blocks, &mut [], 0, &mut global, flags);
-                }
-            },
-            || {
-                parts.into_par_iter().for_each(|(lo, f, mut s)| {
-                    replay(blocks, f, lo, &mut s, flags);
-                })
-            },
-        )
-    });
-    Ok(())
+        for win in rows.chunks(WINDOW_ROWS) {
+            // Phase 1: contiguous row blocks of the window, evaluated in parallel into their
+            // records.
+            let per = win.len().div_ceil(nb);
+            blocks.par_iter_mut().enumerate().for_each(|(k, b)| {
+                let part = &win[(k * per).min(win.len())..((k + 1) * per).min(win.len())];
+                b.pairs.clear();
+                b.tally.clear();
+                let (pairs, tally) = (&mut b.pairs, &mut b.tally);
+                b.err = walk
+                    .rows(
+                        part.iter().map(|&r| Ok(r)),
+                        &mut b.bt,
+                        &mut b.near,
+                        |bt, l, i, j| {
+                            let (dr, fv) = lane_force(bt, l);
+                            pairs.push(PairRec {
+                                i: i as u32,
+                                j: j as u32,
+                                f: fv,
+                            });
+                            if tallying {
+                                tally.push(TallyRec {
+                                    energy: bt.energy[l],
+                                    fpair: bt.fpair[l],
+                                    dr,
+                                });
+                            }
+                        },
+                    )
+                    .err();
+            });
+            if let Some(e) = blocks.iter_mut().find_map(|b| b.err.take()) {
+                return Err(e);
+            }
+            // Phase 2: every record of the window in list order, once per range of atoms
+            // (forces and per-atom tallies), and once for the global energy and virial.
+            let done: &[Block] = blocks;
+            rayon::join(
+                || {
+                    if global.any() {
+                        replay(done, &mut [], 0, &mut global, flags);
+                    }
+                },
+                || {
+                    parts.par_iter_mut().for_each(|(lo, f, s)| {
+                        replay(done, f, *lo, s, flags);
+                    })
+                },
+            );
+        }
+        Ok(())
+    })
 }
 
 /// Phase 2 of a threaded walk: every record of `blocks` in list order, added to the atoms `lo..`

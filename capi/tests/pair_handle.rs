@@ -986,10 +986,11 @@ fn compute_threads(
 
 #[test]
 fn threads_give_the_same_bits_as_one() {
-    // 500 atoms with ghosts, rows in a shuffled order, half lists (newton on and off) and a
-    // full list, bonded neighbours flagged on a third of the entries (special_bonds lj 0.5 0
-    // 0.25 for dpd/nonlinear: scaled, left out; factors 1 for sdpd), all tallies on.
-    let a = Atoms::new(500, 5.0, 1.2);
+    // 2600 atoms with ghosts (rows in three windows of the threaded walk), rows in a shuffled
+    // order, half lists (newton on and off) and a full list, bonded neighbours flagged on a
+    // third of the entries (special_bonds lj 0.5 0 0.25 for dpd/nonlinear: scaled, left out;
+    // factors 1 for sdpd), all tallies on.
+    let a = Atoms::new(2600, 8.6, 1.2);
     let n = a.nlocal;
     let ilist: Vec<i32> = (0..n).map(|k| ((k * 7919) % n) as i32).collect();
     let flagged = |lists: Vec<Vec<i32>>| -> Vec<Vec<i32>> {
@@ -1024,7 +1025,7 @@ fn threads_give_the_same_bits_as_one() {
         let s = DpdnlSetup {
             dimension: 3,
             natoms: n as i64,
-            volume: 125.0,
+            volume: 8.6 * 8.6 * 8.6,
             mass: MASS.as_ptr(),
             dt: DT,
             euler: 0,
