@@ -8,7 +8,8 @@ Runs are interleaved (every repetition runs every style of every system, in a ro
 so that a change of machine load hits all styles alike; the table gives medians over the
 repetitions. Atom-steps/s = N × steps / loop time of the timed run (the second `run`, after a
 warm-up run); the pair time per step comes from LAMMPS's timing breakdown. Each run uses one
-core (one MPI rank, OMP_NUM_THREADS=1) unless --threads is given for dpd/omp. Results go to
+core (one MPI rank, OMP_NUM_THREADS=1) but dpd/omp and plugin-omp (the plugin on LAMMPS's
+OpenMP threads, -pk omp N), which run on --threads threads per rank. Results go to
 stdout as a Markdown table, with the load average before each repetition.
 """
 import argparse
@@ -26,17 +27,21 @@ ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 SYSTEMS = {"ideal": "ideal DPD, n = 16, N = 20000, δt = 1e-3",
            "gw": "Groot–Warren, n = 3, a = 25, N = 20000, δt = 0.04"}
 LABELS = {"plugin": "dpd/nonlinear (plugin)", "plugin2": "dpd/nonlinear (--plugin2-dir build)",
-          "dpd": "dpd", "omp": "dpd/omp"}
+          "plugin-omp": "dpd/nonlinear (plugin), --threads threads", "dpd": "dpd",
+          "omp": "dpd/omp"}
+# Styles that run on --threads OpenMP threads per rank (-pk omp N): dpd/omp, and the plugin,
+# which takes LAMMPS's thread count.
+THREADED = ("omp", "plugin-omp")
 
 
 def run(lmp, plugin_dirs, system, style, steps, threads, workdir, ranks=1, mpirun=None):
     log = os.path.join(workdir, f"log.{system}.{style}.{ranks}")
-    env = dict(os.environ, OMP_NUM_THREADS=str(threads if style == "omp" else 1),
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads if style in THREADED else 1),
                LAMMPS_PLUGIN_PATH=plugin_dirs[style == "plugin2"])
-    input_style = "plugin" if style == "plugin2" else style
+    input_style = "plugin" if style in ("plugin2", "plugin-omp") else style
     cmd = [lmp, "-in", f"in.{system}", "-var", "style", input_style, "-var", "steps", str(steps),
            "-log", log, "-screen", "none", "-nocite"]
-    if style == "omp":
+    if style in THREADED:
         cmd += ["-pk", "omp", str(threads)]
     if ranks > 1:
         cmd = [mpirun, "-np", str(ranks)] + cmd
@@ -66,9 +71,12 @@ def main():
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--steps-ideal", type=int, default=500)
     ap.add_argument("--steps-gw", type=int, default=500)
-    ap.add_argument("--styles", default="plugin,dpd,omp")
+    ap.add_argument("--styles", default="plugin,dpd,omp",
+                    help="comma-separated: plugin, plugin-omp (the plugin on --threads threads), "
+                    "plugin2, dpd, omp")
     ap.add_argument("--systems", default="ideal,gw")
-    ap.add_argument("--threads", type=int, default=1, help="OpenMP threads of dpd/omp")
+    ap.add_argument("--threads", type=int, default=1,
+                    help="OpenMP threads per rank of dpd/omp and plugin-omp")
     ap.add_argument("--ranks", default="1",
                     help="MPI rank counts, comma-separated (e.g. 1,2): every style runs at each "
                     "(one OpenMP thread per rank), through --mpirun")
@@ -112,11 +120,11 @@ def main():
     print(f"1-minute load average before each repetition and at the end: "
           f"{', '.join(f'{x:.1f}' for x in loads)}")
     print(f"{args.reps} interleaved repetitions; medians (min–max); one core per rank "
-          f"(dpd/omp: {args.threads} OpenMP thread(s)); MPI ranks: {args.ranks}\n")
+          f"(dpd/omp and plugin-omp: {args.threads} OpenMP thread(s)); MPI ranks: {args.ranks}\n")
     print("| system | pair style | ranks | M atom-steps/s (wall) | M atom-steps per CPU-s | "
           "pair ms/step (wall) | plugin ÷ this, same ranks (wall) | plugin ÷ this (per CPU-s) "
-          "| speed-up over 1 rank (wall) |")
-    print("|---|---|---:|---|---|---|---|---|---|")
+          f"| plugin on {args.threads} threads ÷ this (wall) | speed-up over 1 rank (wall) |")
+    print("|---|---|---:|---|---|---|---|---|---|---|")
 
     def span(xs, fmt):
         return f"{statistics.median(xs):{fmt}} ({min(xs):{fmt}}–{max(xs):{fmt}})"
@@ -132,16 +140,18 @@ def main():
             cpu = [r["atom_steps_cpu"] / 1e6 for r in rs]
             pair = [r["pair_per_step"] * 1e3 for r in rs]
             ratios = []
-            for key in ("atom_steps", "atom_steps_cpu"):
-                base = med(system, "plugin", ranks, key)
+            for base_style, key in (("plugin", "atom_steps"), ("plugin", "atom_steps_cpu"),
+                                    ("plugin-omp", "atom_steps")):
+                base = med(system, base_style, ranks, key)
                 this = med(system, style, ranks, key)
-                ratios.append(f"{base / this:.2f}" if base and style != "plugin" else "—")
+                ratios.append(f"{base / this:.2f}" if base and style != base_style else "—")
             one = med(system, style, 1, "atom_steps")
             speedup = f"{med(system, style, ranks, 'atom_steps') / one:.2f}" \
                 if one and ranks > 1 else "—"
-            print(f"| {SYSTEMS[system]} | {LABELS[style]} | {ranks} | {span(wall, '.3f')} | "
+            label = LABELS[style].replace("--threads", str(args.threads))
+            print(f"| {SYSTEMS[system]} | {label} | {ranks} | {span(wall, '.3f')} | "
                   f"{span(cpu, '.3f')} | {span(pair, '.1f')} | {ratios[0]} | {ratios[1]} | "
-                  f"{speedup} |")
+                  f"{ratios[2]} | {speedup} |")
 
 
 if __name__ == "__main__":

@@ -9,7 +9,8 @@
 //!
 //! The standalone engine runs in this process (a rayon pool of the requested size); LAMMPS runs
 //! as a subprocess: native `pair_style dpd` on 1 thread and `dpd/omp` (`-sf omp -pk omp T`), and
-//! the Debian-launcher shim `build/lmp_dpdnl` with `pair_style dpd/nonlinear` (1 MPI rank).
+//! the Debian-launcher shim `build/lmp_dpdnl` with `pair_style dpd/nonlinear` (1 MPI rank, on
+//! 1 thread and on the requested threads).
 
 use dpdnl::engine::System;
 use dpdnl::input::{Collect, Interpreter, Options};
@@ -184,8 +185,9 @@ enum Engine {
     Standalone(usize),
     /// LAMMPS native `pair_style dpd` (0 threads: plain style; T > 0: `dpd/omp` on T threads).
     Lammps(PathBuf, usize),
-    /// The shim (`pair_style dpd/nonlinear` over the C ABI), one MPI rank.
-    Shim(PathBuf),
+    /// The shim (`pair_style dpd/nonlinear` over the C ABI), one MPI rank on this many threads
+    /// (`OMP_NUM_THREADS`, which the style takes from LAMMPS).
+    Shim(PathBuf, usize),
 }
 
 impl Engine {
@@ -194,7 +196,10 @@ impl Engine {
             Engine::Standalone(t) => format!("dpdnl (standalone), {t} thread{}", plural(*t)),
             Engine::Lammps(_, 0) => "LAMMPS `pair dpd`, 1 thread".into(),
             Engine::Lammps(_, t) => format!("LAMMPS `pair dpd/omp`, {t} thread{}", plural(*t)),
-            Engine::Shim(_) => "shim `build/lmp_dpdnl` (dpd/nonlinear), 1 rank".into(),
+            Engine::Shim(_, t) => format!(
+                "shim `build/lmp_dpdnl` (dpd/nonlinear), 1 rank × {t} thread{}",
+                plural(*t)
+            ),
         }
     }
 }
@@ -353,7 +358,10 @@ fn cases(
                 engines.push(Engine::Lammps(l.clone(), threads));
             }
             if let Some(s) = shim {
-                engines.push(Engine::Shim(s.clone()));
+                engines.push(Engine::Shim(s.clone(), 1));
+                if threads > 1 {
+                    engines.push(Engine::Shim(s.clone(), threads));
+                }
             }
             for engine in engines {
                 // sDPD only on the ideal fluids: the Groot–Warren step (δt = 0.04) is far beyond

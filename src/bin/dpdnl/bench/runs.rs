@@ -57,7 +57,7 @@ pub(super) fn run_case(dir: &Path, case: &Case) -> Result<(LoopTime, Memory), St
             }
             Ok((run_external(cmd, exe)?, None))
         }
-        Engine::Shim(exe) => {
+        Engine::Shim(exe, t) => {
             let name = format!(
                 "in.{}.{}",
                 case.sys.key,
@@ -74,7 +74,7 @@ pub(super) fn run_case(dir: &Path, case: &Case) -> Result<(LoopTime, Memory), St
             let mut cmd = Command::new(exe);
             cmd.current_dir(dir)
                 .args(["-in", &name, "-log", "none"])
-                .env("OMP_NUM_THREADS", "1");
+                .env("OMP_NUM_THREADS", t.to_string());
             Ok((run_external(cmd, exe)?, None))
         }
     }
