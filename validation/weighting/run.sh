@@ -29,7 +29,8 @@
 #   sdpd-*:    N [1600]  C0 [40] (sound speed)  DT [0.005]  EQ [1000]  PAR [2]  ENGINE [lammps]
 #              (lammps: build/lmp_dpdnl, the shim over the same Rust kernel, ~2x faster per core under
 #              Lees-Edwards than the standalone's serial sheared pair loop; or standalone)
-#   sdpd-couette: CASES ["<tag>:<rc>:<kernel>:<eta0>:<steps>[:<eq>[:<pre>]]" ...] (kernel lucy | quintic | pS for
+#   sdpd-couette: SEEDS [""]: independent repeats with these pair seeds (names get _s<seed>)
+#              CASES ["<tag>:<rc>:<kernel>:<eta0>:<steps>[:<eq>[:<pre>]]" ...] (kernel lucy | quintic | pS for
 #              "proposed S"; default: every row of SET)  SET [t2 | t3 | t4 (t4a: Sc0 = 400, t4b: 1000) | all]  RATES ["0.05 0.1 0.2 0.5 1"]
 #   sdpd-diffusion: CASES ["f4:2.5:p0.0700:49:8000"]  (equilibrium; MSD with dpdnl analyze msd)
 #   sdpd-schmidt: SC0S ["10 100 1000"]  STEPS [2000] (Couette, gamma-dot = 0.2)  DSTEPS [4000] (at rest)  EQ [700]
@@ -239,20 +240,22 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
     }
     # sdpd_couette1 NAME ENGINE RC KERNEL ETA0 RATE STEPS: eta*, rate from the profile, T, P, d.
     sdpd_couette1() {
-        local name=$1 eng=$2 rc=$3 k=$4 eta0=$5 rate=$6 steps=$7 eq=${8:-$eq} pre=${9:-0}
+        local name=$1 eng=$2 rc=$3 k=$4 eta0=$5 rate=$6 steps=$7 eq=${8:-$eq} pre=${9:-0} seed=${10:-}
+        local sv=(); [ -n "$seed" ] && sv=(-var seed "$seed")
         runone "$name" "$eng" "$root/examples/sdpd/in.couette_sdpd2d" -var N "$n" -var rc "$rc" \
             -var kernel "$(kw "$k")" -var eta0 "$eta0" -var c0 "$c0" -var rate "$rate" -var dt "$dt" \
-            -var eq "$eq" -var steps "$steps" -var pre "$pre"
+            -var eq "$eq" -var steps "$steps" -var pre "$pre" "${sv[@]}"
         echo "$eta0 $eq $rate" > "$work/$name/vars"
         couette_analyse "$name"
     }
     # from_of ETA0 EQ: the production steps to discard: what is left after the equilibration
-    # of one momentum-diffusion time L^2 rho/(pi^2 eta0) or 2000 steps, whichever is longer,
-    # rounded up to 500. The random start's pressure waves disturb the flow (measured: eta* is
-    # 10-40 % high in the first 2000 steps of the runs at eta0 = 10 and 50, whatever the rate).
+    # of one momentum-diffusion time L^2 rho/(pi^2 eta0) or 10 time units (2000 steps at the
+    # paper's dt = 0.005), whichever is longer, rounded up to 500 steps. The random start's
+    # pressure waves disturb the flow (measured: eta* is 10-40 % high in the first 2000 steps of
+    # the runs at eta0 = 10 and 50, whatever the rate).
     from_of() {
         awk -v e="$1" -v q="$2" -v L="$L" -v dt="$dt" 'BEGIN {t = L*L*4/(3.14159265*3.14159265*e*dt)
-            if (t < 2000) t = 2000
+            if (t < 10/dt) t = 10/dt
             t -= q
             f = (t <= 0) ? 0 : 500*int((t + 499)/500); print f}'
     }
@@ -370,9 +373,13 @@ sdpd-cs|sdpd-couette|sdpd-diffusion|sdpd-schmidt|sdpd-peer|sdpd-analyse)
             *) def="$t2 $t3 $t4a $t4b" ;; esac
         for c in ${CASES:-$def}; do
             IFS=: read -r tag rc k eta0 steps ceq cpre <<<"$c"
-            for rate in ${RATES-0.05 0.1 0.2 0.5 1}; do
-                jobs_list+=("c0=$c0 sdpd_couette1 sdpd_${tag}_r${rate}$sfx $engine $rc $k $eta0 $rate $steps ${ceq:-$eq} ${cpre:-0}")
-            done
+            for rate in ${RATES-0.05 0.1 0.2 0.5 1}; do for seed in ${SEEDS:-_script_}; do
+                if [ "$seed" = _script_ ]; then
+                    jobs_list+=("c0=$c0 sdpd_couette1 sdpd_${tag}_r${rate}$sfx $engine $rc $k $eta0 $rate $steps ${ceq:-$eq} ${cpre:-0}")
+                else
+                    jobs_list+=("c0=$c0 sdpd_couette1 sdpd_${tag}_r${rate}_s$seed$sfx $engine $rc $k $eta0 $rate $steps ${ceq:-$eq} ${cpre:-0} $seed")
+                fi
+            done; done
         done ;;
     sdpd-diffusion)
         for c in ${CASES:-f4:2.5:p0.0700:49:8000}; do

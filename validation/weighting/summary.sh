@@ -80,6 +80,8 @@ for f in "$res"/couette_*_dpdext.couette.json; do
 done
 } > "$res/summary.md"
 python3 "$here/summary_sdpd.py" >> "$res/summary.md"
+# Issue 31: the sDPD low-rate excess against c0 and run length (results/lowrate.csv).
+python3 "$here/summary_lowrate.py" >> "$res/summary.md"
 cat "$res/summary.md"
 # The README's copies of the tables of results/summary.md and results/repulsion.md (marked <!-- copy: … -->).
 python3 "$here/../sync_tables.py" "$here/README.md"
