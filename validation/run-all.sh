@@ -121,6 +121,12 @@ fi
 if want size; then
     run SIZES="3 4" $nl size
     run SIZES="5 6" STEPS=80000 FROM=40000 $nl size
+    # Issue 31: Pi = 13.68 (dp 0.2) in the L = 5 box with pair seeds: Dot-corrected (its seed
+    # mean is bands.csv's nemd_dot_13.68), Two-step-dot and Ref.
+    run PAR="$PAR" SIZES=5 STEPS=80000 FROM=40000 SIZE_POINTS="dot_corrected:0.2" SEEDS="1 2 3 4" $nl size
+    run PAR="$PAR" SIZES=5 STEPS=80000 FROM=40000 SIZE_POINTS="twostep_dot:0.2" SEEDS="1 2" $nl size
+    run SIZES=5 STEPS=80000 FROM=40000 SIZE_POINTS="ref:0.2" SEEDS="1" $nl size
+    run PAR="$PAR" SIZES=6 STEPS=100000 FROM=60000 SIZE_POINTS="dot_corrected:0.2" SEEDS="1 2" $nl size
     # n = 32: L = 4 against the L = 3 of nemd32 (the same points) at a low and the highest stress.
     run PAR="$PAR" DENSITY=32 SIZES="4" SIZE_POINTS="ref:0.075 dot_corrected:0.55" $nl size
 fi

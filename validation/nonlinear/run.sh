@@ -106,7 +106,7 @@ nemd|size)
         read -r fr no g1 di <<<"$(scheme_vars "$s")"
         dp=$(awk -v d="$dpp" -v L="$L" -v Lp="$lpaper" -v t="$dt" 'BEGIN{printf "%.10g", d*(L/Lp)^2*(t/1e-4)}')
         [ -n "$seed" ] && { sfx="_s$seed"; sv=(-var seed "$seed"); }
-        name="nemd${tag}_${s}_dp${dpp}${dsfx}${sfx}"; if [ "$mode" = size ]; then name="size${tag}_${s}_dp${dpp}_L${L}"; fi
+        name="nemd${tag}_${s}_dp${dpp}${dsfx}${sfx}"; if [ "$mode" = size ]; then name="size${tag}_${s}_dp${dpp}_L${L}${dsfx}${sfx}"; fi
         d="$work/$name"; rm -rf "$d"; mkdir -p "$d"; cp "$here/in.nemd" "$d/"
         t0=$SECONDS
         ( cd "$d" && "$DPDNL" run in.nemd --threads "$THREADS" --log log.dpdnl -var friction "$fr" \
