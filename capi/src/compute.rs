@@ -262,19 +262,26 @@ fn check_row(i: usize, jlist: &[i32], mask: usize, nall: usize) -> Result<(), Er
 /// Row blocks per thread of a threaded walk (rayon balances them).
 const BLOCKS_PER_THREAD: usize = 4;
 
-/// Rows of a threaded walk's window: its records (33 pairs a row at n = 16, 32 B each: about
-/// 1 MB) stay in the cache from phase 1 to phase 2.
+/// Rows of a threaded walk's window: its events or records (33 pairs a row at n = 16, 32 B
+/// each: about 1 MB) stay in the cache from phase 1 to phase 2. On the 2-vCPU Xeon of the
+/// commit (n = 16, 20000 atoms, 2 threads) 2048 or 4096 rows were within the noise of 1024
+/// (pair time −3 %), 512 rows and one window for the whole list slower.
 const WINDOW_ROWS: usize = 1024;
 
 /// The threads of a pair style's walk over a LAMMPS list ([`walk_pairs`]) and their buffers,
 /// kept from step to step. The rows are taken in windows of [`WINDOW_ROWS`], in list order.
-/// Phase 1 splits a window into contiguous row blocks; each block filters, batches and
-/// evaluates its pairs and stores, in list order, atom i, atom j, the force on i and (when
-/// tallying) what the tallies need. Phase 2 adds them in list order: each task owns a
-/// contiguous range of atoms and scans every record of the window, adding only to its atoms, so
-/// every atom's force and per-atom tallies are summed in the single-threaded order; the global
-/// energy and virial are summed by one more task over all records in list order. The bits do
-/// not depend on the thread count (tested with 1, 2 and 3).
+/// Phase 1 splits a window into contiguous row blocks, evaluated in parallel; phase 2 adds
+/// their results in list order, each task to a contiguous range of atoms, so that every atom's
+/// force (and per-atom tallies) is summed in the single-threaded order. The bits do not depend
+/// on the thread count (tested with 1, 2 and 3).
+///
+/// Force-only steps: each block emits the single-threaded walk's additions to f as events
+/// (`f[atom] += v`: −f_ij on j for each pair, the row's sum on i after its last pair, in the
+/// order [`Apply`] performs them), bucketed by the phase-2 task owning the atom; task t reads
+/// bucket t of every block, in block order, so each event is read once. Tally steps: each block
+/// stores, in list order, atom i, atom j, the force on i and what the tallies need; each task
+/// scans every record and adds only to its atoms, and one more task sums the global energy and
+/// virial over all records.
 pub(crate) struct Workers {
     pool: Arc<rayon::ThreadPool>,
     blocks: Vec<Block>,
@@ -287,7 +294,58 @@ struct Block {
     near: Vec<u32>,
     pairs: Vec<PairRec>,
     tally: Vec<TallyRec>,
+    /// Force events by phase-2 task (force-only steps).
+    events: Vec<Vec<Event>>,
     err: Option<Error>,
+}
+
+/// A force event of phase 1: `f[atom] += v`.
+#[derive(Clone, Copy)]
+struct Event {
+    v: [f64; 3],
+    atom: u32,
+}
+
+/// Phase 1 of a force-only step: a block's pairs, in list order, turned into the additions
+/// [`Apply::pair`] and [`Apply::finish_row`] perform, in the same order, each pushed to the
+/// bucket of the task owning its atom (`atom / chunk`). `f[j] -= fv` becomes `f[j] += -fv`,
+/// the same IEEE result.
+struct Emit<'e> {
+    buckets: &'e mut [Vec<Event>],
+    chunk: u32,
+    /// Half list: j's side is added when newton is on or j is owned (j < `nlocal`).
+    half: bool,
+    newton: bool,
+    nlocal: u32,
+    /// The row being summed: atom i and the force on it so far.
+    row: Option<(u32, [f64; 3])>,
+}
+
+impl Emit<'_> {
+    #[inline(always)]
+    fn push(&mut self, atom: u32, v: [f64; 3]) {
+        self.buckets[(atom / self.chunk) as usize].push(Event { v, atom });
+    }
+
+    #[inline(always)]
+    fn pair(&mut self, i: u32, j: u32, fv: [f64; 3]) {
+        if self.row.is_some_and(|(r, _)| r != i) {
+            self.finish_row();
+        }
+        let fi = &mut self.row.get_or_insert((i, [0.0; 3])).1;
+        fi[0] += fv[0];
+        fi[1] += fv[1];
+        fi[2] += fv[2];
+        if self.half && (self.newton || j < self.nlocal) {
+            self.push(j, [-fv[0], -fv[1], -fv[2]]);
+        }
+    }
+
+    fn finish_row(&mut self) {
+        if let Some((i, fi)) = self.row.take() {
+            self.push(i, fi);
+        }
+    }
 }
 
 /// An evaluated pair: atoms i and j and the force on i (−it on j).
@@ -641,38 +699,57 @@ fn threaded(
             let per = win.len().div_ceil(nb);
             blocks.par_iter_mut().enumerate().for_each(|(k, b)| {
                 let part = &win[(k * per).min(win.len())..((k + 1) * per).min(win.len())];
-                b.pairs.clear();
-                b.tally.clear();
-                let (pairs, tally) = (&mut b.pairs, &mut b.tally);
-                b.err = walk
-                    .rows(
-                        part.iter().map(|&r| Ok(r)),
-                        &mut b.bt,
-                        &mut b.near,
-                        |bt, l, i, j| {
-                            let (dr, fv) = lane_force(bt, l);
-                            pairs.push(PairRec {
-                                i: i as u32,
-                                j: j as u32,
-                                f: fv,
-                            });
-                            if tallying {
-                                tally.push(TallyRec {
-                                    energy: bt.energy[l],
-                                    fpair: bt.fpair[l],
-                                    dr,
-                                });
-                            }
-                        },
-                    )
-                    .err();
+                let rows = part.iter().map(|&r| Ok(r));
+                b.err = if tallying {
+                    b.pairs.clear();
+                    b.tally.clear();
+                    let (pairs, tally) = (&mut b.pairs, &mut b.tally);
+                    walk.rows(rows, &mut b.bt, &mut b.near, |bt, l, i, j| {
+                        let (dr, fv) = lane_force(bt, l);
+                        pairs.push(PairRec {
+                            i: i as u32,
+                            j: j as u32,
+                            f: fv,
+                        });
+                        tally.push(TallyRec {
+                            energy: bt.energy[l],
+                            fpair: bt.fpair[l],
+                            dr,
+                        });
+                    })
+                } else {
+                    b.events.resize_with(ntasks, Vec::new);
+                    b.events.iter_mut().for_each(Vec::clear);
+                    let mut emit = Emit {
+                        buckets: &mut b.events,
+                        chunk: chunk as u32,
+                        half: !flags.full,
+                        newton: flags.newton,
+                        nlocal: flags.nlocal as u32,
+                        row: None,
+                    };
+                    let r = walk.rows(rows, &mut b.bt, &mut b.near, |bt, l, i, j| {
+                        emit.pair(i as u32, j as u32, lane_force(bt, l).1);
+                    });
+                    emit.finish_row();
+                    r
+                }
+                .err();
             });
             if let Some(e) = blocks.iter_mut().find_map(|b| b.err.take()) {
                 return Err(e);
             }
-            // Phase 2: every record of the window in list order, once per range of atoms
-            // (forces and per-atom tallies), and once for the global energy and virial.
             let done: &[Block] = blocks;
+            if !tallying {
+                // Phase 2: each task adds its bucket of every block, in block order.
+                parts
+                    .par_iter_mut()
+                    .enumerate()
+                    .for_each(|(t, (lo, f, _))| add_events(done, t, f, *lo));
+                continue;
+            }
+            // Phase 2 of a tally step: every record of the window in list order, once per range
+            // of atoms (forces and per-atom tallies), and once for the global energy and virial.
             rayon::join(
                 || {
                     if global.any() {
@@ -688,6 +765,20 @@ fn threaded(
         }
         Ok(())
     })
+}
+
+/// Phase 2 of a force-only step of a threaded walk: bucket `t` of every block, in block order,
+/// added to the atoms `lo..` of `f`.
+fn add_events(blocks: &[Block], t: usize, f: &mut [f64], lo: usize) {
+    for b in blocks {
+        for e in &b.events[t] {
+            let k = 3 * (e.atom as usize - lo);
+            let fa = &mut f[k..k + 3];
+            fa[0] += e.v[0];
+            fa[1] += e.v[1];
+            fa[2] += e.v[2];
+        }
+    }
 }
 
 /// Phase 2 of a threaded walk: every record of `blocks` in list order, added to the atoms `lo..`

@@ -915,6 +915,7 @@ fn compute_threads(
     newton: bool,
     values: &[f64],
     threads: i32,
+    tallies: bool,
 ) -> Sums {
     // SAFETY: a live handle.
     let st = unsafe { dpdnl_pair_threads(h.0, threads) };
@@ -956,13 +957,25 @@ fn compute_threads(
         newton_pair: i32::from(newton),
         dimension: 3,
     };
-    let mut tally = DpdnlTally {
-        eflag_global: 1,
-        vflag_global: 1,
-        eng_vdwl: &mut s.energy,
-        virial: s.virial.as_mut_ptr(),
-        eatom: s.eatom.as_mut_ptr(),
-        vatom: s.vatom.as_mut_ptr(),
+    // Without tallies: a force-only step (the threaded walk's event path).
+    let mut tally = if tallies {
+        DpdnlTally {
+            eflag_global: 1,
+            vflag_global: 1,
+            eng_vdwl: &mut s.energy,
+            virial: s.virial.as_mut_ptr(),
+            eatom: s.eatom.as_mut_ptr(),
+            vatom: s.vatom.as_mut_ptr(),
+        }
+    } else {
+        DpdnlTally {
+            eflag_global: 0,
+            vflag_global: 0,
+            eng_vdwl: null_mut(),
+            virial: null_mut(),
+            eatom: null_mut(),
+            vatom: null_mut(),
+        }
     };
     // SAFETY: arrays as documented; `values` holds nall doubles or is unused.
     let code = unsafe {
@@ -1054,15 +1067,28 @@ fn threads_give_the_same_bits_as_one() {
             (&half, false, false),
             (&full, true, false),
         ] {
-            let one = compute_threads(h, &a, &ilist, lists, full, newton, values, 1);
+            let one = compute_threads(h, &a, &ilist, lists, full, newton, values, 1, true);
             // (sDPD's energy is its pre-pass's: the pair pass adds none.)
             assert!(one.virial[0] != 0.1, "{label}: nothing tallied");
+            // Force-only steps (no tallies) give the forces of the tallied step.
+            let forces = compute_threads(h, &a, &ilist, lists, full, newton, values, 1, false);
+            let f_bits = |s: &Sums| s.f.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert!(
+                f_bits(&forces) == f_bits(&one),
+                "{label}: forces depend on tallying"
+            );
             for threads in [2, 3, 1] {
-                let got = compute_threads(h, &a, &ilist, lists, full, newton, values, threads);
-                assert!(
-                    got.bits() == one.bits(),
-                    "{label}, full {full}, newton {newton}: {threads} threads differ from 1"
-                );
+                for tallies in [true, false] {
+                    let got = compute_threads(
+                        h, &a, &ilist, lists, full, newton, values, threads, tallies,
+                    );
+                    let want = if tallies { &one } else { &forces };
+                    assert!(
+                        got.bits() == want.bits(),
+                        "{label}, full {full}, newton {newton}, tallies {tallies}: {threads} \
+                         threads differ from 1"
+                    );
+                }
             }
         }
     }
