@@ -428,6 +428,35 @@ impl Walk<'_> {
         }
     }
 
+    /// Candidate j of row i (position `xi`, `row` = type(i) (ntypes + 1)), with its
+    /// coefficients `extra` past its type pair's (a special class's block), written to the next
+    /// lane; only a pair in range keeps it (the kernel checks again): with several types some
+    /// candidates are beyond their pair's cut-off, and a branch would be mispredicted. The rest
+    /// of the lane (velocities, masses, tags) is gathered for the kept pairs only, at the flush.
+    /// True when the batch is full and must be flushed.
+    #[inline(always)]
+    fn offer(
+        &self,
+        bt: &mut Batcher,
+        i: usize,
+        xi: [f64; 3],
+        row: usize,
+        j: usize,
+        extra: usize,
+    ) -> bool {
+        let x = self.x;
+        let k = row + self.ty[j] as usize;
+        let rc = self.cut[k];
+        let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
+        let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
+        let l = bt.lane();
+        for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
+            lane[l] = c;
+        }
+        bt.batch.coeff[l] = (k + extra) as u32;
+        bt.commit(i as u32, j as u32, rsq < rc * rc)
+    }
+
     /// The rows `rows` (atom, raw entries), in order, each checked: every pair in range
     /// through the kernel, handed to `apply(batch, lane, i, j)` in list order; the last batch is
     /// flushed.
@@ -439,7 +468,7 @@ impl Walk<'_> {
         near: &mut Vec<u32>,
         mut apply: impl FnMut(&PairBatch, usize, usize, usize),
     ) -> Result<(), Error> {
-        let (x, ty, cut, nt, mask) = (self.x, self.ty, self.cut, self.nt, self.mask);
+        let (x, ty, nt, mask) = (self.x, self.ty, self.nt, self.mask);
         let kernel = self.kernel;
         let step = self.step;
         // The lanes' v_ij, 1/m_i + 1/m_j and tags (r_ij and the coefficient index are in place).
@@ -464,21 +493,12 @@ impl Walk<'_> {
             {
                 for &jr in jlist {
                     let class = special_class(jr);
-                    let factor = sp.lj[class];
-                    if factor == 0.0 {
+                    if sp.lj[class] == 0.0 {
                         continue;
                     }
                     let j = jr as u32 as usize & mask;
-                    let k = row + ty[j] as usize;
-                    let rc = cut[k];
-                    let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
-                    let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-                    let l = bt.lane();
-                    for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
-                        lane[l] = c;
-                    }
-                    bt.batch.coeff[l] = (k + if sp.scaled { class * block } else { 0 }) as u32;
-                    if bt.commit(i as u32, j as u32, rsq < rc * rc) {
+                    let extra = if sp.scaled { class * block } else { 0 };
+                    if self.offer(bt, i, xi, row, j, extra) {
                         bt.flush(kernel, step, gather, &mut apply);
                     }
                 }
@@ -494,21 +514,7 @@ impl Walk<'_> {
                 near,
             );
             for &j in &near[..n] {
-                let j = j as usize;
-                let k = row + ty[j] as usize;
-                let rc = cut[k];
-                let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
-                let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-                // Every candidate is written to the next lane, and only a pair in range keeps it
-                // (the kernel checks again): with several types some candidates are beyond
-                // their pair's cut-off, and a branch would be mispredicted. The rest of the lane
-                // (velocities, masses, tags) is gathered for the kept pairs only, in `gather`.
-                let l = bt.lane();
-                for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
-                    lane[l] = c;
-                }
-                bt.batch.coeff[l] = k as u32;
-                if bt.commit(i as u32, j as u32, rsq < rc * rc) {
+                if self.offer(bt, i, xi, row, j as usize, 0) {
                     bt.flush(kernel, step, gather, &mut apply);
                 }
             }
