@@ -143,6 +143,20 @@ impl Atoms {
         self.tag.len()
     }
 
+    /// The C view of the atoms (per-type masses `MASS`).
+    fn c_atoms(&self) -> DpdnlAtoms {
+        DpdnlAtoms {
+            x: self.x.as_ptr(),
+            v: self.v.as_ptr(),
+            tag: self.tag.as_ptr(),
+            atom_type: self.ty.as_ptr(),
+            mass: MASS.as_ptr(),
+            rmass: null(),
+            nlocal: self.nlocal as i32,
+            nall: self.nall() as i32,
+        }
+    }
+
     /// A half list with newton on (each physical pair once) within `cut`.
     fn half_list(&self, cut: f64) -> Vec<Vec<i32>> {
         let rsq = |i: usize, j: usize| -> f64 {
@@ -168,6 +182,40 @@ impl Atoms {
     }
 }
 
+/// A LAMMPS neighbour list in C form: the rows `ilist` of `lists` (row k for atom k) and the
+/// arrays `view` points into, kept alive together.
+struct CList {
+    ilist: Vec<i32>,
+    numneigh: Vec<i32>,
+    firstneigh: Vec<*const i32>,
+}
+
+impl CList {
+    fn new(ilist: Vec<i32>, lists: &[Vec<i32>]) -> CList {
+        CList {
+            ilist,
+            numneigh: lists.iter().map(|l| l.len() as i32).collect(),
+            firstneigh: lists.iter().map(|l| l.as_ptr()).collect(),
+        }
+    }
+
+    /// The rows 0..n of `lists`.
+    fn first(n: usize, lists: &[Vec<i32>]) -> CList {
+        CList::new((0..n as i32).collect(), lists)
+    }
+
+    fn view(&self, neighmask: i32, full: bool) -> DpdnlNeighList {
+        DpdnlNeighList {
+            inum: self.ilist.len() as i32,
+            ilist: self.ilist.as_ptr(),
+            numneigh: self.numneigh.as_ptr(),
+            firstneigh: self.firstneigh.as_ptr(),
+            neighmask,
+            full: i32::from(full),
+        }
+    }
+}
+
 /// Forces (owned atoms, ghosts folded in), energy and virial of one evaluation.
 #[derive(Debug, PartialEq)]
 struct Out {
@@ -190,27 +238,9 @@ fn evaluate(
     ) -> DpdnlStatus,
 ) -> Out {
     let lists = a.half_list(cut);
-    let ilist: Vec<i32> = (0..a.nlocal as i32).collect();
-    let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
-    let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
-    let atoms = DpdnlAtoms {
-        x: a.x.as_ptr(),
-        v: a.v.as_ptr(),
-        tag: a.tag.as_ptr(),
-        atom_type: a.ty.as_ptr(),
-        mass: MASS.as_ptr(),
-        rmass: null(),
-        nlocal: a.nlocal as i32,
-        nall: a.nall() as i32,
-    };
-    let list = DpdnlNeighList {
-        inum: a.nlocal as i32,
-        ilist: ilist.as_ptr(),
-        numneigh: numneigh.as_ptr(),
-        firstneigh: firstneigh.as_ptr(),
-        neighmask: 0x3FFF_FFFF,
-        full: 0,
-    };
+    let rows = CList::first(a.nlocal, &lists);
+    let atoms = a.c_atoms();
+    let list = rows.view(0x3FFF_FFFF, false);
     let st = DpdnlStep {
         step: 7,
         dt: DT,
@@ -475,27 +505,9 @@ fn sdpd_prepass_is_the_direct_density_sum_and_forces_conserve_momentum() {
     let h = sdpd_handle();
     init(&h, 60, 27.0).expect("init");
     let lists = a.half_list(1.2);
-    let ilist: Vec<i32> = (0..a.nlocal as i32).collect();
-    let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
-    let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
-    let atoms = DpdnlAtoms {
-        x: a.x.as_ptr(),
-        v: a.v.as_ptr(),
-        tag: a.tag.as_ptr(),
-        atom_type: a.ty.as_ptr(),
-        mass: MASS.as_ptr(),
-        rmass: null(),
-        nlocal: a.nlocal as i32,
-        nall: a.nall() as i32,
-    };
-    let list = DpdnlNeighList {
-        inum: a.nlocal as i32,
-        ilist: ilist.as_ptr(),
-        numneigh: numneigh.as_ptr(),
-        firstneigh: firstneigh.as_ptr(),
-        neighmask: 0x3FFF_FFFF,
-        full: 0,
-    };
+    let rows = CList::first(a.nlocal, &lists);
+    let atoms = a.c_atoms();
+    let list = rows.view(0x3FFF_FFFF, false);
     let mut rho = vec![0.0; a.nall()];
     // SAFETY: arrays as documented.
     let st = unsafe { dpdnl_pair_prepass(h.0, &atoms, &list, 1, rho.as_mut_ptr()) };
@@ -621,27 +633,9 @@ fn bad_calls_give_codes_and_text() {
     assert_eq!(st, DpdnlStatus::NullPointer);
     let a = Atoms::new(5, 3.0, 1.2);
     let lists = a.half_list(1.2);
-    let ilist: Vec<i32> = (0..5).collect();
-    let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
-    let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
-    let atoms = DpdnlAtoms {
-        x: a.x.as_ptr(),
-        v: a.v.as_ptr(),
-        tag: a.tag.as_ptr(),
-        atom_type: a.ty.as_ptr(),
-        mass: MASS.as_ptr(),
-        rmass: null(),
-        nlocal: 5,
-        nall: a.nall() as i32,
-    };
-    let list = DpdnlNeighList {
-        inum: 5,
-        ilist: ilist.as_ptr(),
-        numneigh: numneigh.as_ptr(),
-        firstneigh: firstneigh.as_ptr(),
-        neighmask: 0x3FFF_FFFF,
-        full: 0,
-    };
+    let rows = CList::first(5, &lists);
+    let atoms = a.c_atoms();
+    let list = rows.view(0x3FFF_FFFF, false);
     let mut rho = vec![0.0; a.nall()];
     // SAFETY: arrays as documented.
     let st = unsafe { dpdnl_pair_prepass(d.0, &atoms, &list, 1, rho.as_mut_ptr()) };
@@ -715,27 +709,9 @@ fn special_bonds_scale_a_pair_or_leave_it_out() {
             unsafe { dpdnl_pair_init(h.0, &s, &mut rc) },
             DpdnlStatus::Ok
         );
-        let ilist: Vec<i32> = (0..a.nlocal as i32).collect();
-        let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
-        let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
-        let atoms = DpdnlAtoms {
-            x: a.x.as_ptr(),
-            v: a.v.as_ptr(),
-            tag: a.tag.as_ptr(),
-            atom_type: a.ty.as_ptr(),
-            mass: MASS.as_ptr(),
-            rmass: null(),
-            nlocal: a.nlocal as i32,
-            nall: a.nall() as i32,
-        };
-        let list = DpdnlNeighList {
-            inum: a.nlocal as i32,
-            ilist: ilist.as_ptr(),
-            numneigh: numneigh.as_ptr(),
-            firstneigh: firstneigh.as_ptr(),
-            neighmask: 0x1FFF_FFFF,
-            full: 0,
-        };
+        let rows = CList::first(a.nlocal, &lists);
+        let atoms = a.c_atoms();
+        let list = rows.view(0x1FFF_FFFF, false);
         let st = DpdnlStep {
             step: 7,
             dt: DT,
@@ -931,26 +907,9 @@ fn compute_threads(
         eatom: start(2, n),
         vatom: start(3, 6 * n),
     };
-    let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
-    let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
-    let atoms = DpdnlAtoms {
-        x: a.x.as_ptr(),
-        v: a.v.as_ptr(),
-        tag: a.tag.as_ptr(),
-        atom_type: a.ty.as_ptr(),
-        mass: MASS.as_ptr(),
-        rmass: null(),
-        nlocal: a.nlocal as i32,
-        nall: n as i32,
-    };
-    let list = DpdnlNeighList {
-        inum: ilist.len() as i32,
-        ilist: ilist.as_ptr(),
-        numneigh: numneigh.as_ptr(),
-        firstneigh: firstneigh.as_ptr(),
-        neighmask: 0x1FFF_FFFF,
-        full: i32::from(full),
-    };
+    let rows = CList::new(ilist.to_vec(), lists);
+    let atoms = a.c_atoms();
+    let list = rows.view(0x1FFF_FFFF, full);
     let st = DpdnlStep {
         step: 11,
         dt: DT,
