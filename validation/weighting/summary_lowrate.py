@@ -84,6 +84,8 @@ def collect():
                     "drel": sum(r[5] for r in sel) / len(sel),
                 }
             )
+    if not rows:
+        sys.exit(f"summary_lowrate.py: no runs of the low-rate study in {WORK} (run.sh sdpd-couette first)")
     with open(CSV, "w", newline="") as f:
         wr = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         wr.writeheader()
