@@ -117,8 +117,15 @@ impl Isa {
         })
     }
 
-    /// The best instruction set the CPU supports.
+    /// The best instruction set the CPU supports, probed once (the hot loops ask per batch
+    /// and per list row; ten feature tests each time were 1 % of the LAMMPS path's profile).
     pub fn best_supported() -> Isa {
+        static BEST: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *BEST.get_or_init(Isa::probe)
+    }
+
+    /// The CPU's feature tests behind [`Isa::best_supported`].
+    fn probe() -> Isa {
         #[cfg(target_arch = "x86_64")]
         {
             if std::arch::is_x86_feature_detected!("avx512f")
