@@ -9,6 +9,7 @@ use dpdnl::kernel::Isa;
 use dpdnl::{DpdKernel, PairBatch, PairKernel, PairTable};
 use rayon::prelude::*;
 
+use crate::working::WorkingList;
 use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
 
 /// Per-atom arrays of one MPI rank, owned atoms first then ghosts (LAMMPS layout).
@@ -50,6 +51,15 @@ pub struct DpdnlNeighList {
     pub neighmask: i32,
     /// 0: half list (each pair once); 1: full list (each pair seen from both atoms).
     pub full: i32,
+    /// Which build of the list this is (LAMMPS `neighbor->ncalls`), ≥ 1; 0 when unknown. While
+    /// it, the counts and the pointers stay the same, the list's entries must be unchanged: a
+    /// pair-style handle then keeps a working copy of the list's rows within the cut-off plus
+    /// a margin (a third of `skin`), refreshed when an atom has moved half the margin, and walks
+    /// that instead (the same pairs in the same order, so the same bits). 0: the list itself
+    /// is walked at every call. The low-level [`dpdnl_compute`] ignores it.
+    pub build: i64,
+    /// The list's skin (LAMMPS `neighbor->skin`), ≥ 0; only read when `build` ≥ 1.
+    pub skin: f64,
 }
 
 /// Step-level settings of one force evaluation.
@@ -160,7 +170,7 @@ pub(crate) unsafe fn compute(
     // SAFETY: forwarded caller's contract.
     unsafe {
         walk_pairs(
-            &kernel, &cut, p.ntypes, None, atoms, list, st, f, tally, None,
+            &kernel, &cut, p.ntypes, None, atoms, list, st, f, tally, None, None,
         )
     }
 }
@@ -212,7 +222,7 @@ pub(crate) unsafe fn for_each_row(
 ///
 /// # Safety
 /// As [`for_each_row`].
-unsafe fn list_ilist<'a>(list: &DpdnlNeighList) -> Result<&'a [i32], Error> {
+pub(crate) unsafe fn list_ilist<'a>(list: &DpdnlNeighList) -> Result<&'a [i32], Error> {
     if list.inum < 0 {
         return Err(Error::invalid(format!("inum = {} must be >= 0", list.inum)));
     }
@@ -231,7 +241,7 @@ unsafe fn list_ilist<'a>(list: &DpdnlNeighList) -> Result<&'a [i32], Error> {
 /// # Safety
 /// As [`for_each_row`], and `list_ilist(list)` succeeded.
 #[inline(always)]
-unsafe fn list_row<'a>(
+pub(crate) unsafe fn list_row<'a>(
     list: &DpdnlNeighList,
     i: i32,
     nall: usize,
@@ -251,7 +261,7 @@ unsafe fn list_row<'a>(
 /// true when some entry carries special-bond bits. One pass without early exit (a max and an
 /// or, in SIMD lanes): the per-row checks were two scalar searches, 5 % of the LAMMPS path.
 #[inline(always)]
-fn check_row(i: usize, jlist: &[i32], mask: usize, nall: usize) -> Result<bool, Error> {
+pub(crate) fn check_row(i: usize, jlist: &[i32], mask: usize, nall: usize) -> Result<bool, Error> {
     let mask = mask as u32;
     let (top, bits) = jlist.iter().fold((0u32, 0u32), |(top, bits), &j| {
         let u = j as u32;
@@ -338,18 +348,27 @@ impl Emit<'_> {
         self.buckets[(atom / self.chunk) as usize].push(Event { v, atom });
     }
 
+    /// The lanes of a batch, in order (the row's running force in locals, as in [`Sum`]).
     #[inline(always)]
-    fn pair(&mut self, i: u32, j: u32, fv: [f64; 3]) {
-        if self.row.is_some_and(|(r, _)| r != i) {
-            self.finish_row();
+    fn batch(&mut self, b: &PairBatch, is: &[u32], js: &[u32]) {
+        let mut row = self.row.take();
+        for (l, (&i, &j)) in is.iter().zip(js).enumerate() {
+            let fv = lane_force(b, l).1;
+            if let Some((r, fr)) = row
+                && r != i
+            {
+                self.push(r, fr);
+                row = None;
+            }
+            let fi = &mut row.get_or_insert((i, [0.0; 3])).1;
+            fi[0] += fv[0];
+            fi[1] += fv[1];
+            fi[2] += fv[2];
+            if self.half && (self.newton || j < self.nlocal) {
+                self.push(j, [-fv[0], -fv[1], -fv[2]]);
+            }
         }
-        let fi = &mut self.row.get_or_insert((i, [0.0; 3])).1;
-        fi[0] += fv[0];
-        fi[1] += fv[1];
-        fi[2] += fv[2];
-        if self.half && (self.newton || j < self.nlocal) {
-            self.push(j, [-fv[0], -fv[1], -fv[2]]);
-        }
+        self.row = row;
     }
 
     fn finish_row(&mut self) {
@@ -430,66 +449,71 @@ struct Walk<'a> {
 }
 
 impl Walk<'_> {
-    #[inline(always)]
-    fn inv_m(&self, i: usize) -> f64 {
-        if self.per_atom {
-            self.inv_mass[i]
-        } else {
-            self.inv_mass[self.ty[i] as usize - 1]
-        }
-    }
-
     /// Candidate j of row i (position `xi`, `row` = type(i) (ntypes + 1)), with its
-    /// coefficients `extra` past its type pair's (a special class's block), written to the next
-    /// lane; only a pair in range keeps it (the kernel checks again): with several types some
-    /// candidates are beyond their pair's cut-off, and a branch would be mispredicted. The rest
-    /// of the lane (velocities, masses, tags) is gathered for the kept pairs only, at the flush.
-    /// True when the batch is full and must be flushed.
+    /// coefficients `extra` past its type pair's (a special class's block), written to lane `l`
+    /// of `b` ([`Batcher::extend`]'s `fill`); only a pair in range is kept (the kernel checks
+    /// again): with several types some candidates are beyond their pair's cut-off, and a branch
+    /// would be mispredicted. The rest of the lane (velocities, masses, tags) is gathered for
+    /// the kept pairs only, at the flush.
     #[inline(always)]
     fn offer(
         &self,
-        bt: &mut Batcher,
-        i: usize,
-        xi: [f64; 3],
-        row: usize,
+        b: &mut PairBatch,
+        l: usize,
+        (i, xi, row): (usize, [f64; 3], usize),
         j: usize,
         extra: usize,
-    ) -> bool {
+    ) -> (u32, u32, bool) {
         let x = self.x;
         let k = row + self.ty[j] as usize;
         let rc = self.cut[k];
         let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
         let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-        let l = bt.lane();
-        for (lane, &c) in bt.batch.dr.iter_mut().zip(&dr) {
+        for (lane, &c) in b.dr.iter_mut().zip(&dr) {
             lane[l] = c;
         }
-        bt.batch.coeff[l] = (k + extra) as u32;
-        bt.commit(i as u32, j as u32, rsq < rc * rc)
+        b.coeff[l] = (k + extra) as u32;
+        (i as u32, j as u32, rsq < rc * rc)
     }
 
     /// The rows `rows` (atom, raw entries), in order, each checked: every pair in range
-    /// through the kernel, handed to `apply(batch, lane, i, j)` in list order; the last batch is
-    /// flushed.
+    /// through the kernel, handed batch by batch to `apply(batch, i, j)` (lane l: atoms
+    /// `i[l]`, `j[l]`) in list order; the last batch is flushed.
     #[inline(always)]
     fn rows<'r>(
         &self,
         rows: impl Iterator<Item = Result<(usize, &'r [i32]), Error>>,
         bt: &mut Batcher,
         near: &mut Vec<u32>,
-        mut apply: impl FnMut(&PairBatch, usize, usize, usize),
+        mut apply: impl FnMut(&PairBatch, &[u32], &[u32]),
     ) -> Result<(), Error> {
         let (x, ty, nt, mask) = (self.x, self.ty, self.nt, self.mask);
         let kernel = self.kernel;
         let step = self.step;
         // The lanes' v_ij, 1/m_i + 1/m_j and tags (r_ij and the coefficient index are in place).
-        let gather = |b: &mut PairBatch, l: usize, i: usize, j: usize| {
-            for d in 0..3 {
-                b.dv[d][l] = self.v[3 * i + d] - self.v[3 * j + d];
+        let (v, tag, inv_mass, per_atom) = (self.v, self.tag, &self.inv_mass[..], self.per_atom);
+        let mut gather = |b: &mut PairBatch, l: usize, i: usize, j: usize| {
+            debug_assert!(i < self.nall && j < self.nall && l < b.len);
+            // SAFETY: i and j are below nall: i from `list_row`, j from a row `check_row`
+            // passed. `v` holds 3 nall values and `tag` and `ty` nall (`walk_pairs`); every type
+            // is in 1..=ntypes (checked by `walk_pairs`) and `inv_mass` holds ntypes values, or
+            // nall when `per_atom`. Without the checks the gather is 10 % faster (the shim's pair
+            // time at n = 16).
+            unsafe {
+                let inv_m = |a: usize| {
+                    if per_atom {
+                        *inv_mass.get_unchecked(a)
+                    } else {
+                        *inv_mass.get_unchecked(*ty.get_unchecked(a) as usize - 1)
+                    }
+                };
+                for d in 0..3 {
+                    b.dv[d][l] = v.get_unchecked(3 * i + d) - v.get_unchecked(3 * j + d);
+                }
+                b.inv_mass_sum[l] = inv_m(i) + inv_m(j);
+                b.tag_i[l] = *tag.get_unchecked(i) as u32;
+                b.tag_j[l] = *tag.get_unchecked(j) as u32;
             }
-            b.inv_mass_sum[l] = self.inv_m(i) + self.inv_m(j);
-            b.tag_i[l] = self.tag[i] as u32;
-            b.tag_j[l] = self.tag[j] as u32;
         };
         let block = (nt + 1) * (nt + 1);
         for r in rows {
@@ -499,20 +523,17 @@ impl Walk<'_> {
             let row = ty[i] as usize * (nt + 1);
             // A row with bonded neighbours: each entry with its special class, in list order
             // (rows without them take the filtered pass below).
+            let at = (i, xi, row);
             if let Some(sp) = self.special
                 && bonded
             {
-                for &jr in jlist {
+                let kept = jlist.iter().filter(|&&jr| sp.lj[special_class(jr)] != 0.0);
+                let fill = |b: &mut PairBatch, l, &jr: &i32| {
                     let class = special_class(jr);
-                    if sp.lj[class] == 0.0 {
-                        continue;
-                    }
-                    let j = jr as u32 as usize & mask;
                     let extra = if sp.scaled { class * block } else { 0 };
-                    if self.offer(bt, i, xi, row, j, extra) {
-                        bt.flush(kernel, step, gather, &mut apply);
-                    }
-                }
+                    self.offer(b, l, at, jr as u32 as usize & mask, extra)
+                };
+                bt.extend(kept, fill, kernel, step, &mut gather, &mut apply);
                 continue;
             }
             let n = within_cut(
@@ -524,11 +545,8 @@ impl Walk<'_> {
                 self.row_cutsq[ty[i] as usize],
                 near,
             );
-            for &j in &near[..n] {
-                if self.offer(bt, i, xi, row, j as usize, 0) {
-                    bt.flush(kernel, step, gather, &mut apply);
-                }
-            }
+            let fill = |b: &mut PairBatch, l, &j: &u32| self.offer(b, l, at, j as usize, 0);
+            bt.extend(&near[..n], fill, kernel, step, &mut gather, &mut apply);
         }
         bt.flush(kernel, step, gather, &mut apply);
         Ok(())
@@ -545,7 +563,8 @@ impl Walk<'_> {
 /// and every pair has its full strength.
 ///
 /// With `workers` of 2 or more threads the rows are evaluated in parallel and added in list
-/// order ([`Workers`]): the same bits as one thread.
+/// order ([`Workers`]): the same bits as one thread. With `working`, the rows of its copy of
+/// the list are walked when it has one ([`WorkingList`]): the same pairs in the same order.
 ///
 /// # Safety
 /// As [`dpdnl_compute`].
@@ -561,6 +580,7 @@ pub(crate) unsafe fn walk_pairs(
     f: *mut f64,
     tally: Option<DpdnlTally>,
     workers: Option<&mut Workers>,
+    working: Option<&mut WorkingList>,
 ) -> Result<(), Error> {
     let (nlocal, nall) = counts(st, atoms)?;
     let nt = ntypes;
@@ -630,17 +650,29 @@ pub(crate) unsafe fn walk_pairs(
     };
     // SAFETY: `list` as documented (caller's contract).
     let ilist = unsafe { list_ilist(list)? };
+    // SAFETY: `list` as documented, `list_ilist` succeeded; `x` and `ty` hold nall entries,
+    // every type an index of `row_cutsq` (checked above).
+    let copy = match working {
+        Some(w) => {
+            unsafe { w.prepare(list, ilist, x, ty, &walk.row_cutsq, nlocal, nall)? }.then_some(&*w)
+        }
+        None => None,
+    };
     // SAFETY: `list` as documented, `list_ilist` succeeded (caller's contract).
     let row = |&i: &i32| unsafe { list_row(list, i, nall) };
+    let rows = || match copy {
+        Some(w) => Rows::Copy(w.rows().map(Ok)),
+        None => Rows::List(ilist.iter().map(row)),
+    };
     match workers {
         Some(w) if w.threads() > 1 && !ilist.is_empty() => {
-            let rows = ilist.iter().map(row).collect::<Result<Vec<_>, Error>>()?;
+            let rows = rows().collect::<Result<Vec<_>, Error>>()?;
             threaded(&walk, w, &rows, f, &mut sinks, flags)
         }
         // A force-only step: the lean sums of `Sum`, one copy per side-of-j rule.
         _ if !sinks.any() => {
             let (mut bt, mut near) = (Batcher::default(), Vec::new());
-            let rows = ilist.iter().map(row);
+            let rows = rows();
             match (flags.full, flags.newton) {
                 (true, _) => Sum::<J_NEVER>::walk(&walk, rows, f, flags, &mut bt, &mut near),
                 (false, true) => Sum::<J_ALWAYS>::walk(&walk, rows, f, flags, &mut bt, &mut near),
@@ -654,11 +686,35 @@ pub(crate) unsafe fn walk_pairs(
             // is formed in the same order.
             let mut apply = Apply::new(f, 0, &mut sinks, flags);
             let (mut bt, mut near) = (Batcher::default(), Vec::new());
-            walk.rows(ilist.iter().map(row), &mut bt, &mut near, |b, l, i, j| {
-                apply.lane(b, l, i, j)
+            walk.rows(rows(), &mut bt, &mut near, |b, is, js| {
+                for (l, (&i, &j)) in is.iter().zip(js).enumerate() {
+                    apply.lane(b, l, i as usize, j as usize);
+                }
             })?;
             apply.finish_row();
             Ok(())
+        }
+    }
+}
+
+/// The rows of a walk: LAMMPS's list, or the working copy of it.
+enum Rows<L, C> {
+    List(L),
+    Copy(C),
+}
+
+impl<'r, L, C> Iterator for Rows<L, C>
+where
+    L: Iterator<Item = Result<(usize, &'r [i32]), Error>>,
+    C: Iterator<Item = Result<(usize, &'r [i32]), Error>>,
+{
+    type Item = Result<(usize, &'r [i32]), Error>;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<Self::Item> {
+        match self {
+            Rows::List(l) => l.next(),
+            Rows::Copy(c) => c.next(),
         }
     }
 }
@@ -697,37 +753,46 @@ impl<'a, const J: u8> Sum<'a, J> {
             i: usize::MAX,
             fi: [0.0; 3],
         };
-        walk.rows(rows, bt, near, |b, l, i, j| sum.lane(b, l, i, j))?;
-        sum.finish_row();
+        walk.rows(rows, bt, near, |b, is, js| sum.batch(b, is, js))?;
+        let (i, fi) = (sum.i, sum.fi);
+        add_row(sum.f, i, fi);
         Ok(())
     }
 
+    /// The lanes of a batch, in order (the row's running force in locals).
     #[inline(always)]
-    fn lane(&mut self, b: &PairBatch, l: usize, i: usize, j: usize) {
-        let (_, fv) = lane_force(b, l);
-        if i != self.i {
-            self.finish_row();
-            self.i = i;
+    fn batch(&mut self, b: &PairBatch, is: &[u32], js: &[u32]) {
+        let f = &mut *self.f;
+        let (mut cur, mut fi) = (self.i, self.fi);
+        for (l, (&i, &j)) in is.iter().zip(js).enumerate() {
+            let (i, j) = (i as usize, j as usize);
+            let (_, fv) = lane_force(b, l);
+            if i != cur {
+                add_row(f, cur, fi);
+                (cur, fi) = (i, [0.0; 3]);
+            }
+            fi[0] += fv[0];
+            fi[1] += fv[1];
+            fi[2] += fv[2];
+            if J == J_ALWAYS || (J == J_OWNED && j < self.nlocal) {
+                let fj = &mut f[3 * j..3 * j + 3];
+                fj[0] -= fv[0];
+                fj[1] -= fv[1];
+                fj[2] -= fv[2];
+            }
         }
-        self.fi[0] += fv[0];
-        self.fi[1] += fv[1];
-        self.fi[2] += fv[2];
-        if J == J_ALWAYS || (J == J_OWNED && j < self.nlocal) {
-            let fj = &mut self.f[3 * j..3 * j + 3];
-            fj[0] -= fv[0];
-            fj[1] -= fv[1];
-            fj[2] -= fv[2];
-        }
+        (self.i, self.fi) = (cur, fi);
     }
+}
 
-    fn finish_row(&mut self) {
-        if self.i != usize::MAX {
-            let fi = &mut self.f[3 * self.i..3 * self.i + 3];
-            fi[0] += self.fi[0];
-            fi[1] += self.fi[1];
-            fi[2] += self.fi[2];
-            self.fi = [0.0; 3];
-        }
+/// A finished row of [`Sum`]: `f[i] += fi` (nothing before the first row, `i = usize::MAX`).
+#[inline(always)]
+fn add_row(f: &mut [f64], i: usize, fi: [f64; 3]) {
+    if i != usize::MAX {
+        let fi_ = &mut f[3 * i..3 * i + 3];
+        fi_[0] += fi[0];
+        fi_[1] += fi[1];
+        fi_[2] += fi[2];
     }
 }
 
@@ -799,18 +864,16 @@ fn threaded(
                     b.pairs.clear();
                     b.tally.clear();
                     let (pairs, tally) = (&mut b.pairs, &mut b.tally);
-                    walk.rows(rows, &mut b.bt, &mut b.near, |bt, l, i, j| {
-                        let (dr, fv) = lane_force(bt, l);
-                        pairs.push(PairRec {
-                            i: i as u32,
-                            j: j as u32,
-                            f: fv,
-                        });
-                        tally.push(TallyRec {
-                            energy: bt.energy[l],
-                            fpair: bt.fpair[l],
-                            dr,
-                        });
+                    walk.rows(rows, &mut b.bt, &mut b.near, |bt, is, js| {
+                        for (l, (&i, &j)) in is.iter().zip(js).enumerate() {
+                            let (dr, fv) = lane_force(bt, l);
+                            pairs.push(PairRec { i, j, f: fv });
+                            tally.push(TallyRec {
+                                energy: bt.energy[l],
+                                fpair: bt.fpair[l],
+                                dr,
+                            });
+                        }
                     })
                 } else {
                     b.events.resize_with(ntasks, Vec::new);
@@ -823,8 +886,8 @@ fn threaded(
                         nlocal: flags.nlocal as u32,
                         row: None,
                     };
-                    let r = walk.rows(rows, &mut b.bt, &mut b.near, |bt, l, i, j| {
-                        emit.pair(i as u32, j as u32, lane_force(bt, l).1);
+                    let r = walk.rows(rows, &mut b.bt, &mut b.near, |bt, is, js| {
+                        emit.batch(bt, is, js)
                     });
                     emit.finish_row();
                     r

@@ -48,7 +48,7 @@ impl PairKernel for DpdKernel<'_> {
 /// hand) into [`Batcher::batch`], then [`Batcher::commit`]s it, kept or not: a lane that is
 /// not kept is overwritten by the next pair, so the append needs no branch. A full batch is
 /// [`Batcher::flush`]ed: `gather` completes each kept lane, the kernel evaluates it, and
-/// `apply` receives every lane in order.
+/// `apply` receives the batch with every lane's atoms, to add the lanes in order.
 #[derive(Clone, Debug)]
 pub struct Batcher {
     /// The lanes.
@@ -85,15 +85,48 @@ impl Batcher {
         self.batch.len == BATCH
     }
 
+    /// [`Batcher::commit`] for each of `items`, in order: `fill(batch, lane, item)` writes the
+    /// lane (`dr`, `coeff`, ...) and returns the pair's atoms (i, j) and whether it is kept;
+    /// full batches are [`Batcher::flush`]ed on the way (`kernel`, `step`, `gather`, `apply`
+    /// as there). The lane count stays in a register through the loop: committing pair by
+    /// pair stored and reloaded it, a store-to-load chain per candidate.
+    #[inline(always)]
+    pub fn extend<T, K: PairKernel + ?Sized>(
+        &mut self,
+        items: impl IntoIterator<Item = T>,
+        mut fill: impl FnMut(&mut PairBatch, usize, T) -> (u32, u32, bool),
+        kernel: &K,
+        step: u64,
+        gather: &mut impl FnMut(&mut PairBatch, usize, usize, usize),
+        apply: &mut impl FnMut(&PairBatch, &[u32], &[u32]),
+    ) {
+        let mut len = self.batch.len;
+        for item in items {
+            let (i, j, keep) = fill(&mut self.batch, len, item);
+            self.i[len] = i;
+            self.j[len] = j;
+            len += usize::from(keep);
+            if len == BATCH {
+                self.batch.len = len;
+                self.flush(kernel, step, &mut *gather, &mut *apply);
+                len = 0;
+            }
+        }
+        self.batch.len = len;
+    }
+
     /// Complete the kept lanes with `gather(batch, lane, i, j)`, evaluate them with `kernel`
-    /// at `step`, pass each to `apply(batch, lane, i, j)` in lane order, and empty the batch.
+    /// at `step`, pass the batch to `apply(batch, i, j)` (lane l: atoms `i[l]`, `j[l]`), and
+    /// empty the batch. One call per batch, so that the caller's running sums (a row's force)
+    /// live in registers through its loop over the lanes rather than in memory behind a
+    /// pointer: a per-lane closure kept them in memory, a store-to-load chain per lane.
     #[inline]
     pub fn flush<K: PairKernel + ?Sized>(
         &mut self,
         kernel: &K,
         step: u64,
         mut gather: impl FnMut(&mut PairBatch, usize, usize, usize),
-        mut apply: impl FnMut(&PairBatch, usize, usize, usize),
+        mut apply: impl FnMut(&PairBatch, &[u32], &[u32]),
     ) {
         let n = self.batch.len;
         if n == 0 {
@@ -104,9 +137,7 @@ impl Batcher {
             gather(b, l, self.i[l] as usize, self.j[l] as usize);
         }
         kernel.evaluate(step, b, &self.i[..n], &self.j[..n]);
-        for l in 0..n {
-            apply(b, l, self.i[l] as usize, self.j[l] as usize);
-        }
+        apply(b, &self.i[..n], &self.j[..n]);
         self.batch.len = 0;
     }
 }
