@@ -1200,8 +1200,8 @@ fn the_working_copy_of_the_list_gives_the_same_bits_as_the_list() {
             })
             .collect();
         for g in 0..a.nall() {
-            for d in 0..3 {
-                a.x[3 * g + d] += step[a.owner[g]][d];
+            for (x, s) in a.x[3 * g..3 * g + 3].iter_mut().zip(step[a.owner[g]]) {
+                *x += s;
             }
         }
     }
