@@ -80,6 +80,15 @@ typedef struct DpdnlNeighList {
   int32_t neighmask;
   // 0: half list (each pair once); 1: full list (each pair seen from both atoms).
   int32_t full;
+  // Which build of the list this is (LAMMPS `neighbor->ncalls`), ≥ 1; 0 when unknown. While
+  // it, the counts and the pointers stay the same, the list's entries must be unchanged: a
+  // pair-style handle then keeps a working copy of the list's rows within the cut-off plus
+  // a margin (a third of `skin`), refreshed when an atom has moved half the margin, and walks
+  // that instead (the same pairs in the same order, so the same bits). 0: the list itself
+  // is walked at every call. The low-level [`dpdnl_compute`] ignores it.
+  int64_t build;
+  // The list's skin (LAMMPS `neighbor->skin`), ≥ 0; only read when `build` ≥ 1.
+  double skin;
 } DpdnlNeighList;
 
 // Step-level settings of one force evaluation.

@@ -9,6 +9,7 @@ use dpdnl::kernel::Isa;
 use dpdnl::{DpdKernel, PairBatch, PairKernel, PairTable};
 use rayon::prelude::*;
 
+use crate::working::WorkingList;
 use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
 
 /// Per-atom arrays of one MPI rank, owned atoms first then ghosts (LAMMPS layout).
@@ -50,6 +51,15 @@ pub struct DpdnlNeighList {
     pub neighmask: i32,
     /// 0: half list (each pair once); 1: full list (each pair seen from both atoms).
     pub full: i32,
+    /// Which build of the list this is (LAMMPS `neighbor->ncalls`), ≥ 1; 0 when unknown. While
+    /// it, the counts and the pointers stay the same, the list's entries must be unchanged: a
+    /// pair-style handle then keeps a working copy of the list's rows within the cut-off plus
+    /// a margin (a third of `skin`), refreshed when an atom has moved half the margin, and walks
+    /// that instead (the same pairs in the same order, so the same bits). 0: the list itself
+    /// is walked at every call. The low-level [`dpdnl_compute`] ignores it.
+    pub build: i64,
+    /// The list's skin (LAMMPS `neighbor->skin`), ≥ 0; only read when `build` ≥ 1.
+    pub skin: f64,
 }
 
 /// Step-level settings of one force evaluation.
@@ -160,7 +170,7 @@ pub(crate) unsafe fn compute(
     // SAFETY: forwarded caller's contract.
     unsafe {
         walk_pairs(
-            &kernel, &cut, p.ntypes, None, atoms, list, st, f, tally, None,
+            &kernel, &cut, p.ntypes, None, atoms, list, st, f, tally, None, None,
         )
     }
 }
@@ -212,7 +222,7 @@ pub(crate) unsafe fn for_each_row(
 ///
 /// # Safety
 /// As [`for_each_row`].
-unsafe fn list_ilist<'a>(list: &DpdnlNeighList) -> Result<&'a [i32], Error> {
+pub(crate) unsafe fn list_ilist<'a>(list: &DpdnlNeighList) -> Result<&'a [i32], Error> {
     if list.inum < 0 {
         return Err(Error::invalid(format!("inum = {} must be >= 0", list.inum)));
     }
@@ -231,7 +241,7 @@ unsafe fn list_ilist<'a>(list: &DpdnlNeighList) -> Result<&'a [i32], Error> {
 /// # Safety
 /// As [`for_each_row`], and `list_ilist(list)` succeeded.
 #[inline(always)]
-unsafe fn list_row<'a>(
+pub(crate) unsafe fn list_row<'a>(
     list: &DpdnlNeighList,
     i: i32,
     nall: usize,
@@ -251,7 +261,7 @@ unsafe fn list_row<'a>(
 /// true when some entry carries special-bond bits. One pass without early exit (a max and an
 /// or, in SIMD lanes): the per-row checks were two scalar searches, 5 % of the LAMMPS path.
 #[inline(always)]
-fn check_row(i: usize, jlist: &[i32], mask: usize, nall: usize) -> Result<bool, Error> {
+pub(crate) fn check_row(i: usize, jlist: &[i32], mask: usize, nall: usize) -> Result<bool, Error> {
     let mask = mask as u32;
     let (top, bits) = jlist.iter().fold((0u32, 0u32), |(top, bits), &j| {
         let u = j as u32;
@@ -553,7 +563,8 @@ impl Walk<'_> {
 /// and every pair has its full strength.
 ///
 /// With `workers` of 2 or more threads the rows are evaluated in parallel and added in list
-/// order ([`Workers`]): the same bits as one thread.
+/// order ([`Workers`]): the same bits as one thread. With `working`, the rows of its copy of
+/// the list are walked when it has one ([`WorkingList`]): the same pairs in the same order.
 ///
 /// # Safety
 /// As [`dpdnl_compute`].
@@ -569,6 +580,7 @@ pub(crate) unsafe fn walk_pairs(
     f: *mut f64,
     tally: Option<DpdnlTally>,
     workers: Option<&mut Workers>,
+    working: Option<&mut WorkingList>,
 ) -> Result<(), Error> {
     let (nlocal, nall) = counts(st, atoms)?;
     let nt = ntypes;
@@ -638,17 +650,29 @@ pub(crate) unsafe fn walk_pairs(
     };
     // SAFETY: `list` as documented (caller's contract).
     let ilist = unsafe { list_ilist(list)? };
+    // SAFETY: `list` as documented, `list_ilist` succeeded; `x` and `ty` hold nall entries,
+    // every type an index of `row_cutsq` (checked above).
+    let copy = match working {
+        Some(w) => {
+            unsafe { w.prepare(list, ilist, x, ty, &walk.row_cutsq, nlocal, nall)? }.then_some(&*w)
+        }
+        None => None,
+    };
     // SAFETY: `list` as documented, `list_ilist` succeeded (caller's contract).
     let row = |&i: &i32| unsafe { list_row(list, i, nall) };
+    let rows = || match copy {
+        Some(w) => Rows::Copy(w.rows().map(Ok)),
+        None => Rows::List(ilist.iter().map(row)),
+    };
     match workers {
         Some(w) if w.threads() > 1 && !ilist.is_empty() => {
-            let rows = ilist.iter().map(row).collect::<Result<Vec<_>, Error>>()?;
+            let rows = rows().collect::<Result<Vec<_>, Error>>()?;
             threaded(&walk, w, &rows, f, &mut sinks, flags)
         }
         // A force-only step: the lean sums of `Sum`, one copy per side-of-j rule.
         _ if !sinks.any() => {
             let (mut bt, mut near) = (Batcher::default(), Vec::new());
-            let rows = ilist.iter().map(row);
+            let rows = rows();
             match (flags.full, flags.newton) {
                 (true, _) => Sum::<J_NEVER>::walk(&walk, rows, f, flags, &mut bt, &mut near),
                 (false, true) => Sum::<J_ALWAYS>::walk(&walk, rows, f, flags, &mut bt, &mut near),
@@ -662,13 +686,35 @@ pub(crate) unsafe fn walk_pairs(
             // is formed in the same order.
             let mut apply = Apply::new(f, 0, &mut sinks, flags);
             let (mut bt, mut near) = (Batcher::default(), Vec::new());
-            walk.rows(ilist.iter().map(row), &mut bt, &mut near, |b, is, js| {
+            walk.rows(rows(), &mut bt, &mut near, |b, is, js| {
                 for (l, (&i, &j)) in is.iter().zip(js).enumerate() {
                     apply.lane(b, l, i as usize, j as usize);
                 }
             })?;
             apply.finish_row();
             Ok(())
+        }
+    }
+}
+
+/// The rows of a walk: LAMMPS's list, or the working copy of it.
+enum Rows<L, C> {
+    List(L),
+    Copy(C),
+}
+
+impl<'r, L, C> Iterator for Rows<L, C>
+where
+    L: Iterator<Item = Result<(usize, &'r [i32]), Error>>,
+    C: Iterator<Item = Result<(usize, &'r [i32]), Error>>,
+{
+    type Item = Result<(usize, &'r [i32]), Error>;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<Self::Item> {
+        match self {
+            Rows::List(l) => l.next(),
+            Rows::Copy(c) => c.next(),
         }
     }
 }

@@ -31,6 +31,7 @@ mod compute;
 mod init;
 mod pair;
 mod styles;
+mod working;
 pub use compute::*;
 pub use init::*;
 pub use pair::*;

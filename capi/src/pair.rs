@@ -23,6 +23,7 @@ use dpdnl::{PairStyle, SetupContext, new_pair_style};
 use crate::compute::{Special, Workers, for_each_row, special_class, walk_pairs};
 use crate::init::set_last_message;
 use crate::styles::{put, words};
+use crate::working::WorkingList;
 use crate::{
     DpdnlAtoms, DpdnlNeighList, DpdnlStatus, DpdnlStep, DpdnlTally, Error, c_str, guard, slice,
     slice_mut,
@@ -39,6 +40,8 @@ pub struct DpdnlPair {
     text: Vec<u8>,
     /// The threads of [`dpdnl_pair_compute`] when more than one ([`dpdnl_pair_threads`]).
     workers: Option<Workers>,
+    /// The working copy of the LAMMPS list of [`dpdnl_pair_compute`].
+    working: WorkingList,
 }
 
 /// What a style needs from its C++ driver.
@@ -149,6 +152,7 @@ unsafe fn emit(out: *mut *mut DpdnlPair, style: Box<dyn PairStyle>) -> Result<()
         typ: Vec::new(),
         text: Vec::new(),
         workers: None,
+        working: WorkingList::default(),
     });
     // SAFETY: forwarded caller's contract.
     unsafe { put(out, Box::into_raw(h)) }
@@ -673,6 +677,7 @@ pub unsafe extern "C" fn dpdnl_pair_compute(
                 f,
                 t,
                 workers,
+                Some(&mut h.working),
             )
         }
     })

@@ -266,6 +266,8 @@ fn run(p: &Params, s: &System, kind: ListKind, cut: f64, step: i64) -> Result {
         firstneigh: firstneigh.as_ptr(),
         neighmask: 0x3FFF_FFFF,
         full: (kind == ListKind::Full) as i32,
+        build: 0,
+        skin: 0.0,
     };
     let st = DpdnlStep {
         step,
@@ -520,6 +522,8 @@ fn bad_compute_arguments_give_codes_and_text() {
         ilist: ilist.as_ptr(),
         numneigh: numneigh.as_ptr(),
         firstneigh: firstneigh.as_ptr(),
+        build: 0,
+        skin: 0.0,
         neighmask: 0x3FFF_FFFF,
         full: 0,
     };

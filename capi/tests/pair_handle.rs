@@ -212,6 +212,8 @@ impl CList {
             firstneigh: self.firstneigh.as_ptr(),
             neighmask,
             full: i32::from(full),
+            build: 0,
+            skin: 0.0,
         }
     }
 }
@@ -893,6 +895,34 @@ fn compute_threads(
     threads: i32,
     tallies: bool,
 ) -> Sums {
+    let rows = CList::new(ilist.to_vec(), lists);
+    compute_list(
+        h,
+        a,
+        &rows,
+        (full, newton),
+        values,
+        threads,
+        tallies,
+        (0, 0.0),
+        11,
+    )
+}
+
+/// [`compute_threads`] with the list's build number and skin (`copy`: LAMMPS's
+/// `neighbor->ncalls` and `skin`; 0 walks the list itself) at `step`.
+#[allow(clippy::too_many_arguments)]
+fn compute_list(
+    h: &Handle,
+    a: &Atoms,
+    rows: &CList,
+    (full, newton): (bool, bool),
+    values: &[f64],
+    threads: i32,
+    tallies: bool,
+    copy: (i64, f64),
+    step: i64,
+) -> Sums {
     // SAFETY: a live handle.
     let st = unsafe { dpdnl_pair_threads(h.0, threads) };
     assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
@@ -907,11 +937,14 @@ fn compute_threads(
         eatom: start(2, n),
         vatom: start(3, 6 * n),
     };
-    let rows = CList::new(ilist.to_vec(), lists);
     let atoms = a.c_atoms();
-    let list = rows.view(0x1FFF_FFFF, full);
+    let list = DpdnlNeighList {
+        build: copy.0,
+        skin: copy.1,
+        ..rows.view(0x1FFF_FFFF, full)
+    };
     let st = DpdnlStep {
-        step: 11,
+        step,
         dt: DT,
         newton_pair: i32::from(newton),
         dimension: 3,
@@ -1059,4 +1092,118 @@ fn threads_give_the_same_bits_as_one() {
         assert_eq!(st, DpdnlStatus::InvalidArgument);
         assert!(last_error().contains("threads"), "{}", last_error());
     }
+}
+
+#[test]
+fn the_working_copy_of_the_list_gives_the_same_bits_as_the_list() {
+    // A LAMMPS list of skin 0.6 (cut-off 1.2) taken once, then 60 calls while the atoms move:
+    // slowly (0.006 a call at most), and atom 0 straight at an atom 1.65 away, which is in the
+    // list but beyond the copy's margin (0.2) when the copy is first taken (call 11), so the
+    // pair comes into range (calls 23-33) only through the copy's refreshes. At call 45 the
+    // list is built again (a new build number).
+    // A handle that keeps the copy (build >= 1) against one that walks the list (build 0),
+    // on 1 and 2 threads, force-only and tallied calls: every bit the same.
+    let skin = 0.6;
+    let mut a = Atoms::new(900, 6.0, 1.2 + skin);
+    let n = a.nlocal;
+    let ilist: Vec<i32> = (0..n as i32).collect();
+    let dist = |a: &Atoms, i: usize, j: usize| -> f64 {
+        (0..3)
+            .map(|d| (a.x[3 * i + d] - a.x[3 * j + d]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let target = (1..a.nall())
+        .filter(|&j| a.owner[j] != 0)
+        .min_by(|&p, &q| {
+            (dist(&a, 0, p) - 1.65)
+                .abs()
+                .total_cmp(&(dist(&a, 0, q) - 1.65).abs())
+        })
+        .expect("a partner");
+    let r0 = dist(&a, 0, target);
+    assert!((1.55..1.75).contains(&r0), "partner at {r0}");
+    let toward: Vec<f64> = (0..3)
+        .map(|d| (a.x[3 * target + d] - a.x[d]) / r0)
+        .collect();
+    let setup = |h: &Handle| {
+        let s = DpdnlSetup {
+            dimension: 3,
+            natoms: n as i64,
+            volume: 216.0,
+            mass: MASS.as_ptr(),
+            dt: DT,
+            euler: 0,
+            special_lj: null(),
+        };
+        let mut rc = 0.0;
+        // SAFETY: a live handle; `s` valid.
+        let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
+        assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
+    };
+    let (plain, copying) = (dpd_handle("dot", "twostep"), dpd_handle("dot", "twostep"));
+    setup(&plain);
+    setup(&copying);
+    // The list's arrays stay where they are until it is built again, as in LAMMPS (a copy is
+    // kept only while the pointers are the same).
+    let mut lists = a.half_list(1.2 + skin);
+    let mut rows = CList::new(ilist.clone(), &lists);
+    let mut build = 1;
+    let mut in_range = false;
+    for call in 0..60i64 {
+        if call == 45 {
+            lists = a.half_list(1.2 + skin);
+            rows = CList::new(ilist.clone(), &lists);
+            build += 1;
+        }
+        let threads = if call % 20 < 10 { 1 } else { 2 };
+        let tallies = call % 3 == 0;
+        let want = compute_list(
+            &plain,
+            &a,
+            &rows,
+            (false, true),
+            &[],
+            threads,
+            tallies,
+            (0, 0.0),
+            call,
+        );
+        let got = compute_list(
+            &copying,
+            &a,
+            &rows,
+            (false, true),
+            &[],
+            threads,
+            tallies,
+            (build, skin),
+            call,
+        );
+        assert!(
+            got.bits() == want.bits(),
+            "call {call} ({threads} threads, tallies {tallies}): the copy's walk differs"
+        );
+        in_range |= dist(&a, 0, target) < 1.0;
+        // Move: every owner by up to 0.006 per axis, atom 0 by 0.02 towards its partner; each
+        // ghost with its owner.
+        let step: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let k = (i as u32) * 3 + call as u32 * 7919;
+                let mut d = [0, 1, 2].map(|c| uniform(k, 300 + c, -0.006, 0.006));
+                if i == 0 {
+                    for (c, t) in d.iter_mut().zip(&toward) {
+                        *c = 0.02 * t;
+                    }
+                }
+                d
+            })
+            .collect();
+        for g in 0..a.nall() {
+            for (x, s) in a.x[3 * g..3 * g + 3].iter_mut().zip(step[a.owner[g]]) {
+                *x += s;
+            }
+        }
+    }
+    assert!(in_range, "atom 0 never reached its partner's cut-off");
 }

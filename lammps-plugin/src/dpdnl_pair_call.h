@@ -57,6 +57,10 @@ inline PairCall fill(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::NeighList *list, bool rm
   c.nl.firstneigh = list->firstneigh;
   c.nl.neighmask = NEIGHMASK;
   c.nl.full = 0;
+  // Which build of the list this is, and the skin: Rust keeps a working copy of the list
+  // between builds (DpdnlNeighList::build).
+  c.nl.build = lmp->neighbor->ncalls;
+  c.nl.skin = lmp->neighbor->skin;
 
   c.st.step = lmp->update->ntimestep;
   c.st.dt = lmp->update->dt;

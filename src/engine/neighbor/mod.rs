@@ -218,9 +218,11 @@ pub struct NeighborList {
 
 /// The working list's margin as a fraction of the skin, and the list lifetime (force
 /// evaluations) from which it pays: it is rebuilt, by a filter pass over the list, whenever an
-/// atom has moved margin/2, so it needs lists that live long (slow atoms, small steps).
-const INNER_MARGIN: f64 = 1.0 / 3.0;
-const INNER_MIN_LIFE: u64 = 12;
+/// atom has moved margin/2, so it needs lists that live long (slow atoms, small steps). The
+/// LAMMPS styles' working copy of LAMMPS's list (`capi`) follows the same two numbers.
+pub const INNER_MARGIN: f64 = 1.0 / 3.0;
+/// See [`INNER_MARGIN`].
+pub const INNER_MIN_LIFE: u64 = 12;
 
 impl NeighborList {
     /// Use this instruction set for the pair loop instead of the best one ([`Isa::detect`]);
