@@ -44,11 +44,11 @@ impl PairKernel for DpdKernel<'_> {
 
 /// Pairs gathered into a batch with the atoms they belong to (the driver of the C ABI loop).
 ///
-/// A caller writes lane [`Batcher::lane`]'s `dr` and `coeff` (and whatever else it has at
-/// hand) into [`Batcher::batch`], then [`Batcher::commit`]s it, kept or not: a lane that is
-/// not kept is overwritten by the next pair, so the append needs no branch. A full batch is
-/// [`Batcher::flush`]ed: `gather` completes each kept lane, the kernel evaluates it, and
-/// `apply` receives the batch with every lane's atoms, to add the lanes in order.
+/// A caller hands its candidate pairs to [`Batcher::extend`], which has each written into the
+/// next lane and kept or not: a lane that is not kept is overwritten by the next pair, so the
+/// append needs no branch. A full batch is [`Batcher::flush`]ed: `gather` completes each kept
+/// lane, the kernel evaluates it, and `apply` receives the batch with every lane's atoms, to
+/// add the lanes in order.
 #[derive(Clone, Debug)]
 pub struct Batcher {
     /// The lanes.
@@ -68,24 +68,7 @@ impl Default for Batcher {
 }
 
 impl Batcher {
-    /// The lane the next pair goes to.
-    #[inline(always)]
-    pub fn lane(&self) -> usize {
-        self.batch.len
-    }
-
-    /// Record atoms (i, j) for the current lane and keep it if `keep`; true when the batch
-    /// is then full (flush it).
-    #[inline(always)]
-    pub fn commit(&mut self, i: u32, j: u32, keep: bool) -> bool {
-        let l = self.batch.len;
-        self.i[l] = i;
-        self.j[l] = j;
-        self.batch.len = l + usize::from(keep);
-        self.batch.len == BATCH
-    }
-
-    /// [`Batcher::commit`] for each of `items`, in order: `fill(batch, lane, item)` writes the
+    /// Each of `items`, in order, into the next lane: `fill(batch, lane, item)` writes the
     /// lane (`dr`, `coeff`, ...) and returns the pair's atoms (i, j) and whether it is kept;
     /// full batches are [`Batcher::flush`]ed on the way (`kernel`, `step`, `gather`, `apply`
     /// as there). The lane count stays in a register through the loop: committing pair by
