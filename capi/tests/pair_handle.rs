@@ -1126,24 +1126,10 @@ fn the_working_copy_of_the_list_gives_the_same_bits_as_the_list() {
     let toward: Vec<f64> = (0..3)
         .map(|d| (a.x[3 * target + d] - a.x[d]) / r0)
         .collect();
-    let setup = |h: &Handle| {
-        let s = DpdnlSetup {
-            dimension: 3,
-            natoms: n as i64,
-            volume: 216.0,
-            mass: MASS.as_ptr(),
-            dt: DT,
-            euler: 0,
-            special_lj: null(),
-        };
-        let mut rc = 0.0;
-        // SAFETY: a live handle; `s` valid.
-        let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
-        assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
-    };
     let (plain, copying) = (dpd_handle("dot", "twostep"), dpd_handle("dot", "twostep"));
-    setup(&plain);
-    setup(&copying);
+    for h in [&plain, &copying] {
+        init(h, n as i64, 216.0).expect("init");
+    }
     // The list's arrays stay where they are until it is built again, as in LAMMPS (a copy is
     // kept only while the pointers are the same).
     let mut lists = a.half_list(1.2 + skin);
