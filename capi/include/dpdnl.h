@@ -120,6 +120,17 @@ typedef struct DpdnlTally {
   double *vatom;
 } DpdnlTally;
 
+// A team member's work: `body(ctx, thread)`, called once by each thread of a launch (never
+// null when this library calls a launcher).
+typedef void (*DpdnlTeamBody)(void *ctx, int32_t thread);
+
+// A host's parallel launcher: calls `body(ctx, t)` once on each of `nthreads` threads
+// (t = 0..nthreads, the calling thread may be one of them) and returns when every call has
+// returned, e.g. `#pragma omp parallel num_threads(nthreads) body(ctx, omp_get_thread_num());`.
+// Fewer threads than asked are allowed (the work is shared dynamically; the caller finishes
+// what is left); `body` never unwinds into the launcher. Null: none.
+typedef void (*DpdnlLaunch)(DpdnlTeamBody body, void *ctx, int32_t nthreads);
+
 // What a style needs from its C++ driver.
 typedef struct DpdnlPairInfo {
   // Values per atom of the style's pre-pass (0: none; 1: one double per owned and ghost atom,
@@ -365,12 +376,25 @@ enum DpdnlStatus dpdnl_pair_cutoff(struct DpdnlPair *h,
 // N`, `-sf omp`, or `OMP_NUM_THREADS` at start-up) before every run's set-up
 // ([`dpdnl_pair_init`] then names a count above 1 in its notes). Forces, energy and
 // virial are the same bits for every count: the rows are evaluated in parallel, and every sum is
-// formed in list order as with one thread. The threads come from a pool per count, created
-// once and shared by the handles. sDPD's pre-pass ([`dpdnl_pair_prepass`]) runs on one thread.
+// formed in list order as with one thread. The threads are the host's when it handed over a
+// launcher ([`dpdnl_pair_launcher`]), else they come from a pool per count, created once and
+// shared by the handles. sDPD's pre-pass ([`dpdnl_pair_prepass`]) runs on one thread.
 //
 // # Safety
 // `h` is a live handle.
 enum DpdnlStatus dpdnl_pair_threads(struct DpdnlPair *h, int32_t threads);
+
+// The host's threads for [`dpdnl_pair_compute`]'s threaded walk ([`dpdnl_pair_threads`] above
+// 1): `launch` runs a team body on `nthreads` threads and returns when all are done
+// ([`DpdnlLaunch`]); null: this library's own pool. The LAMMPS styles pass an OpenMP parallel
+// region when they are compiled with OpenMP against LAMMPS's OpenMP runtime, so that the
+// force pass runs on LAMMPS's own OpenMP threads: a pool of other threads would compete for
+// the cores with LAMMPS's threads, which wait busily between their loops (with `package omp
+// 2`, 2 cores: the plugin's 2 threads were slower than 1). The bits are the same either way.
+//
+// # Safety
+// `h` is a live handle; `launch` is null or keeps [`DpdnlLaunch`]'s contract while `h` lives.
+enum DpdnlStatus dpdnl_pair_launcher(struct DpdnlPair *h, DpdnlLaunch launch);
 
 // What the style needs from its driver (a null handle gives all zeros).
 //

@@ -1,16 +1,13 @@
 //! [`dpdnl_compute`]: one LAMMPS neighbour list walked in Rust, its pairs evaluated through the
 //! pair-style seam (`dpdnl::engine::pair`) and added with LAMMPS's `ev_tally` conventions.
 
-use std::sync::{Arc, Mutex, PoisonError};
-
+use crate::team::{DpdnlLaunch, Team};
+use crate::working::WorkingList;
+use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
 use dpdnl::engine::pair::{Batcher, lane_force};
 use dpdnl::engine::simd::within_cut;
 use dpdnl::kernel::Isa;
 use dpdnl::{DpdKernel, PairBatch, PairKernel, PairTable};
-use rayon::prelude::*;
-
-use crate::working::WorkingList;
-use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
 
 /// Per-atom arrays of one MPI rank, owned atoms first then ghosts (LAMMPS layout).
 #[repr(C)]
@@ -280,7 +277,7 @@ pub(crate) fn check_row(i: usize, jlist: &[i32], mask: usize, nall: usize) -> Re
     Ok(special_class(bits as i32) != 0)
 }
 
-/// Row blocks per thread of a threaded walk (rayon balances them).
+/// Row blocks per thread of a threaded walk (the team's threads take them as they finish).
 const BLOCKS_PER_THREAD: usize = 4;
 
 /// Rows of a threaded walk's window: its events or records (33 pairs a row at n = 16, 32 B
@@ -304,7 +301,7 @@ const WINDOW_ROWS: usize = 1024;
 /// scans every record and adds only to its atoms, and one more task sums the global energy and
 /// virial over all records.
 pub(crate) struct Workers {
-    pool: Arc<rayon::ThreadPool>,
+    team: Team,
     blocks: Vec<Block>,
 }
 
@@ -395,26 +392,11 @@ struct TallyRec {
 }
 
 impl Workers {
-    /// `threads` (≥ 2) threads, from a pool shared by every handle with that count and created
-    /// once.
-    pub(crate) fn new(threads: usize) -> Result<Workers, Error> {
-        static POOLS: Mutex<Vec<Arc<rayon::ThreadPool>>> = Mutex::new(Vec::new());
-        let mut pools = POOLS.lock().unwrap_or_else(PoisonError::into_inner);
-        let pool = match pools.iter().find(|p| p.current_num_threads() == threads) {
-            Some(p) => p.clone(),
-            None => {
-                let p = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .thread_name(|k| format!("dpdnl-pair-{k}"))
-                    .build()
-                    .map_err(|e| Error::invalid(format!("cannot start {threads} threads: {e}")))?;
-                let p = Arc::new(p);
-                pools.push(p.clone());
-                p
-            }
-        };
+    /// `threads` (≥ 2) threads: the host's through `launch` ([`crate::dpdnl_pair_launcher`]),
+    /// else a pool shared by every handle with that count and created once.
+    pub(crate) fn new(threads: usize, launch: DpdnlLaunch) -> Result<Workers, Error> {
         Ok(Workers {
-            pool,
+            team: Team::new(threads, launch).map_err(Error::invalid)?,
             blocks: (0..threads * BLOCKS_PER_THREAD)
                 .map(|_| Block::default())
                 .collect(),
@@ -423,7 +405,12 @@ impl Workers {
 
     /// The number of threads.
     pub(crate) fn threads(&self) -> usize {
-        self.pool.current_num_threads()
+        self.team.threads()
+    }
+
+    /// Whether the threads are the host's ([`crate::dpdnl_pair_launcher`]).
+    pub(crate) fn on_host_threads(&self) -> bool {
+        self.team.is_host()
     }
 }
 
@@ -848,16 +835,17 @@ fn threaded(
         eatom: None,
         vatom: None,
     };
-    let (pool, blocks) = (&w.pool, &mut w.blocks);
+    let (team, blocks) = (&w.team, &mut w.blocks);
     let nb = blocks.len();
     // Window by window (whole rows, in list order), so that the records of a window stay in
-    // the cache between the phases: one `install` per call, the phases inside it.
-    pool.install(|| {
+    // the cache between the phases: one team scope per call (one pool `install`), the phases
+    // inside it.
+    team.scope(|| {
         for win in rows.chunks(WINDOW_ROWS) {
             // Phase 1: contiguous row blocks of the window, evaluated in parallel into their
             // records.
             let per = win.len().div_ceil(nb);
-            blocks.par_iter_mut().enumerate().for_each(|(k, b)| {
+            team.for_each(blocks, &|k, b: &mut Block| {
                 let part = &win[(k * per).min(win.len())..((k + 1) * per).min(win.len())];
                 let rows = part.iter().map(|&r| Ok(r));
                 b.err = if tallying {
@@ -900,29 +888,31 @@ fn threaded(
             let done: &[Block] = blocks;
             if !tallying {
                 // Phase 2: each task adds its bucket of every block, in block order.
-                parts
-                    .par_iter_mut()
-                    .enumerate()
-                    .for_each(|(t, (lo, f, _))| add_events(done, t, f, *lo));
+                team.for_each(&mut parts, &|t, (lo, f, _)| add_events(done, t, f, *lo));
                 continue;
             }
             // Phase 2 of a tally step: every record of the window in list order, once per range
             // of atoms (forces and per-atom tallies), and once for the global energy and virial.
-            rayon::join(
-                || {
-                    if global.any() {
-                        replay(done, &mut [], 0, &mut global, flags);
-                    }
-                },
-                || {
-                    parts.par_iter_mut().for_each(|(lo, f, s)| {
-                        replay(done, f, *lo, s, flags);
-                    })
-                },
-            );
+            let mut tasks: Vec<Replay> = global
+                .any()
+                .then_some(Replay::Global(&mut global))
+                .into_iter()
+                .chain(parts.iter_mut().map(Replay::Part))
+                .collect();
+            team.for_each(&mut tasks, &|_, task| match task {
+                Replay::Global(g) => replay(done, &mut [], 0, g, flags),
+                Replay::Part((lo, f, s)) => replay(done, f, *lo, s, flags),
+            });
         }
         Ok(())
     })
+}
+
+/// A task of phase 2 of a tally step: a range of atoms (its first atom, its part of f and of
+/// the per-atom tallies) or the global energy and virial.
+enum Replay<'p, 's> {
+    Part(&'p mut (usize, &'s mut [f64], Sinks<'s>)),
+    Global(&'p mut Sinks<'s>),
 }
 
 /// Phase 2 of a force-only step of a threaded walk: bucket `t` of every block, in block order,

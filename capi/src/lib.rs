@@ -31,11 +31,13 @@ mod compute;
 mod init;
 mod pair;
 mod styles;
+mod team;
 mod working;
 pub use compute::*;
 pub use init::*;
 pub use pair::*;
 pub use styles::*;
+pub use team::{DpdnlLaunch, DpdnlTeamBody};
 
 /// Result of every fallible call. Anything but `Ok` leaves a message for [`dpdnl_last_error`].
 #[repr(C)]

@@ -23,6 +23,7 @@ use dpdnl::{PairStyle, SetupContext, new_pair_style};
 use crate::compute::{Special, Workers, for_each_row, special_class, walk_pairs};
 use crate::init::set_last_message;
 use crate::styles::{put, words};
+use crate::team::DpdnlLaunch;
 use crate::working::WorkingList;
 use crate::{
     DpdnlAtoms, DpdnlNeighList, DpdnlStatus, DpdnlStep, DpdnlTally, Error, c_str, guard, slice,
@@ -40,6 +41,8 @@ pub struct DpdnlPair {
     text: Vec<u8>,
     /// The threads of [`dpdnl_pair_compute`] when more than one ([`dpdnl_pair_threads`]).
     workers: Option<Workers>,
+    /// The host's parallel launcher for those threads ([`dpdnl_pair_launcher`]).
+    launch: DpdnlLaunch,
     /// The working copy of the LAMMPS list of [`dpdnl_pair_compute`].
     working: WorkingList,
 }
@@ -152,6 +155,7 @@ unsafe fn emit(out: *mut *mut DpdnlPair, style: Box<dyn PairStyle>) -> Result<()
         typ: Vec::new(),
         text: Vec::new(),
         workers: None,
+        launch: None,
         working: WorkingList::default(),
     });
     // SAFETY: forwarded caller's contract.
@@ -273,8 +277,9 @@ const MAX_THREADS: i32 = 1024;
 /// N`, `-sf omp`, or `OMP_NUM_THREADS` at start-up) before every run's set-up
 /// ([`dpdnl_pair_init`] then names a count above 1 in its notes). Forces, energy and
 /// virial are the same bits for every count: the rows are evaluated in parallel, and every sum is
-/// formed in list order as with one thread. The threads come from a pool per count, created
-/// once and shared by the handles. sDPD's pre-pass ([`dpdnl_pair_prepass`]) runs on one thread.
+/// formed in list order as with one thread. The threads are the host's when it handed over a
+/// launcher ([`dpdnl_pair_launcher`]), else they come from a pool per count, created once and
+/// shared by the handles. sDPD's pre-pass ([`dpdnl_pair_prepass`]) runs on one thread.
 ///
 /// # Safety
 /// `h` is a live handle.
@@ -290,7 +295,37 @@ pub unsafe extern "C" fn dpdnl_pair_threads(h: *mut DpdnlPair, threads: i32) -> 
         }
         let n = threads as usize;
         if h.workers.as_ref().map_or(1, Workers::threads) != n {
-            h.workers = if n > 1 { Some(Workers::new(n)?) } else { None };
+            h.workers = if n > 1 {
+                Some(Workers::new(n, h.launch)?)
+            } else {
+                None
+            };
+        }
+        Ok(())
+    })
+}
+
+/// The host's threads for [`dpdnl_pair_compute`]'s threaded walk ([`dpdnl_pair_threads`] above
+/// 1): `launch` runs a team body on `nthreads` threads and returns when all are done
+/// ([`DpdnlLaunch`]); null: this library's own pool. The LAMMPS styles pass an OpenMP parallel
+/// region when they are compiled with OpenMP against LAMMPS's OpenMP runtime, so that the
+/// force pass runs on LAMMPS's own OpenMP threads: a pool of other threads would compete for
+/// the cores with LAMMPS's threads, which wait busily between their loops (with `package omp
+/// 2`, 2 cores: the plugin's 2 threads were slower than 1). The bits are the same either way.
+///
+/// # Safety
+/// `h` is a live handle; `launch` is null or keeps [`DpdnlLaunch`]'s contract while `h` lives.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_launcher(
+    h: *mut DpdnlPair,
+    launch: DpdnlLaunch,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let h = unsafe { handle(h)? };
+        h.launch = launch;
+        if let Some(w) = &h.workers {
+            h.workers = Some(Workers::new(w.threads(), launch)?);
         }
         Ok(())
     })
@@ -412,9 +447,14 @@ pub unsafe extern "C" fn dpdnl_pair_init(
             .collect();
         if let Some(w) = &h.workers {
             text.push(format!(
-                "pair_style {}: {} threads per MPI task (the same bits for every count)",
+                "pair_style {}: {} threads per MPI task, {} (the same bits for every count)",
                 h.style.name(),
-                w.threads()
+                w.threads(),
+                if w.on_host_threads() {
+                    "on the host's threads (LAMMPS: its OpenMP threads)"
+                } else {
+                    "on dpdnl's own thread pool"
+                }
             ));
         }
         // SAFETY: valid for writing (caller's contract).

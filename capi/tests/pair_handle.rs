@@ -2,7 +2,7 @@
 //! LAMMPS styles: the same forces, energy and virial bit for bit, a restart text that gives the
 //! same style back, sDPD's pre-pass against a direct sum, and bad calls as codes plus text.
 
-use std::ffi::{CStr, CString, c_char};
+use std::ffi::{CStr, CString, c_char, c_void};
 use std::ptr::{null, null_mut};
 
 use dpdnl::rng::keyed_uniform;
@@ -989,6 +989,32 @@ fn compute_list(
     s
 }
 
+/// A launcher that is there ([`DpdnlLaunch`] without its null).
+type LaunchFn = unsafe extern "C" fn(DpdnlTeamBody, *mut c_void, i32);
+
+/// A host's launcher on scoped threads, one per team member (what the LAMMPS styles' OpenMP
+/// parallel region does).
+unsafe extern "C" fn scoped_launch(body: DpdnlTeamBody, ctx: *mut c_void, n: i32) {
+    let (Some(body), ctx) = (body, ctx as usize) else {
+        return;
+    };
+    std::thread::scope(|s| {
+        for t in 0..n {
+            // SAFETY: DpdnlLaunch's contract: `ctx` is valid until this launch returns.
+            s.spawn(move || unsafe { body(ctx as *mut c_void, t) });
+        }
+    });
+}
+
+/// A host's launcher that runs only the calling thread (an OpenMP runtime may give fewer
+/// threads than asked).
+unsafe extern "C" fn one_thread_launch(body: DpdnlTeamBody, ctx: *mut c_void, _n: i32) {
+    if let Some(body) = body {
+        // SAFETY: DpdnlLaunch's contract.
+        unsafe { body(ctx, 0) };
+    }
+}
+
 #[test]
 fn threads_give_the_same_bits_as_one() {
     // 2600 atoms with ghosts (rows in three windows of the threaded walk), rows in a shuffled
@@ -1069,19 +1095,31 @@ fn threads_give_the_same_bits_as_one() {
                 f_bits(&forces) == f_bits(&one),
                 "{label}: forces depend on tallying"
             );
-            for threads in [2, 3, 1] {
-                for tallies in [true, false] {
-                    let got = compute_threads(
-                        h, &a, &ilist, lists, full, newton, values, threads, tallies,
-                    );
-                    let want = if tallies { &one } else { &forces };
-                    assert!(
-                        got.bits() == want.bits(),
-                        "{label}, full {full}, newton {newton}, tallies {tallies}: {threads} \
-                         threads differ from 1"
-                    );
+            // dpdnl's own pool, then the host's threads (all, or fewer than asked).
+            for (host, launch) in [
+                ("pool", None),
+                ("host", Some(scoped_launch as LaunchFn)),
+                ("host, 1 of them", Some(one_thread_launch as LaunchFn)),
+            ] {
+                // SAFETY: a live handle; the launchers keep DpdnlLaunch's contract.
+                let st = unsafe { dpdnl_pair_launcher(h.0, launch) };
+                assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
+                for threads in [2, 3, 1] {
+                    for tallies in [true, false] {
+                        let got = compute_threads(
+                            h, &a, &ilist, lists, full, newton, values, threads, tallies,
+                        );
+                        let want = if tallies { &one } else { &forces };
+                        assert!(
+                            got.bits() == want.bits(),
+                            "{label}, full {full}, newton {newton}, tallies {tallies}: \
+                             {threads} threads ({host}) differ from 1"
+                        );
+                    }
                 }
             }
+            // SAFETY: a live handle.
+            assert_eq!(unsafe { dpdnl_pair_launcher(h.0, None) }, DpdnlStatus::Ok);
         }
     }
     // Counts outside 1..=1024 are refused.

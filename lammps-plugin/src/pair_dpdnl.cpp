@@ -33,7 +33,24 @@
 #include <sstream>
 #include <vector>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 using namespace LAMMPS_NS;
+
+#ifdef _OPENMP
+// The team launcher of the threaded force pass (dpdnl_pair_launcher): one OpenMP parallel
+// region, so that the pass runs on LAMMPS's own OpenMP threads. Built with -fopenmp against
+// the OpenMP runtime LAMMPS uses (Makefile, build-plugin.sh); without OpenMP the pass runs
+// on the Rust library's own pool, whose threads would compete for the cores with LAMMPS's
+// OpenMP threads (those wait busily between their loops).
+static void omp_launch(DpdnlTeamBody body, void *ctx, int32_t nthreads)
+{
+#pragma omp parallel num_threads(nthreads)
+  body(ctx, omp_get_thread_num());
+}
+#endif
 
 static_assert(sizeof(tagint) == sizeof(int32_t), "dpdnl pair styles need 32-bit tags (LAMMPS_SMALLBIG)");
 static_assert(SBBITS == 30, "the C ABI reads a neighbour's special-bond class from bits 30-31");
@@ -147,6 +164,9 @@ void PairDpdnl::init_style()
   // Threads of the force pass inside this rank: LAMMPS's OpenMP threads per MPI task
   // (package omp N, -pk omp N, -sf omp, or OMP_NUM_THREADS at start-up); the same bits for
   // every count. Before the set-up, whose notes name the count.
+#ifdef _OPENMP
+  if (dpdnl_pair_launcher(handle, &omp_launch) != DPDNL_STATUS_OK) rust_error("Pair " + name);
+#endif
   if (dpdnl_pair_threads(handle, comm->nthreads) != DPDNL_STATUS_OK) rust_error("Pair " + name);
   if (dpdnl_pair_init(handle, &s, &rc_max) != DPDNL_STATUS_OK) rust_error("Pair " + name);
   if (comm->me == 0) {
