@@ -268,7 +268,8 @@ def threads(tmp):
     """Threads inside a rank (issue 30): the pair styles take LAMMPS's OpenMP threads per MPI
     task (OMP_NUM_THREADS in Debian's LAMMPS, which has no OPENMP package; `package omp N` in
     the plugin's). 2 and 3 threads give thermo and dumps identical, at %.17g, to 1 thread, on
-    1 and 2 ranks; 2 ranks x 1 thread and 1 rank x 2 threads agree as rank counts do."""
+    1 and 2 ranks; 2 ranks x 1 thread and 1 rank x 2 threads agree as rank counts do; the
+    set-up says the pass runs on LAMMPS's OpenMP threads (the styles link its runtime)."""
     print("threads inside a rank (thermo and dumps at %.17g: identical to 1 thread)")
     for name, newton in [("dpd3d", True), ("dpd3d", False), ("sdpd2d", True),
                          ("polymer3d", True)]:
@@ -292,6 +293,11 @@ def threads(tmp):
             said = f"{nthreads} threads per MPI task" in log
             check(said == (nthreads > 1), f"{tag} {label}: the style "
                   + ("names its threads" if nthreads > 1 else "runs on one thread"))
+            if nthreads > 1:
+                # Built with LAMMPS's OpenMP runtime (Makefile, build-plugin.sh): the pass runs
+                # on LAMMPS's own OpenMP threads, not on a pool that competes with them.
+                check("on the host's threads (LAMMPS: its OpenMP threads)" in log,
+                      f"{tag} {label}: the force pass runs on LAMMPS's OpenMP threads")
             runs[label] = ([rows for _, rows in thermo_blocks(log)], open(dump).read())
         for ref, label in [("np1_t1", "np1_t2"), ("np1_t1", "np1_t3"), ("np2_t1", "np2_t2")]:
             if ref in runs and label in runs:
