@@ -27,18 +27,19 @@ ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 SYSTEMS = {"ideal": "ideal DPD, n = 16, N = 20000, δt = 1e-3",
            "gw": "Groot–Warren, n = 3, a = 25, N = 20000, δt = 0.04"}
 LABELS = {"plugin": "dpd/nonlinear (plugin)", "plugin2": "dpd/nonlinear (--plugin2-dir build)",
-          "plugin-omp": "dpd/nonlinear (plugin), --threads threads", "dpd": "dpd",
+          "plugin-omp": "dpd/nonlinear (plugin), --threads threads",
+          "plugin2-omp": "dpd/nonlinear (--plugin2-dir build), --threads threads", "dpd": "dpd",
           "omp": "dpd/omp"}
 # Styles that run on --threads OpenMP threads per rank (-pk omp N): dpd/omp, and the plugin,
 # which takes LAMMPS's thread count.
-THREADED = ("omp", "plugin-omp")
+THREADED = ("omp", "plugin-omp", "plugin2-omp")
 
 
 def run(lmp, plugin_dirs, system, style, steps, threads, workdir, ranks=1, mpirun=None):
     log = os.path.join(workdir, f"log.{system}.{style}.{ranks}")
     env = dict(os.environ, OMP_NUM_THREADS=str(threads if style in THREADED else 1),
-               LAMMPS_PLUGIN_PATH=plugin_dirs[style == "plugin2"])
-    input_style = "plugin" if style in ("plugin2", "plugin-omp") else style
+               LAMMPS_PLUGIN_PATH=plugin_dirs[style.startswith("plugin2")])
+    input_style = "plugin" if style.startswith("plugin") else style
     cmd = [lmp, "-in", f"in.{system}", "-var", "style", input_style, "-var", "steps", str(steps),
            "-log", log, "-screen", "none", "-nocite"]
     if style in THREADED:
@@ -73,7 +74,7 @@ def main():
     ap.add_argument("--steps-gw", type=int, default=500)
     ap.add_argument("--styles", default="plugin,dpd,omp",
                     help="comma-separated: plugin, plugin-omp (the plugin on --threads threads), "
-                    "plugin2, dpd, omp")
+                    "plugin2, plugin2-omp, dpd, omp")
     ap.add_argument("--systems", default="ideal,gw")
     ap.add_argument("--threads", type=int, default=1,
                     help="OpenMP threads per rank of dpd/omp and plugin-omp")
