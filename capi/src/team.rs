@@ -81,7 +81,8 @@ impl Team {
     }
 
     /// `f(k, &mut items[k])` for every k, in parallel, each item once; returns when all are done.
-    /// A panic in `f` is raised again on the calling thread.
+    /// A panic in `f` is raised again on the calling thread. Called inside [`Team::scope`]
+    /// (outside it a pool's items would run on rayon's global pool).
     pub(crate) fn for_each<T: Send>(&self, items: &mut [T], f: &(dyn Fn(usize, &mut T) + Sync)) {
         match self {
             Team::Pool(_) => items.par_iter_mut().enumerate().for_each(|(k, t)| f(k, t)),
