@@ -1,13 +1,14 @@
 //! [`dpdnl_compute`]: one LAMMPS neighbour list walked in Rust, its pairs evaluated through the
 //! pair-style seam (`dpdnl::engine::pair`) and added with LAMMPS's `ev_tally` conventions.
 
-use crate::team::{DpdnlLaunch, Team};
-use crate::working::WorkingList;
-use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
 use dpdnl::engine::pair::{Batcher, lane_force};
 use dpdnl::engine::simd::within_cut;
 use dpdnl::kernel::Isa;
 use dpdnl::{DpdKernel, PairBatch, PairKernel, PairTable};
+
+use crate::team::{DpdnlLaunch, Team};
+use crate::working::WorkingList;
+use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
 
 /// Per-atom arrays of one MPI rank, owned atoms first then ghosts (LAMMPS layout).
 #[repr(C)]
@@ -406,6 +407,13 @@ impl Workers {
     /// The number of threads.
     pub(crate) fn threads(&self) -> usize {
         self.team.threads()
+    }
+
+    /// The same number of threads, now the host's through `launch` (or the pool's); the
+    /// blocks' buffers are kept.
+    pub(crate) fn set_launch(&mut self, launch: DpdnlLaunch) -> Result<(), Error> {
+        self.team = Team::new(self.threads(), launch).map_err(Error::invalid)?;
+        Ok(())
     }
 
     /// Whether the threads are the host's ([`crate::dpdnl_pair_launcher`]).

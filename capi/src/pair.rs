@@ -324,10 +324,10 @@ pub unsafe extern "C" fn dpdnl_pair_launcher(
         // SAFETY: forwarded caller's contract.
         let h = unsafe { handle(h)? };
         h.launch = launch;
-        if let Some(w) = &h.workers {
-            h.workers = Some(Workers::new(w.threads(), launch)?);
+        match &mut h.workers {
+            Some(w) => w.set_launch(launch),
+            None => Ok(()),
         }
-        Ok(())
     })
 }
 

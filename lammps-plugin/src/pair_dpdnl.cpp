@@ -42,7 +42,7 @@ using namespace LAMMPS_NS;
 #ifdef _OPENMP
 // The team launcher of the threaded force pass (dpdnl_pair_launcher): one OpenMP parallel
 // region, so that the pass runs on LAMMPS's own OpenMP threads. Built with -fopenmp against
-// the OpenMP runtime LAMMPS uses (Makefile, build-plugin.sh); without OpenMP the pass runs
+// the OpenMP runtime LAMMPS uses (Makefile, build-plugin.sh, CMakeLists.txt); without OpenMP the pass runs
 // on the Rust library's own pool, whose threads would compete for the cores with LAMMPS's
 // OpenMP threads (those wait busily between their loops).
 static void omp_launch(DpdnlTeamBody body, void *ctx, int32_t nthreads)
