@@ -57,6 +57,7 @@ class PairDpdnl : public Pair {
   void adopt(DpdnlPair *h);
   void sync_setflag();
   void box_check();
+  void add_flip_check();
   void write_text(FILE *fp, int settings_only);
   void read_text(FILE *fp);
   void write_data_lines(FILE *fp, bool all);
