@@ -122,7 +122,7 @@ def test_runtime_docstrings_are_the_stubs(label, doc, obj):
     assert runtime == doc, (
         f"dpdnl.{label}: the docstring of the extension (the /// comment or the "
         "create_exception! text in python/src) differs from the stub's "
-        "(python/python/dpdnl/_dpdnl.pyi); give both the same text"
+        "(python/python/dpdnl/_dpdnl.pyi); run python3 scripts/pydoc-rust.py"
     )
 
 
