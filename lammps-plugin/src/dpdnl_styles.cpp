@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "dpdnl_styles.h"
 
 #include "compute_sdpd_density.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The one LAMMPS driver of every dpdnl pair style (see pair_dpdnl.h).
 //
 // compute(): for a style with a pre-pass (info.values_per_atom = 1, sdpd's density):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The one LAMMPS driver of every dpdnl pair style (pair_style dpd/nonlinear, pair_style sdpd).
 //
 // A style is an opaque Rust handle (DpdnlPair, capi/include/dpdnl.h): the standalone engine's
