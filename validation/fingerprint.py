@@ -119,15 +119,19 @@ def run_family(name, runs, exe, env):
             if engine == "analyze":
                 # SCRIPT is a directory of inputs; VARS are `analyze` arguments, ';'-separated
                 # commands, with {dir} the input directory and {out} an output prefix.
+                # The inputs are copied and named relative to the run's folder: the outputs
+                # name their inputs, and must not name the checkout's path.
                 cmds = " ".join(variables).split(";")
+                for f in os.listdir(src):
+                    shutil.copy(os.path.join(src, f), tmp)
                 for i, c in enumerate(cmds):
-                    args = c.replace("{dir}", src).replace("{out}", os.path.join(tmp, f"o{i}"))
+                    args = c.replace("{dir}", ".").replace("{out}", f"o{i}")
                     p = subprocess.run([exe["dpdnl"], "analyze"] + args.split() + ["--no-plot"],
                                        capture_output=True, text=True, env=env, cwd=tmp)
                     if p.returncode != 0:
                         raise RuntimeError(f"{name}: dpdnl analyze {args}: {p.stderr[-2000:]}")
                 for f in sorted(os.listdir(tmp)):
-                    if f.endswith((".json", ".csv")):
+                    if f.startswith("o") and f.endswith((".json", ".csv")):
                         h.update(f.encode())
                         h.update(open(os.path.join(tmp, f), "rb").read())
                 continue
