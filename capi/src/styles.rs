@@ -6,6 +6,9 @@
 use std::ffi::c_char;
 
 use dpdnl::engine::fixes::{PexPick, PexSlabs, euler_update, pex_apply};
+use dpdnl::engine::lees_edwards::{
+    FlipLeak, flip_jump_note, flip_leak_warning, flip_wrap_y, y_crossings,
+};
 use dpdnl::grammar::{self, fix::PexArgs};
 
 use crate::{Error, c_str, guard, slice, slice_mut};
@@ -369,6 +372,153 @@ pub unsafe extern "C" fn dpdnl_euler_step(
                 euler_update(&mut x[i], &mut v[i], &f[i], dtv, dtf / m.of(i));
             }
         }
+        Ok(())
+    })
+}
+
+/// Parse `fix ID group flip/momentum [mode jump|check]` (the words after the style name):
+/// `*jump` = 1 for `mode jump` (the default), 0 for `mode check`
+/// (`dpdnl::grammar::fix::flip_momentum`).
+///
+/// # Safety
+/// `arg` points to `narg` NUL-terminated strings; `jump` is valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_parse_fix_flip_momentum(
+    narg: i32,
+    arg: *const *const c_char,
+    jump: *mut i32,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let w = unsafe { words(narg, arg)? };
+        let j = grammar::fix::flip_momentum(&w).map_err(Error::invalid)?;
+        // SAFETY: forwarded caller's contract.
+        unsafe { put(jump, i32::from(j)) }
+    })
+}
+
+/// The run set-up check of `fix flip/momentum` (`dpdnl::grammar::fix::flip_momentum_setup`,
+/// as in the standalone engine): `deform_id` null when the run has no `fix deform`, else its
+/// ID, whether it has `remap v`, whether its group is the fix's, and whether it changes the xy
+/// tilt only.
+///
+/// # Safety
+/// `deform_id` is null or a NUL-terminated string.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_flip_momentum_setup(
+    deform_id: *const c_char,
+    remap_v: i32,
+    same_group: i32,
+    xy_only: i32,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        let deform = if deform_id.is_null() {
+            None
+        } else {
+            // SAFETY: NUL-terminated by the caller's contract.
+            Some(unsafe { c_str(deform_id, "deform_id")? })
+        };
+        grammar::fix::flip_momentum_setup(
+            deform.map(|id| (id, remap_v != 0, same_group != 0, xy_only != 0)),
+        )
+        .map_err(Error::invalid)
+    })
+}
+
+/// `fix flip/momentum` at the step of a flip, before `fix deform`'s `pre_exchange` flips the
+/// box and remaps the atoms: every owned atom of group `groupbit` outside `ylo..yhi` along y
+/// is put through y by `dpdnl::engine::lees_edwards::flip_wrap_y` (tilt `xy`) and, with `jump`
+/// nonzero, gets `remap v`'s velocity jump −n `h_rate_xy`; `ny[i]` receives its crossings n
+/// (0 for the others; the caller moves its image flags), and `*atoms` and `*momentum` are
+/// incremented by the atoms put through and by Σ m n h_rate_xy, the momentum relative to the
+/// profile that they change without the jump. With `jump` 0 nothing is moved: the crossings are
+/// only counted (LAMMPS's own remap then moves the atoms, without the jump).
+///
+/// # Safety
+/// `x`, `v` hold `3 nlocal` doubles (not aliased); `atom_type`, `mask` and `ny` `nlocal` ints;
+/// `rmass` null or `nlocal` doubles, else `mass` indexed by type; `atoms` and `momentum` valid.
+#[allow(clippy::too_many_arguments)]
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_flip_wrap(
+    nlocal: i32,
+    x: *mut f64,
+    v: *mut f64,
+    atom_type: *const i32,
+    mass: *const f64,
+    rmass: *const f64,
+    mask: *const i32,
+    groupbit: i32,
+    ylo: f64,
+    yhi: f64,
+    xy: f64,
+    h_rate_xy: f64,
+    jump: i32,
+    ny: *mut i32,
+    atoms: *mut i64,
+    momentum: *mut f64,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        let n = count(nlocal)?;
+        // SAFETY: sizes and aliasing by the caller's contract.
+        let (x, v, mask, ny, m) = unsafe {
+            (
+                rows_mut(x, n, "x")?,
+                rows_mut(v, n, "v")?,
+                slice(mask, n, "mask")?,
+                slice_mut(ny, n, "ny")?,
+                Masses::new(n, atom_type, mass, rmass)?,
+            )
+        };
+        // SAFETY: valid by the caller's contract.
+        let (atoms, momentum) = unsafe {
+            (
+                atoms.as_mut().ok_or_else(|| Error::null("atoms"))?,
+                momentum.as_mut().ok_or_else(|| Error::null("momentum"))?,
+            )
+        };
+        for i in 0..n {
+            ny[i] = 0;
+            if mask[i] & groupbit == 0 {
+                continue;
+            }
+            let k = if jump != 0 {
+                flip_wrap_y(&mut x[i], &mut v[i], ylo, yhi, xy, h_rate_xy, true)
+            } else {
+                y_crossings(x[i][1], ylo, yhi, yhi - ylo)
+            };
+            if k != 0 {
+                ny[i] = k;
+                *atoms += 1;
+                *momentum += m.of(i) * f64::from(k) * h_rate_xy;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// The end-of-run text of a run whose flips put `atoms` atoms through y, changing the momentum
+/// relative to the profile by `momentum` (`conserved` nonzero: the jump was applied), in a
+/// group of total mass `total_mass`: left for [`crate::dpdnl_last_message`], the standalone
+/// engine's words (`dpdnl::engine::lees_edwards`): "WARNING: " and `flip_leak_warning`
+/// without the jump, `flip_jump_note` with it, "" when no atom was put through.
+#[unsafe(no_mangle)]
+pub extern "C" fn dpdnl_flip_leak_warning(
+    atoms: i64,
+    momentum: f64,
+    conserved: i32,
+    total_mass: f64,
+) -> crate::DpdnlStatus {
+    guard(|| {
+        let leak = FlipLeak {
+            atoms: u64::try_from(atoms).unwrap_or(0),
+            momentum,
+            conserved: conserved != 0,
+        };
+        let text = match flip_leak_warning(&leak, total_mass) {
+            Some(w) => format!("WARNING: {w}"),
+            None => flip_jump_note(&leak).unwrap_or_default(),
+        };
+        crate::init::set_last_message(&text);
         Ok(())
     })
 }

@@ -832,3 +832,136 @@ fn box_check_as_engine() {
         );
     }
 }
+
+#[test]
+fn parse_fix_flip_momentum_as_grammar() {
+    let cases: [&[&str]; 5] = [
+        &[],
+        &["mode", "jump"],
+        &["mode", "check"],
+        &["mode", "both"],
+        &["every", "2"],
+    ];
+    for words in cases {
+        let (_keep, ptrs) = cwords(words);
+        let mut jump = -1;
+        // SAFETY: `ptrs` holds `words.len()` valid strings; `jump` is valid.
+        let st =
+            unsafe { dpdnl_parse_fix_flip_momentum(ptrs.len() as i32, ptrs.as_ptr(), &mut jump) };
+        let want = fix::flip_momentum(words);
+        assert_eq!(verdict(st), want.map(|_| ()), "{words:?}");
+        if let Ok(j) = fix::flip_momentum(words) {
+            assert_eq!(jump, i32::from(j), "{words:?}");
+        }
+    }
+    // SAFETY: a null output pointer is reported, not written.
+    let st = unsafe { dpdnl_parse_fix_flip_momentum(0, null(), null_mut()) };
+    assert_eq!(st, DpdnlStatus::NullPointer);
+}
+
+#[test]
+fn flip_momentum_setup_as_grammar() {
+    let id = CString::new("3").unwrap();
+    for (remap, group, xy) in [(1, 1, 1), (0, 1, 1), (1, 0, 1), (1, 1, 0)] {
+        // SAFETY: a valid NUL-terminated ID.
+        let st = unsafe { dpdnl_flip_momentum_setup(id.as_ptr(), remap, group, xy) };
+        let want = fix::flip_momentum_setup(Some(("3", remap != 0, group != 0, xy != 0)));
+        assert_eq!(verdict(st), want, "{remap} {group} {xy}");
+    }
+    // SAFETY: null: no fix deform.
+    let st = unsafe { dpdnl_flip_momentum_setup(null(), 1, 1, 1) };
+    assert_eq!(verdict(st), fix::flip_momentum_setup(None));
+}
+
+/// `dpdnl_flip_wrap` moves the atoms outside y by `flip_wrap_y` (with the jump) or only counts
+/// them, in the group only, and adds Σ m n h_rate to the momentum it reports; the text of
+/// `dpdnl_flip_leak_warning` is the engine's.
+#[test]
+fn flip_wrap_as_engine() {
+    use dpdnl::engine::lees_edwards::{FlipLeak, flip_jump_note, flip_leak_warning, flip_wrap_y};
+    let (ylo, yhi, xy, h) = (-2.0, 3.0, 1.7, 2.5);
+    let n = 64usize;
+    let x0: Vec<[f64; 3]> = (0..n as u32)
+        .map(|i| [uniform(i, 0, 0.0, 4.0), uniform(i, 1, -2.6, 3.6), 0.0])
+        .collect();
+    let v0: Vec<[f64; 3]> = (0..n as u32)
+        .map(|i| [uniform(i, 2, -1.0, 1.0), uniform(i, 3, -1.0, 1.0), 0.0])
+        .collect();
+    let typ: Vec<i32> = (0..n).map(|i| 1 + (i % 2) as i32).collect();
+    let mask: Vec<i32> = (0..n).map(|i| if i % 5 == 0 { 1 } else { 3 }).collect();
+    let mass = [0.0, 1.0, 2.5];
+    for jump in [1, 0] {
+        let (mut x, mut v) = (flat(&x0), flat(&v0));
+        let mut ny = vec![7; n];
+        let (mut atoms, mut momentum) = (0i64, 0.0);
+        // SAFETY: every array holds n atoms; the outputs are valid.
+        let st = unsafe {
+            dpdnl_flip_wrap(
+                n as i32,
+                x.as_mut_ptr(),
+                v.as_mut_ptr(),
+                typ.as_ptr(),
+                mass.as_ptr(),
+                null(),
+                mask.as_ptr(),
+                2,
+                ylo,
+                yhi,
+                xy,
+                h,
+                jump,
+                ny.as_mut_ptr(),
+                &mut atoms,
+                &mut momentum,
+            )
+        };
+        assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
+        let (mut want_atoms, mut want_p) = (0i64, 0.0);
+        for i in 0..n {
+            let (mut xi, mut vi) = (x0[i], v0[i]);
+            let k = if mask[i] & 2 == 0 {
+                0
+            } else {
+                flip_wrap_y(&mut xi, &mut vi, ylo, yhi, xy, h, true)
+            };
+            assert_eq!(ny[i], k, "atom {i}");
+            if jump == 0 {
+                (xi, vi) = (x0[i], v0[i]);
+            }
+            assert_eq!(
+                bits(&[xi, vi]),
+                bits(&[
+                    [x[3 * i], x[3 * i + 1], x[3 * i + 2]],
+                    [v[3 * i], v[3 * i + 1], v[3 * i + 2]]
+                ]),
+                "atom {i}"
+            );
+            if k != 0 {
+                want_atoms += 1;
+                want_p += mass[typ[i] as usize] * f64::from(k) * h;
+            }
+        }
+        assert!(
+            want_atoms >= 5,
+            "too few atoms outside the box: {want_atoms}"
+        );
+        assert_eq!((atoms, momentum.to_bits()), (want_atoms, want_p.to_bits()));
+        let st = dpdnl_flip_leak_warning(atoms, momentum, jump, 100.0);
+        assert_eq!(st, DpdnlStatus::Ok);
+        // SAFETY: a valid NUL-terminated string owned by this thread.
+        let text = unsafe { CStr::from_ptr(dpdnl_last_message()) }
+            .to_string_lossy()
+            .into_owned();
+        let leak = FlipLeak {
+            atoms: atoms as u64,
+            momentum,
+            conserved: jump != 0,
+        };
+        let want = match flip_leak_warning(&leak, 100.0) {
+            Some(w) => format!("WARNING: {w}"),
+            None => flip_jump_note(&leak).unwrap_or_default(),
+        };
+        assert!(!text.is_empty());
+        assert_eq!(text, want);
+    }
+}

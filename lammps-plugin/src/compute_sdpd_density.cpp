@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // compute sdpd/density (see compute_sdpd_density.h). The densities are pair_style sdpd's,
 // computed in Rust; this file copies the owned atoms' values and does the MPI sums.
 

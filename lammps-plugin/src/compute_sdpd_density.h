@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // compute ID all sdpd/density: the number densities of pair_style sdpd's last evaluation.
 //
 // Per atom: d_i (for dump custom c_ID and fix ave/chunk c_ID). Global vector of 2: the mean

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The C ABI structs of one pair-style call, filled from LAMMPS's state, and the blow-up check
 // after it: shared by pair_style dpd/nonlinear and pair_style sdpd (their compute() only adds
 // the calls of their own passes). Marshalling only: every check and number is in Rust.

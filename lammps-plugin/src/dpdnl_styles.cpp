@@ -1,6 +1,8 @@
+// SPDX-License-Identifier: MIT
 #include "dpdnl_styles.h"
 
 #include "compute_sdpd_density.h"
+#include "fix_flip_momentum.h"
 #include "fix_nve_euler.h"
 #include "fix_pex_push.h"
 #include "pair_dpdnl.h"
@@ -28,6 +30,7 @@ void dpdnl_register_styles(LAMMPS *lmp)
     (*lmp->force->pair_map)[dpdnl_pair_style_name(k)] = dpdnl_pair_creator(k);
   (*lmp->modify->fix_map)["nve/euler"] = &make_fix<FixNVEEuler>;
   (*lmp->modify->fix_map)["pex/push"] = &make_fix<FixPexPush>;
+  (*lmp->modify->fix_map)["flip/momentum"] = &make_fix<FixFlipMomentum>;
   (*lmp->modify->compute_map)["sdpd/density"] = &make_compute<ComputeSDPDDensity>;
 }
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Registration of the dpdnl styles into one LAMMPS instance.
 
 #ifndef DPDNL_STYLES_H

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // fix nve/euler: from the state at t, x += dt v(t) and v += dt f(t)/m, both in
 // initial_integrate; nothing in final_integrate. The forces LAMMPS computes later in the same
 // step then belong to the new state (x(t+dt), v(t+dt)), which is what the next step uses.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // fix ID group nve/euler: explicit Euler (Hoogerbrugge–Koelman) integration, docs/models.md §4.1
 // (P-2; finite-step paper eqs. 1–2).
 // Exact semantics: docs/fixes.md.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // fix pex/push: every N steps, at end_of_step, move momentum dp along z from the fastest-v_z
 // atom of slab 2 to the slowest-v_z atom of slab 1 (modified PeX, docs/models.md §4.4, P-6).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // fix ID group pex/push dp [width W] [every N]: the modified PeX momentum exchange of reverse
 // non-equilibrium MD (docs/models.md §4.4, P-6). Exact semantics: docs/fixes.md.
 

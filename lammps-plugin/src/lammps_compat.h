@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The only place where the C++ source knows which LAMMPS it is compiled against.
 //
 // Two targets share every other line of lammps-plugin/src:

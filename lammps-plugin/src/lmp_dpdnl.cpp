@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // lmp_dpdnl: the stock LAMMPS executable plus the dpdnl styles, for a LAMMPS built without the
 // PLUGIN package (Debian 12's liblammps). Same command line as `lmp`.
 //

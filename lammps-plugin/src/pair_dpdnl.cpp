@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The one LAMMPS driver of every dpdnl pair style (see pair_dpdnl.h).
 //
 // compute(): for a style with a pre-pass (info.values_per_atom = 1, sdpd's density):
@@ -18,7 +19,9 @@
 #include "domain.h"
 #include "error.h"
 #include "fix.h"
+#include "fix_flip_momentum.h"
 #include "force.h"
+#include "group.h"
 #include "lammps_compat.h"
 #include "memory.h"
 #include "modify.h"
@@ -180,8 +183,24 @@ void PairDpdnl::init_style()
     }
   }
   box_check();
+  add_flip_check();
   // The default request: a half list (newton on or off as set by the 'newton' command).
   dpdnl_compat::request_half_list(neighbor, this, instance_me);
+}
+
+// The momentum that fix deform's flips leak is reported in LAMMPS as in the standalone engine
+// (issue 41): a run with a fix deform and no fix flip/momentum gets one, in mode check, which
+// changes nothing and warns at the end of the run (fix_flip_momentum.h).
+void PairDpdnl::add_flip_check()
+{
+  Fix *deform = nullptr;
+  for (int k = 0; k < modify->nfix; k++) {
+    if (strcmp(modify->fix[k]->style, "flip/momentum") == 0) return;
+    if (!deform && strncmp(modify->fix[k]->style, "deform", 6) == 0) deform = modify->fix[k];
+  }
+  if (!deform) return;
+  modify->add_fix(std::string(FixFlipMomentum::AUTO_ID) + " " + group->names[deform->igroup] +
+                  " flip/momentum mode check");
 }
 
 // The box must be at least 2 rc long along every periodic dimension (dpdnl_box_check, the

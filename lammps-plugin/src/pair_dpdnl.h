@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The one LAMMPS driver of every dpdnl pair style (pair_style dpd/nonlinear, pair_style sdpd).
 //
 // A style is an opaque Rust handle (DpdnlPair, capi/include/dpdnl.h): the standalone engine's
@@ -57,6 +58,7 @@ class PairDpdnl : public Pair {
   void adopt(DpdnlPair *h);
   void sync_setflag();
   void box_check();
+  void add_flip_check();
   void write_text(FILE *fp, int settings_only);
   void read_text(FILE *fp);
   void write_data_lines(FILE *fp, bool all);

@@ -165,7 +165,30 @@ fn kind_name(k: FileKind) -> &'static str {
     }
 }
 
-/// The thermo blocks of a LAMMPS or dpdnl log: a list (one per run) of dicts column → array.
+/// The thermo blocks of a LAMMPS or dpdnl log.
+///
+/// Args:
+///     path: the log file; give this or ``text``.
+///     text: the log's text instead of a file.
+///
+/// Returns:
+///     A list with one dict per run (per thermo header): column name as in the header
+///     (``Step``, ``Temp``, …) → float array, in the units of the thermo keyword.
+///
+/// Raises:
+///     FormatError: the text is not a log with thermo output (file, line, token).
+///     OSError: the file cannot be read.
+///
+/// Example:
+///     >>> log = '''LAMMPS (22 Jul 2025)
+///     ... Step Temp Press
+///     ...        0   1.0   2.5
+///     ...       10   0.98  2.4
+///     ... Loop time of 0.01 on 1 procs for 10 steps with 500 atoms
+///     ... '''
+///     >>> runs = dpdnl.read_log(text=log)
+///     >>> runs[0]["Temp"].tolist()
+///     [1.0, 0.98]
 #[pyfunction]
 #[pyo3(signature = (path = None, *, text = None))]
 fn read_log<'py>(
@@ -177,9 +200,41 @@ fn read_log<'py>(
     log_blocks(py, &name, &text)
 }
 
-/// The frames of a text dump (`dump custom`/`atom`): a list of dicts with `step`,
-/// `box_bounds` (array (3, 2) of lo, hi), `tilt` ((xy, xz, yz) or None) and `atoms` (column
-/// name → array, rows sorted by id when there is an id column).
+/// The frames of a text dump (``dump custom`` or ``dump atom``) of either engine.
+///
+/// Args:
+///     path: the dump file; give this or ``text``.
+///     text: the dump's text instead of a file.
+///
+/// Returns:
+///     A list with one dict per frame:
+///
+///     - ``step`` (int): the time step;
+///     - ``box_bounds``: array (3, 2) of the lo and hi bounds (distance units);
+///     - ``tilt``: ``(xy, xz, yz)`` for a triclinic box, else None;
+///     - ``atoms``: dict column name (as in ``ITEM: ATOMS``) → float array, rows sorted by
+///       id when there is an ``id`` column.
+///
+/// Raises:
+///     FormatError: the text is not a dump (file, line, token).
+///     OSError: the file cannot be read.
+///
+/// Example:
+///     >>> dump = '''ITEM: TIMESTEP
+///     ... 100
+///     ... ITEM: NUMBER OF ATOMS
+///     ... 2
+///     ... ITEM: BOX BOUNDS pp pp pp
+///     ... 0 5
+///     ... 0 5
+///     ... 0 5
+///     ... ITEM: ATOMS id type x y z vx vy vz
+///     ... 2 1 1.0 1.0 1.0 0.1 0.0 0.0
+///     ... 1 1 2.0 2.0 2.0 -0.1 0.0 0.0
+///     ... '''
+///     >>> frame = dpdnl.read_dump(text=dump)[0]
+///     >>> frame["step"], frame["atoms"]["id"].tolist(), frame["atoms"]["vx"].tolist()
+///     (100, [1.0, 2.0], [-0.1, 0.1])
 #[pyfunction]
 #[pyo3(signature = (path = None, *, text = None))]
 fn read_dump<'py>(
@@ -191,9 +246,32 @@ fn read_dump<'py>(
     dump_frames(py, &name, &text)
 }
 
-/// A `fix ave/time` file. Scalar mode: `{"mode": "scalar", "steps", "data": {name: array}}`;
-/// vector mode: `{"mode": "vector", "steps", "blocks": [{"step", "header", "data": {"Row",
-/// name: array}}]}`.
+/// A ``fix ave/time`` file, in scalar or vector mode.
+///
+/// Args:
+///     path: the file; give this or ``text``.
+///     text: the file's text instead of a file.
+///
+/// Returns:
+///     A dict. Scalar mode: ``mode`` = ``"scalar"``, ``steps`` (int array), ``data`` (column
+///     name → float array). Vector mode: ``mode`` = ``"vector"``, ``steps`` (int array),
+///     ``blocks``: one dict per output with ``step``, ``header`` (the numbers of the output's
+///     first line after the step) and ``data`` (``Row`` and each column → float array).
+///     Values are in the units of the averaged quantities.
+///
+/// Raises:
+///     FormatError: the text is not an ave/time file (file, line, token).
+///     OSError: the file cannot be read.
+///
+/// Example:
+///     >>> text = '''# Time-averaged data for fix avg
+///     ... # TimeStep c_msd[4] v_t
+///     ... 100 0.52 1.01
+///     ... 200 1.04 0.99
+///     ... '''
+///     >>> r = dpdnl.read_ave_time(text=text)
+///     >>> r["mode"], r["steps"].tolist(), r["data"]["c_msd[4]"].tolist()
+///     ('scalar', [100, 200], [0.52, 1.04])
 #[pyfunction]
 #[pyo3(signature = (path = None, *, text = None))]
 fn read_ave_time<'py>(
@@ -205,8 +283,34 @@ fn read_ave_time<'py>(
     ave_time(py, &name, &text)
 }
 
-/// A `fix ave/chunk` file: `{"columns", "steps", "blocks": [{"step", "header", "nchunks",
-/// "total", "data": {column: array}}]}`.
+/// A ``fix ave/chunk`` file (profiles).
+///
+/// Args:
+///     path: the file; give this or ``text``.
+///     text: the file's text instead of a file.
+///
+/// Returns:
+///     A dict: ``columns`` (the names of the chunk lines: ``Chunk``, ``Coord1``, ``Ncount``,
+///     the values), ``steps`` (int array), ``blocks``: one dict per output with ``step``,
+///     ``header`` (the output line's numbers after the step), ``nchunks`` (int), ``total``
+///     (the total count) and ``data`` (column → float array, one value per chunk; ``Coord1``
+///     in distance units, or reduced with ``units reduced``).
+///
+/// Raises:
+///     FormatError: the text is not an ave/chunk file (file, line, token).
+///     OSError: the file cannot be read.
+///
+/// Example:
+///     >>> text = '''# Chunk-averaged data for fix prof and group all
+///     ... # Timestep Number-of-chunks Total-count
+///     ... # Chunk Coord1 Ncount vz
+///     ... 1000 2 500
+///     ...   1 0.25 250 0.1
+///     ...   2 0.75 250 -0.1
+///     ... '''
+///     >>> block = dpdnl.read_ave_chunk(text=text)["blocks"][0]
+///     >>> block["step"], block["nchunks"], block["data"]["vz"].tolist()
+///     (1000, 2, [0.1, -0.1])
 #[pyfunction]
 #[pyo3(signature = (path = None, *, text = None))]
 fn read_ave_chunk<'py>(
@@ -218,8 +322,33 @@ fn read_ave_chunk<'py>(
     ave_chunk(py, &name, &text)
 }
 
-/// A `fix ave/histo` file: `{"steps", "blocks": [{"step", "total", "missing", "min", "max",
-/// "coord", "count", "fraction"}]}`.
+/// A ``fix ave/histo`` file (histograms).
+///
+/// Args:
+///     path: the file; give this or ``text``.
+///     text: the file's text instead of a file.
+///
+/// Returns:
+///     A dict: ``steps`` (int array) and ``blocks``, one dict per output with ``step``,
+///     ``total`` (counts), ``missing`` (counts outside the range), ``min`` and ``max`` (the
+///     extreme values seen, units of the histogrammed quantity), ``coord`` (bin centres,
+///     same units), ``count`` and ``fraction`` (float arrays, one per bin).
+///
+/// Raises:
+///     FormatError: the text is not an ave/histo file (file, line, token).
+///     OSError: the file cannot be read.
+///
+/// Example:
+///     >>> text = '''# Histogrammed data for fix h
+///     ... # TimeStep Number-of-bins Total-counts Missing-counts Min-value Max-value
+///     ... # Bin Coord Count Count/Total
+///     ... 1000 2 100 0 0.01 1.9
+///     ... 1 0.5 60 0.6
+///     ... 2 1.5 40 0.4
+///     ... '''
+///     >>> block = dpdnl.read_ave_histo(text=text)["blocks"][0]
+///     >>> block["total"], block["coord"].tolist(), block["fraction"].tolist()
+///     (100.0, [0.5, 1.5], [0.6, 0.4])
 #[pyfunction]
 #[pyo3(signature = (path = None, *, text = None))]
 fn read_ave_histo<'py>(
@@ -231,9 +360,31 @@ fn read_ave_histo<'py>(
     ave_histo(py, &name, &text)
 }
 
-/// A time series from a scalar-mode `fix ave/time` file or a log (runs with the last run's
-/// columns joined, repeated steps dropped): `{"Step": array, column: array, …}`, the input the
-/// analyses take.
+/// A time series from a scalar-mode ``fix ave/time`` file or a log, the input the analyses
+/// take.
+///
+/// A log's runs are joined with the last run's columns, repeated steps dropped.
+///
+/// Args:
+///     path: the file; give this or ``text``.
+///     text: the file's text instead of a file.
+///
+/// Returns:
+///     ``{"Step": steps, column: values, …}``, float arrays of equal length.
+///
+/// Raises:
+///     FormatError: neither a scalar ave/time file nor a log (file, line, token).
+///     OSError: the file cannot be read.
+///
+/// Example:
+///     >>> text = '''# Time-averaged data for fix avg
+///     ... # TimeStep c_msd[4]
+///     ... 100 0.52
+///     ... 200 1.04
+///     ... '''
+///     >>> s = dpdnl.read_series(text=text)
+///     >>> list(s), s["Step"].tolist()
+///     (['Step', 'c_msd[4]'], [100.0, 200.0])
 #[pyfunction]
 #[pyo3(signature = (path = None, *, text = None))]
 fn read_series<'py>(
@@ -246,8 +397,21 @@ fn read_series<'py>(
     series_dict(py, &s)
 }
 
-/// The kind of a file, from its first line: "ave/time", "ave/chunk", "ave/histo", "dump" or
-/// "log".
+/// The kind of a file, from its first lines.
+///
+/// Args:
+///     path: the file; give this or ``text``.
+///     text: the file's text instead of a file.
+///
+/// Returns:
+///     ``"ave/time"``, ``"ave/chunk"``, ``"ave/histo"``, ``"dump"`` or ``"log"``.
+///
+/// Raises:
+///     OSError: the file cannot be read.
+///
+/// Example:
+///     >>> dpdnl.detect_kind(text="ITEM: TIMESTEP\n0\n")
+///     'dump'
 #[pyfunction]
 #[pyo3(signature = (path = None, *, text = None))]
 fn detect_kind(path: Option<PathBuf>, text: Option<String>) -> PyResult<&'static str> {
@@ -255,8 +419,24 @@ fn detect_kind(path: Option<PathBuf>, text: Option<String>) -> PyResult<&'static
     Ok(kind_name(detect(&text)))
 }
 
-/// Reads any of the above by its kind (see `detect_kind`): a log gives `read_log`'s list, the
-/// others their reader's dict.
+/// Reads any of the above by its kind (:func:`detect_kind`).
+///
+/// Args:
+///     path: the file; give this or ``text``.
+///     text: the file's text instead of a file.
+///
+/// Returns:
+///     A log gives :func:`read_log`'s list, a dump :func:`read_dump`'s list, the others
+///     their reader's dict.
+///
+/// Raises:
+///     FormatError: the text is not in the format of its kind (file, line, token).
+///     OSError: the file cannot be read.
+///
+/// Example:
+///     >>> r = dpdnl.read(text="# Time-averaged data\n# TimeStep v_a\n0 1.5\n10 2.5\n")
+///     >>> r["mode"], r["data"]["v_a"].tolist()
+///     ('scalar', [1.5, 2.5])
 #[pyfunction]
 #[pyo3(signature = (path = None, *, text = None))]
 fn read<'py>(

@@ -30,29 +30,56 @@ create_exception!(
     dpdnl,
     ScriptError,
     PyRuntimeError,
-    "An error in a script or command: attributes `file`, `line` (1-based; 0 when not from a \
-     file), `command` (the command word) and `message`; str() is the CLI's text \
-     `file:line: command: message`."
+    "An error in a script or command: ``str(e)`` is the CLI's ``file:line: command: message``.
+
+Example:
+    >>> sim = dpdnl.Simulation()
+    >>> try:
+    ...     sim.commands([\"units lj\", \"frobnicate 1 2\"])
+    ... except dpdnl.ScriptError as e:
+    ...     print(e.file, e.line, e.command)
+    <commands> 2 frobnicate"
 );
 create_exception!(
     dpdnl,
     FormatError,
     PyValueError,
-    "A file that is not in the format it was read as (the message names the file, the line and \
-     the offending token, as the CLI's)."
+    "A file that is not in the format it was read as; the message names the file, the line
+and the offending token, as the CLI's.
+
+Example:
+    >>> try:
+    ...     dpdnl.read_ave_chunk(text=\"# Chunk Coord1 Ncount vz\\n1000 2 x\\n\")
+    ... except dpdnl.FormatError:
+    ...     print(\"not an ave/chunk file\")
+    not an ave/chunk file"
 );
 create_exception!(
     dpdnl,
     AnalysisError,
     PyValueError,
-    "An analysis that cannot be done on the given data (the message is the CLI's)."
+    "An analysis that cannot be done on the given data (the message is the CLI's).
+
+Example:
+    >>> try:
+    ...     dpdnl.couette({\"Step\": [0, 10], \"temp\": [1.0, 1.0]}, rate=0.1)
+    ... except dpdnl.AnalysisError:
+    ...     print(\"no pxy column\")
+    no pxy column"
 );
 create_exception!(
     dpdnl,
     TheoryError,
     PyValueError,
-    "Parameters outside the kinetic theory's domain, or a design target that cannot be met \
-     (the message says which bound to move, as the CLI's)."
+    "Parameters outside the kinetic theory's domain, or a design target that cannot be met
+(the message says which bound to move, as the CLI's).
+
+Example:
+    >>> try:
+    ...     dpdnl.design(eta=3.0, sc=0.4, density=4.0, rc=1.0)
+    ... except dpdnl.TheoryError:
+    ...     print(\"Sc <= 1/2 is impossible\")
+    Sc <= 1/2 is impossible"
 );
 
 /// A `ScriptError` with its attributes set from the interpreter's error.

@@ -98,12 +98,31 @@ impl Engine {
     }
 }
 
-/// The standalone DPD engine, driven by commands of its LAMMPS-style script language.
+/// The standalone DPD engine, driven by commands of its LAMMPS-style script language
+/// (``units lj`` only: mass m, distance σ, energy ε, time τ, k_B = 1).
 ///
-/// `Simulation(dimension=3)` starts empty (as a script before its first line);
-/// `Simulation.from_script(path, variables={...})` runs a script as `dpdnl run -var NAME VALUE`
-/// does. Then `command`, `commands`, `file` and `run` issue more commands. Per-atom arrays are
-/// sorted by atom id.
+/// ``Simulation(dimension=3)`` starts empty, as a script before its first line;
+/// :meth:`from_script` runs a script as ``dpdnl run PATH -var NAME VALUE`` does. Then
+/// :meth:`command`, :meth:`commands`, :meth:`file` and :meth:`run` issue more commands, with
+/// the same bits as the CLI. Per-atom arrays are copies sorted by atom id; ``thermo`` holds the
+/// thermo output of each run. The examples of the methods continue this one (``sim``).
+///
+/// Example:
+///     >>> sim = dpdnl.Simulation()
+///     >>> sim.commands([
+///     ...     "region box block 0 5 0 5 0 5", "create_box 1 box",
+///     ...     "create_atoms 1 random 375 8675 box", "mass 1 1.0",
+///     ...     "velocity all create 1.0 4928 mom yes",
+///     ...     "pair_style dpd/nonlinear 1.0 1.0 7919 friction cross",
+///     ...     "pair_coeff * * 25.0 4.5 0.5",
+///     ...     "fix 1 all nve", "timestep 0.01",
+///     ...     "thermo 50", "thermo_style custom step temp press pxy",
+///     ... ])
+///     >>> sim.run(100)
+///     >>> sim.step, sim.natoms, sim.positions.shape
+///     (100, 375, (375, 3))
+///     >>> sim.thermo[-1]["Step"].tolist()
+///     [0.0, 50.0, 100.0]
 #[pyclass(unsendable, module = "dpdnl")]
 pub struct Simulation {
     engine: Engine,
@@ -268,11 +287,18 @@ impl Simulation {
 
 #[pymethods]
 impl Simulation {
-    /// A fresh engine: `dimension` 2 or 3 (the `dimension` command), `variables` as `-var
-    /// NAME VALUE` (index-style), `log` a log file path (None: no log file), `threads` the
-    /// worker threads (None: all cores; results are bit-identical for any number), `echo`
-    /// also prints the output lines. The thread count is fixed by the first Simulation of the
-    /// process that gives one (a later different number raises ValueError).
+    /// A fresh engine, with no box yet.
+    ///
+    /// Args:
+    ///     dimension: 2 or 3 (the ``dimension`` command).
+    ///     variables: index-style variables, name → value, as ``-var NAME VALUE`` on the
+    ///         command line; None: none.
+    ///     log: path of a log file to write, as ``-log``; None: no log file.
+    ///     threads: worker threads of the engine; None: ``RAYON_NUM_THREADS``, else all
+    ///         cores. The results are the same bits for any number. The first Simulation of
+    ///         the process that gives a number fixes it; a different number later raises
+    ///         ValueError.
+    ///     echo: also print every output line to standard output.
     #[new]
     #[pyo3(signature = (dimension = 3, *, variables = None, log = None, threads = None, echo = false))]
     fn new(
@@ -292,9 +318,35 @@ impl Simulation {
         Ok(s)
     }
 
-    /// Runs the script at `path` (as `dpdnl run PATH -var NAME VALUE …`) and returns the
-    /// simulation in the state the script left it. Paths inside the script are relative to
-    /// the current directory, as in LAMMPS.
+    /// Runs a script as ``dpdnl run PATH -var NAME VALUE …`` does.
+    ///
+    /// Paths inside the script are relative to the current directory, as in LAMMPS.
+    ///
+    /// Args:
+    ///     path: the input script.
+    ///     variables: index-style variables, name → value (``-var NAME VALUE``); None: none.
+    ///     log: path of a log file to write; None: no log file.
+    ///     threads: worker threads, as for ``Simulation()``.
+    ///     echo: also print every output line to standard output.
+    ///
+    /// Returns:
+    ///     The simulation in the state the script left it.
+    ///
+    /// Raises:
+    ///     ScriptError: a command of the script is wrong (file and line of the script).
+    ///     OSError: the script cannot be read.
+    ///
+    /// Example:
+    ///     >>> with open("in.short", "w") as f:
+    ///     ...     _ = f.write("\n".join([
+    ///     ...         "region box block 0 4 0 4 0 4", "create_box 1 box",
+    ///     ...         "create_atoms 1 random 192 1234 box", "mass 1 1.0",
+    ///     ...         "velocity all create 1.0 87287 mom yes",
+    ///     ...         "pair_style dpd/nonlinear 1.0 1.0 4242", "pair_coeff * * 25.0 4.5 0.0",
+    ///     ...         "fix 1 all nve", "timestep 0.01", "run ${n}"]))
+    ///     >>> s = dpdnl.Simulation.from_script("in.short", {"n": "20"})
+    ///     >>> s.step
+    ///     20
     #[staticmethod]
     #[pyo3(signature = (path, variables = None, *, log = None, threads = None, echo = false))]
     fn from_script(
@@ -310,25 +362,75 @@ impl Simulation {
         Ok(s)
     }
 
-    /// Runs one command (or several lines) of the script language. Errors raise ScriptError
-    /// with file `<command>` and the line within `text`.
+    /// Runs one command, or several lines, of the script language.
+    ///
+    /// Args:
+    ///     text: the command line(s), as in a script.
+    ///
+    /// Raises:
+    ///     ScriptError: the command is wrong (file ``<command>``, the line within ``text``).
+    ///
+    /// Example:
+    ///     >>> sim.command("thermo_style custom step temp ke pe")
+    ///     >>> sim.command("run 10")
+    ///     >>> sorted(sim.thermo[-1])
+    ///     ['KinEng', 'PotEng', 'Step', 'Temp']
     fn command(&mut self, py: Python<'_>, text: &str) -> PyResult<()> {
         self.exec(py, text, "<command>")
     }
 
-    /// Runs a list of commands in order (as lines of one script named `<commands>`).
+    /// Runs a list of commands in order, as the lines of one script named ``<commands>``.
+    ///
+    /// Args:
+    ///     lines: the commands, one per item.
+    ///
+    /// Raises:
+    ///     ScriptError: a command is wrong (file ``<commands>``, its 1-based position).
+    ///
+    /// Example:
+    ///     >>> sim.commands(["variable n equal 10", "run ${n}"])
+    ///     >>> sim.step
+    ///     120
     fn commands(&mut self, py: Python<'_>, lines: Vec<String>) -> PyResult<()> {
         self.exec(py, &lines.join("\n"), "<commands>")
     }
 
-    /// Runs a script file in this simulation (as `include PATH`).
+    /// Runs a script file in this simulation, as ``include PATH`` does.
+    ///
+    /// Args:
+    ///     path: the script; paths inside it are relative to the current directory.
+    ///
+    /// Raises:
+    ///     ScriptError: a command of the file is wrong (its file and line).
+    ///     OSError: the file cannot be read.
+    ///
+    /// Example:
+    ///     >>> with open("more.in", "w") as f:
+    ///     ...     _ = f.write("thermo 5\nrun 10\n")
+    ///     >>> sim.file("more.in")
+    ///     >>> sim.step
+    ///     130
     fn file(&mut self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         self.exec_file(py, path)
     }
 
-    /// Runs `n` steps (the `run N` command; `upto=True`: `run N upto`). The GIL is released
-    /// while it runs; Ctrl-C stops it at a step boundary with KeyboardInterrupt, the system
-    /// left as it was after that step.
+    /// Runs ``n`` steps: the ``run N`` command (``upto=True``: ``run N upto``).
+    ///
+    /// The GIL is released while it runs. Ctrl-C stops it at a step boundary with
+    /// KeyboardInterrupt, the system left as it was after that step, so it can go on.
+    ///
+    /// Args:
+    ///     n: number of steps, or with ``upto`` the step to run to.
+    ///     upto: run up to step ``n`` instead of ``n`` more steps.
+    ///
+    /// Raises:
+    ///     ScriptError: the run cannot start (no box, no pair style, …).
+    ///     KeyboardInterrupt: Ctrl-C during the run.
+    ///
+    /// Example:
+    ///     >>> sim.run(200, upto=True)
+    ///     >>> sim.step
+    ///     200
     #[pyo3(signature = (n, upto = false))]
     fn run(&mut self, py: Python<'_>, n: u64, upto: bool) -> PyResult<()> {
         let cmd = if upto {
@@ -351,20 +453,19 @@ impl Simulation {
         self.engine.interp().system().map_or(0, |s| s.atoms.len())
     }
 
-    /// The dimension of the box (None before the box exists).
+    /// The dimension of the box, 2 or 3 (None before the box exists).
     #[getter]
     fn dimension(&self) -> Option<usize> {
         self.engine.interp().system().map(|s| s.bx.dim)
     }
 
-    /// The time step δt (None before the box exists).
+    /// The time step δt, time units (lj: τ); None before the box exists.
     #[getter]
     fn dt(&self) -> Option<f64> {
         self.engine.interp().system().map(|s| s.dt)
     }
 
-    /// `(lo, hi, tilt)`: the box bounds as 3-tuples and the tilt factors `(xy, xz, yz)` as
-    /// reported in thermo and dumps (all 0 for an orthogonal box); None before the box exists.
+    /// ``(lo, hi, (xy, xz, yz))``: the box bounds and the tilt factors as thermo and dumps report them (all 0 for an orthogonal box), distance units (lj: σ); None before the box exists.
     #[getter(r#box)]
     fn get_box(&self) -> Option<(V3, V3, V3)> {
         self.engine.interp().system().map(|s| {
@@ -373,7 +474,7 @@ impl Simulation {
         })
     }
 
-    /// Per-type masses, index 0 unused (None for a type without a mass).
+    /// Per-type masses, mass units (lj: m); index 0 unused, None for a type without a mass.
     #[getter]
     fn masses(&self) -> Vec<Option<f64>> {
         self.engine
@@ -408,14 +509,13 @@ impl Simulation {
         PyArray1::from_vec(py, v)
     }
 
-    /// Positions, shape (N, 3), by atom id, wrapped into the box as dumps write them (`x y z`).
-    /// Settable with an (N, 3) array (or (N, 2) in 2-D), by atom id.
+    /// Positions, shape (N, 3), by atom id, wrapped into the box as dumps write them (``x y z``), distance units (lj: σ). Settable with an (N, 3) array ((N, 2) in 2-D), by atom id; the image counters are kept.
     #[getter]
     fn get_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.with_atoms(py, 3, |s, i| wrapped(s, i).0)
     }
 
-    /// Unwrapped positions x + image · L (dumps' `xu yu zu`), shape (N, 3), by atom id.
+    /// Unwrapped positions x + image · L (dumps' ``xu yu zu``), shape (N, 3), by atom id, distance units (lj: σ).
     #[getter]
     fn unwrapped_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.with_atoms(py, 3, |s, i| {
@@ -429,7 +529,7 @@ impl Simulation {
         self.set_vectors(values, "positions", |a, i, v| a.x[i] = v)
     }
 
-    /// Velocities, shape (N, 3), by atom id. Settable like `positions`.
+    /// Velocities, shape (N, 3), by atom id, velocity units (lj: σ/τ). Settable like ``positions``.
     #[getter]
     fn get_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.with_atoms(py, 3, |s, i| s.atoms.v[i])
@@ -440,27 +540,25 @@ impl Simulation {
         self.set_vectors(values, "velocities", |a, i, v| a.v[i] = v)
     }
 
-    /// Forces of the last force evaluation, shape (N, 3), by atom id (read only).
+    /// Forces of the last force evaluation, shape (N, 3), by atom id, force units (lj: ε/σ).
     #[getter]
     fn forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.with_atoms(py, 3, |s, i| s.atoms.f[i])
     }
 
-    /// Periodic image counters of `positions` (dumps' `ix iy iz`), shape (N, 3), int32, by id.
+    /// Periodic image counters of ``positions`` (dumps' ``ix iy iz``), shape (N, 3), int32, by atom id.
     #[getter]
     fn images<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.with_atoms(py, 3, |s, i| wrapped(s, i).1)
     }
 
-    /// Every line the interpreter printed (what `dpdnl run` shows and logs).
+    /// Every line the interpreter printed (what ``dpdnl run`` shows and logs).
     #[getter]
     fn output(&self) -> Vec<String> {
         lock(&self.state).lines.clone()
     }
 
-    /// The thermo output, one dict per run (per thermo header): column name (as in the log
-    /// header, e.g. `Step`, `Temp`, `Press`) → NumPy array. Parsed from the printed lines with
-    /// the crate's log parser, so it holds exactly what the log holds.
+    /// The thermo output, one dict per run (per thermo header): column name as in the log header (``Step``, ``Temp``, ``Press``, …) → array, in the units of the thermo keyword (lj). Parsed from the printed lines with the crate's log parser, so it holds exactly what the log holds.
     #[getter]
     fn thermo<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let text = {

@@ -113,6 +113,107 @@ pub struct Triclinic {
     pub deform: Option<Deform>,
     /// The sliding-brick state of the current step: rate γ̇ and offset xy mod L_x.
     pub le: LeesEdwards,
+    /// `fix ID all flip/momentum [mode jump|check]`, if defined: Some(true) (`mode jump`) gives
+    /// atoms put through y at a flip `remap v`'s velocity jump, so the momentum relative to the
+    /// shear profile is conserved (LAMMPS's `fix deform` alone leaves their velocities alone
+    /// and leaks it: issue 41, `docs/manual/styles/fix_flip_momentum.md`); Some(false)
+    /// (`mode check`) only counts, as the engine does without the fix.
+    pub flip_fix: Option<bool>,
+    /// What this run's flips did to atoms put through y (counted with or without the fix).
+    pub leak: FlipLeak,
+}
+
+/// The atoms that box flips put through the y boundary during a run, and the x momentum
+/// relative to the shear profile that they changed: each such atom, put through without the
+/// velocity jump, changes Σ m (v_x − γ̇ y) by m n_y h_rate_xy (n_y its crossings).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FlipLeak {
+    /// Atoms put through y at flips.
+    pub atoms: u64,
+    /// Σ m n_y h_rate_xy over them: the momentum leaked when no jump is applied (0 with
+    /// `fix flip/momentum`, which applies it).
+    pub momentum: f64,
+    /// True when the jump was applied (`fix flip/momentum`).
+    pub conserved: bool,
+}
+
+/// The y crossings an atom at `y` needs to be in [lo, hi) of a box of length `len` along y, as
+/// LAMMPS's `Domain::remap`/`pbc` count them: n = ⌊(y − lo)/len⌋, and one more if round-off
+/// leaves y − n len at hi.
+#[inline]
+pub fn y_crossings(y: f64, lo: f64, hi: f64, len: f64) -> i32 {
+    let n = ((y - lo) * (1.0 / len)).floor();
+    if n == 0.0 {
+        return 0;
+    }
+    let extra = i32::from(y - n * len >= hi);
+    (n as i32).saturating_add(extra)
+}
+
+/// `fix flip/momentum` on one atom of a tilted box before a flip (the box of tilt `xy` that the
+/// flip will change): an atom outside [lo, hi) along y is put through y by n lattice vectors
+/// b = (xy, L_y, 0), and, with `jump`, its v_x changes by −n h_rate_xy, the jump `remap v`
+/// gives an atom through y (LAMMPS's `Domain::pbc`), so v_x − γ̇ y is kept. Returns n. The
+/// LAMMPS fix calls it (through the C ABI) on every owned atom of the deformed group at the
+/// flip's step, before `fix deform`'s `pre_exchange` flips and remaps; the standalone engine's
+/// flip does the same with its `wrap_le` (`System::flip_box`).
+pub fn flip_wrap_y(
+    x: &mut [f64; 3],
+    v: &mut [f64; 3],
+    lo: f64,
+    hi: f64,
+    xy: f64,
+    h_rate_xy: f64,
+    jump: bool,
+) -> i32 {
+    let len = hi - lo;
+    let n = y_crossings(x[1], lo, hi, len);
+    if n != 0 {
+        let nf = f64::from(n);
+        x[1] -= nf * len;
+        x[0] -= nf * xy;
+        if jump {
+            v[0] -= nf * h_rate_xy;
+        }
+    }
+    n
+}
+
+/// The end-of-run log line of a run whose flips put atoms through y with the velocity jump
+/// (`fix flip/momentum`, mode jump); None when none was.
+pub fn flip_jump_note(leak: &FlipLeak) -> Option<String> {
+    (leak.conserved && leak.atoms > 0).then(|| {
+        format!(
+            "fix flip/momentum: box flips put {} atom(s) through the y boundary, each with remap v's \
+             velocity jump",
+            leak.atoms
+        )
+    })
+}
+
+/// The end-of-run warning of a run whose flips put atoms through y without the velocity jump
+/// (plain `fix deform … remap v`, in LAMMPS and in the standalone engine alike); None when no
+/// atom was or the jump was applied. `total_mass` turns the momentum into the mean velocity V
+/// relative to the profile.
+pub fn flip_leak_warning(leak: &FlipLeak, total_mass: f64) -> Option<String> {
+    if leak.atoms == 0 || leak.conserved {
+        return None;
+    }
+    let dv = if total_mass > 0.0 {
+        leak.momentum / total_mass
+    } else {
+        0.0
+    };
+    Some(format!(
+        "fix deform … remap v: box flips put {} atom(s) through the y boundary without remap v's \
+         velocity jump (LAMMPS's fix deform does the same), so the total x momentum relative to \
+         the shear profile changed by {} (mean velocity V = {}); temp/deform counts V²/2 as heat. \
+         Add 'fix ID all flip/momentum' to apply the jump at flips too \
+         (docs/manual/styles/fix_flip_momentum.md)",
+        leak.atoms,
+        crate::fmtnum::fmt_g(leak.momentum),
+        crate::fmtnum::fmt_g(dv),
+    ))
 }
 
 impl Triclinic {
@@ -122,6 +223,8 @@ impl Triclinic {
             xy,
             deform: None,
             le: LeesEdwards::new(0.0),
+            flip_fix: None,
+            leak: FlipLeak::default(),
         }
     }
 
@@ -193,6 +296,7 @@ impl Triclinic {
     /// `tilt_stop = tilt_start + Δt·R·L_y` and `h_rate = (tilt_stop − tilt_start)/Δt`, Δt the
     /// run's time (the same operations, so the same bits).
     pub fn start_run(&mut self, bx: &SimBox, dt: f64, step: u64, end: Option<u64>) {
+        self.leak = FlipLeak::default();
         let xy = self.xy;
         let ly = bx.len()[1];
         if let Some(d) = self.deform.as_mut() {

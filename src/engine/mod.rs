@@ -289,6 +289,11 @@ impl System {
         }
         let end = self.run_end.take();
         if let Some(t) = self.tri.as_mut() {
+            if t.flip_fix.is_some() {
+                // The standalone `fix deform` is always `xy erate … remap v` of group all.
+                let d = t.deform.as_ref().map(|d| (d.id.as_str(), true, true, true));
+                crate::grammar::fix::flip_momentum_setup(d)?;
+            }
             t.start_run(&self.bx, self.dt, self.step, end);
         }
         // Every run starts from a fresh list (so a continuation from a restart file, which
@@ -517,7 +522,9 @@ impl System {
     /// the rebuild): the tilt changes by a box length, every x image flag by −flipxy · iy
     /// (`Domain::image_flip`), and every atom outside the box is put back into it
     /// (`Domain::remap`: its velocity is left alone, also for an atom through y, whose velocity
-    /// jump LAMMPS's `remap` does not apply).
+    /// jump LAMMPS's `remap` does not apply; with `fix flip/momentum` an atom through y gets
+    /// the jump, as `Domain::pbc` would give it). The atoms put through y and the momentum
+    /// relative to the profile that they changed are counted in `Triclinic::leak`.
     fn flip_box(&mut self) {
         let Some(flipxy) = self.tri.as_mut().and_then(|t| t.take_flip()) else {
             return;
@@ -526,20 +533,62 @@ impl System {
             im[0] = im[0].saturating_sub(flipxy.saturating_mul(im[1]));
         }
         self.set_shear();
-        let Some(t) = self.tri.as_ref() else {
+        let Some(t) = self.tri.as_mut() else {
             return;
         };
-        let mut le = t.le;
-        le.rate = 0.0;
         let bx = &self.bx;
-        self.atoms
-            .x
-            .par_iter_mut()
-            .zip(self.atoms.image.par_iter_mut())
-            .for_each(|(x, im)| {
-                let mut v = [0.0; 3];
-                bx.wrap_le(x, &mut v, im, &le);
-            });
+        let (lo, hi, ly) = (bx.lo[1], bx.hi[1], bx.len()[1]);
+        let jump = t.le.jump(bx);
+        // Counted before the wrap, in storage order (a serial sum: the same bits on any number
+        // of threads).
+        for (x, &typ) in self.atoms.x.iter().zip(&self.atoms.typ) {
+            let n = lees_edwards::y_crossings(x[1], lo, hi, ly);
+            if n != 0 {
+                let m = self
+                    .mass
+                    .get(typ as usize)
+                    .copied()
+                    .flatten()
+                    .unwrap_or(0.0);
+                t.leak.atoms += 1;
+                t.leak.momentum += m * f64::from(n) * jump;
+            }
+        }
+        let mut le = t.le;
+        if t.flip_fix == Some(true) {
+            t.leak.conserved = true;
+            let a = &mut self.atoms;
+            a.x.par_iter_mut()
+                .zip(a.v.par_iter_mut())
+                .zip(a.image.par_iter_mut())
+                .for_each(|((x, v), im)| bx.wrap_le(x, v, im, &le));
+        } else {
+            le.rate = 0.0;
+            self.atoms
+                .x
+                .par_iter_mut()
+                .zip(self.atoms.image.par_iter_mut())
+                .for_each(|(x, im)| {
+                    let mut v = [0.0; 3];
+                    bx.wrap_le(x, &mut v, im, &le);
+                });
+        }
+    }
+
+    /// The end-of-run warning of the flips' momentum leak (`lees_edwards::flip_leak_warning`),
+    /// once per run: the counts start again at the next run's set-up.
+    pub fn flip_leak_warning(&self) -> Option<String> {
+        let t = self.tri.as_ref()?;
+        if t.leak.conserved {
+            return None;
+        }
+        let total: f64 = self
+            .atoms
+            .typ
+            .iter()
+            .map(|&ty| self.mass.get(ty as usize).copied().flatten().unwrap_or(0.0))
+            .sum();
+        lees_edwards::flip_leak_warning(&t.leak, total)
     }
 
     /// Put every atom into the box without changing a velocity, as LAMMPS's `Domain::remap`

@@ -27,6 +27,63 @@ pub(crate) const PEX_PUSH: StyleSpec = StyleSpec {
     keywords: &["width", "every"],
 };
 
+/// `fix ID group flip/momentum [mode jump|check]` (issue 41).
+pub(crate) const FLIP_MOMENTUM: StyleSpec = StyleSpec {
+    command: "fix",
+    style: "flip/momentum",
+    usage: "fix ID group-ID flip/momentum [mode jump|check]",
+    keywords: &["mode"],
+};
+
+/// Parse `fix ID group flip/momentum [mode jump|check]` (`args` after the style name): true
+/// for `mode jump` (the default: atoms put through y at a box flip get `remap v`'s velocity
+/// jump), false for `mode check` (nothing changes; the atoms and the momentum are counted and
+/// reported at the end of the run, as both engines do by themselves without this fix).
+pub fn flip_momentum<S: AsRef<str>>(args: &[S]) -> Result<bool, String> {
+    let mut jump = true;
+    keywords(args, &FLIP_MOMENTUM, |_, val| {
+        jump = match val {
+            "jump" => true,
+            "check" => false,
+            o => {
+                return Err(format!(
+                    "fix flip/momentum mode '{}' must be jump or check",
+                    shown(o)
+                ));
+            }
+        };
+        Ok(())
+    })?;
+    Ok(jump)
+}
+
+/// What `fix flip/momentum` needs of the run it is in, checked at each run's set-up in both
+/// engines: a `fix deform … remap v` of the same group that changes the xy tilt only (no other
+/// tilt, no box length: the jump it applies is that of an atom through y, h_rate_xy).
+/// `deform`: None without a `fix deform`, else (its ID, remap v, same group, only xy changes).
+pub fn flip_momentum_setup(deform: Option<(&str, bool, bool, bool)>) -> Result<(), String> {
+    let Some((id, remap_v, same_group, xy_only)) = deform else {
+        return Err("fix flip/momentum needs a fix deform … xy … remap v".into());
+    };
+    if !remap_v {
+        return Err(format!(
+            "fix flip/momentum needs 'remap v' on fix deform '{id}' (the jump it completes)"
+        ));
+    }
+    if !same_group {
+        return Err(format!(
+            "fix flip/momentum must have the group of fix deform '{id}'"
+        ));
+    }
+    if !xy_only {
+        return Err(format!(
+            "fix flip/momentum supports a fix deform '{id}' that changes the xy tilt only \
+             (Couette flow: no xz or yz tilt, no change of a box length)"
+        ));
+    }
+    Ok(())
+}
+
 /// Check `fix ID group nve` or `nve/euler` (`args` after the style name): no arguments.
 pub fn integrator<S: AsRef<str>>(style: &str, args: &[S]) -> Result<(), String> {
     let spec = if style == "nve" { NVE } else { NVE_EULER };

@@ -44,6 +44,7 @@ pub(crate) const SPECS: &[StyleSpec] = &[
     fix::NVE,
     fix::NVE_EULER,
     fix::PEX_PUSH,
+    fix::FLIP_MOMENTUM,
 ];
 
 /// The spec of `command style` (e.g. `("fix", "pex/push")`).

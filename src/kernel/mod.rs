@@ -11,7 +11,8 @@
 //! passes z = 0, and every formula below reduces to its 2-D form (the cross estimator becomes
 //! (x v_y − y v_x)²). Units are whatever the caller uses consistently (LAMMPS `units lj`).
 //! Sections (§) refer to `docs/models.md`; equation numbers ("eq. 32") are the non-linear
-//! paper's (Avalos et al., PCCP 2025), labelled NL-32 … there, unless stated.
+//! paper's (Naseri, Salueña Perez & Bonet Avalos, PCCP 2025), labelled NL-32 … there, unless
+//! stated.
 
 /// Pairs closer than this are skipped (their direction e_ij is undefined), as LAMMPS's DPD does.
 pub(crate) const MIN_PAIR_DISTANCE: f64 = 1.0e-10;

@@ -137,8 +137,10 @@ couette)
             ( cd "$d" && nice -n 10 "$LMP" -in in.couette2d -log log.lammps "${vars[@]}" > screen.txt )
         elif [ "$engine" = dpdext ]; then
             # LAMMPS's dpd/ext: pair_coeff a gamma_par gamma_perp ws ws_perp, w_R = (1 - r/rc)^ws,
-            # so ws = s/2 gives w_D = (1 - r/rc)^s.
-            sed -e 's|^pair_style .*|pair_style      dpd/ext 1.0 ${rc} ${seed}|' \
+            # so ws = s/2 gives w_D = (1 - r/rc)^s. The script's fix flip/momentum comes from
+            # this project's plugin (build/dpdnlplugin.so), loaded first.
+            sed -e "1i plugin load $root/build/dpdnlplugin.so" \
+                -e 's|^pair_style .*|pair_style      dpd/ext 1.0 ${rc} ${seed}|' \
                 -e 's|^pair_coeff .*|pair_coeff      1 1 ${a} $(v_gamma) 0.0 $(v_s/2) 1.0|' \
                 "$root/examples/couette/in.couette2d" > "$d/in.couette2d"
             ( cd "$d" && nice -n 10 "$LMPW" -in in.couette2d -log log.lammps "${vars[@]}" > screen.txt )

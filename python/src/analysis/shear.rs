@@ -3,8 +3,52 @@
 use super::*;
 use dpdnl::report::shear::{self, CouetteParams, FlowCurve, FlowPoint};
 
-/// Couette flow under Lees–Edwards, as `dpdnl analyze couette`: η* = −⟨P_xy⟩ / shear rate,
-/// the rate imposed (`rate`) or measured from a `fix ave/chunk` velocity profile (`profile`).
+/// The viscosity of Couette flow under Lees–Edwards boundaries (``fix deform … xy erate``),
+/// as ``dpdnl analyze couette``: η* = −⟨P_xy⟩ / shear rate, the mean and its error from
+/// block averaging.
+///
+/// Give the imposed ``rate``, or a velocity ``profile`` to measure it from.
+///
+/// Args:
+///     source: a ``fix ave/time`` file or log with P_xy, or a series dict such as
+///         ``Simulation.thermo[-1]``.
+///     col: the P_xy column, pressure units (lj: ε/σ³); None: ``pxy``, else ``c_X[4]``.
+///     rate: the imposed shear rate (``fix deform`` erate), 1/time (lj: 1/τ).
+///     profile: instead of ``rate``, a ``fix ave/chunk`` profile of v_x along y, whose
+///         block-averaged slope is the shear rate.
+///     v_col: the profile's velocity column.
+///     y_col: the profile's coordinate column.
+///     y_scale: multiply the profile coordinate by this (L_y when the chunks use ``units
+///         reduced``, which LAMMPS requires for triclinic boxes).
+///     from_step: use only samples and outputs at or after this step.
+///     label: the label of this result in :func:`flowcurve`; None: the file name without its
+///         extension, or ``"couette"`` for a dict.
+///
+/// Returns:
+///     The dict ``dpdnl analyze couette`` writes to ``PREFIX.json`` (units: lj):
+///
+///     - ``analysis`` (``"couette"``), ``label``, ``input``, ``column``, ``n_samples``,
+///       ``from_step``;
+///     - ``pxy``, ``pxy_err``: ⟨P_xy⟩ and its block error, pressure units;
+///     - ``shear_rate``, ``shear_rate_err`` (1/time), ``shear_rate_source`` (imposed or
+///       measured), ``shear_rate_imposed`` (``rate``, or None);
+///     - ``viscosity``, ``viscosity_err``: η*, mass/(distance·time) (lj: m/(σ τ); in 2-D
+///       mass/time);
+///     - ``table``: arrays ``step``, ``pxy``, ``pxy_running_mean``;
+///     - ``profile`` (with ``profile`` only): arrays ``y``, ``v``, ``v_err``, ``v_fit``.
+///
+/// Raises:
+///     AnalysisError: no P_xy column, neither rate nor profile, a series too short.
+///     FormatError: a file is not in the expected format.
+///     OSError: a file cannot be read.
+///
+/// Example:
+///     >>> rng = np.random.default_rng(3)
+///     >>> steps = np.arange(0, 20000, 10)
+///     >>> s = {"Step": steps, "pxy": -0.5 + 0.05 * rng.standard_normal(steps.size)}
+///     >>> r = dpdnl.couette(s, rate=0.25)
+///     >>> round(r["viscosity"], 1), r["shear_rate_source"]
+///     (2.0, 'imposed')
 #[pyfunction]
 #[pyo3(signature = (source, *, col = None, rate = None, profile = None, v_col = "vx", y_col = "Coord1", y_scale = 1.0, from_step = 0, label = None))]
 #[allow(clippy::too_many_arguments)]
@@ -59,9 +103,31 @@ pub(super) fn couette<'py>(
 
 // ---------------------------------------------------------------- flow curve
 
-/// Viscosity against shear rate (`dpdnl analyze flowcurve`) from results of `nemd`/`couette`
-/// (dicts, or their JSON files) or CSV files with columns label,rate,eta,eta_err: the points
-/// grouped by label and sorted by rate, and the CSV text the CLI writes.
+/// The viscosity against the shear rate, as ``dpdnl analyze flowcurve``: the points of
+/// several results grouped by their label and sorted by rate.
+///
+/// Args:
+///     results: results of :func:`nemd` or :func:`couette` (dicts, or their JSON files), or
+///         CSV files with the columns ``label,rate,eta,eta_err``.
+///
+/// Returns:
+///     A dict: ``analysis`` (``"flowcurve"``); ``groups``, one dict per label with ``label``
+///     and the arrays ``rate`` (1/time), ``eta`` and ``eta_err`` (viscosity units); ``csv``,
+///     the text of the CSV file the CLI writes.
+///
+/// Raises:
+///     AnalysisError: a result without a shear rate or viscosity.
+///     OSError: a file cannot be read.
+///
+/// Example:
+///     >>> steps = np.arange(0, 2000, 10)
+///     >>> a = dpdnl.couette({"Step": steps, "pxy": np.full(steps.size, -0.5)}, rate=0.25,
+///     ...                   label="cross")
+///     >>> b = dpdnl.couette({"Step": steps, "pxy": np.full(steps.size, -0.8)}, rate=0.5,
+///     ...                   label="cross")
+///     >>> g = dpdnl.flowcurve([b, a])["groups"][0]
+///     >>> g["label"], g["rate"].tolist(), g["eta"].round(6).tolist()
+///     ('cross', [0.25, 0.5], [2.0, 1.6])
 #[pyfunction]
 pub(super) fn flowcurve<'py>(
     py: Python<'py>,

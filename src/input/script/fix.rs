@@ -15,6 +15,8 @@ pub(super) enum FixKind {
     Pex,
     /// `deform … xy erate R remap v` (Lees–Edwards, `engine::lees_edwards`).
     Deform,
+    /// `flip/momentum [mode jump|check]` (the velocity jump at flips, issue 41).
+    FlipMomentum,
     /// `ave/time`, `ave/chunk`, `ave/histo` (in `observe`).
     Observe,
 }
@@ -29,7 +31,7 @@ impl Interpreter<'_> {
     }
 
     fn define_fix(&mut self, args: &[String]) -> CmdResult {
-        let usage = "fix ID all nve | nve/euler | enforce2d | pex/push DP [width W] [every N] | ave/time … | ave/chunk … | ave/histo …";
+        let usage = "fix ID all nve | nve/euler | enforce2d | pex/push DP [width W] [every N] | deform … | flip/momentum [mode jump|check] | ave/time … | ave/chunk … | ave/histo …";
         need(args, 3, usage)?;
         if args[1] != "all" {
             return Err(format!("group '{}' not supported: only 'all'", args[1]));
@@ -82,6 +84,21 @@ impl Interpreter<'_> {
             "deform" => {
                 Self::fix_deform(sys, &id, args)?;
                 FixKind::Deform
+            }
+            "flip/momentum" => {
+                let jump = grammar::fix::flip_momentum(&args[3..])?;
+                let Some(tri) = sys.tri.as_mut() else {
+                    return Err(
+                        "fix flip/momentum needs a triclinic box (region … prism … or \
+                                change_box all triclinic) with a fix deform … xy … remap v"
+                            .into(),
+                    );
+                };
+                if tri.flip_fix.is_some() {
+                    return Err("only one fix flip/momentum is allowed".into());
+                }
+                tri.flip_fix = Some(jump);
+                FixKind::FlipMomentum
             }
             o => return Err(format!("fix style '{o}' not supported; {usage}")),
         };
@@ -185,6 +202,11 @@ impl Interpreter<'_> {
                 FixKind::Deform => {
                     if let Some(t) = sys.tri.as_mut() {
                         t.deform = None;
+                    }
+                }
+                FixKind::FlipMomentum => {
+                    if let Some(t) = sys.tri.as_mut() {
+                        t.flip_fix = None;
                     }
                 }
                 FixKind::Enforce2d => {}

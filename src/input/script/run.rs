@@ -3,6 +3,7 @@
 
 use super::fix::FixKind;
 use super::{CmdResult, Interpreter};
+use crate::engine::lees_edwards::flip_jump_note;
 use crate::engine::{Integrator, SetupNote, System};
 use crate::grammar::{need, parse_int};
 use crate::kernel::{PairCoeff, PairModel};
@@ -225,6 +226,18 @@ impl Interpreter<'_> {
         }
         self.run_setup(notes, integ, first, dt)?;
         let secs = self.run_steps(n, first, last)?;
+        // LAMMPS's place: `fix flip/momentum`'s `post_run`, before the loop time.
+        if let Some(w) = self.sys_mut()?.flip_leak_warning() {
+            self.warn(&w);
+        }
+        let jumped = self
+            .sys_mut()?
+            .tri
+            .as_ref()
+            .and_then(|t| flip_jump_note(&t.leak));
+        if let Some(note) = jumped {
+            self.out(&note);
+        }
         self.out(&format!(
             "Loop time of {secs:.6} on {threads} procs for {n} steps with {natoms} atoms\n"
         ));

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Compatibility shim for the LAMMPS 29Sep2021 headers shipped by Debian 12 (liblammps-dev).
 //
 // Those headers include "fmt/format.h" (not shipped: upstream LAMMPS issue 2751) and refer to
