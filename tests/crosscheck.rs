@@ -264,7 +264,8 @@ fn differ_verdict_names_dangerous_builds_and_the_fix() {
     );
     let verdict = out.lines().last().unwrap_or("");
     for part in [
-        "CROSSCHECK DIFFER: thermo log not within rtol 1e-09",
+        "CROSSCHECK DIFFER (",
+        "): thermo log not within rtol 1e-09",
         "LAMMPS logged Dangerous builds = 2 (neigh_modify every 1 delay 10 check yes)",
         "missed pairs",
         "add `neigh_modify delay 0 every 1 check yes` to the script",
@@ -284,6 +285,142 @@ fn differ_verdict_names_dangerous_builds_and_the_fix() {
         verdict.starts_with("CROSSCHECK DIFFER") && !verdict.contains("neigh_modify"),
         "{verdict}"
     );
+}
+
+/// A stand-in for LAMMPS that writes, as its log, the standalone engine's log (which crosscheck
+/// writes first, into the directory of the LAMMPS log) with every thermo value v except the
+/// step replaced by v (1 + f), `f` an awk expression of the step `s`, printed with 15 digits:
+/// a synthetic log whose difference from the standalone one is known.
+#[cfg(unix)]
+fn perturbing_lammps(dir: &Path, name: &str, f: &str) -> PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let exe = dir.join(name);
+    std::fs::write(
+        &exe,
+        format!(
+            "#!/bin/sh
+while [ $# -gt 0 ]; do
+  if [ \"$1\" = \"-log\" ]; then out=\"$2\"; fi
+  \
+             shift
+done
+\
+             awk '$1 == \"Step\" {{ n = NF; print; next }}
+\
+             n > 0 && NF == n && $1 ~ /^[0-9]+$/ {{ s = $1; line = $1
+\
+               for (i = 2; i <= NF; i++) line = line \" \" sprintf(\"%.15g\", $i * (1 + ({f})))
+\
+               print line; next }}
+\
+             {{ n = 0; print }}' \"$(dirname \"$out\")/standalone.log\" > \"$out\"
+"
+        ),
+    )
+    .expect("write the fake LAMMPS");
+    std::fs::set_permissions(&exe, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    exe
+}
+
+/// The DIFFER verdict tells chaotic growth of round-off from a model difference (issue 41):
+/// the LAMMPS side is the standalone log with each thermo value multiplied by 1 + f(step).
+/// f = 3e-13 e^{0.046 s} is issue 41's sheared polymer (3e-13 at step 0, 1e-5 at step 400):
+/// chaotic growth, at the rate put in; f = 1e-5 is a model difference at step 0; f = 1e-4
+/// from step 1 on is a model difference after step 0 (from round-off in 20 steps would need
+/// a rate of 0.9 per step, ×10 in 2.5 steps). Runs without LAMMPS.
+#[cfg(unix)]
+#[test]
+fn differ_verdict_tells_round_off_growth_from_a_model_difference() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("crosscheck_growth");
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let script = dir.join("in.tiny");
+    std::fs::write(
+        &script,
+        "units lj\natom_style atomic\ndimension 2\nboundary p p p\n\
+         region box block 0 5 0 5 -0.5 0.5\ncreate_box 1 box\n\
+         create_atoms 1 random 50 4711 box\nmass 1 1.0\nvelocity all create 1.0 87287\n\
+         pair_style dpd/nonlinear 1.0 1.0 7919\npair_coeff 1 1 25.0 4.5 0.0\n\
+         timestep 0.01\nfix 1 all nve\nthermo 20\n\
+         thermo_modify format float %20.15g\nrun 400\n",
+    )
+    .expect("write the script");
+    let crosscheck = |f: &str, name: &str| {
+        let lmp = perturbing_lammps(&dir, name, f);
+        let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+            .arg("crosscheck")
+            .arg(&script)
+            .arg("--lmp")
+            .arg(&lmp)
+            .arg("--rtol")
+            .arg("1e-6")
+            .arg("--workdir")
+            .arg(dir.join(format!("w.{name}")))
+            .output()
+            .expect("run dpdnl crosscheck");
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stdout}\n{stderr}");
+        stdout
+    };
+    let number_after = |text: &str, key: &str| -> f64 {
+        let i = text
+            .find(key)
+            .unwrap_or_else(|| panic!("'{key}' not in: {text}"))
+            + key.len();
+        text[i..]
+            .split([' ', ','])
+            .next()
+            .and_then(|t| t.parse().ok())
+            .unwrap_or_else(|| panic!("no number after '{key}' in: {text}"))
+    };
+
+    let out = crosscheck("3e-13 * exp(0.046 * s)", "lmp_chaotic");
+    assert!(
+        out.contains("growth of the largest difference from the first step"),
+        "{out}"
+    );
+    let verdict = out.lines().last().unwrap_or("");
+    assert!(
+        verdict.starts_with("CROSSCHECK DIFFER (chaotic growth of round-off: step-0 agreement "),
+        "{verdict}"
+    );
+    assert!(
+        verdict.contains("this is not a model difference"),
+        "{verdict}"
+    );
+    // The largest scaled difference of a step is f times |v_s| / max_t |v_t| of the column
+    // that gives it, between 0.9 and 1 for these columns: the rate within 5 % of 0.046, the
+    // step-0 agreement between 2e-13 and 3e-13.
+    let rate = number_after(verdict, "growth rate ");
+    assert!((rate / 0.046 - 1.0).abs() < 0.05, "rate {rate}: {verdict}");
+    let start = number_after(verdict, "step-0 agreement ");
+    assert!(
+        (2e-13..=3.0001e-13).contains(&start),
+        "start {start}: {verdict}"
+    );
+    // f reaches 1e-6 at s = ln(1e-6 / 3e-13) / 0.046 = 327.
+    let reach = number_after(verdict, "reaches rtol 1e-06 about ");
+    assert!((reach - 327.0).abs() < 20.0, "{reach}: {verdict}");
+
+    let out = crosscheck("1e-5", "lmp_model");
+    let verdict = out.lines().last().unwrap_or("");
+    assert!(
+        verdict.starts_with("CROSSCHECK DIFFER (model difference: already "),
+        "{verdict}"
+    );
+    assert!(verdict.contains(" at step 0 "), "{verdict}");
+    let start = number_after(verdict, "already ");
+    assert!((0.9e-5..=1.0e-5).contains(&start), "{verdict}");
+
+    let out = crosscheck("(s == 0 ? 0 : 1e-4)", "lmp_later");
+    let verdict = out.lines().last().unwrap_or("");
+    for part in [
+        "CROSSCHECK DIFFER (model difference after step 0: step-0 agreement 0 (identical to the printed digits), then ",
+        " at step 20 ",
+        "too fast for chaos",
+    ] {
+        assert!(verdict.contains(part), "'{part}' not in: {verdict}");
+    }
 }
 
 /// `write_data` of a sheared box (issue 32), both directions: after the same sheared run (the

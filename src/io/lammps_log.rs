@@ -310,6 +310,26 @@ impl ColumnDiff {
     }
 }
 
+/// The largest difference at one output step of an exact comparison (for
+/// [`crate::io::growth`]: how a difference grows from the first step).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepMax {
+    /// Thermo block (0-based; 0 for a dump) and step.
+    pub block: usize,
+    pub step: i64,
+    /// The largest scaled difference at this step, `|A − B| / scale` with the scale of the
+    /// value's column: for a thermo log the largest `|value|` of the column over all matched
+    /// rows of both inputs, for a dump the largest `|value|` of the column in the frame (an
+    /// atom's net force can be a near-cancellation of large pair forces, and a thermo value
+    /// such as `pxy` can pass through 0, where a plain relative difference means nothing).
+    /// 0 when every value is equal; infinite for a non-finite value against a finite one.
+    pub max_scaled: f64,
+    /// The column of that largest difference (empty when all are equal).
+    pub column: String,
+    /// The atom id of that largest difference (dumps).
+    pub id: Option<i64>,
+}
+
 /// The result of an exact (short-run) comparison.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExactReport {
@@ -323,6 +343,9 @@ pub struct ExactReport {
     pub n_only_in_a: usize,
     pub n_only_in_b: usize,
     pub tolerance: Tolerance,
+    /// The largest scaled difference per output step of the matched rows, in step order
+    /// (logs: block, then step).
+    pub steps: Vec<StepMax>,
 }
 
 impl ExactReport {
@@ -442,6 +465,80 @@ fn keyed<'a>(
     Ok(Keyed { rows: map })
 }
 
+/// What the rows of a comparison are: thermo rows keyed by (block, step, 0), or dump rows
+/// keyed by (step, id, 0).
+#[derive(Clone, Copy, PartialEq)]
+enum Rows {
+    Log,
+    Dump,
+}
+
+/// [`StepMax`] for every output step of the matched rows of `a` and `b`.
+fn step_maxima(a: &Keyed, b: &Keyed, cols: &[(String, usize, usize)], kind: Rows) -> Vec<StepMax> {
+    // (block, step) of a key; the scale of a log column is over all rows, of a dump column
+    // over its frame.
+    let group = |k: &Key| match kind {
+        Rows::Log => (k.0, k.1),
+        Rows::Dump => (0, k.0),
+    };
+    let scale_key = |k: &Key| match kind {
+        Rows::Log => (0, 0),
+        Rows::Dump => (0, k.0),
+    };
+    let matched: Vec<(Key, &[f64], &[f64])> = a
+        .rows
+        .iter()
+        .filter_map(|(k, ra)| b.rows.get(k).map(|rb| (*k, *ra, *rb)))
+        .collect();
+    let mut scales: BTreeMap<(i64, i64), Vec<f64>> = BTreeMap::new();
+    for (k, ra, rb) in &matched {
+        let s = scales
+            .entry(scale_key(k))
+            .or_insert_with(|| vec![0.0; cols.len()]);
+        for (c, (_, i, j)) in cols.iter().enumerate() {
+            for v in [ra[*i], rb[*j]] {
+                if v.is_finite() {
+                    s[c] = s[c].max(v.abs());
+                }
+            }
+        }
+    }
+    let mut out: Vec<StepMax> = Vec::new();
+    for (k, ra, rb) in &matched {
+        let (blk, step) = group(k);
+        if out
+            .last()
+            .is_none_or(|m| (m.block as i64, m.step) != (blk, step))
+        {
+            out.push(StepMax {
+                block: blk as usize,
+                step,
+                max_scaled: 0.0,
+                column: String::new(),
+                id: None,
+            });
+        }
+        let Some(cur) = out.last_mut() else { continue };
+        let s = &scales[&scale_key(k)];
+        for (c, (name, i, j)) in cols.iter().enumerate() {
+            let (d, _) = differences(ra[*i], rb[*j]);
+            let x = if d == 0.0 {
+                0.0
+            } else if s[c] > 0.0 {
+                d / s[c]
+            } else {
+                f64::INFINITY
+            };
+            if x > cur.max_scaled {
+                cur.max_scaled = x;
+                cur.column = name.clone();
+                cur.id = (kind == Rows::Dump).then_some(k.1);
+            }
+        }
+    }
+    out
+}
+
 fn compare_keyed(
     a: &Keyed,
     b: &Keyed,
@@ -449,6 +546,7 @@ fn compare_keyed(
     tol: Tolerance,
     key_name: &str,
     describe: &dyn Fn(Key) -> String,
+    kind: Rows,
 ) -> ExactReport {
     let mut columns: Vec<ColumnDiff> = cols
         .iter()
@@ -495,6 +593,7 @@ fn compare_keyed(
         n_only_in_a,
         n_only_in_b,
         tolerance: tol,
+        steps: step_maxima(a, b, cols, kind),
     }
 }
 
@@ -635,7 +734,7 @@ pub fn compare_exact_logs(
     let kb = Keyed {
         rows: keyed_log(b, "B", &describe)?,
     };
-    let report = compare_keyed(&ka, &kb, &cols, tol, "Step", &describe);
+    let report = compare_keyed(&ka, &kb, &cols, tol, "Step", &describe, Rows::Log);
     if report.n_matched == 0 {
         return Err("A and B have no Step in common".to_string());
     }
@@ -665,7 +764,7 @@ pub fn compare_dumps_exact(
     let kb = Keyed {
         rows: keyed_dump(b, "B", &describe)?,
     };
-    let report = compare_keyed(&ka, &kb, &cols, tol, "(step, id)", &describe);
+    let report = compare_keyed(&ka, &kb, &cols, tol, "(step, id)", &describe, Rows::Dump);
     if report.n_matched == 0 {
         return Err("A and B have no (step, id) in common".to_string());
     }

@@ -1,5 +1,6 @@
 //! LAMMPS file formats: data files ([`data`]), text dumps ([`dump_read`]) and logs
-//! ([`lammps_log`]); and the standalone engine's own binary restart files ([`restart`]).
+//! ([`lammps_log`]); how the difference of two runs grows from the first step ([`growth`]); and
+//! the standalone engine's own binary restart files ([`restart`]).
 //!
 //! Every reader refuses non-finite numbers (`nan`, `inf`, `-inf`, and decimal literals beyond
 //! the range of a double such as `1e999`) where it reads a value, naming the line and column
@@ -8,6 +9,7 @@
 
 pub mod data;
 pub mod dump_read;
+pub mod growth;
 // The fields of the log's thermo blocks and comparison reports are their columns and counts,
 // documented on each struct.
 #[allow(missing_docs)]

@@ -178,6 +178,7 @@ impl NemdAnalysis {
             "stress_nominal": self.stress_nominal,
             "shear_rate": r.shear_rate.mean, "shear_rate_err": r.shear_rate.stderr,
             "shear_rate_blocks": r.shear_rate.n_blocks, "shear_rate_converged": r.shear_rate.converged,
+            "shear_rate_n_eff": r.shear_rate.n_eff,
             "viscosity": r.viscosity, "viscosity_err": r.viscosity_err,
             "density_centre": r.density_centre.mean, "density_centre_err": r.density_centre.stderr,
             "td_centre": r.td_centre.map(|t| t.mean),

@@ -133,6 +133,7 @@ impl CouetteAnalysis {
             "analysis": "couette", "label": self.label, "input": self.input, "column": self.column,
             "n_samples": r.n_samples, "from_step": self.from,
             "pxy": r.pxy.mean, "pxy_err": r.pxy.stderr,
+            "pxy_n_eff": r.pxy.n_eff, "pxy_converged": r.pxy.converged,
             "shear_rate": self.rate, "shear_rate_err": self.rate_err,
             "shear_rate_source": self.rate_source,
             "shear_rate_imposed": self.rate_imposed,

@@ -15,8 +15,11 @@
 use crate::report::{TableStyle, c, write_exact_table};
 use dpdnl::input::{Console, Interpreter, Options};
 use dpdnl::io::dump_read::{DumpFrame, parse_dump};
+use dpdnl::io::growth::{
+    Growth, MAX_RATE, Point, classify, merged, printed_digits, resolution, table_rows, timeline,
+};
 use dpdnl::io::lammps_log::{
-    ExactReport, NeighborSummary, Tolerance, compare_dumps_exact, compare_exact_logs,
+    ExactReport, NeighborSummary, StepMax, Tolerance, compare_dumps_exact, compare_exact_logs,
     neighbor_summary, parse_log,
 };
 use std::fmt::Write as _;
@@ -317,7 +320,8 @@ fn compare(
         std::fs::read_to_string(p)
             .map_err(|e| CannotRun(format!("cannot read {}: {e}", p.display())))
     };
-    let blocks_s = parse_log(&read(log_s)?).map_err(|e| format!("{}: {e}", log_s.display()))?;
+    let text_s = read(log_s)?;
+    let blocks_s = parse_log(&text_s).map_err(|e| format!("{}: {e}", log_s.display()))?;
     let text_l = read(log_l)?;
     let blocks_l = parse_log(&text_l).map_err(|e| format!("{}: {e}", log_l.display()))?;
     let neigh = neighbor_summary(&text_l);
@@ -339,24 +343,34 @@ fn compare(
     let r = compare_exact_logs(&blocks_s, &blocks_l, None, tol)
         .map_err(|e| format!("comparing thermo logs: {e}"))?;
     let mut pass = print_report("thermo (A = standalone.log, B = lammps.log)", &r);
+    // The coarsest printed precision of the compared files bounds what the comparison resolves.
+    let mut digits: Vec<usize> = [&text_s, &text_l]
+        .iter()
+        .filter_map(|t| printed_digits(t))
+        .collect();
+    let mut dump_steps: Vec<(String, Vec<StepMax>)> = Vec::new();
     let mut n_dump_rows = 0;
     for (s, l) in dumps {
         let (ps, pl) = (
             moved(workdir, s, "dump.standalone"),
             moved(workdir, l, "dump.lammps"),
         );
-        let fs = parse_dump(&read(&ps)?).map_err(|e| format!("{}: {e}", ps.display()))?;
-        let mut fl = parse_dump(&read(&pl)?).map_err(|e| format!("{}: {e}", pl.display()))?;
+        let (ts, tl) = (read(&ps)?, read(&pl)?);
+        digits.extend(printed_digits(&ts));
+        digits.extend(printed_digits(&tl));
+        let fs = parse_dump(&ts).map_err(|e| format!("{}: {e}", ps.display()))?;
+        let mut fl = parse_dump(&tl).map_err(|e| format!("{}: {e}", pl.display()))?;
         let shifted = minimum_image(&fs, &mut fl);
         let r = compare_dumps_exact(&fs, &fl, None, tol)
             .map_err(|e| format!("comparing dumps {} and {}: {e}", ps.display(), pl.display()))?;
         n_dump_rows += r.n_matched;
+        let name = ps.file_name().unwrap_or_default().to_string_lossy();
         let title = format!(
-            "dump (A = {}, B = {})",
-            ps.file_name().unwrap_or_default().to_string_lossy(),
+            "dump (A = {name}, B = {})",
             pl.file_name().unwrap_or_default().to_string_lossy()
         );
         pass &= print_report(&title, &r);
+        dump_steps.push((name.replace("standalone", "${engine}"), r.steps.clone()));
         if shifted > 0 {
             println!(
                 "({shifted} LAMMPS atom position(s) moved by lattice vectors to the standalone \
@@ -376,7 +390,11 @@ fn compare(
     if pass {
         println!("CROSSCHECK AGREE: {what} within rtol {}", c("%g", a.rtol));
     } else {
-        let mut v = differ_verdict(&what, a.rtol, &neigh);
+        let points = timeline(&r.steps, &dump_steps);
+        let res = digits.iter().min().map_or(0.0, |&d| resolution(d));
+        let growth = classify(&points, a.rtol, res);
+        print!("{}", growth_table(&merged(&points), a.rtol));
+        let mut v = differ_verdict(&what, a.rtol, &neigh, &growth);
         for n in &notes {
             let _ = write!(v, "; {n}");
         }
@@ -480,11 +498,27 @@ fn shear_notes(text_l: &str, n: &NeighborSummary) -> Vec<String> {
 /// The DIFFER verdict line, with the reason LAMMPS's own log gives when it gives one: dangerous
 /// builds (its neighbour lists missed pairs, unless they were checked every step), or lists it
 /// rebuilt every N > 1 steps unchecked.
-fn differ_verdict(what: &str, rtol: f64, n: &NeighborSummary) -> String {
+fn differ_verdict(what: &str, rtol: f64, n: &NeighborSummary, growth: &Growth) -> String {
     let mut v = format!(
-        "CROSSCHECK DIFFER: {what} not within rtol {} (see the table(s) above)",
+        "CROSSCHECK DIFFER{}: {what} not within rtol {} (see the table(s) above)",
+        growth_reason(growth),
         c("%g", rtol)
     );
+    if let Growth::Chaotic {
+        reaches_rtol: Some(t),
+        start,
+        ..
+    } = growth
+    {
+        let _ = write!(
+            v,
+            "; the fitted growth reaches rtol {} about {} steps after step {}: compare \
+             shorter runs, or loosen --rtol",
+            c("%g", rtol),
+            (t - start.elapsed as f64).max(0.0).round(),
+            start.step
+        );
+    }
     let settings = n.settings.last().map_or(String::new(), |s| {
         format!(" (neigh_modify {})", s.keywords())
     });
@@ -519,6 +553,117 @@ fn differ_verdict(what: &str, rtol: f64, n: &NeighborSummary) -> String {
         );
     }
     v
+}
+
+/// `3.1e-13`, or `0 (identical to the printed digits)`.
+fn small(x: f64) -> String {
+    if x == 0.0 {
+        "0 (identical to the printed digits)".to_string()
+    } else {
+        c("%.1e", x)
+    }
+}
+
+/// ` (chaotic growth of round-off: …)`, the parenthesis of the DIFFER verdict that says which
+/// case the user is in ([`Growth`]).
+fn growth_reason(g: &Growth) -> String {
+    match g {
+        Growth::Agree => String::new(),
+        Growth::AtStart { start, floor } => format!(
+            " (model difference: already {} at step {} ({}), where round-off leaves at most {})",
+            c("%.1e", start.diff),
+            start.step,
+            start.what,
+            c("%.0e", *floor)
+        ),
+        Growth::Chaotic { start, rate, .. } => format!(
+            " (chaotic growth of round-off: step-{} agreement {}, growth rate {} per step, x10 \
+             every {} steps; this is not a model difference)",
+            start.step,
+            small(start.diff),
+            c("%.3g", *rate),
+            c("%.0f", std::f64::consts::LN_10 / rate)
+        ),
+        Growth::NotRoundoff {
+            start,
+            at,
+            needed_rate,
+            line_start,
+            ..
+        } => {
+            let why = if *needed_rate > MAX_RATE {
+                format!(
+                    "growing from round-off that needs a rate of at least {} per step, x10 every \
+                     {} steps, too fast for chaos at a time step that resolves the dynamics",
+                    c("%.3g", *needed_rate),
+                    c("%.2g", std::f64::consts::LN_10 / needed_rate)
+                )
+            } else {
+                format!(
+                    "not a constant exponential growth from round-off{}",
+                    line_start.map_or(String::new(), |l| format!(
+                        " (the growth taken back to step {} gives {})",
+                        start.step,
+                        c("%.1e", l)
+                    ))
+                )
+            };
+            format!(
+                " (model difference after step {s}: step-{s} agreement {}, then {} at step {} \
+                 ({}); {why})",
+                small(start.diff),
+                c("%.1e", at.diff),
+                at.step,
+                at.what,
+                s = start.step,
+            )
+        }
+        Growth::Unresolved {
+            start,
+            at,
+            needed_rate,
+            ..
+        } => format!(
+            " (round-off growth or model difference, cannot tell: step-{} agreement {}, then {} \
+             at step {} ({}), too few output steps in between to measure the growth; from \
+             round-off that needs a rate of at least {} per step, x10 every {} steps; print \
+             thermo more often)",
+            start.step,
+            small(start.diff),
+            c("%.1e", at.diff),
+            at.step,
+            at.what,
+            c("%.3g", *needed_rate),
+            c("%.2g", std::f64::consts::LN_10 / needed_rate)
+        ),
+        Growth::RoundoffOnly { largest, floor } => format!(
+            " (round-off only: every difference is at most {} (round-off, or the printed \
+             digits), the largest {} at step {}; --rtol is tighter than that)",
+            c("%.0e", *floor),
+            c("%.1e", largest.diff),
+            largest.step
+        ),
+    }
+}
+
+/// The short table of the largest difference per output step, from the first.
+fn growth_table(points: &[Point], rtol: f64) -> String {
+    let mut out = String::from(
+        "\ngrowth of the largest difference from the first step (|A - B| / the largest |value| \
+         of its column: thermo over the run, dump in the frame):\n",
+    );
+    let _ = writeln!(out, "{:>10}  {:>10}  where", "step", "difference");
+    for i in table_rows(points, rtol, 12) {
+        let p = &points[i];
+        let _ = writeln!(
+            out,
+            "{:>10}  {:>10}  {}",
+            p.step,
+            c("%.2e", p.diff),
+            if p.diff > 0.0 { p.what.as_str() } else { "" }
+        );
+    }
+    out
 }
 
 /// Prints one comparison table; true when it passes (values and rows).
@@ -658,9 +803,9 @@ mod tests {
     /// step LAMMPS's count only means consecutive rebuilds, and the verdict must not blame it.
     #[test]
     fn dangerous_builds_blamed_only_when_lists_were_not_checked_every_step() {
-        let late = differ_verdict("thermo", 1e-9, &summary(1, 10, 2));
+        let late = differ_verdict("thermo", 1e-9, &summary(1, 10, 2), &Growth::Agree);
         assert!(late.contains("so it missed pairs"), "{late}");
-        let checked = differ_verdict("thermo", 1e-9, &summary(1, 0, 290));
+        let checked = differ_verdict("thermo", 1e-9, &summary(1, 0, 290), &Growth::Agree);
         assert!(checked.contains("not missed pairs"), "{checked}");
         assert!(!checked.contains("so it missed pairs"), "{checked}");
     }

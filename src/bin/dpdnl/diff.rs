@@ -336,6 +336,7 @@ fn print_stats(
             o.int("block_len", e.block_len);
             o.int("n_blocks", e.n_blocks);
             o.bool("converged", e.converged);
+            o.num("n_eff", e.n_eff);
             o.finish()
         };
         let mut o = JsonObject::default();
@@ -415,8 +416,8 @@ fn print_stats(
     if any_unconverged {
         let _ = writeln!(
             out,
-            "* no plateau in the blocking analysis: the series is short for its correlation \
-             time and the error is likely underestimated"
+            "* error is a lower bound: the series is short for its correlation time (fewer \
+             than 10 effective samples, or no plateau of the blocking)"
         );
     }
     let _ = writeln!(out, "\nverdict: {verdict}");

@@ -123,9 +123,19 @@ fn summary(lines: &[String]) {
         "Summary of the last run (second half: {} thermo rows, block-averaged errors):",
         half.len()
     );
+    let mut lower_bound = false;
     for (k, name) in b.columns.iter().enumerate().skip(1) {
         let xs: Vec<f64> = half.iter().map(|r| r[k]).collect();
         let e = dpdnl::stats::block_average(&xs);
-        println!("  {name:>8} = {:.6e} ± {:.1e}", e.mean, e.stderr);
+        lower_bound |= !e.converged;
+        let mark = if e.converged { "" } else { " *" };
+        println!("  {name:>8} = {:.6e} ± {:.1e}{mark}", e.mean, e.stderr);
+    }
+    if lower_bound {
+        println!(
+            "  * error is a lower bound: too few thermo rows for the correlation time (fewer \
+             than 10 effective samples, or no plateau of the blocking); print thermo more often \
+             or run longer"
+        );
     }
 }

@@ -336,6 +336,17 @@ fn pm(v: f64, e: f64) -> String {
     }
 }
 
+/// `block 25x16, n_eff 180` for a blocked estimate, and when the error is not to be trusted,
+/// `…, n_eff 6: a lower bound (series short for its correlation time)`.
+fn blocking(b: &dpdnl::stats::BlockEstimate) -> String {
+    let head = format!("block {}x{}, n_eff {:.0}", b.n_blocks, b.block_len, b.n_eff);
+    if b.converged {
+        head
+    } else {
+        format!("{head}: error is a lower bound, the series is short for its correlation time")
+    }
+}
+
 fn print_written(files: &[PathBuf]) {
     let names: Vec<String> = files.iter().map(|p| p.display().to_string()).collect();
     println!("wrote {}", names.join(", "));

@@ -97,15 +97,9 @@ fn print_summary(n: &NemdAnalysis, lx: f64) {
         );
     }
     println!(
-        "  shear rate {} (block {}x{}{}), viscosity mu = {}",
+        "  shear rate {} ({}), viscosity mu = {}",
         pm(r.shear_rate.mean, r.shear_rate.stderr),
-        r.shear_rate.n_blocks,
-        r.shear_rate.block_len,
-        if r.shear_rate.converged {
-            ""
-        } else {
-            ", not converged"
-        },
+        blocking(&r.shear_rate),
         pm(r.viscosity, r.viscosity_err)
     );
     println!(

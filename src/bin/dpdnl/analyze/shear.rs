@@ -33,17 +33,11 @@ pub(super) fn run_couette(a: CouetteArgs) -> Result<(), String> {
     let r = &c.result;
     let prefix = prefix(&a.out, &a.file, "couette")?;
     println!(
-        "Couette: {} samples of {}; <P_xy> = {} (block {}x{}{})",
+        "Couette: {} samples of {}; <P_xy> = {} ({})",
         r.n_samples,
         c.column,
         pm(r.pxy.mean, r.pxy.stderr),
-        r.pxy.n_blocks,
-        r.pxy.block_len,
-        if r.pxy.converged {
-            ""
-        } else {
-            ", not converged"
-        }
+        blocking(&r.pxy)
     );
     let mut msg = String::new();
     if let (Some(p), Some(g)) = (&c.profile, a.rate) {
