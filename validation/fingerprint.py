@@ -113,10 +113,8 @@ def run_family(name, runs, exe, env):
     for engine, script, variables in runs:
         tmp = tempfile.mkdtemp(prefix=f"dpdnl-fp-{name.replace('/', '_')}-")
         try:
-            src = os.path.join(ROOT if engine == "analyze" else SCRIPTS_ROOT, script)
-            if not os.path.exists(src):
-                return None, f"{script} is not in {SCRIPTS_ROOT}: skipped"
             if engine == "analyze":
+                src = os.path.join(ROOT, script)
                 # SCRIPT is a directory of inputs; VARS are `analyze` arguments, ';'-separated
                 # commands, with {dir} the input directory and {out} an output prefix.
                 # The inputs are copied and named relative to the run's folder: the outputs
@@ -135,38 +133,42 @@ def run_family(name, runs, exe, env):
                         h.update(f.encode())
                         h.update(open(os.path.join(tmp, f), "rb").read())
                 continue
-            # The script's folder travels with it (data files, included scripts).
-            for f in os.listdir(os.path.dirname(src)):
-                p = os.path.join(os.path.dirname(src), f)
-                if os.path.isfile(p):
-                    shutil.copy(p, tmp)
-            with open(os.path.join(tmp, "in.fingerprint"), "w") as f:
-                f.write(WRAPPER.format(script=os.path.basename(src)))
-            argv = []
-            for v in variables:
-                k, _, val = v.partition("=")
-                argv += ["-var", k, val]
-            if engine == "dpdnl":
-                cmd = [exe["dpdnl"], "run", "in.fingerprint", "--log", "log.fp"] + argv
-            else:
-                if not exe.get("lmp"):
-                    return None, "no LAMMPS (build/lmp_dpdnl): skipped"
-                cmd = [exe["lmp"], "-in", "in.fingerprint", "-log", "log.fp", "-screen", "none"]
-                cmd += argv
-            p = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=tmp)
-            if p.returncode != 0:
-                log = open(os.path.join(tmp, "log.fp")).read() if os.path.exists(
-                    os.path.join(tmp, "log.fp")) else ""
-                raise RuntimeError(f"{name}: {' '.join(cmd)} failed:\n{(p.stdout + p.stderr + log)[-3000:]}")
-            log = open(os.path.join(tmp, "log.fp")).read()
-            rows = thermo_rows(log)
-            if not rows:
-                raise RuntimeError(f"{name}: no thermo rows in the log of {script}")
-            h.update("\n".join(rows).encode())
-            dump = open(os.path.join(tmp, "dump.fp")).read()
-            # The dump of `run 0`: its last frame (a dump at every step of an earlier run of the
-            # wrapper cannot happen: the dump is defined after the script).
-            h.update(dump.encode())
+            # SCRIPT may be A+B+…: run in order in one folder (B reads what A wrote). Each
+            # script's folder travels with it (data files, included scripts).
+            for part in script.split("+"):
+                src = os.path.join(SCRIPTS_ROOT, part)
+                if not os.path.exists(src):
+                    return None, f"{part} is not in {SCRIPTS_ROOT}: skipped"
+                for f in os.listdir(os.path.dirname(src)):
+                    p = os.path.join(os.path.dirname(src), f)
+                    if os.path.isfile(p) and not os.path.exists(os.path.join(tmp, f)):
+                        shutil.copy(p, tmp)
+                with open(os.path.join(tmp, "in.fingerprint"), "w") as f:
+                    f.write(WRAPPER.format(script=os.path.basename(src)))
+                argv = []
+                for v in variables:
+                    k, _, val = v.partition("=")
+                    argv += ["-var", k, val]
+                if engine == "dpdnl":
+                    cmd = [exe["dpdnl"], "run", "in.fingerprint", "--log", "log.fp"] + argv
+                else:
+                    if not exe.get("lmp"):
+                        return None, "no LAMMPS (build/lmp_dpdnl): skipped"
+                    cmd = [exe["lmp"], "-in", "in.fingerprint", "-log", "log.fp", "-screen",
+                           "none"] + argv
+                p = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=tmp)
+                logpath = os.path.join(tmp, "log.fp")
+                if p.returncode != 0:
+                    log = open(logpath).read() if os.path.exists(logpath) else ""
+                    raise RuntimeError(f"{name}: {' '.join(cmd)} failed:\n"
+                                       f"{(p.stdout + p.stderr + log)[-3000:]}")
+                rows = thermo_rows(open(logpath).read())
+                if not rows:
+                    raise RuntimeError(f"{name}: no thermo rows in the log of {part}")
+                h.update("\n".join(rows).encode())
+                # The dump of the wrapper's `run 0`, every atom's x, v and f at %.17g.
+                h.update(open(os.path.join(tmp, "dump.fp"), "rb").read())
+                os.remove(os.path.join(tmp, "dump.fp"))
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
     return h.hexdigest()[:16], ""
