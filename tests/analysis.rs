@@ -703,6 +703,41 @@ fn couette_viscosity_from_stress_and_profile() {
         .expect("rate");
     assert!((p.rate.mean - 0.1).abs() < 1e-12);
     assert_eq!(p.n_outputs, 3);
+    // Its value at coordinate 0 is the profile's offset: −0.25, exact, so no scatter.
+    assert!((p.intercept + 0.25).abs() < 1e-12 && p.intercept_err < 1e-12);
+}
+
+/// The offset of a profile (issue 41: V, the mean velocity relative to the imposed profile that
+/// box flips leak under plain `fix deform`): v_x = V + γ̇ y + noise over 400 outputs of 20 bins
+/// (σ = 0.05 per bin): the intercept's error is about σ/√(400·20/4) ≈ 0.001 (the intercept
+/// of 20 bins spread over [0, 1] has 2× the per-point error), so V = 0.1 is found within 4
+/// errors and its error bar is below 0.005.
+#[test]
+fn couette_profile_offset_is_measured() {
+    let mut s = String::from(
+        "# Chunk-averaged data for fix p and group all\n# Timestep Number-of-chunks Total-count\n# Chunk Coord1 Ncount vx\n",
+    );
+    for k in 1..=400u32 {
+        let _ = writeln!(s, "{} 20 100", 100 * k);
+        for i in 0..20u32 {
+            let y = 0.025 + 0.05 * f64::from(i);
+            let v = 0.1 + 3.0 * y + 0.05 * gauss(77, u64::from(k), i);
+            let _ = writeln!(s, "{} {y} 5 {v}", i + 1);
+        }
+    }
+    let p = couette::rate_from_profile(&parse_ave_chunk(&s).expect("chunk"), "Coord1", "vx", 0)
+        .expect("rate");
+    assert!(
+        p.intercept_err > 0.0 && p.intercept_err < 0.005,
+        "{}",
+        p.intercept_err
+    );
+    assert!(
+        (p.intercept - 0.1).abs() < 4.0 * p.intercept_err,
+        "{} ± {}",
+        p.intercept,
+        p.intercept_err
+    );
 }
 
 // ------------------------------------------------------------------ plots and the CLI

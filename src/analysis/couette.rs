@@ -15,7 +15,11 @@ pub struct RateProfile {
     pub v_err: Vec<f64>,
     /// Slope dv_x/dy, block-averaged over outputs.
     pub rate: BlockEstimate,
+    /// The fitted profile at coordinate 0 (y_lo in `units reduced`), averaged over outputs,
+    /// and its block error: V, the mean velocity relative to the imposed profile γ̇ (y − y_lo)
+    /// when the coordinate starts at y_lo.
     pub intercept: f64,
+    pub intercept_err: f64,
     pub n_outputs: usize,
 }
 
@@ -81,6 +85,7 @@ pub fn rate_from_profile(
         v_err: stats.iter().map(|s| s.stderr).collect(),
         rate: block_average(&slopes),
         intercept: crate::stats::mean(&intercepts),
+        intercept_err: block_average(&intercepts).stderr,
         n_outputs: blocks.len(),
     })
 }

@@ -336,7 +336,8 @@ fn compare(
     if let Some(line) = neighbor_line(&neigh) {
         println!("{line}");
     }
-    let notes = shear_notes(&text_l, &neigh);
+    let mut notes = shear_notes(&text_l, &neigh);
+    notes.extend(flip_leak_notes(&text_s, &text_l));
     for n in &notes {
         println!("note: {n}");
     }
@@ -436,6 +437,44 @@ fn dangerous_counts(n: &NeighborSummary) -> String {
         .map(|d| d.map_or("not checked".to_string(), |k| k.to_string()))
         .collect();
     format!("{} (per run: {})", n.dangerous_total(), runs.join(", "))
+}
+
+/// The momentum leak at box flips (issue 41), as the end-of-run warnings of the two logs report
+/// it: plain `fix deform … remap v` puts atoms through y at flips without the velocity jump, so
+/// the mean velocity relative to the shear profile, V, is not 0; both engines do the same and
+/// agree, but neither is right. One note per engine that reports it, with the cure.
+fn flip_leak_notes(text_s: &str, text_l: &str) -> Vec<String> {
+    let leak = |text: &str| -> Option<(u64, String)> {
+        let mut atoms = 0;
+        let mut v = String::new();
+        for line in text
+            .lines()
+            .filter(|l| l.contains("without remap v's velocity jump"))
+        {
+            let n = line
+                .split("box flips put ")
+                .nth(1)
+                .and_then(|r| r.split_whitespace().next())
+                .and_then(|w| w.parse::<u64>().ok())?;
+            atoms += n;
+            if let Some(rest) = line.split("mean velocity V = ").nth(1) {
+                v = rest.split(')').next().unwrap_or_default().to_string();
+            }
+        }
+        (atoms > 0).then_some((atoms, v))
+    };
+    [("standalone engine", text_s), ("LAMMPS", text_l)]
+        .iter()
+        .filter_map(|(who, text)| {
+            let (atoms, v) = leak(text)?;
+            Some(format!(
+                "{who}: box flips put {atoms} atom(s) through y without remap v's velocity jump \
+                 (V = {v} in its last run): the momentum relative to the shear profile leaked, \
+                 as LAMMPS's fix deform leaks it; add `fix ID all flip/momentum` \
+                 (docs/manual/styles/fix_flip_momentum.md)"
+            ))
+        })
+        .collect()
 }
 
 /// The differences by design of a sheared run (a `fix … deform` in LAMMPS's echo of the
@@ -808,5 +847,43 @@ mod tests {
         let checked = differ_verdict("thermo", 1e-9, &summary(1, 0, 290), &Growth::Agree);
         assert!(checked.contains("not missed pairs"), "{checked}");
         assert!(!checked.contains("so it missed pairs"), "{checked}");
+    }
+
+    /// The leak notes come from the engines' own end-of-run warnings (the words of
+    /// `dpdnl::engine::lees_edwards::flip_leak_warning`), summed over runs, with the last V;
+    /// nothing without a warning, and nothing for `fix flip/momentum`'s own line.
+    #[test]
+    fn flip_leak_notes_read_the_warnings() {
+        use dpdnl::engine::lees_edwards::{FlipLeak, flip_jump_note, flip_leak_warning};
+        let w = |atoms, momentum| {
+            let leak = FlipLeak {
+                atoms,
+                momentum,
+                conserved: false,
+            };
+            format!("WARNING: {}", flip_leak_warning(&leak, 400.0).unwrap())
+        };
+        let jumped = flip_jump_note(&FlipLeak {
+            atoms: 3,
+            momentum: 0.0,
+            conserved: true,
+        })
+        .unwrap();
+        let lmp = format!(
+            "Step Temp\n{}\nLoop time\n{} (src/fix.cpp:12)\n",
+            w(2, -60.0),
+            w(1, 30.0)
+        );
+        let notes = flip_leak_notes(&jumped, &lmp);
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        assert!(
+            notes[0].starts_with("LAMMPS: box flips put 3 atom(s)"),
+            "{notes:?}"
+        );
+        assert!(
+            notes[0].contains("(V = 0.075 in its last run)"),
+            "{notes:?}"
+        );
+        assert!(flip_leak_notes("", &jumped).is_empty());
     }
 }

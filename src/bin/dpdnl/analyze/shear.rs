@@ -53,6 +53,19 @@ pub(super) fn run_couette(a: CouetteArgs) -> Result<(), String> {
         c.rate_source,
         pm(r.viscosity, r.viscosity_err)
     );
+    if let Some(p) = &c.profile
+        && p.intercept.abs() > 3.0 * p.intercept_err
+        && p.intercept_err > 0.0
+    {
+        println!(
+            "  note: the fitted profile at coordinate 0 (y_lo with `units reduced`) is {}, not \
+             0: the fluid moves relative to the streaming profile rate*(y - y_lo) that \
+             temp/deform removes, which counts V^2/2 as heat. Box flips under plain `fix deform \
+             ... remap v` leak this momentum (fix flip/momentum cures it); a `velocity ... \
+             ramp` from another origin also offsets it",
+            pm(p.intercept, p.intercept_err)
+        );
+    }
     let mut written = vec![write_csv(&prefix, &c.table())?];
     written.push(write_json(&prefix, &c.json())?);
     let (steps, pxy, running) = (c.steps.clone(), c.pxy.clone(), c.running_mean());
