@@ -24,14 +24,17 @@ struct Case {
     /// LAMMPS's own text, for a command LAMMPS implements itself (`lammps:` line); else the
     /// same text as `expect` (this project's styles: one message for both engines).
     lammps: Option<String>,
-    /// `data: FILE STYLE`: read this file of `tests/data/bad_input/` with this atom style
-    /// instead of the prelude's `atomic` dpd3d.data (the bonded cases).
+    /// `data: FILE STYLE [KEYWORDS…]`: read this file of `tests/data/bad_input/` with this atom
+    /// style (and these `read_data` keywords) instead of the prelude's `atomic` dpd3d.data.
     data: Option<(String, String)>,
     /// The troubleshooting page's annotations (`class:`, `cause:`, `cure:`; every refused case
     /// has them): the section it goes in, why the input is refused, what to do.
     class: Option<String>,
     cause: Option<String>,
     cure: Option<String>,
+    /// `before: LINE` lines: commands placed before the prelude's `read_data` (a `pair_style`
+    /// or `bond_style` for the data file's coefficient sections).
+    before: String,
     body: String,
 }
 
@@ -49,6 +52,7 @@ fn cases() -> Vec<Case> {
                 class: None,
                 cause: None,
                 cure: None,
+                before: String::new(),
                 body: String::new(),
             });
         } else if let Some(c) = out.last_mut() {
@@ -56,8 +60,11 @@ fn cases() -> Vec<Case> {
                 c.expect = (e != "ok").then(|| e.to_string());
             } else if let Some(e) = line.strip_prefix("lammps: ") {
                 c.lammps = Some(e.to_string());
+            } else if let Some(e) = line.strip_prefix("before: ") {
+                c.before.push_str(e);
+                c.before.push('\n');
             } else if let Some(e) = line.strip_prefix("data: ") {
-                let (file, style) = e.split_once(' ').expect("data: FILE STYLE");
+                let (file, style) = e.split_once(' ').expect("data: FILE STYLE [KEYWORDS]");
                 c.data = Some((file.to_string(), style.to_string()));
             } else if let Some(e) = line.strip_prefix("class: ") {
                 c.class = Some(e.to_string());
@@ -85,8 +92,10 @@ fn script(case: &Case, data: &Path) -> String {
         ),
         None => (data.to_path_buf(), "atomic"),
     };
+    let (style, keywords) = style.split_once(' ').unwrap_or((style, ""));
     format!(
-        "units lj\natom_style {style}\ncomm_modify vel yes\nread_data {}\nmass * 1.0\n{}",
+        "units lj\natom_style {style}\ncomm_modify vel yes\n{}read_data {} {keywords}\nmass * 1.0\n{}",
+        case.before,
         data.display(),
         case.body
     )

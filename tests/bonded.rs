@@ -412,10 +412,13 @@ fn chunks_by_molecule_and_gyration() {
 
 /// Bonds through the sheared boundary of a Lees–Edwards box (`change_box all triclinic`, `fix
 /// deform … remap v`): every bond and angle arm takes the sliding-brick minimum image, so after
-/// the image has slid by more than a box length (γ̇ L_y t = 0.5 · 8 · 4 = 16 > L_x = 8) no
+/// the image has slid by more than a box length (γ̇ L_y t = 0.5 · 8 · 4.5 = 18 > L_x = 8) no
 /// bond is stretched: the longest stays below 1.5 (bonds of r0 = 0.85, K = 50 at kT ≈ 1
 /// fluctuate by ~0.1). A bond joined through the wrong image would be O(L) = 8 long and its
-/// energy K (8 − 0.85)² ≈ 2600. Also bit-identical on 1 and 2 threads.
+/// energy K (8 − 0.85)² ≈ 2600. Also bit-identical on 1 and 2 threads. The second run's
+/// set-up, in the tilted box (xy ≠ 0, after flips), finds the image flags consistent (x + ix
+/// L_x + iy xy unwraps every chain) and every bonded partner's image within LAMMPS's ghost
+/// shell of the tilted cell: no "Inconsistent image flags", no "Bond atoms … missing".
 #[test]
 fn bonds_through_the_sheared_boundary() {
     let text = polymer(
@@ -424,11 +427,15 @@ fn bonds_through_the_sheared_boundary() {
         25.0,
         4.5,
         "change_box all triclinic\nfix 3 all deform 1 xy erate 0.5 remap v\n\
-         thermo 50\nthermo_style custom step temp ebond eangle\n\
-         thermo_modify format float %.17g\nrun 400\n",
+         thermo 50\nthermo_style custom step temp ebond eangle xy\n\
+         thermo_modify format float %.17g\nrun 380\nrun 70\n",
     );
     let (l1, s1) = run_on(1, &text);
     let (l2, s2) = run_on(2, &text);
+    assert!(
+        !l1.iter().any(|l| l.contains("Inconsistent image flags")),
+        "{l1:#?}"
+    );
     assert_eq!(common::state_by_tag(&s1), common::state_by_tag(&s2));
     assert_eq!(thermo(&l1), thermo(&l2));
     let tri = s1.tri.as_ref().expect("triclinic");
@@ -453,6 +460,11 @@ fn bonds_through_the_sheared_boundary() {
     );
     assert!(longest < 1.5, "longest bond {longest}");
     let (header, rows) = thermo(&l1);
+    let xy = header.iter().position(|h| h == "Xy").unwrap();
+    assert!(
+        rows[0][xy].abs() > 0.5,
+        "the second run starts tilted: {rows:?}"
+    );
     let eb = header.iter().position(|h| h == "E_bond").unwrap();
     // ebond per atom (norm yes): 216 bonds of ~kT/2 each over 1536 atoms ≈ 0.07.
     assert!(rows.iter().all(|r| r[eb] < 0.5), "{rows:?}");
@@ -551,4 +563,125 @@ fn dump_writes_molecule_ids() {
                   dump d all custom 1 x.dump id mol\n";
     let e = common::run(atomic).unwrap_err();
     assert!(e.message.contains("no molecule ids"), "{e}");
+}
+
+/// A data file as structure generators write it (issue 42): the polymer solution of
+/// `polymer3d.data` with wrapped coordinates and no image flags (`polymer3d_wrapped.data`, the
+/// chains through the boundaries). Every run's set-up warns "Inconsistent image flags", as
+/// LAMMPS's `Domain::image_check` does (never for the file with the flags that unwrap the
+/// chains), and the bonds and angles use the minimum image: the two files give the same
+/// trajectory, bit for bit, and the same thermo apart from what reads the image flags
+/// (`compute gyration`, which unwraps the chains by them, as LAMMPS's does).
+#[test]
+fn generator_style_data_file_warns_and_bonds_by_the_minimum_image() {
+    let script = |file: &str| {
+        polymer("lj 0 1 1", "dot", 25.0, 4.5, "").replace("polymer3d.data", file)
+            + "compute rg all gyration\nthermo 10\n\
+               thermo_style custom step temp press pxy pe ebond eangle c_rg\n\
+               thermo_modify format float %.17g\nrun 20\nrun 20\n"
+    };
+    let (lines_w, sys_w) = run_on(2, &script("polymer3d_wrapped.data"));
+    let (lines_f, sys_f) = run_on(2, &script("polymer3d.data"));
+    let warned = |lines: &[String]| {
+        lines
+            .iter()
+            .filter(|l| *l == "WARNING: Inconsistent image flags")
+            .count()
+    };
+    assert_eq!(warned(&lines_w), 2, "one warning per run:\n{lines_w:#?}");
+    assert_eq!(warned(&lines_f), 0, "{lines_f:#?}");
+    assert_eq!(common::state_by_tag(&sys_w), common::state_by_tag(&sys_f));
+    let (head, rows_w) = thermo(&lines_w);
+    let (_, rows_f) = thermo(&lines_f);
+    let rg = head.iter().position(|h| h == "c_rg").expect("c_rg");
+    assert_eq!(rows_w.len(), 3);
+    for (w, f) in rows_w.iter().zip(&rows_f) {
+        assert_eq!(w[..rg], f[..rg], "thermo before c_rg");
+        assert_ne!(w[rg], f[rg], "R_g reads the image flags");
+    }
+}
+
+/// A bonded partner LAMMPS cannot resolve (issue 42): the first atom of a bond holds the atoms
+/// of the box and their ghost images within the ghost cut-off (pair cut-off + skin = 1.3)
+/// beyond its faces, and atom 4's nearest image to atom 3 (2.4 apart) lies 1.4 beyond x_hi.
+/// The standalone engine refuses the bond ("Bond atoms 3 4 missing"), and accepts it with
+/// `comm_modify cutoff 2.5`, where the image is a ghost. LAMMPS (`build/lmp_dpdnl`, when
+/// built): on one rank it takes the atom itself, 7.6 away, for the bond (E_bond of 2.4 and 7.6
+/// told apart), on two ranks split along x it stops with "Bond atom missing", and with the
+/// larger cut-off it bonds by the minimum image, with the standalone engine's energy.
+#[test]
+fn unresolvable_bond_is_lammps_bond_atoms_missing() {
+    let file = format!(
+        "{}/tests/data/bad_input/bond_unresolved.data",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let script = |extra: &str| {
+        format!(
+            "units lj\natom_style angle\ncomm_modify vel yes\n{extra}read_data {file}\n\
+             mass * 1.0\npair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 25.0 4.5 0.0\n\
+             bond_style harmonic\nbond_coeff 1 50.0 0.9\nangle_style harmonic\n\
+             angle_coeff 1 5.0 150.0\nthermo_style custom step ebond\nthermo_modify norm no \
+             format float %.17g\nrun 0\n"
+        )
+    };
+    // E_bond = 50 (r − 0.9)² over the bonds 0.9, 1.0 and 2.4 (minimum image) or 7.6.
+    let ebond = |r: f64| 50.0 * (0.1f64.powi(2) + (r - 0.9f64).powi(2));
+    let e = common::run(&script("")).expect_err("refused");
+    assert!(
+        e.message
+            .starts_with("Bond atoms 3 4 missing at step 0: the nearest image of atom 4")
+            && e.message.contains("ghost cut-off 1.3"),
+        "{e}"
+    );
+    let (lines, _) = common::run(&script("comm_modify cutoff 2.5\n")).expect("runs");
+    let (_, rows) = thermo(&lines);
+    assert!((rows[0][1] - ebond(2.4)).abs() < 1e-9, "{rows:?}");
+    let lmp = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("build/lmp_dpdnl");
+    if !lmp.is_file() {
+        assert!(
+            std::env::var_os("DPDNL_REQUIRE_LAMMPS").is_none(),
+            "DPDNL_REQUIRE_LAMMPS is set but {} is missing",
+            lmp.display()
+        );
+        eprintln!("SKIPPED: LAMMPS half: {} not built", lmp.display());
+        return;
+    }
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("bond_unresolved");
+    std::fs::create_dir_all(&dir).unwrap();
+    let lammps = |name: &str, text: String, ranks: u32| {
+        std::fs::write(dir.join(name), text).unwrap();
+        let mut cmd = if ranks == 1 {
+            std::process::Command::new(&lmp)
+        } else {
+            let mut c = std::process::Command::new("mpirun");
+            c.args(["--oversubscribe", "--allow-run-as-root", "-np", "2"])
+                .arg(&lmp);
+            c
+        };
+        let out = cmd
+            .current_dir(&dir)
+            .env("OMP_NUM_THREADS", "1")
+            .args(["-in", name, "-log", "none"])
+            .output()
+            .expect("LAMMPS starts");
+        format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        )
+    };
+    let ebond_of = |out: &str| -> f64 {
+        let lines: Vec<String> = out.lines().map(String::from).collect();
+        thermo(&lines).1[0][1]
+    };
+    let one = lammps("in.one", script(""), 1);
+    assert!(!one.contains("ERROR"), "{one}");
+    assert!((ebond_of(&one) - ebond(7.6)).abs() < 1e-9, "{one}");
+    let big = lammps("in.big", script("comm_modify cutoff 2.5\n"), 1);
+    assert_eq!(ebond_of(&big), rows[0][1], "{big}");
+    let two = lammps("in.two", script("processors 2 1 1\n"), 2);
+    assert!(
+        two.contains("ERROR") && two.contains("Bond atom") && two.contains("missing"),
+        "{two}"
+    );
 }

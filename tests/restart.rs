@@ -619,3 +619,87 @@ fn two_cli_invocations_equal_one() {
     assert_eq!(w.matches("ITEM: TIMESTEP").count(), 2);
     assert_eq!(w, s);
 }
+
+/// What a restart stores of `pair_coeff … eta E sc S` (issue 42, the pair style's page): the
+/// targets, not the γ0 and s resolved from them, in both engines. After `read_restart` and
+/// `create_atoms` (density 3 → 4) the next set-up resolves the targets again at the new
+/// density: the standalone engine logs γ0 = 429.34… (not the 140.81… of the run that wrote the
+/// file), and LAMMPS (`build/lmp_dpdnl`, when built) logs the same line.
+#[test]
+fn eta_sc_targets_are_stored_and_resolved_again() {
+    let dir = scratch("eta_sc_targets");
+    let file = dir.join("designed.restart");
+    let write = format!(
+        "units lj\natom_style atomic\ncomm_modify vel yes\nregion box block 0 6 0 6 0 6\n\
+         create_box 1 box\ncreate_atoms 1 random 648 8675 box\nmass 1 1.0\n\
+         pair_style dpd/nonlinear 1.0 1.0 34387 friction cross\n\
+         pair_coeff 1 1 10.0 eta 0.5 sc 1.5 gamma1 0.3\ntimestep 0.01\nrun 0\n\
+         write_restart {}\n",
+        file.display()
+    );
+    let read = format!(
+        "units lj\ncomm_modify vel yes\nread_restart {}\ncreate_atoms 1 random 216 99 NULL\nrun 0\n",
+        file.display()
+    );
+    let design = |lines: &[String]| -> Vec<String> {
+        lines
+            .iter()
+            .filter(|l| l.starts_with("pair_coeff 1 1: eta 0.5 sc 1.5 at n = "))
+            .cloned()
+            .collect()
+    };
+    let (first, _) = run_on(1, &write).expect("first script");
+    let (second, _) = run_on(1, &read).expect("second script");
+    let (d1, d2) = (design(&first), design(&second));
+    assert_eq!(d1.len(), 1, "{first:#?}");
+    assert_eq!(d2.len(), 1, "{second:#?}");
+    assert!(
+        d1[0].contains("n = 3.0000000000") && d1[0].contains("-> gamma0 = 140.81"),
+        "{}",
+        d1[0]
+    );
+    assert!(
+        d2[0].contains("n = 4.0000000000") && d2[0].contains("-> gamma0 = 429.34"),
+        "{}",
+        d2[0]
+    );
+    let lmp = Path::new(env!("CARGO_MANIFEST_DIR")).join("build/lmp_dpdnl");
+    if !lmp.is_file() {
+        assert!(
+            std::env::var_os("DPDNL_REQUIRE_LAMMPS").is_none(),
+            "DPDNL_REQUIRE_LAMMPS is set but {} is missing",
+            lmp.display()
+        );
+        eprintln!("SKIPPED: LAMMPS half: {} not built", lmp.display());
+        return;
+    }
+    let lammps = |name: &str, text: &str| -> Vec<String> {
+        std::fs::write(
+            dir.join(name),
+            text.replace(&*file.to_string_lossy(), "lmp.restart"),
+        )
+        .expect("write the input");
+        let out = std::process::Command::new(&lmp)
+            .current_dir(&dir)
+            .env("OMP_NUM_THREADS", "1")
+            .args(["-in", name, "-log", "none"])
+            .output()
+            .expect("LAMMPS starts");
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(
+            out.status.success() && !stdout.contains("ERROR"),
+            "{stdout}"
+        );
+        stdout.lines().map(String::from).collect()
+    };
+    lammps("in.write", &write);
+    let l2 = design(&lammps("in.read", &read));
+    assert!(
+        !l2.is_empty(),
+        "no design line from LAMMPS after read_restart"
+    );
+    assert!(
+        l2.iter().all(|l| *l == d2[0]),
+        "LAMMPS {l2:?}\nstandalone {d2:?}"
+    );
+}

@@ -105,6 +105,9 @@ pub struct System {
     partners: std::collections::HashMap<u32, Vec<(u32, u8)>>,
     /// The topology as indices of the current order (rebuilt after every sort).
     bonded: topology::BondedIndex,
+    /// LAMMPS's user ghost cut-off (`comm_modify cutoff`; 0: none), for the check of the
+    /// bonded atoms' images at a run's set-up.
+    pub comm_cutoff: f64,
 }
 
 /// The energies of one force evaluation by kind (LAMMPS's `evdwl`, `ebond`, `eangle`);
@@ -199,6 +202,7 @@ impl System {
             warnings: Vec::new(),
             partners: Default::default(),
             bonded: Default::default(),
+            comm_cutoff: 0.0,
         }
     }
 
@@ -300,7 +304,7 @@ impl System {
         // builds one too, gets the same bits).
         self.set_shear();
         self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
-        self.setup_topology(action)?;
+        self.setup_topology(action, rc_max)?;
         self.compute_forces(true);
         Ok(())
     }
@@ -314,8 +318,14 @@ impl System {
     }
 
     /// The set-up of the bonded terms: styles and coefficients present (LAMMPS's checks and
-    /// warnings), the special partners, the index form of the topology.
-    fn setup_topology(&mut self, action: [topology::SpecialAction; 4]) -> Result<(), String> {
+    /// warnings), the special partners, the index form of the topology, and LAMMPS's checks of
+    /// the bonded atoms' images ([`System::check_bonded_images`]; `rc_max`: the largest pair
+    /// cut-off).
+    fn setup_topology(
+        &mut self,
+        action: [topology::SpecialAction; 4],
+        rc_max: f64,
+    ) -> Result<(), String> {
         let Some(t) = &self.topo else { return Ok(()) };
         if !t.bonds.is_empty() {
             match &t.bond_style {
@@ -361,6 +371,11 @@ impl System {
         self.partners = t.special_partners();
         t.index(&self.atoms.tag, &self.partners, action, &mut self.bonded)?;
         self.bonded.build = self.neighbor.builds;
+        if self.check_bonded_images(rc_max)? {
+            self.setup_notes
+                .push(SetupNote::Warning("Inconsistent image flags".into()));
+        }
+        let Some(t) = &self.topo else { return Ok(()) };
         // LAMMPS's warning when a bonded interaction, stretched by 10 %, could span half a
         // periodic box length (its `box_too_small_check`): longest bond × 1.1, × 2 with angles.
         let longest = self
@@ -383,6 +398,108 @@ impl System {
             ));
         }
         Ok(())
+    }
+
+    /// LAMMPS's checks of the bonded atoms' images at a run's set-up (`Verlet::setup`), on the
+    /// topology's index form of this set-up:
+    ///
+    /// - `Domain::image_check`: returns true when the two atoms of some bond, unwrapped by
+    ///   their image flags (x + ix L_x + iy xy, LAMMPS's `unmap`), lie more than half a box
+    ///   length apart along a periodic axis: LAMMPS's warning "Inconsistent image flags" (a data
+    ///   file with wrapped coordinates and zero image flags, as many generators write, has
+    ///   them). The bonds and angles use the minimum image all the same, in LAMMPS as here.
+    /// - LAMMPS finds a bonded partner as the closest image it holds (`closest_image`) of the
+    ///   atom that stores the interaction (the first atom of a bond, the vertex of an angle):
+    ///   the atoms in the box and their ghost images within the ghost cut-off (the largest
+    ///   pair cut-off + the neighbour skin, or `comm_modify cutoff`) beyond its faces. When the
+    ///   partner's minimum image lies outside that shell no rank holds it: with several ranks
+    ///   LAMMPS stops ("Bond atoms I J missing"), on one it takes a farther image, so its
+    ///   numbers are not the minimum-image bond's. Such a bond or angle is an error here, with
+    ///   the same meaning.
+    fn check_bonded_images(&self, rc_max: f64) -> Result<bool, String> {
+        let a = &self.atoms;
+        let (len, dim, lo) = (self.bx.len(), self.bx.dim, self.bx.lo);
+        // The tilt of the image flags (x + ix L_x + iy xy) and LAMMPS's tilt of its cell.
+        let (xy_flags, xy_cell) = match &self.tri {
+            Some(t) => (t.xy, t.reported_xy(&self.bx)),
+            None => (0.0, 0.0),
+        };
+        let unwrap = |i: usize| self.bx.unwrap_tilted(a.x[i], a.image[i], xy_flags);
+        let inconsistent = self.bonded.bonds.iter().any(|&[i, j, _]| {
+            let (ui, uj) = (unwrap(i as usize), unwrap(j as usize));
+            (0..dim).any(|k| (ui[k] - uj[k]).abs() > 0.5 * len[k])
+        });
+        let cut = (rc_max + self.neighbor.skin).max(self.comm_cutoff);
+        // The ghost shell in LAMMPS's fractional coordinates (`CommBrick::setup`: cut × the
+        // norms of the rows of h⁻¹).
+        let shell = [
+            cut * (1.0 / (len[0] * len[0]) + (xy_cell / (len[0] * len[1])).powi(2)).sqrt(),
+            cut / len[1],
+            cut / len[2],
+        ];
+        let le = self.tri.as_ref().map(|t| t.le);
+        let bx = &self.bx;
+        // Is the minimum image of `p` relative to `h` (h in LAMMPS's cell) in the shell?
+        let held = |h: usize, p: usize| -> (bool, f64) {
+            let mut x = a.x[h];
+            let mut im = a.image[h];
+            match &le {
+                None => bx.wrap(&mut x, &mut im),
+                Some(_) => self.to_tilted_cell(&mut x, &mut im, xy_cell),
+            }
+            let r = [0, 1, 2].map(|k| a.x[p][k] - a.x[h][k]);
+            let d = match &le {
+                None => bx.min_image(r),
+                Some(le) => bx.min_image_le(r, le).0,
+            };
+            let y = [0, 1, 2].map(|k| x[k] + d[k]);
+            let l1 = (y[1] - lo[1]) / len[1];
+            let lambda = [
+                (y[0] - lo[0] - xy_cell * l1) / len[0],
+                l1,
+                (y[2] - lo[2]) / len[2],
+            ];
+            let inside = (0..dim).all(|k| lambda[k] >= -shell[k] && lambda[k] <= 1.0 + shell[k]);
+            (inside, (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt())
+        };
+        let why = |p: u32, h: u32, r: f64, what: &str| {
+            format!(
+                "the nearest image of atom {p} to atom {h} ({what}, {} apart) is outside the \
+                 box and its ghost cut-off {} (the largest pair cut-off + neighbor skin, or \
+                 comm_modify cutoff), so LAMMPS cannot resolve this interaction: on several \
+                 ranks it stops with this error, on one it takes a farther image; bring the \
+                 atoms closer together in the data file or raise comm_modify cutoff",
+                eight_digits(r),
+                eight_digits(cut)
+            )
+        };
+        for &[i, j, _] in &self.bonded.bonds {
+            let (i, j) = (i as usize, j as usize);
+            if let (false, r) = held(i, j) {
+                let (ti, tj) = (a.tag[i], a.tag[j]);
+                return Err(format!(
+                    "Bond atoms {ti} {tj} missing at step {}: {}",
+                    self.step,
+                    why(tj, ti, r, "which stores the bond")
+                ));
+            }
+        }
+        for &[i, j, k, _] in &self.bonded.angles {
+            let (i, j, k) = (i as usize, j as usize, k as usize);
+            for p in [i, k] {
+                if let (false, r) = held(j, p) {
+                    return Err(format!(
+                        "Angle atoms {} {} {} missing at step {}: {}",
+                        a.tag[i],
+                        a.tag[j],
+                        a.tag[k],
+                        self.step,
+                        why(a.tag[p], a.tag[j], r, "the vertex, which stores the angle")
+                    ));
+                }
+            }
+        }
+        Ok(inconsistent)
     }
 
     /// The fault of the last force evaluation, if any (a bad FENE bond, a non-finite

@@ -7,12 +7,14 @@
 //! in xy only: xz = yz = 0); the sections `Masses`, `Atoms` (the
 //! style's columns, `id [mol] type [q] x y z`, with optional image flags `ix iy iz`),
 //! `Velocities` (`id vx vy vz`), `Bonds` (`id type a1 a2`), `Angles` (`id type a1 a2 a3`),
-//! `Bond Coeffs`, `Angle Coeffs` (kept as words for the styles). Anything else is an error naming
-//! the file and line. Real numbers (box bounds, masses, coordinates, velocities) must be finite:
-//! `nan`, `inf` or `1e999` is an error naming the file, line and column. A bond or angle naming
-//! an atom id the file lacks, a type out of range, or bonded atoms further apart than half the
-//! box by their image flags (the minimum image would join other images) is an error naming the
-//! file and line.
+//! and the coefficient sections `Pair Coeffs`, `PairIJ Coeffs`, `Bond Coeffs`, `Angle Coeffs`
+//! (kept as words, in file order, for the styles: [`CoeffSection`]). Anything else is an error
+//! naming the file and line. Real numbers (box bounds, masses, coordinates, velocities) must be
+//! finite: `nan`, `inf` or `1e999` is an error naming the file, line and column. A bond or angle
+//! naming an atom id the file lacks, or a type out of range, is an error naming the file and
+//! line. Image flags are taken as they are: bonded atoms whose image flags put them more than
+//! half a box apart are LAMMPS's "Inconsistent image flags", a warning of each run's set-up
+//! (`engine::System`), not an error of the file.
 
 use std::fmt::Write as _;
 
@@ -47,12 +49,113 @@ pub struct DataFile {
     pub bonds: Vec<Bond>,
     /// Angles, in file order.
     pub angles: Vec<Angle>,
-    /// `Bond Coeffs` lines: (1-based line number, words), and the style named after `#`.
-    pub bond_coeffs: Vec<(usize, Vec<String>)>,
-    /// `Angle Coeffs` lines, likewise.
-    pub angle_coeffs: Vec<(usize, Vec<String>)>,
-    /// The style names after `#` of `Bond Coeffs` and `Angle Coeffs` (write_data's hints).
-    pub coeff_styles: [Option<String>; 2],
+    /// The coefficient sections (`Pair Coeffs`, `PairIJ Coeffs`, `Bond Coeffs`, `Angle
+    /// Coeffs`), in file order.
+    pub coeffs: Vec<CoeffSection>,
+    /// The style named after `#` on the `Atoms` line (write_data's hint), if any (none when
+    /// `Atoms` is the first section: LAMMPS does not see it there).
+    pub atoms_hint: Option<String>,
+}
+
+/// Which coefficient section.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoeffKind {
+    /// `Pair Coeffs`: one line `I c…` per atom type, LAMMPS's `pair_coeff I I c…`.
+    Pair,
+    /// `PairIJ Coeffs`: one line `I J c…` per type pair I ≤ J, `pair_coeff I J c…`.
+    PairIJ,
+    /// `Bond Coeffs`: one line `N c…` per bond type, `bond_coeff N c…`.
+    Bond,
+    /// `Angle Coeffs`: one line `N c…` per angle type, `angle_coeff N c…`.
+    Angle,
+}
+
+impl CoeffKind {
+    /// The section's title.
+    pub fn title(self) -> &'static str {
+        match self {
+            CoeffKind::Pair => "Pair Coeffs",
+            CoeffKind::PairIJ => "PairIJ Coeffs",
+            CoeffKind::Bond => "Bond Coeffs",
+            CoeffKind::Angle => "Angle Coeffs",
+        }
+    }
+
+    /// The style command the section needs (`pair_style`, `bond_style`, `angle_style`).
+    pub fn style_command(self) -> &'static str {
+        match self {
+            CoeffKind::Pair | CoeffKind::PairIJ => "pair_style",
+            CoeffKind::Bond => "bond_style",
+            CoeffKind::Angle => "angle_style",
+        }
+    }
+}
+
+/// One coefficient section of a data file, as read: LAMMPS's `read_data` hands each line to
+/// the style's `coeff` (a `Pair Coeffs` line `I c…` as `I I c…`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CoeffSection {
+    /// Which section.
+    pub kind: CoeffKind,
+    /// 1-based line number of the section's title.
+    pub line: usize,
+    /// The style named after `#` on the title line (write_data's hint), if any (none for the
+    /// file's first section, as LAMMPS reads it).
+    pub style: Option<String>,
+    /// The lines: (1-based line number, words without the comment).
+    pub lines: Vec<(usize, Vec<String>)>,
+}
+
+impl CoeffSection {
+    /// The words of the coefficient command of line `k` (after the command name): a `Pair
+    /// Coeffs` line `I c…` becomes `I I c…`, as LAMMPS's `read_data` passes it to the style.
+    pub fn command_words(&self, k: usize) -> Vec<String> {
+        let words = &self.lines[k].1;
+        match (self.kind, words.split_first()) {
+            (CoeffKind::Pair, Some((first, rest))) => std::iter::once(first.clone())
+                .chain(std::iter::once(first.clone()))
+                .chain(rest.iter().cloned())
+                .collect(),
+            _ => words.clone(),
+        }
+    }
+}
+
+/// Style names LAMMPS's `read_data` ignores at the end of a name when it compares a section's
+/// `# style` with the style defined (`ReadData::style_match`'s `suffixes`).
+const STYLE_SUFFIXES: [&str; 11] = [
+    "/cuda",
+    "/gpu",
+    "/opt",
+    "/omp",
+    "/kk",
+    "/coul/cut",
+    "/coul/long",
+    "/coul/msm",
+    "/coul/dsf",
+    "/coul/debye",
+    "/coul/charmm",
+];
+
+/// LAMMPS's `ReadData::style_match(one, two)`, rule for rule: `one` (the `# style` of a data
+/// file's section) matches the defined style `two` when, with the suffixes above removed from
+/// either, `one` is empty, the two have the same length (LAMMPS compares only the lengths
+/// there), or `one` is a prefix of `two`. A mismatch is a warning in LAMMPS ("… style in data
+/// file differs from currently defined … style"), not an error.
+pub fn style_match(one: &str, two: &str) -> bool {
+    let strip = |s: &str| -> usize {
+        let b = s.as_bytes();
+        let mut len = b.len();
+        for suf in STYLE_SUFFIXES {
+            // As LAMMPS: each suffix in turn, against the name from len − |suffix| to its end.
+            if len > suf.len() && &b[len - suf.len()..] == suf.as_bytes() {
+                len -= suf.len();
+            }
+        }
+        len
+    };
+    let (len1, len2) = (strip(one), strip(two));
+    len1 == 0 || len1 == len2 || two.as_bytes().starts_with(&one.as_bytes()[..len1])
 }
 
 /// Header counts of a molecular file.
@@ -319,55 +422,22 @@ fn topo_line(
     Ok((t, a))
 }
 
-/// Every bond and angle names atoms of the file, and bonded atoms are within half a box length
-/// of each other by their image flags along every axis (so the minimum image joins the same
-/// images); `lines[k]` is the line of bond k (then of angle k − bonds).
+/// Every bond and angle names atoms of the file; `lines[k]` is the line of bond k (then of
+/// angle k − bonds). Image flags are not checked here (see the module documentation).
 fn check_topology(d: &DataFile, lines: &[usize], name: &str) -> Result<(), String> {
-    let mut at = std::collections::HashMap::new();
-    for (tag, _, x, im) in &d.atoms {
-        at.insert(*tag, (*x, *im));
-    }
-    let len = [d.hi[0] - d.lo[0], d.hi[1] - d.lo[1], d.hi[2] - d.lo[2]];
-    let unwrapped = |x: [f64; 3], im: [i32; 3]| [0, 1, 2].map(|k| x[k] + f64::from(im[k]) * len[k]);
+    let tags: std::collections::HashSet<u32> = d.atoms.iter().map(|a| a.0).collect();
     let members = d
         .bonds
         .iter()
-        .map(|b| ("Bonds", vec![b.atoms[0], b.atoms[1]]))
-        .chain(d.angles.iter().map(|a| ("Angles", a.atoms.to_vec())));
+        .map(|b| ("Bonds", &b.atoms[..]))
+        .chain(d.angles.iter().map(|a| ("Angles", &a.atoms[..])));
     for (k, (section, ids)) in members.enumerate() {
         let line = lines.get(k).copied().unwrap_or(0);
-        let mut pos = Vec::with_capacity(3);
-        for &id in &ids {
-            let Some(&(x, im)) = at.get(&id) else {
-                return Err(format!(
-                    "{name}:{line}: Invalid atom ID in {section} section of data file: no atom \
-                     has id {id}"
-                ));
-            };
-            pos.push(unwrapped(x, im));
-        }
-        // Bonds: the two atoms; angles: each arm from the middle atom.
-        let arms: Vec<(usize, usize)> = if ids.len() == 2 {
-            vec![(0, 1)]
-        } else {
-            vec![(0, 1), (2, 1)]
-        };
-        for (p, q) in arms {
-            for a in 0..3 {
-                let dx = pos[p][a] - pos[q][a];
-                if dx.abs() > 0.5 * len[a] {
-                    return Err(format!(
-                        "{name}:{line}: {section}: atoms {} and {} are {:.6} apart along {} by \
-                         their coordinates and image flags, more than half the box length {}: \
-                         the minimum image would join other images (fix the image flags)",
-                        ids[p],
-                        ids[q],
-                        dx.abs(),
-                        ["x", "y", "z"][a],
-                        len[a]
-                    ));
-                }
-            }
+        if let Some(id) = ids.iter().find(|id| !tags.contains(id)) {
+            return Err(format!(
+                "{name}:{line}: Invalid atom ID in {section} section of data file: no atom \
+                 has id {id}"
+            ));
         }
     }
     Ok(())
@@ -452,15 +522,29 @@ pub fn parse_data_styled(text: &str, name: &str, style: AtomStyle) -> Result<Dat
             continue;
         }
         let section = line.to_string();
-        let hint = lines[k].split_once('#').map(|(_, s)| s.trim().to_string());
+        // The style named after `#` (write_data's hint). As LAMMPS: not for the first section,
+        // whose title line ends the header, where LAMMPS has already cut the comment off.
+        let hint = if seen.is_empty() {
+            None
+        } else {
+            lines[k].split_once('#').map(|(_, s)| s.trim().to_string())
+        };
         let title = k;
         k += 1;
         // A blank line follows the section title.
         while k < lines.len() && strip_comment(lines[k]).trim().is_empty() {
             k += 1;
         }
+        let coeff_kind = match section.as_str() {
+            "Pair Coeffs" => Some(CoeffKind::Pair),
+            "PairIJ Coeffs" => Some(CoeffKind::PairIJ),
+            "Bond Coeffs" => Some(CoeffKind::Bond),
+            "Angle Coeffs" => Some(CoeffKind::Angle),
+            _ => None,
+        };
         let count = match section.as_str() {
-            "Masses" => d.ntypes,
+            "Masses" | "Pair Coeffs" => d.ntypes,
+            "PairIJ Coeffs" => d.ntypes * (d.ntypes + 1) / 2,
             "Atoms" | "Velocities" => natoms,
             "Bonds" => counts.bonds,
             "Angles" => counts.angles,
@@ -478,22 +562,16 @@ pub fn parse_data_styled(text: &str, name: &str, style: AtomStyle) -> Result<Dat
             return Err(err_at(title, format!("second {section} section")));
         }
         seen.push(section.clone());
-        if section == "Atoms"
-            && let Some(s) = &hint
-            && s != style.word()
-        {
-            return Err(err_at(
-                title,
-                format!(
-                    "Atoms section of atom_style '{s}', but the script has atom_style {}",
-                    style.word()
-                ),
-            ));
+        if section == "Atoms" {
+            d.atoms_hint = hint.clone();
         }
-        match section.as_str() {
-            "Bond Coeffs" => d.coeff_styles[0] = hint.clone(),
-            "Angle Coeffs" => d.coeff_styles[1] = hint.clone(),
-            _ => {}
+        if let Some(kind) = coeff_kind {
+            d.coeffs.push(CoeffSection {
+                kind,
+                line: title + 1,
+                style: hint.clone(),
+                lines: Vec::with_capacity(count),
+            });
         }
         for _ in 0..count {
             let Some(raw) = lines.get(k) else {
@@ -519,13 +597,16 @@ pub fn parse_data_styled(text: &str, name: &str, style: AtomStyle) -> Result<Dat
                     d.angles.push(Angle { typ, atoms });
                     angle_lines.push(k + 1);
                 }
-                "Bond Coeffs" => d
-                    .bond_coeffs
-                    .push((k + 1, toks.iter().map(|t| t.to_string()).collect())),
-                "Angle Coeffs" => d
-                    .angle_coeffs
-                    .push((k + 1, toks.iter().map(|t| t.to_string()).collect())),
-                _ => velocities_line(&mut d, &toks, &ctx)?,
+                "Velocities" => velocities_line(&mut d, &toks, &ctx)?,
+                _ => {
+                    if toks.is_empty() {
+                        return Err(ctx(format!("Unexpected empty line in {section} section")));
+                    }
+                    if let Some(c) = d.coeffs.last_mut() {
+                        c.lines
+                            .push((k + 1, toks.iter().map(|t| t.to_string()).collect()));
+                    }
+                }
             }
             k += 1;
         }
@@ -556,10 +637,10 @@ pub fn format_data(d: &DataFile, title: &str) -> String {
 }
 
 /// The style name and, by type (index 0 unused), the numbers of a coefficient section.
-pub type CoeffSection = Option<(String, Vec<Vec<f64>>)>;
+pub type CoeffRows = Option<(String, Vec<Vec<f64>>)>;
 
 /// [`format_data`] with `Bond Coeffs` and `Angle Coeffs` sections.
-pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffSection; 2]) -> String {
+pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffRows; 2]) -> String {
     let mut s = String::new();
     let molecular = d.style.molecular();
     let _ = writeln!(s, "{title}\n");
@@ -634,4 +715,63 @@ pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffSection; 2]) -
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// LAMMPS's `style_match`, rule for rule: an empty hint, a prefix, the suffixes, and its
+    /// quirk of matching any two names of the same length.
+    #[test]
+    fn style_match_is_lammps_rule() {
+        for (one, two, want) in [
+            ("dpd/nonlinear", "dpd/nonlinear", true),
+            ("", "harmonic", true),
+            ("harm", "harmonic", true),
+            ("harmonic", "fene", false),
+            ("dpd/nonlinear", "sdpd", false),
+            ("dpd/nonlinear", "zero", false),
+            ("fene", "zero", true),
+            ("fene2", "fene", false),
+            ("lj/cut/omp", "lj/cut", true),
+            ("lj/cut", "lj/cut/coul/long", true),
+            ("sdpd/kk", "sdpd", true),
+        ] {
+            assert_eq!(style_match(one, two), want, "{one} vs {two}");
+        }
+    }
+
+    /// `Pair Coeffs` (one line per type, given to the style as `I I c…`) and `PairIJ Coeffs`
+    /// (one line per type pair) in file order with their hints; the first section's hint is
+    /// not seen, as LAMMPS does not see it.
+    #[test]
+    fn coefficient_sections_in_file_order() {
+        let head = "title\n\n2 atoms\n2 atom types\n\n0 4 xlo xhi\n0 4 ylo yhi\n0 4 zlo zhi\n";
+        let atoms = "\nAtoms # atomic\n\n1 1 1 1 1\n2 2 2 2 2\n";
+        let text = format!(
+            "{head}\nPair Coeffs # dpd/nonlinear\n\n1 25 4.5 0 1\n2 20 3 0 1 # a comment\n\
+             \nPairIJ Coeffs # sdpd\n\n1 1 4 10 10\n1 2 4 10 8 2.2\n2 2 6 10 10\n{atoms}"
+        );
+        let d = parse_data(&text, "t.data").unwrap();
+        assert_eq!(d.coeffs.len(), 2);
+        let (p, ij) = (&d.coeffs[0], &d.coeffs[1]);
+        assert_eq!(
+            (p.kind, p.line, p.style.as_deref()),
+            (CoeffKind::Pair, 10, None)
+        );
+        assert_eq!(p.command_words(1), ["2", "2", "20", "3", "0", "1"]);
+        assert_eq!(ij.kind, CoeffKind::PairIJ);
+        assert_eq!(ij.style.as_deref(), Some("sdpd"));
+        assert_eq!(ij.lines.len(), 3);
+        assert_eq!(ij.command_words(1), ["1", "2", "4", "10", "8", "2.2"]);
+        assert_eq!(d.atoms_hint.as_deref(), Some("atomic"));
+        // Atoms first: its hint is not seen either.
+        let d = parse_data(&format!("{head}{atoms}"), "t.data").unwrap();
+        assert_eq!(d.atoms_hint, None);
+        // A line short: the blank line after it is read as the second line (as LAMMPS does).
+        let short = format!("{head}\nMasses\n\n1 1\n2 1\n\nPair Coeffs\n\n1 25 4.5 0 1\n\n{atoms}");
+        let e = parse_data(&short, "t.data").unwrap_err();
+        assert_eq!(e, "t.data:18: Unexpected empty line in Pair Coeffs section");
+    }
 }

@@ -115,10 +115,9 @@ enum Var {
     Atom(String),
 }
 
-/// Commands accepted and ignored: they only matter to LAMMPS (communication, neighbour
+/// Commands accepted and ignored: they only matter to LAMMPS (neighbour
 /// bookkeeping, atom maps, Newton's third law flag, processor grids, echo).
 pub(crate) const IGNORED_COMMANDS: &[&str] = &[
-    "comm_modify",
     "neigh_modify",
     "atom_modify",
     "newton",
@@ -157,6 +156,10 @@ pub struct Interpreter<'c> {
     atom_style: crate::engine::topology::AtomStyle,
     /// `bond_style`, `angle_style` words and `special_bonds` given before the box exists.
     pre_topo: bonded::PreTopology,
+    /// `pair_style` words given before the box exists (the style is made with the box).
+    pre_pair: Option<Vec<String>>,
+    /// `comm_modify cutoff` (LAMMPS's user ghost cut-off; 0: none given).
+    comm_cutoff: f64,
     skin: f64,
     dry_run: bool,
     planned: Vec<PlannedRun>,
@@ -244,6 +247,8 @@ impl<'c> Interpreter<'c> {
             sys: None,
             atom_style: Default::default(),
             pre_topo: Default::default(),
+            pre_pair: None,
+            comm_cutoff: 0.0,
             skin: 0.3,
             dry_run: false,
             planned: Vec::new(),
@@ -461,6 +466,7 @@ impl<'c> Interpreter<'c> {
         }
         match cmd {
             c if IGNORED_COMMANDS.contains(&c) => Ok(()),
+            "comm_modify" => self.cmd_comm_modify(args),
             "units" => Self::cmd_units(args),
             "dimension" => self.cmd_dimension(args),
             "boundary" => Self::cmd_boundary(args),

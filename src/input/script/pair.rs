@@ -3,6 +3,11 @@
 //! replaces the old one and its coefficients; the same style again keeps its coefficients
 //! under that style's rule (`PairStyle::restyle`), as LAMMPS does. A restart file stores the
 //! style's own `restart_lines`, which `read_restart` re-issues.
+//!
+//! As in LAMMPS, `pair_style` may come before the box: its words are checked at once and kept
+//! until `create_box`, `read_data` or `read_restart` makes the box, which makes the style for
+//! the box's atom types (and `read_data` then applies the file's `Pair Coeffs` or `PairIJ
+//! Coeffs` section to it). `pair_coeff` needs the box, as in LAMMPS.
 
 use super::{CmdResult, Interpreter};
 use crate::grammar::{self, need};
@@ -11,7 +16,14 @@ impl Interpreter<'_> {
     pub(super) fn cmd_pair_style(&mut self, args: &[String]) -> CmdResult {
         need(args, 1, grammar::pair::PAIR_STYLE.usage)?;
         let dt = self.dt;
-        let sys = self.sys_mut()?;
+        let Some(sys) = self.sys.as_mut() else {
+            // Before the box: checked now (the same words and messages as after it), made for
+            // the box's atom types when the box exists. With no coefficients yet, the same
+            // style again is the same as a new one.
+            crate::engine::style::new_pair_style(&args[0], &args[1..], 1, dt)?;
+            self.pre_pair = Some(args.to_vec());
+            return Ok(());
+        };
         match sys.pair.as_deref_mut() {
             Some(style) if style.name() == args[0] => style.restyle(&args[1..])?,
             _ => {

@@ -7,7 +7,7 @@ use crate::engine::lees_edwards::Triclinic;
 use crate::engine::topology::AtomStyle;
 use crate::engine::{SimBox, System};
 use crate::grammar::{at_most, need, parse_f64, parse_int};
-use crate::io::data::{DataFile, format_data_with, parse_data_styled};
+use crate::io::data::{CoeffKind, DataFile, format_data_with, parse_data_styled, style_match};
 use crate::rng::{STREAM_CREATE_ATOMS, keyed_uniform};
 use std::collections::BTreeMap;
 
@@ -142,8 +142,18 @@ impl Interpreter<'_> {
         let mut sys = System::new(bx, ntypes);
         sys.dt = self.dt;
         sys.neighbor = crate::engine::NeighborList::new(self.skin);
+        sys.comm_cutoff = self.comm_cutoff;
         if self.atom_style.molecular() {
             sys.topo = Some(self.pre_topo.topology(self.atom_style, 0, 0)?);
+        }
+        // A `pair_style` given before the box: made now, for the box's atom types.
+        if let Some(words) = &self.pre_pair {
+            sys.pair = Some(crate::engine::style::new_pair_style(
+                &words[0],
+                &words[1..],
+                ntypes,
+                self.dt,
+            )?);
         }
         self.sys = Some(sys);
         Ok(())
@@ -276,14 +286,21 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_read_data(&mut self, args: &[String]) -> CmdResult {
-        let usage = "read_data FILE [extra/atom/types N] [extra/bond/types N] [extra/angle/types N] [extra/bond|angle|dihedral|improper|special/per/atom N]";
+        let usage = "read_data FILE [nocoeff] [extra/atom/types N] [extra/bond/types N] [extra/angle/types N] [extra/bond|angle|dihedral|improper|special/per/atom N]";
         need(args, 1, usage)?;
         // LAMMPS's keywords that make room for more (types added to the file's counts; the
-        // per-atom ones only size LAMMPS's arrays and change nothing here).
+        // per-atom ones only size LAMMPS's arrays and change nothing here), and `nocoeff`
+        // (the file's coefficient sections are skipped).
         let mut extra_types = [0usize; 3];
+        let mut nocoeff = false;
         let mut k = 1;
         while k < args.len() {
             let slot = match args[k].as_str() {
+                "nocoeff" => {
+                    nocoeff = true;
+                    k += 1;
+                    continue;
+                }
                 "extra/atom/types" => Some(0),
                 "extra/bond/types" => Some(1),
                 "extra/angle/types" => Some(2),
@@ -332,22 +349,59 @@ impl Interpreter<'_> {
                 args[0]
             ));
         }
-        // The topology first (styles given before read_data take the type counts, and the
-        // coefficient sections need them), then the box.
-        let mut topo = if self.atom_style.molecular() {
-            Some(
-                self.pre_topo
-                    .topology(self.atom_style, d.nbondtypes, d.nangletypes)?,
-            )
+        if let Some(h) = &d.atoms_hint
+            && !style_match(h, self.atom_style.word())
+        {
+            self.warn(&format!(
+                "Atom style in data file {h} differs from currently defined atom style {}",
+                self.atom_style.word()
+            ));
+        }
+        // The topology (styles given before read_data take the type counts), then the box
+        // with the pair style given before it, then the coefficient sections in file order.
+        let topo = if self.atom_style.molecular() {
+            let mut t = self
+                .pre_topo
+                .topology(self.atom_style, d.nbondtypes, d.nangletypes)?;
+            t.bonds = d.bonds.clone();
+            t.angles = d.angles.clone();
+            Some(t)
         } else {
             None
         };
-        if let Some(t) = topo.as_mut() {
-            apply_coeff_section(t, &d, &args[0])?;
-            t.bonds = d.bonds.clone();
-            t.angles = d.angles.clone();
-        }
         self.new_system(d.ntypes, d.lo, d.hi)?;
+        let filled = self.fill_from_data(&d, topo, nocoeff, &args[0]);
+        if filled.is_err() {
+            // As if the command had not run (an embedding may go on).
+            self.sys = None;
+        }
+        filled?;
+        let n = d.atoms.len();
+        self.out(&format!(
+            "Read data file {}: {n} atoms, {} atom types",
+            args[0], d.ntypes
+        ));
+        if self.atom_style.molecular() {
+            self.out(&format!(
+                "  {} bonds, {} bond types, {} angles, {} angle types",
+                d.bonds.len(),
+                d.nbondtypes,
+                d.angles.len(),
+                d.nangletypes
+            ));
+        }
+        Ok(())
+    }
+
+    /// The new box of `read_data` filled from the file `d`: the topology `topo`, the tilt, the
+    /// atoms, velocities and masses, and the coefficient sections ([`Self::apply_data_coeffs`]).
+    fn fill_from_data(
+        &mut self,
+        d: &DataFile,
+        topo: Option<crate::engine::Topology>,
+        nocoeff: bool,
+        file: &str,
+    ) -> CmdResult {
         let sys = self.sys_mut()?;
         if let Some(t) = d.tilt {
             sys.tri = Some(Triclinic::new(t[0]));
@@ -367,7 +421,7 @@ impl Interpreter<'_> {
         for (tag, v) in &d.velocities {
             let k = index
                 .get(tag)
-                .ok_or_else(|| format!("{}: Velocities for unknown atom id {tag}", args[0]))?;
+                .ok_or_else(|| format!("{file}: Velocities for unknown atom id {tag}"))?;
             sys.atoms.v[*k] = *v;
         }
         for (t, m) in d.masses.iter().enumerate() {
@@ -375,19 +429,84 @@ impl Interpreter<'_> {
                 sys.mass[t] = *m;
             }
         }
-        let n = d.atoms.len();
-        self.out(&format!(
-            "Read data file {}: {n} atoms, {} atom types",
-            args[0], d.ntypes
-        ));
-        if self.atom_style.molecular() {
-            self.out(&format!(
-                "  {} bonds, {} bond types, {} angles, {} angle types",
-                d.bonds.len(),
-                d.nbondtypes,
-                d.angles.len(),
-                d.nangletypes
-            ));
+        self.apply_data_coeffs(d, nocoeff, file)
+    }
+
+    /// The coefficient sections of a data file, in file order, as LAMMPS's `read_data` applies
+    /// them: each needs its style defined before `read_data` ("Must define pair_style before
+    /// Pair Coeffs", an error naming the file and line); a `# style` after the title that does
+    /// not match the style defined (LAMMPS's `style_match`) is LAMMPS's warning, and the lines
+    /// go to the style defined all the same, each as its coefficient command (`Pair Coeffs`
+    /// line `I c…` as `pair_coeff I I c…`), whose errors name the file and line. A later
+    /// `pair_coeff`, `bond_coeff` or `angle_coeff` overrides them, as any second coefficient
+    /// command does. With `nocoeff` LAMMPS reads the sections into `zero` styles and drops them:
+    /// no style is needed, and the warning compares the `# style` with `zero`.
+    fn apply_data_coeffs(&mut self, d: &DataFile, nocoeff: bool, file: &str) -> CmdResult {
+        for c in &d.coeffs {
+            let title = c.kind.title();
+            let sys = self.sys_mut()?;
+            let defined: Option<&'static str> = if nocoeff {
+                Some("zero")
+            } else {
+                match c.kind {
+                    CoeffKind::Pair | CoeffKind::PairIJ => sys.pair.as_deref().map(|p| p.name()),
+                    CoeffKind::Bond => sys
+                        .topo
+                        .as_ref()
+                        .and_then(|t| t.bond_style.as_ref())
+                        .map(|b| b.kind.word()),
+                    CoeffKind::Angle => sys
+                        .topo
+                        .as_ref()
+                        .and_then(|t| t.angle_style.as_ref())
+                        .map(|a| a.kind.word()),
+                }
+            };
+            let Some(defined) = defined else {
+                return Err(format!(
+                    "{file}:{}: Must define {} before {title}",
+                    c.line,
+                    c.kind.style_command()
+                ));
+            };
+            if let Some(h) = &c.style
+                && !style_match(h, defined)
+            {
+                let (big, small) = match c.kind {
+                    CoeffKind::Pair | CoeffKind::PairIJ => ("Pair", "pair"),
+                    CoeffKind::Bond => ("Bond", "bond"),
+                    CoeffKind::Angle => ("Angle", "angle"),
+                };
+                self.warn(&format!(
+                    "{big} style {h} in data file differs from currently defined {small} style \
+                     {defined}"
+                ));
+            }
+            if nocoeff {
+                continue;
+            }
+            let sys = self.sys_mut()?;
+            for (k, (line, _)) in c.lines.iter().enumerate() {
+                let words = c.command_words(k);
+                let res = match c.kind {
+                    CoeffKind::Pair | CoeffKind::PairIJ => {
+                        sys.pair.as_deref_mut().map(|p| p.coeff(&words))
+                    }
+                    CoeffKind::Bond => sys
+                        .topo
+                        .as_mut()
+                        .and_then(|t| t.bond_style.as_mut())
+                        .map(|b| b.set_coeff(&words)),
+                    CoeffKind::Angle => sys
+                        .topo
+                        .as_mut()
+                        .and_then(|t| t.angle_style.as_mut())
+                        .map(|a| a.set_coeff(&words)),
+                };
+                if let Some(Err(e)) = res {
+                    return Err(format!("{file}:{line}: {title}: {e}"));
+                }
+            }
         }
         Ok(())
     }
@@ -488,6 +607,30 @@ impl Interpreter<'_> {
         Ok(())
     }
 
+    /// `comm_modify KEYWORD VALUE …`: only `cutoff Rcut` (LAMMPS's user ghost cut-off) matters
+    /// here, to the check of the bonded atoms' images at a run's set-up
+    /// (`System::check_bonded_images`); the other keywords (`vel`, `mode`, …) only matter to
+    /// LAMMPS and are accepted as before.
+    pub(super) fn cmd_comm_modify(&mut self, args: &[String]) -> CmdResult {
+        let mut k = 0;
+        while k < args.len() {
+            if args[k] == "cutoff" {
+                let v = args.get(k + 1).ok_or("comm_modify cutoff needs a value")?;
+                let c = parse_f64(v, "comm_modify cutoff")?;
+                if !(c >= 0.0 && c.is_finite()) {
+                    return Err(format!("Invalid cutoff {c} in comm_modify command"));
+                }
+                self.comm_cutoff = c;
+                if let Some(s) = self.sys.as_mut() {
+                    s.comm_cutoff = c;
+                }
+                k += 1;
+            }
+            k += 1;
+        }
+        Ok(())
+    }
+
     pub(super) fn cmd_neighbor(&mut self, args: &[String]) -> CmdResult {
         exact(args, 2, "neighbor SKIN bin")?;
         let skin = parse_f64(&args[0], "skin")?;
@@ -578,43 +721,4 @@ fn available_memory() -> Option<u64> {
 fn exact(args: &[String], n: usize, usage: &str) -> CmdResult {
     need(args, n, usage)?;
     at_most(args, n, usage)
-}
-
-/// The `Bond Coeffs` and `Angle Coeffs` sections of a data file applied to the styles (which
-/// must be defined before `read_data`, as in LAMMPS); an error names the file and line.
-fn apply_coeff_section(t: &mut crate::engine::Topology, d: &DataFile, file: &str) -> CmdResult {
-    for (k, (lines, what)) in [(&d.bond_coeffs, "bond"), (&d.angle_coeffs, "angle")]
-        .into_iter()
-        .enumerate()
-    {
-        for (line, words) in lines.iter() {
-            let res = if k == 0 {
-                t.bond_style
-                    .as_mut()
-                    .ok_or_else(|| "Must define bond_style before Bond Coeffs".to_string())
-                    .and_then(|b| b.set_coeff(words))
-            } else {
-                t.angle_style
-                    .as_mut()
-                    .ok_or_else(|| "Must define angle_style before Angle Coeffs".to_string())
-                    .and_then(|a| a.set_coeff(words))
-            };
-            res.map_err(|e| format!("{file}:{line}: {what} coefficients: {e}"))?;
-        }
-        let hint = &d.coeff_styles[k];
-        let have = if k == 0 {
-            t.bond_style.as_ref().map(|b| b.kind.word())
-        } else {
-            t.angle_style.as_ref().map(|a| a.kind.word())
-        };
-        if let (Some(h), Some(w)) = (hint, have)
-            && h != w
-        {
-            return Err(format!(
-                "{file}: {} Coeffs section is for {what}_style {h}, but the script has {what}_style {w}",
-                if k == 0 { "Bond" } else { "Angle" }
-            ));
-        }
-    }
-    Ok(())
 }

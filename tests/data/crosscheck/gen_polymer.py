@@ -8,6 +8,10 @@ a random walk of fixed step b from a uniform start, so chains cross the periodic
 positions are written wrapped into the box with the image flags that unwrap every chain, so no
 bond is longer than b. Angles join every three consecutive beads. Velocities are uniform in
 [-1, 1) with the mean removed. atom_style angle columns: id mol type x y z ix iy iz.
+
+polymer3d_wrapped.data is the same system as a structure generator writes it: wrapped
+coordinates and no image flags (columns id mol type x y z, so every flag is 0), the chains
+crossing the boundaries; LAMMPS warns "Inconsistent image flags" and bonds by the minimum image.
 """
 import math
 import os
@@ -16,7 +20,7 @@ import random
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def write(name, title, lo, hi, dim, n_total, n_chains, chain_len, bond, seed):
+def write(name, title, lo, hi, dim, n_total, n_chains, chain_len, bond, seed, flags=True):
     rng = random.Random(seed)
     L = [hi[d] - lo[d] for d in range(3)]
     atoms = []  # (tag, mol, type, unwrapped x)
@@ -74,7 +78,10 @@ def write(name, title, lo, hi, dim, n_total, n_chains, chain_len, bond, seed):
                 if w[d] >= hi[d]:
                     w[d] = lo[d]
                     im[d] += 1
-            f.write(f"{t} {mol} {typ} {w[0]:.17g} {w[1]:.17g} {w[2]:.17g} {im[0]} {im[1]} {im[2]}\n")
+            if flags:
+                f.write(f"{t} {mol} {typ} {w[0]:.17g} {w[1]:.17g} {w[2]:.17g} {im[0]} {im[1]} {im[2]}\n")
+            else:
+                f.write(f"{t} {mol} {typ} {w[0]:.17g} {w[1]:.17g} {w[2]:.17g}\n")
         f.write("\nVelocities\n\n")
         for (t, _, _, _), v in zip(atoms, vels):
             f.write(f"{t} {v[0]:.17g} {v[1]:.17g} {v[2]:.17g}\n")
@@ -92,3 +99,7 @@ write("polymer3d.data", "dpdnl golden: 3-D polymer solution, 24 chains x 10 bead
 # 2-D, 10 x 10 box at density 4: 400 atoms, 8 chains of 8 beads.
 write("polymer2d.data", "dpdnl golden: 2-D polymer solution, 8 chains x 8 beads in solvent",
       [-5.0, -5.0, -0.5], [5.0, 5.0, 0.5], 2, 400, 8, 8, 0.9, 22)
+# The 3-D system again as a generator writes it: wrapped, no image flags.
+write("polymer3d_wrapped.data",
+      "dpdnl golden: 3-D polymer solution as a generator writes it (wrapped, no image flags)",
+      [-4.0] * 3, [4.0] * 3, 3, 1536, 24, 10, 0.9, 21, flags=False)
