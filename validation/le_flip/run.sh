@@ -22,6 +22,8 @@ SEEDS="${SEEDS:-1 2 3 4 5 6 7}"; PAR="${PAR:-2}"; NPROD="${NPROD:-20000}"
 work="$here/work"; res="$here/results"
 mkdir -p "$work" "$res"
 if [ "${1:-}" != summary ]; then
+    # The commit the binary was built from (the tree must be committed: results of a commit).
+    git -C "$root" log -1 --format=%h > "$work/commit.txt"
     ( cd "$work" && cp "$here/in.equil" "$here/in.couette" . &&
       "$DPDNL" run in.equil --threads "$PAR" --log log.equil --quiet )
     echo "run,engine,atoms,steps,seconds" > "$res/runtimes.csv"

@@ -45,8 +45,10 @@ def stats(xs):
     return m, sd, sd / math.sqrt(n)
 
 
+cpath = os.path.join(work, "commit.txt")
+commit = open(cpath).read().strip() if os.path.exists(cpath) else "unknown"
 lines = ["# The momentum leak at box flips and fix flip/momentum (issue 41)", "",
-         f"Binary: {dpdnl}. The tutorial's 2-D Couette flow, N = {N}, rate 3, delta t = 0.005, "
+         f"Binary: {os.path.basename(dpdnl)} of commit {commit}. The tutorial's 2-D Couette flow, N = {N}, rate 3, delta t = 0.005, "
          "10 + 100 time units, friction none; kT over the second half of the production run. "
          "`check`: the flipped atoms keep their velocities (plain fix deform, LAMMPS's "
          "behaviour); `jump`: fix flip/momentum gives them remap v's velocity jump. V = the "
