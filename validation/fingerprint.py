@@ -136,13 +136,25 @@ def run_family(name, runs, exe, env):
             # SCRIPT may be A+B+…: run in order in one folder (B reads what A wrote). Each
             # script's folder travels with it (data files, included scripts).
             for part in script.split("+"):
-                src = os.path.join(SCRIPTS_ROOT, part)
+                page, _, block = part.partition("#")
+                src = os.path.join(SCRIPTS_ROOT, page)
                 if not os.path.exists(src):
-                    return None, f"{part} is not in {SCRIPTS_ROOT}: skipped"
-                for f in os.listdir(os.path.dirname(src)):
-                    p = os.path.join(os.path.dirname(src), f)
-                    if os.path.isfile(p) and not os.path.exists(os.path.join(tmp, f)):
-                        shutil.copy(p, tmp)
+                    return None, f"{page} is not in {SCRIPTS_ROOT}: skipped"
+                if block:
+                    # PAGE#NAME: the script a page of the manual writes with `cat > NAME <<'EOF'`.
+                    text = open(src).read()
+                    start = text.find(f"cat > {block} <<'EOF'\n")
+                    if start < 0:
+                        raise RuntimeError(f"{name}: {page} writes no {block} (cat > {block} <<'EOF')")
+                    start = text.index("\n", start) + 1
+                    with open(os.path.join(tmp, block), "w") as f:
+                        f.write(text[start:text.index("\nEOF\n", start) + 1])
+                    src = os.path.join(tmp, block)
+                else:
+                    for f in os.listdir(os.path.dirname(src)):
+                        p = os.path.join(os.path.dirname(src), f)
+                        if os.path.isfile(p) and not os.path.exists(os.path.join(tmp, f)):
+                            shutil.copy(p, tmp)
                 with open(os.path.join(tmp, "in.fingerprint"), "w") as f:
                     f.write(WRAPPER.format(script=os.path.basename(src)))
                 argv = []
