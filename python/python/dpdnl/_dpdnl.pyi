@@ -653,8 +653,9 @@ def nemd(
           ``stress_source`` (nominal or measured from which column), ``stress_nominal``
           (dp/(2 Ly Lz every dt), or None without ``dp``);
         - ``shear_rate``, ``shear_rate_err`` (1/time), ``shear_rate_blocks``,
-          ``shear_rate_converged`` (False: the block error found no plateau and is likely an
-          underestimate);
+          ``shear_rate_converged`` (False: too few blocks at the chosen level, so the error is a
+          lower bound; docs/analysis.md, "How the errors are formed"), ``shear_rate_n_eff``
+          (the effective number of independent samples behind the error);
         - ``viscosity``, ``viscosity_err``: μ, mass/(distance·time) (lj: m/(σ τ));
         - ``density_centre``, ``density_centre_err`` (1/volume) and ``td_centre``,
           ``td_centre_err`` (energy; None without T_d): averaged over the fit windows;
@@ -878,7 +879,10 @@ def couette(
 
         - ``analysis`` (``"couette"``), ``label``, ``input``, ``column``, ``n_samples``,
           ``from_step``;
-        - ``pxy``, ``pxy_err``: ⟨P_xy⟩ and its block error, pressure units;
+        - ``pxy``, ``pxy_err``: ⟨P_xy⟩ and its block error, pressure units; ``pxy_n_eff`` (the
+          effective number of independent samples behind the error) and ``pxy_converged``
+          (False: too few blocks at the chosen level, so the error is a lower bound;
+          docs/analysis.md, "How the errors are formed");
         - ``shear_rate``, ``shear_rate_err`` (1/time), ``shear_rate_source`` (imposed or
           measured), ``shear_rate_imposed`` (``rate``, or None);
         - ``viscosity``, ``viscosity_err``: η*, mass/(distance·time) (lj: m/(σ τ); in 2-D

@@ -42,8 +42,9 @@ use dpdnl::report::nemd::{self as rnemd, NemdParams};
 ///       ``stress_source`` (nominal or measured from which column), ``stress_nominal``
 ///       (dp/(2 Ly Lz every dt), or None without ``dp``);
 ///     - ``shear_rate``, ``shear_rate_err`` (1/time), ``shear_rate_blocks``,
-///       ``shear_rate_converged`` (False: the block error found no plateau and is likely an
-///       underestimate);
+///       ``shear_rate_converged`` (False: too few blocks at the chosen level, so the error is a
+///       lower bound; docs/analysis.md, "How the errors are formed"), ``shear_rate_n_eff``
+///       (the effective number of independent samples behind the error);
 ///     - ``viscosity``, ``viscosity_err``: μ, mass/(distance·time) (lj: m/(σ τ));
 ///     - ``density_centre``, ``density_centre_err`` (1/volume) and ``td_centre``,
 ///       ``td_centre_err`` (energy; None without T_d): averaged over the fit windows;

@@ -29,7 +29,10 @@ use dpdnl::report::shear::{self, CouetteParams, FlowCurve, FlowPoint};
 ///
 ///     - ``analysis`` (``"couette"``), ``label``, ``input``, ``column``, ``n_samples``,
 ///       ``from_step``;
-///     - ``pxy``, ``pxy_err``: ⟨P_xy⟩ and its block error, pressure units;
+///     - ``pxy``, ``pxy_err``: ⟨P_xy⟩ and its block error, pressure units; ``pxy_n_eff`` (the
+///       effective number of independent samples behind the error) and ``pxy_converged``
+///       (False: too few blocks at the chosen level, so the error is a lower bound;
+///       docs/analysis.md, "How the errors are formed");
 ///     - ``shear_rate``, ``shear_rate_err`` (1/time), ``shear_rate_source`` (imposed or
 ///       measured), ``shear_rate_imposed`` (``rate``, or None);
 ///     - ``viscosity``, ``viscosity_err``: η*, mass/(distance·time) (lj: m/(σ τ); in 2-D
