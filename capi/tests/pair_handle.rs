@@ -67,6 +67,18 @@ fn coeff(h: &Handle, ntypes: i32, words: &[&str]) -> Result<(), String> {
 
 const MASS: [f64; 3] = [0.0, 1.0, 2.5];
 
+/// LAMMPS's `units lj` as the styles pass it.
+fn lj_units() -> DpdnlUnits {
+    DpdnlUnits {
+        style: c"lj".as_ptr(),
+        boltz: 1.0,
+        mvv2e: 1.0,
+        ftm2v: 1.0,
+        nktv2p: 1.0,
+        mv2d: 1.0,
+    }
+}
+
 fn init(h: &Handle, natoms: i64, volume: f64) -> Result<f64, String> {
     let s = DpdnlSetup {
         dimension: 3,
@@ -76,6 +88,7 @@ fn init(h: &Handle, natoms: i64, volume: f64) -> Result<f64, String> {
         dt: DT,
         euler: 0,
         special_lj: null(),
+        units: lj_units(),
     };
     let mut rc = 0.0;
     // SAFETY: a live handle; `s` and `rc` valid.
@@ -399,6 +412,7 @@ fn restart_text_gives_the_same_style_back() {
             dt: DT,
             euler: 0,
             special_lj: null(),
+            units: lj_units(),
         };
         let mut rc = 0.0;
         // SAFETY: a live handle.
@@ -557,6 +571,7 @@ fn sdpd_prepass_is_the_direct_density_sum_and_forces_conserve_momentum() {
             dt: DT,
             euler: false,
             special_lj: [1.0; 4],
+            units: dpdnl::Units::LJ,
         })
         .unwrap();
     let pp = field.prepass().expect("sdpd has a pre-pass");
@@ -704,6 +719,7 @@ fn special_bonds_scale_a_pair_or_leave_it_out() {
             dt: DT,
             euler: 0,
             special_lj: special.as_ptr(),
+            units: lj_units(),
         };
         let mut rc = 0.0;
         // SAFETY: a live handle; `s` valid with 4 special factors.
@@ -826,6 +842,7 @@ fn sdpd_refuses_fractional_special_factors() {
             dt: DT,
             euler: 0,
             special_lj: special.as_ptr(),
+            units: lj_units(),
         };
         // SAFETY: a live handle; `s` valid.
         let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
@@ -847,6 +864,7 @@ fn sdpd_refuses_fractional_special_factors() {
         dt: DT,
         euler: 0,
         special_lj: special.as_ptr(),
+        units: lj_units(),
     };
     // SAFETY: as above.
     assert_eq!(
@@ -1061,6 +1079,7 @@ fn threads_give_the_same_bits_as_one() {
             dt: DT,
             euler: 0,
             special_lj: special.map_or(null(), |s| s.as_ptr()),
+            units: lj_units(),
         };
         let mut rc = 0.0;
         // SAFETY: a live handle; `s` valid, 4 special factors when not null.

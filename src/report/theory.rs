@@ -438,7 +438,7 @@ pub fn neighbours(fluid: &Fluid) -> f64 {
 
 /// x = δt √(kT/m) / r_c: a thermal particle's displacement per step in cut-offs.
 pub fn step_x(fluid: &Fluid, dt: f64) -> f64 {
-    dt * (fluid.kt / fluid.mass).sqrt() / fluid.cutoff
+    dt * (fluid.kt / fluid.inertia()).sqrt() / fluid.cutoff
 }
 
 /// The measured velocity-Verlet heating at step `dt` of the family nearest to `fluid` with
