@@ -158,6 +158,8 @@ pub struct Interpreter<'c> {
     /// `bond_style`, `angle_style` words and `special_bonds` given before the box exists.
     pre_topo: bonded::PreTopology,
     skin: f64,
+    /// `units` (lj until given; the box takes it when it is created).
+    units: crate::units::Units,
     dry_run: bool,
     planned: Vec<PlannedRun>,
     dt: f64,
@@ -245,6 +247,7 @@ impl<'c> Interpreter<'c> {
             atom_style: Default::default(),
             pre_topo: Default::default(),
             skin: 0.3,
+            units: crate::units::Units::LJ,
             dry_run: false,
             planned: Vec::new(),
             dt: 0.005,
@@ -461,7 +464,7 @@ impl<'c> Interpreter<'c> {
         }
         match cmd {
             c if IGNORED_COMMANDS.contains(&c) => Ok(()),
-            "units" => Self::cmd_units(args),
+            "units" => self.cmd_units(args),
             "dimension" => self.cmd_dimension(args),
             "boundary" => Self::cmd_boundary(args),
             "atom_style" => self.cmd_atom_style(args),
