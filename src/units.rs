@@ -234,15 +234,17 @@ impl Units {
     /// The line a set-up logs outside `lj`: what T means and the kT it gives (`style`: the pair
     /// style's name). None in `lj`, where kT = T.
     pub fn temperature_note(&self, style: &str, t: f64) -> Option<String> {
+        use crate::report::short as n;
         (!self.is_lj()).then(|| {
             format!(
-                "pair_style {style}: units {}: T = {t} is a temperature (as for pair_style dpd): \
+                "pair_style {style}: units {}: T = {} is a temperature (as for pair_style dpd): \
                  kT = boltz T = {} energy units (boltz = {}, mvv2e = {}, ftm2v = {})",
                 self.style,
-                self.kt(t),
-                self.boltz,
-                self.mvv2e,
-                self.ftm2v
+                n(t),
+                n(self.kt(t)),
+                n(self.boltz),
+                n(self.mvv2e),
+                n(self.ftm2v)
             )
         })
     }
