@@ -194,14 +194,14 @@ fn temperature_means_what_it_means_for_pair_dpd_in_units_real() {
             .map(|h| h.join().expect("run"))
             .collect()
     });
-    let reference = estimates[0].clone();
+    let reference = estimates[0];
     let mut report = String::from("units real, T = 300 K: <T> by style\n");
     let failed = plugin_support::z_rows(
         &mut report,
         &cases[1..]
             .iter()
             .zip(&estimates[1..])
-            .map(|((name, _), e)| (*name, e.clone(), reference.clone()))
+            .map(|((name, _), e)| (*name, *e, reference))
             .collect::<Vec<_>>(),
         3.0,
     );
