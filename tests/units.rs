@@ -419,3 +419,133 @@ fn restart_keeps_the_unit_style() {
     assert_eq!(cont.last(), full.last(), "the continuation is the same run");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `dpdnl` with `args` (its stdout; the command must succeed).
+fn cli(args: &[&str]) -> String {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+        .args(args)
+        .output()
+        .expect("run dpdnl");
+    assert!(
+        out.status.success(),
+        "dpdnl {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("UTF-8")
+}
+
+/// A number of `--json` output after `"key":`.
+fn json_number(text: &str, key: &str) -> f64 {
+    let at = text
+        .find(&format!("\"{key}\":"))
+        .unwrap_or_else(|| panic!("no {key} in {text}"));
+    let rest = &text[at + key.len() + 3..];
+    let end = rest.find([',', '}']).expect("number end");
+    rest[..end].parse().expect("number")
+}
+
+/// `dpdnl design --units real|metal --temp T` designs the lj design scaled (γ by ε τ/σ², s the
+/// same, the `pair_style` line's T the temperature), and `dpdnl theory --units` gives the lj
+/// kinetic theory scaled (η by ε τ/σ³, D by σ²/τ, Sc the same): the theory's mass is m mvv2e.
+#[test]
+fn design_and_theory_cli_work_in_the_units_given() {
+    let lj = cli(&[
+        "design",
+        "--eta",
+        "3",
+        "--sc",
+        "20",
+        "--density",
+        "3",
+        "--rc",
+        "1",
+        "--json",
+    ]);
+    let lj_th = cli(&[
+        "theory",
+        "--gamma",
+        "4.5",
+        "--s",
+        "2",
+        "--density",
+        "3",
+        "--rc",
+        "1",
+        "--dt",
+        "0.01",
+        "--json",
+    ]);
+    for s in [Scale::real(), Scale::metal()] {
+        let (l, tau, name) = (s.l, s.tau(), s.u.style.name());
+        let arg = |x: f64| format!("{x:e}");
+        let (t, m, n, rc) = (arg(s.temp()), arg(s.m), arg(3.0 / l.powi(3)), arg(l));
+        let eta = arg(3.0 * s.viscosity());
+        let common = [
+            "--units",
+            name,
+            "--temp",
+            &t,
+            "--mass",
+            &m,
+            "--density",
+            &n,
+            "--rc",
+            &rc,
+        ];
+        let mut args = vec!["design", "--eta", &eta, "--sc", "20", "--json"];
+        args.extend(common);
+        let out = cli(&args);
+        let gamma = json_number(&out, "gamma") / (s.e * tau / (l * l));
+        let rel = |a: f64, b: f64| (a / b - 1.0).abs();
+        assert!(
+            rel(gamma, json_number(&lj, "gamma")) < 1e-12,
+            "{name}: {out}"
+        );
+        assert!(rel(json_number(&out, "s"), json_number(&lj, "s")) < 1e-12);
+        assert!(
+            out.contains(&format!("pair_style dpd/nonlinear {} ", s.temp())),
+            "{out}"
+        );
+        let g = arg(4.5 * s.e * tau / (l * l));
+        let dt = arg(0.01 * tau);
+        let mut args = vec!["theory", "--gamma", &g, "--s", "2", "--dt", &dt, "--json"];
+        args.extend(common);
+        let out = cli(&args);
+        for (key, f) in [
+            ("eta", s.viscosity()),
+            ("diffusion", l * l / tau),
+            ("schmidt", 1.0),
+            ("dt_c", tau),
+            ("t_ratio", 1.0),
+        ] {
+            let (a, b) = (json_number(&out, key) / f, json_number(&lj_th, key));
+            assert!(rel(a, b) < 1e-12, "{name} {key}: {a} vs {b}\n{out}");
+        }
+        // The text form says which units its numbers are in.
+        let mut args = vec!["theory", "--gamma", &g, "--s", "2"];
+        args.extend(common);
+        assert!(cli(&args).starts_with(&format!("# units {name}: T = ")));
+    }
+}
+
+/// `dpdnl theory SCRIPT` reads the script's units: the kinetic theory of a `units real` run is
+/// the lj run's scaled.
+#[test]
+fn theory_of_a_script_uses_its_units() {
+    let dir = std::env::temp_dir().join(format!("dpdnl-units-theory-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut eta = Vec::new();
+    for s in [Scale::lj(), Scale::real()] {
+        let path = dir.join(format!("in.{}", s.u.style.name()));
+        let pair = dpd_pair(&s, "none", "plain", 0.0);
+        std::fs::write(&path, dpd_script_masses(&s, &pair, "nve/euler", 1.0)).unwrap();
+        let out = cli(&["theory", path.to_str().unwrap(), "--json"]);
+        eta.push(json_number(&out, "eta") / s.viscosity());
+        if !s.u.is_lj() {
+            let text = cli(&["theory", path.to_str().unwrap()]);
+            assert!(text.contains("# units real: kT = boltz T"), "{text}");
+        }
+    }
+    assert!((eta[1] / eta[0] - 1.0).abs() < 1e-12, "{eta:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
