@@ -34,7 +34,8 @@ pub(crate) struct ResolvedDesign {
 }
 
 /// Resolve `pair_coeff … eta E sc S` for one type pair (`label`, e.g. "1 1") at number density
-/// `density` (N/V, per area in 2-D), cut-off `rc`, particle mass `mass` and thermostat `kt`.
+/// `density` (N/V, per area in 2-D), cut-off `rc`, particle mass `mass`, thermostat `kt` (an
+/// energy) and the unit style's `mvv2e` (1 in `units lj`; [`crate::theory::Fluid::mvv2e`]).
 ///
 /// Errors name the pair and say which bound of the design was hit (eqs. 54–55 / 63–64).
 #[allow(clippy::too_many_arguments)]
@@ -45,11 +46,14 @@ pub(crate) fn resolve_design(
     rc: f64,
     mass: f64,
     kt: f64,
+    mvv2e: f64,
     eta: f64,
     sc: f64,
 ) -> Result<ResolvedDesign, String> {
     let fail = |e: TheoryError| format!("pair_coeff {label} eta {} sc {}: {e}", g(eta), g(sc));
-    let fluid = Fluid::new(dim, density, rc, mass, kt).map_err(fail)?;
+    let fluid = Fluid::new(dim, density, rc, mass, kt)
+        .and_then(|f| f.with_mvv2e(mvv2e))
+        .map_err(fail)?;
     let design = theory::design_from_targets(&Targets { fluid, eta, sc }).map_err(fail)?;
     let tr = theory::kinetic_theory(&fluid, design.gamma, design.s).map_err(fail)?;
     let message = format!(
@@ -103,7 +107,8 @@ pub(crate) fn common_exponent(
 /// The prediction is eq. 22 for the ideal fluid at number density `density` with friction
 /// `gamma` (the largest `gamma0` of the run), weight exponent `s`, cut-off `rc` and the lightest
 /// mass `mass`. `conservative` says some pair has a ≠ 0 and `nonlinear` that the friction grows
-/// with velocity (cross/dot): both make eq. 22 a rougher guide, and the text says so.
+/// with velocity (cross/dot): both make eq. 22 a rougher guide, and the text says so. `mvv2e`
+/// is the unit style's (1 in `units lj`).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn euler_warning(
     dim: u32,
@@ -111,6 +116,7 @@ pub(crate) fn euler_warning(
     rc: f64,
     mass: f64,
     kt: f64,
+    mvv2e: f64,
     gamma: f64,
     s: f64,
     dt: f64,
@@ -120,7 +126,9 @@ pub(crate) fn euler_warning(
     if gamma <= 0.0 {
         return Ok(None);
     }
-    let fluid = Fluid::new(dim, density, rc, mass, kt).map_err(|e| e.to_string())?;
+    let fluid = Fluid::new(dim, density, rc, mass, kt)
+        .and_then(|f| f.with_mvv2e(mvv2e))
+        .map_err(|e| e.to_string())?;
     let dt_c = theory::euler_critical_dt(&fluid, gamma, s).map_err(|e| e.to_string())?;
     let frac = dt / dt_c;
     let mut caveats = String::new();

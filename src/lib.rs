@@ -19,6 +19,8 @@
 //!   engine's restart files ([`io::restart`]).
 //! - **Theory and set-up** ([`theory`], [`init`]): kinetic theory, (η, Sc) design, the
 //!   finite-step temperature; what a run's set-up resolves and checks in both engines.
+//! - **Units** ([`units`]): LAMMPS's unit styles and the conversion constants both engines
+//!   take from one [`Units`].
 //! - **Grammar** ([`grammar`]): the arguments of this project's styles, parsed once for both
 //!   engines (and the C ABI).
 //! - **Analyses and reports** ([`analysis`], [`report`], [`stats`], [`plot`], [`fmtnum`]): what
@@ -56,6 +58,7 @@ pub mod report;
 pub mod rng;
 pub mod stats;
 pub mod theory;
+pub mod units;
 
 pub use engine::pair::{DpdKernel, PairKernel};
 pub use engine::style::new_pair_style;
@@ -69,3 +72,4 @@ pub use kernel::{
     Weight, pair_force, pair_forces_batch,
 };
 pub use rng::pair_gaussian;
+pub use units::{UnitStyle, Units};

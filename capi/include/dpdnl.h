@@ -28,6 +28,27 @@ typedef struct DpdnlPair DpdnlPair;
 // The validated parameter table of `pair_style dpd/nonlinear` + `pair_coeff` (opaque to C).
 typedef struct DpdnlParams DpdnlParams;
 
+// The host's unit style and its conversion constants (LAMMPS: `update->unit_style`,
+// `force->boltz`, `force->mvv2e`, `force->ftm2v`, `force->nktv2p`, `force->mv2d`), so that no
+// constant is written in the host's code: T of the pair styles is a temperature (kT = boltz
+// T, as for LAMMPS's `pair_style dpd`), the two-step kick and the correction of `noise
+// corrected` take ftm2v, the theory's mass and sDPD's pressure mvv2e (`dpdnl::units`).
+typedef struct DpdnlUnits {
+  // The unit style's name, NUL-terminated: one of LAMMPS's (lj real metal si cgs electron
+  // micro nano); null is an error.
+  const char *style;
+  // Boltzmann's constant in energy / temperature.
+  double boltz;
+  // mass × velocity² → energy.
+  double mvv2e;
+  // force × time / mass → velocity.
+  double ftm2v;
+  // energy / volume → pressure.
+  double nktv2p;
+  // mass / volume → mass density.
+  double mv2d;
+} DpdnlUnits;
+
 // The four force parts of one pair as projections on e_ij, plus the conservative energy and
 // 1/r (force on i = `(fc + fd + fr + fa) * inv_r * r_ij`). Mirrors `dpdnl::kernel::PairForce`.
 typedef struct DpdnlPairForce {
@@ -159,6 +180,8 @@ typedef struct DpdnlSetup {
   // LAMMPS's `special_bonds lj` factors (`force->special_lj`, 4 doubles: entry 0 unused,
   // then 1-2, 1-3, 1-4), or null: no bonded neighbours.
   const double *special_lj;
+  // The unit style and its constants.
+  struct DpdnlUnits units;
 } DpdnlSetup;
 
 // The arguments of `fix pex/push` (from [`dpdnl_parse_fix_pex_push`]); `width` 0 means the
@@ -212,6 +235,17 @@ enum DpdnlStatus dpdnl_params_new(double kt,
                                   double weight_s,
                                   int32_t ntypes,
                                   struct DpdnlParams **out);
+
+// The caller's unit style (LAMMPS's constants, [`DpdnlUnits`]): the kernel's two-step kick
+// and the correction of `noise corrected` take its `ftm2v` (a table starts in `units lj`,
+// ftm2v = 1). The table's kT stays the energy given to [`dpdnl_params_new`] (this low-level
+// table takes kT, not the temperature T of the pair styles). Every constant must be finite and
+// > 0.
+//
+// # Safety
+// `params` is null or a live table, not used concurrently; `units` is null or valid for
+// reading, its `style` a NUL-terminated string.
+enum DpdnlStatus dpdnl_params_set_units(struct DpdnlParams *params, const struct DpdnlUnits *units);
 
 // Release a table from [`dpdnl_params_new`] (null is ignored).
 //
@@ -402,14 +436,14 @@ enum DpdnlStatus dpdnl_pair_launcher(struct DpdnlPair *h, DpdnlLaunch launch);
 // `h` is null or a live handle.
 struct DpdnlPairInfo dpdnl_pair_info(const struct DpdnlPair *h);
 
-// Set-up of a run (`Pair::init_style`): every pair set, (η, Sc) targets resolved at the
-// current density, the per-run tables built, the Euler warning. `*rc_max` gets the largest
-// cut-off; [`crate::dpdnl_last_message`] holds the lines to log, one per line, warnings
-// starting with "WARNING: ".
+// Set-up of a run (`Pair::init_style`): every pair set, kT = boltz T in the host's units,
+// (η, Sc) targets resolved at the current density, the per-run tables built, the Euler
+// warning. `*rc_max` gets the largest cut-off; [`crate::dpdnl_last_message`] holds the lines
+// to log, one per line, warnings starting with "WARNING: ".
 //
 // # Safety
 // `h` is a live handle; `setup` is valid for reading (its `mass` null or `ntypes + 1`
-// doubles); `rc_max` is valid for writing.
+// doubles, its `units.style` a NUL-terminated string); `rc_max` is valid for writing.
 enum DpdnlStatus dpdnl_pair_init(struct DpdnlPair *h,
                                  const struct DpdnlSetup *setup,
                                  double *rc_max);

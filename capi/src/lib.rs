@@ -62,6 +62,8 @@ pub struct DpdnlParams {
     friction: Friction,
     noise: Noise,
     weight: Weight,
+    /// force × time / mass → velocity of the caller's units (1 until [`dpdnl_params_set_units`]).
+    ftm2v: f64,
     ntypes: usize,
     /// `coeff[i * (ntypes + 1) + j]`, types 1-based; `None` until set.
     coeff: Vec<Option<PairCoeff>>,
@@ -227,6 +229,7 @@ impl DpdnlParams {
             friction,
             noise,
             weight,
+            ftm2v: 1.0,
             ntypes,
             coeff: vec![None; (ntypes + 1) * (ntypes + 1)],
         })
@@ -256,13 +259,10 @@ impl DpdnlParams {
                 "time step dt = {dt} must be a finite number > 0"
             )));
         }
-        Ok(PairModel::new(
-            self.kt,
-            self.friction,
-            self.noise,
-            self.weight,
-            dt,
-        ))
+        Ok(
+            PairModel::new(self.kt, self.friction, self.noise, self.weight, dt)
+                .with_ftm2v(self.ftm2v),
+        )
     }
 
     /// The dense table the hot loop reads; unset pairs get rc = 0 and never interact.
@@ -318,6 +318,31 @@ pub unsafe extern "C" fn dpdnl_params_new(
         let p = DpdnlParams::new(kt, seed, friction, noise, weight_s, ntypes)?;
         // SAFETY: as above.
         unsafe { *out = Box::into_raw(Box::new(p)) };
+        Ok(())
+    })
+}
+
+/// The caller's unit style (LAMMPS's constants, [`DpdnlUnits`]): the kernel's two-step kick
+/// and the correction of `noise corrected` take its `ftm2v` (a table starts in `units lj`,
+/// ftm2v = 1). The table's kT stays the energy given to [`dpdnl_params_new`] (this low-level
+/// table takes kT, not the temperature T of the pair styles). Every constant must be finite and
+/// > 0.
+///
+/// # Safety
+/// `params` is null or a live table, not used concurrently; `units` is null or valid for
+/// reading, its `style` a NUL-terminated string.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_params_set_units(
+    params: *mut DpdnlParams,
+    units: *const DpdnlUnits,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: null or a live, unaliased table by the caller's contract.
+        let p = unsafe { params.as_mut() }.ok_or_else(|| Error::null("params"))?;
+        // SAFETY: null or valid for reading by the caller's contract.
+        let u = unsafe { units.as_ref() }.ok_or_else(|| Error::null("units"))?;
+        // SAFETY: forwarded caller's contract.
+        p.ftm2v = unsafe { pair::units_of(u)? }.ftm2v;
         Ok(())
     })
 }

@@ -60,6 +60,40 @@ pub struct DpdnlPairInfo {
     pub data: i32,
 }
 
+/// The host's unit style and its conversion constants (LAMMPS: `update->unit_style`,
+/// `force->boltz`, `force->mvv2e`, `force->ftm2v`, `force->nktv2p`, `force->mv2d`), so that no
+/// constant is written in the host's code: T of the pair styles is a temperature (kT = boltz
+/// T, as for LAMMPS's `pair_style dpd`), the two-step kick and the correction of `noise
+/// corrected` take ftm2v, the theory's mass and sDPD's pressure mvv2e (`dpdnl::units`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct DpdnlUnits {
+    /// The unit style's name, NUL-terminated: one of LAMMPS's (lj real metal si cgs electron
+    /// micro nano); null is an error.
+    pub style: *const c_char,
+    /// Boltzmann's constant in energy / temperature.
+    pub boltz: f64,
+    /// mass × velocity² → energy.
+    pub mvv2e: f64,
+    /// force × time / mass → velocity.
+    pub ftm2v: f64,
+    /// energy / volume → pressure.
+    pub nktv2p: f64,
+    /// mass / volume → mass density.
+    pub mv2d: f64,
+}
+
+/// The checked [`dpdnl::Units`] of `u` (every constant finite and > 0, a LAMMPS unit style).
+///
+/// # Safety
+/// `u.style` is null or a NUL-terminated string.
+pub(crate) unsafe fn units_of(u: &DpdnlUnits) -> Result<dpdnl::Units, Error> {
+    // SAFETY: forwarded caller's contract.
+    let style = unsafe { c_str(u.style, "units.style")? };
+    dpdnl::Units::from_host(style, u.boltz, u.mvv2e, u.ftm2v, u.nktv2p, u.mv2d)
+        .map_err(Error::invalid)
+}
+
 /// What a run's set-up knows (LAMMPS's state at `init_style`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug)]
@@ -79,6 +113,8 @@ pub struct DpdnlSetup {
     /// LAMMPS's `special_bonds lj` factors (`force->special_lj`, 4 doubles: entry 0 unused,
     /// then 1-2, 1-3, 1-4), or null: no bonded neighbours.
     pub special_lj: *const f64,
+    /// The unit style and its constants.
+    pub units: DpdnlUnits,
 }
 
 /// The styles' names and LAMMPS's one-line descriptions, as C strings that live as long as the
@@ -373,14 +409,14 @@ fn lammps_hint(e: String) -> String {
     }
 }
 
-/// Set-up of a run (`Pair::init_style`): every pair set, (η, Sc) targets resolved at the
-/// current density, the per-run tables built, the Euler warning. `*rc_max` gets the largest
-/// cut-off; [`crate::dpdnl_last_message`] holds the lines to log, one per line, warnings
-/// starting with "WARNING: ".
+/// Set-up of a run (`Pair::init_style`): every pair set, kT = boltz T in the host's units,
+/// (η, Sc) targets resolved at the current density, the per-run tables built, the Euler
+/// warning. `*rc_max` gets the largest cut-off; [`crate::dpdnl_last_message`] holds the lines
+/// to log, one per line, warnings starting with "WARNING: ".
 ///
 /// # Safety
 /// `h` is a live handle; `setup` is valid for reading (its `mass` null or `ntypes + 1`
-/// doubles); `rc_max` is valid for writing.
+/// doubles, its `units.style` a NUL-terminated string); `rc_max` is valid for writing.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dpdnl_pair_init(
     h: *mut DpdnlPair,
@@ -405,6 +441,8 @@ pub unsafe extern "C" fn dpdnl_pair_init(
         if !(s.dt.is_finite() && s.dt > 0.0) {
             return Err(Error::invalid(format!("timestep {} must be > 0", s.dt)));
         }
+        // SAFETY: forwarded caller's contract.
+        let units = unsafe { units_of(&s.units)? };
         let mass: Vec<Option<f64>> = if s.mass.is_null() {
             vec![None; nt + 1]
         } else {
@@ -433,6 +471,7 @@ pub unsafe extern "C" fn dpdnl_pair_init(
             dt: s.dt,
             euler: s.euler != 0,
             special_lj: special,
+            units,
         };
         let notes = h
             .style

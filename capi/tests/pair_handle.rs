@@ -67,7 +67,37 @@ fn coeff(h: &Handle, ntypes: i32, words: &[&str]) -> Result<(), String> {
 
 const MASS: [f64; 3] = [0.0, 1.0, 2.5];
 
+/// LAMMPS's `units lj` as the styles pass it.
+fn lj_units() -> DpdnlUnits {
+    DpdnlUnits {
+        style: c"lj".as_ptr(),
+        boltz: 1.0,
+        mvv2e: 1.0,
+        ftm2v: 1.0,
+        nktv2p: 1.0,
+        mv2d: 1.0,
+    }
+}
+
 fn init(h: &Handle, natoms: i64, volume: f64) -> Result<f64, String> {
+    init_in(h, natoms, volume, lj_units())
+}
+
+/// LAMMPS's `units real` as the styles pass it (`force->boltz`, …).
+fn real_units() -> DpdnlUnits {
+    let u = dpdnl::Units::REAL;
+    DpdnlUnits {
+        style: c"real".as_ptr(),
+        boltz: u.boltz,
+        mvv2e: u.mvv2e,
+        ftm2v: u.ftm2v,
+        nktv2p: u.nktv2p,
+        mv2d: u.mv2d,
+    }
+}
+
+/// [`init`] in the host's unit style `units`.
+fn init_in(h: &Handle, natoms: i64, volume: f64, units: DpdnlUnits) -> Result<f64, String> {
     let s = DpdnlSetup {
         dimension: 3,
         natoms,
@@ -76,6 +106,7 @@ fn init(h: &Handle, natoms: i64, volume: f64) -> Result<f64, String> {
         dt: DT,
         euler: 0,
         special_lj: null(),
+        units,
     };
     let mut rc = 0.0;
     // SAFETY: a live handle; `s` and `rc` valid.
@@ -351,6 +382,124 @@ fn dpd_handle_equals_the_parameter_table_bit_for_bit() {
     }
 }
 
+/// In the host's `units real`, T = 300 of the handle is a temperature: its forces are those of
+/// the low-level table given kT = boltz · 300 and the same units (whose ftm2v the two-step kick
+/// and the correction take), bit for bit; and they differ from a table left in `units lj`
+/// (ftm2v = 1), so the units reach the kernel. The table's set-up with bad units is refused.
+#[test]
+fn dpd_handle_takes_the_hosts_units() {
+    let a = Atoms::new(60, 3.0, 1.2);
+    let u = real_units();
+    for (fr, no) in [("dot", "corrected"), ("dot", "twostep"), ("none", "plain")] {
+        let seed = SEED.to_string();
+        let h = new_style(
+            "dpd/nonlinear",
+            &["300", "1.0", &seed, "friction", fr, "noise", no],
+            2,
+        )
+        .expect("style");
+        let g1 = if fr == "none" { "0" } else { "0.7" };
+        coeff(&h, 2, &["*", "*", "2.0", "4.5", g1]).expect("coeff");
+        init_in(&h, 60, 27.0, u).expect("init in real");
+        assert!(
+            last_message().contains("units real: T = 300 is a temperature"),
+            "{}",
+            last_message()
+        );
+        let mine = evaluate(&a, 1.0, |at, l, st, f, t| {
+            // SAFETY: arrays sized as documented, alive across the call.
+            unsafe { dpdnl_pair_compute(h.0, at, l, st, null(), f, t) }
+        });
+        let table = |units: Option<&DpdnlUnits>| {
+            let (fc, nc) = (CString::new(fr).unwrap(), CString::new(no).unwrap());
+            let mut p = null_mut();
+            let kt = dpdnl::Units::REAL.kt(300.0);
+            // SAFETY: valid strings and out pointer.
+            let st = unsafe {
+                dpdnl_params_new(
+                    kt,
+                    i64::from(SEED),
+                    fc.as_ptr(),
+                    nc.as_ptr(),
+                    2.0,
+                    2,
+                    &mut p,
+                )
+            };
+            assert_eq!(st, DpdnlStatus::Ok);
+            let g = if fr == "none" { 0.0 } else { 0.7 };
+            for (i, j) in [(1, 1), (1, 2), (2, 2)] {
+                // SAFETY: a live table.
+                let st = unsafe { dpdnl_params_set_coeff(p, i, j, 2.0, 4.5, g, 1.0) };
+                assert_eq!(st, DpdnlStatus::Ok);
+            }
+            if let Some(u) = units {
+                // SAFETY: a live table; `u.style` a static string.
+                assert_eq!(unsafe { dpdnl_params_set_units(p, u) }, DpdnlStatus::Ok);
+            }
+            let out = evaluate(&a, 1.0, |at, l, st, f, t| {
+                // SAFETY: as above; a live table.
+                unsafe { dpdnl_compute(p, at, l, st, f, t) }
+            });
+            // SAFETY: from dpdnl_params_new, freed once.
+            unsafe { dpdnl_params_free(p) };
+            out
+        };
+        assert_eq!(mine, table(Some(&u)), "{fr}/{no}: the table in units real");
+        if fr == "none" {
+            // No conversion is involved without a velocity-dependent friction.
+            assert_eq!(mine, table(None), "none/plain needs no ftm2v");
+        } else {
+            assert_ne!(mine, table(None), "{fr}/{no}: ftm2v must reach the kernel");
+        }
+    }
+    let h = dpd_handle("none", "plain");
+    for (what, bad) in [
+        (
+            "units.style is a null pointer",
+            DpdnlUnits { style: null(), ..u },
+        ),
+        ("boltz = 0", DpdnlUnits { boltz: 0.0, ..u }),
+        (
+            "'parsec'",
+            DpdnlUnits {
+                style: c"parsec".as_ptr(),
+                ..u
+            },
+        ),
+        (
+            "ftm2v = NaN",
+            DpdnlUnits {
+                ftm2v: f64::NAN,
+                ..u
+            },
+        ),
+    ] {
+        let e = init_in(&h, 60, 27.0, bad).expect_err(what);
+        assert!(e.contains(what), "{what}: {e}");
+    }
+    let mut p = null_mut();
+    // SAFETY: valid strings and out pointer.
+    let st =
+        unsafe { dpdnl_params_new(1.0, 5, c"none".as_ptr(), c"plain".as_ptr(), 2.0, 1, &mut p) };
+    assert_eq!(st, DpdnlStatus::Ok);
+    let bad = DpdnlUnits { mvv2e: -1.0, ..u };
+    // SAFETY: a live table and valid units, then null pointers (refused).
+    unsafe {
+        assert_eq!(
+            dpdnl_params_set_units(p, &bad),
+            DpdnlStatus::InvalidArgument
+        );
+        assert!(last_error().contains("mvv2e = -1"), "{}", last_error());
+        assert_eq!(dpdnl_params_set_units(p, null()), DpdnlStatus::NullPointer);
+        assert_eq!(
+            dpdnl_params_set_units(null_mut(), &u),
+            DpdnlStatus::NullPointer
+        );
+        dpdnl_params_free(p);
+    }
+}
+
 fn restart_text(h: &Handle, settings_only: i32) -> Vec<u8> {
     let (mut data, mut len) = (null(), 0i64);
     // SAFETY: a live handle; out pointers valid.
@@ -399,6 +548,7 @@ fn restart_text_gives_the_same_style_back() {
             dt: DT,
             euler: 0,
             special_lj: null(),
+            units: lj_units(),
         };
         let mut rc = 0.0;
         // SAFETY: a live handle.
@@ -557,6 +707,7 @@ fn sdpd_prepass_is_the_direct_density_sum_and_forces_conserve_momentum() {
             dt: DT,
             euler: false,
             special_lj: [1.0; 4],
+            units: dpdnl::Units::LJ,
         })
         .unwrap();
     let pp = field.prepass().expect("sdpd has a pre-pass");
@@ -704,6 +855,7 @@ fn special_bonds_scale_a_pair_or_leave_it_out() {
             dt: DT,
             euler: 0,
             special_lj: special.as_ptr(),
+            units: lj_units(),
         };
         let mut rc = 0.0;
         // SAFETY: a live handle; `s` valid with 4 special factors.
@@ -826,6 +978,7 @@ fn sdpd_refuses_fractional_special_factors() {
             dt: DT,
             euler: 0,
             special_lj: special.as_ptr(),
+            units: lj_units(),
         };
         // SAFETY: a live handle; `s` valid.
         let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
@@ -847,6 +1000,7 @@ fn sdpd_refuses_fractional_special_factors() {
         dt: DT,
         euler: 0,
         special_lj: special.as_ptr(),
+        units: lj_units(),
     };
     // SAFETY: as above.
     assert_eq!(
@@ -1061,6 +1215,7 @@ fn threads_give_the_same_bits_as_one() {
             dt: DT,
             euler: 0,
             special_lj: special.map_or(null(), |s| s.as_ptr()),
+            units: lj_units(),
         };
         let mut rc = 0.0;
         // SAFETY: a live handle; `s` valid, 4 special factors when not null.

@@ -164,6 +164,14 @@ void PairDpdnl::init_style()
   // special_bonds lj: a bonded neighbour's pair scaled by its factor (or refused by a style
   // that cannot), in Rust; the list flags them in bits SBBITS.. of each entry.
   s.special_lj = force->special_lj;
+  // The unit style and LAMMPS's own constants of it: T is a temperature (kT = boltz T, as for
+  // pair dpd) and every conversion is done in Rust with these numbers, in every unit style.
+  s.units.style = update->unit_style;
+  s.units.boltz = force->boltz;
+  s.units.mvv2e = force->mvv2e;
+  s.units.ftm2v = force->ftm2v;
+  s.units.nktv2p = force->nktv2p;
+  s.units.mv2d = force->mv2d;
   // Threads of the force pass inside this rank: LAMMPS's OpenMP threads per MPI task
   // (package omp N, -pk omp N, -sf omp, or OMP_NUM_THREADS at start-up); the same bits for
   // every count. Before the set-up, whose notes name the count.

@@ -68,13 +68,15 @@ impl ForceField {
     }
 
     /// Resolve every (η, Sc) target at number density `density` and mass `mass`
-    /// ([`crate::init::resolve_design`]): sets `gamma0` of those pairs and the global weight
-    /// exponent. Returns the lines to log.
+    /// ([`crate::init::resolve_design`]) with the model's kT, in a unit style of mass × velocity²
+    /// → energy factor `mvv2e` (1 in `units lj`): sets `gamma0` of those pairs and the global
+    /// weight exponent. Returns the lines to log.
     pub fn resolve_targets(
         &mut self,
         dim: u32,
         density: f64,
         mass: f64,
+        mvv2e: f64,
     ) -> Result<Vec<String>, String> {
         let n = self.ntypes + 1;
         let kt = self.model.kt;
@@ -87,7 +89,9 @@ impl ForceField {
                     continue;
                 };
                 let label = format!("{i} {j}");
-                let r = crate::init::resolve_design(&label, dim, density, c.rc, mass, kt, eta, sc)?;
+                let r = crate::init::resolve_design(
+                    &label, dim, density, c.rc, mass, kt, mvv2e, eta, sc,
+                )?;
                 let c = PairCoeff {
                     gamma0: r.gamma,
                     ..c
@@ -194,7 +198,7 @@ impl DpdPair {
     pub fn from_field(ff: ForceField) -> DpdPair {
         let m = &ff.model;
         let settings = DpdStyle {
-            kt: m.kt,
+            temp: m.kt,
             rc: ff.rc_global,
             seed: ff.seed,
             friction: m.friction,
@@ -237,12 +241,14 @@ impl DpdPair {
         self.ptable = PairTable::new(&self.ff.model, &self.table);
     }
 
-    /// The Euler heating warning for the pair with the largest `gamma0` (the worst case).
+    /// The Euler heating warning for the pair with the largest `gamma0` (the worst case), in a
+    /// unit style of mass × velocity² → energy factor `mvv2e`.
     fn euler_note(
         &self,
         dim: u32,
         density: f64,
         mass: f64,
+        mvv2e: f64,
         dt: f64,
     ) -> Result<Option<String>, String> {
         let ff = &self.ff;
@@ -265,6 +271,7 @@ impl DpdPair {
             c.rc,
             mass,
             ff.model.kt,
+            mvv2e,
             c.gamma0,
             ff.model.weight.exponent(),
             dt,
@@ -339,8 +346,8 @@ impl PairStyle for DpdPair {
         self.ff.get(i, j).map(|c| c.rc)
     }
 
-    /// Coefficients complete, (η, Sc) targets resolved (one mass), the Euler warning, the
-    /// dense tables.
+    /// Coefficients complete, the unit style's kT = boltz T and ftm2v in the model, (η, Sc)
+    /// targets resolved (one mass), the Euler warning, the dense tables.
     fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String> {
         let mut notes = Vec::new();
         if let Some((i, j)) = self.missing() {
@@ -348,6 +355,13 @@ impl PairStyle for DpdPair {
                 "pair coefficients for types {i} {j} are not set (pair_coeff)"
             ));
         }
+        let u = ctx.units;
+        self.ff.model.kt = u.kt(self.settings.temp);
+        self.ff.model.set_ftm2v(u.ftm2v);
+        notes.extend(
+            u.temperature_note("dpd/nonlinear", self.settings.temp)
+                .map(SetupNote::Info),
+        );
         let masses: Vec<f64> = ctx.mass.iter().skip(1).flatten().copied().collect();
         let m_min = masses.iter().copied().fold(f64::INFINITY, f64::min);
         if self.ff.has_targets() {
@@ -363,14 +377,17 @@ impl PairStyle for DpdPair {
                         .into(),
                 );
             }
-            for line in self.ff.resolve_targets(ctx.dim, ctx.density, m_min)? {
+            for line in self
+                .ff
+                .resolve_targets(ctx.dim, ctx.density, m_min, u.mvv2e)?
+            {
                 notes.push(SetupNote::Info(line));
             }
         }
         if ctx.euler
             && ctx.natoms > 0
             && !masses.is_empty()
-            && let Some(w) = self.euler_note(ctx.dim, ctx.density, m_min, ctx.dt)?
+            && let Some(w) = self.euler_note(ctx.dim, ctx.density, m_min, u.mvv2e, ctx.dt)?
         {
             notes.push(SetupNote::Warning(w));
         }

@@ -69,6 +69,9 @@ pub struct System {
     pub neighbor: NeighborList,
     /// Time step.
     pub dt: f64,
+    /// The unit style (`units`) and its constants: integrators, thermo and the pair styles'
+    /// set-up take every conversion from it (`crate::units`).
+    pub units: crate::units::Units,
     /// Current step (LAMMPS's `update->ntimestep`).
     pub step: u64,
     /// The integrator, if a `fix nve` or `fix nve/euler` is defined.
@@ -131,20 +134,23 @@ pub enum SetupNote {
     Warning(String),
 }
 
-/// Kinetic and configurational sums from which LAMMPS's thermo keywords follow.
+/// Kinetic and configurational sums from which LAMMPS's thermo keywords follow, in the
+/// system's unit style (LAMMPS's `compute temp`, `compute pressure`, thermo `ke`: `mvv2e`,
+/// `boltz`, `nktv2p` of [`crate::units::Units`], all 1 in `units lj`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Thermo {
-    /// Σ m v_a v_b (xx, yy, zz, xy, xz, yz).
+    /// mvv2e Σ m v_a v_b (xx, yy, zz, xy, xz, yz), energy units (`compute temp`'s vector).
     pub ke_tensor: [f64; 6],
     /// Degrees of freedom d N − d (as LAMMPS `compute temp`).
     pub dof: f64,
-    /// Kinetic temperature Σ m v² / dof.
+    /// Kinetic temperature mvv2e Σ m v² / (dof boltz).
     pub temp: f64,
-    /// Scalar pressure (dof·T + trace virial) / (d V).
+    /// Scalar pressure (dof boltz T + trace virial) / (d V) × nktv2p.
     pub press: f64,
-    /// Pressure tensor (Σ m v_a v_b + W_ab) / V; in 2-D zz, xz, yz are 0 as in LAMMPS.
+    /// Pressure tensor (mvv2e Σ m v_a v_b + W_ab) / V × nktv2p; in 2-D zz, xz, yz are 0 as in
+    /// LAMMPS.
     pub p_tensor: [f64; 6],
-    /// Total kinetic energy Σ m v² / 2.
+    /// Total kinetic energy mvv2e Σ m v² / 2.
     pub ke: f64,
     /// Total potential energy (pair + bond + angle).
     pub pe: f64,
@@ -175,7 +181,7 @@ pub(crate) fn check_ntypes(ntypes: usize) -> Result<(), String> {
 }
 
 impl System {
-    /// An empty system in `bx` with `ntypes` atom types; δt defaults to 0.005 (LAMMPS `units lj`),
+    /// An empty system in `bx` with `ntypes` atom types, in `units lj`; δt defaults to 0.005,
     /// skin to 0.3 (LAMMPS `units lj`).
     pub fn new(bx: SimBox, ntypes: usize) -> System {
         System {
@@ -186,6 +192,7 @@ impl System {
             pair: None,
             neighbor: NeighborList::new(0.3),
             dt: 0.005,
+            units: crate::units::Units::LJ,
             step: 0,
             integrator: None,
             pex: Vec::new(),
@@ -266,6 +273,7 @@ impl System {
             dt: self.dt,
             euler: self.integrator == Some(Integrator::Euler),
             special_lj: self.special_lj(),
+            units: self.units,
         };
         let style = self
             .pair
@@ -892,12 +900,13 @@ impl System {
     pub fn advance(&mut self) {
         self.step += 1;
         let dt = self.dt;
+        let ftm2v = self.units.ftm2v;
         let mass = &self.mass;
         let a = &mut self.atoms;
         match self.integrator {
             Some(Integrator::VelocityVerlet) => {
-                // dtf / m per type, as LAMMPS `fix nve` forms it.
-                let dtf = 0.5 * dt;
+                // dtf / m per type, as LAMMPS `fix nve` forms it (dtf = δt/2 · ftm2v).
+                let dtf = 0.5 * dt * ftm2v;
                 let dtfm: Vec<f64> = mass.iter().map(|m| m.map_or(0.0, |m| dtf / m)).collect();
                 a.x.par_iter_mut()
                     .zip(a.v.par_iter_mut())
@@ -921,7 +930,9 @@ impl System {
                     });
             }
             Some(Integrator::Euler) => {
-                let dtfm: Vec<f64> = mass.iter().map(|m| m.map_or(0.0, |m| dt / m)).collect();
+                // (δt · ftm2v) / m, as the LAMMPS fix passes δt · ftm2v.
+                let dtf = dt * ftm2v;
+                let dtfm: Vec<f64> = mass.iter().map(|m| m.map_or(0.0, |m| dtf / m)).collect();
                 a.x.par_iter_mut()
                     .zip(a.v.par_iter_mut())
                     .zip(a.f.par_iter().zip(a.typ.par_iter()))
@@ -1028,9 +1039,12 @@ impl System {
         self.thermo_from_kinetic(kt)
     }
 
-    /// The thermodynamic state from the kinetic tensor `kt` = Σ m v_a v_b (xx yy zz xy xz yz)
-    /// of some temperature compute and the last force evaluation's virial.
+    /// The thermodynamic state from the kinetic tensor `kt` = Σ m v_a v_b (xx yy zz xy xz yz,
+    /// mass × velocity²) of some temperature compute and the last force evaluation's virial,
+    /// with LAMMPS's unit factors (each 1, so no bit changes, in `units lj`).
     fn thermo_from_kinetic(&self, kt: [f64; 6]) -> Thermo {
+        let u = &self.units;
+        let kt = kt.map(|x| u.mvv2e * x);
         let d = self.dim();
         let n = self.atoms.len() as f64;
         let dof = d as f64 * n - d as f64;
@@ -1039,7 +1053,11 @@ impl System {
         } else {
             kt[0] + kt[1]
         };
-        let temp = if dof > 0.0 { mv2 / dof } else { 0.0 };
+        let temp = if dof > 0.0 {
+            mv2 / (dof * u.boltz)
+        } else {
+            0.0
+        };
         let vol = self.bx.volume();
         let w = self.tally.virial;
         let trace = if d == 3 {
@@ -1047,10 +1065,10 @@ impl System {
         } else {
             w[0] + w[1]
         };
-        let press = (dof * temp + trace) / (d as f64 * vol);
+        let press = (dof * u.boltz * temp + trace) / (d as f64 * vol) * u.nktv2p;
         let mut p = [0.0; 6];
         for a in 0..6 {
-            p[a] = (kt[a] + w[a]) / vol;
+            p[a] = (kt[a] + w[a]) / vol * u.nktv2p;
         }
         if d == 2 {
             p[2] = 0.0;

@@ -127,19 +127,24 @@ impl SdpdField {
             .fold(0.0, f64::max)
     }
 
-    /// Set-up of a run: resolve (η, Sc) targets at number density `density` (one mass for
-    /// all types), build every pair's kernel and coefficients for time step `dt` and every
-    /// type's equation of state with its mass. Returns the lines to log.
+    /// Set-up of a run in unit style `units`: kT = boltz T, resolve (η, Sc) targets at number
+    /// density `density` (one mass for all types), build every pair's kernel and coefficients
+    /// for time step `dt` and every type's equation of state with its mass (its pressure
+    /// c0² ρ0/7 × mvv2e, an energy per volume). Returns the lines to log.
     pub fn resolve(
         &mut self,
         dim: u32,
         density: f64,
         mass: &[Option<f64>],
         dt: f64,
+        units: &crate::units::Units,
     ) -> Result<Vec<String>, String> {
         let n = self.ntypes + 1;
-        let kt = self.style.kt;
-        let mut notes = Vec::new();
+        let kt = units.kt(self.style.temp);
+        let mut notes: Vec<String> = units
+            .temperature_note("sdpd", self.style.temp)
+            .into_iter()
+            .collect();
         let mut exponents: Vec<(String, f64)> = Vec::new();
         for i in 1..=self.ntypes {
             for j in i..=self.ntypes {
@@ -164,7 +169,9 @@ impl SdpdField {
                         crate::fmtnum::fmt_g(sc)
                     )
                 };
-                let fluid = crate::theory::Fluid::new(dim, density, p.rc, m, kt).map_err(fail)?;
+                let fluid = crate::theory::Fluid::new(dim, density, p.rc, m, kt)
+                    .and_then(|f| f.with_mvv2e(units.mvv2e))
+                    .map_err(fail)?;
                 let d =
                     crate::theory::design_from_targets(&crate::theory::Targets { fluid, eta, sc })
                         .map_err(fail)?;
@@ -193,8 +200,8 @@ impl SdpdField {
                 format!("pair coefficients for types {t} {t} are not set (pair_coeff)")
             })?;
             let m = mass[t].ok_or_else(|| format!("mass of atom type {t} is not set (mass)"))?;
-            let tait =
-                Tait::new(p.rho0, p.c0, m).map_err(|e| format!("pair_coeff {t} {t}: {e}"))?;
+            let tait = Tait::in_units(p.rho0, p.c0, m, units.mvv2e)
+                .map_err(|e| format!("pair_coeff {t} {t}: {e}"))?;
             self.tait[t] = Some(tait);
             self.w0[t] = KernelShape::new(self.style.kernel, dim, p.rc)?.w0();
         }
@@ -355,7 +362,7 @@ impl PairStyle for SdpdField {
                     .into(),
             );
         }
-        let lines = self.resolve(ctx.dim, ctx.density, ctx.mass, ctx.dt)?;
+        let lines = self.resolve(ctx.dim, ctx.density, ctx.mass, ctx.dt, &ctx.units)?;
         Ok(lines
             .into_iter()
             .map(|line| match line.strip_prefix("WARNING: ") {

@@ -49,6 +49,9 @@ pub struct SetupContext<'a> {
     /// LAMMPS's `special_bonds lj` factors by special class (0: an ordinary pair, 1–3: 1-2, 1-3,
     /// 1-4 neighbours); `[1.0; 4]` where there are no bonds.
     pub special_lj: [f64; 4],
+    /// The unit style and its constants (LAMMPS's, through the C ABI; the `units` command's in
+    /// the standalone engine): T of the pair styles is a temperature, kT = boltz T.
+    pub units: crate::units::Units,
 }
 
 /// A many-body style's pre-pass: one value per atom, d_i = complete(Σ_j w_k(r_ij²)) over the

@@ -33,8 +33,9 @@ pub(crate) const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
 /// The settings of `pair_style dpd/nonlinear`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DpdStyle {
-    /// Thermostat temperature kT (> 0).
-    pub kt: f64,
+    /// T as given (> 0): a temperature, as LAMMPS's `pair_style dpd` takes it; the set-up makes
+    /// kT = boltz T of the run's unit style (T itself in `units lj`).
+    pub temp: f64,
     /// Global cut-off (> 0).
     pub rc: f64,
     /// Noise seed, 1..=2147483647.
@@ -50,9 +51,10 @@ pub struct DpdStyle {
 }
 
 impl DpdStyle {
-    /// The kernel's model at time step `dt`.
+    /// The kernel's model at time step `dt`, with kT = T (`units lj`; the set-up sets the run's
+    /// kT = boltz T and ftm2v).
     pub fn model(&self, dt: f64) -> PairModel {
-        PairModel::new(self.kt, self.friction, self.noise, self.weight, dt).with_dist(self.dist)
+        PairModel::new(self.temp, self.friction, self.noise, self.weight, dt).with_dist(self.dist)
     }
 
     /// The words of a `pair_style dpd/nonlinear` line that gives these settings back through
@@ -61,7 +63,7 @@ impl DpdStyle {
     /// style are those of the versions before the keyword.
     pub fn to_words(&self) -> Vec<String> {
         let mut w = vec![
-            format!("{:.17e}", self.kt),
+            format!("{:.17e}", self.temp),
             format!("{:.17e}", self.rc),
             self.seed.to_string(),
             "friction".into(),
@@ -83,9 +85,9 @@ impl DpdStyle {
 pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<DpdStyle, String> {
     let usage = PAIR_STYLE.usage;
     need(args, 3, usage)?;
-    let kt = parse_f64(args[0].as_ref(), "T")?;
-    if kt <= 0.0 {
-        return Err(format!("T = {kt} must be > 0"));
+    let temp = parse_f64(args[0].as_ref(), "T")?;
+    if temp <= 0.0 {
+        return Err(format!("T = {temp} must be > 0"));
     }
     let rc = parse_f64(args[1].as_ref(), "rc")?;
     if rc <= 0.0 {
@@ -93,7 +95,7 @@ pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<DpdStyle, String> {
     }
     let seed = parse_int_in(args[2].as_ref(), "seed", 1, INT_MAX)? as u32;
     let mut style = DpdStyle {
-        kt,
+        temp,
         rc,
         seed,
         friction: Friction::None,

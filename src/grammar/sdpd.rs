@@ -33,8 +33,9 @@ pub(crate) const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
 /// The settings of `pair_style sdpd`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SdpdStyle {
-    /// Temperature kT of the random force (> 0).
-    pub kt: f64,
+    /// T of the random force as given (> 0): a temperature, kT = boltz T at set-up (T itself
+    /// in `units lj`).
+    pub temp: f64,
     /// Global cut-off, the kernel's support (> 0).
     pub rc: f64,
     /// Noise seed, 1..=2147483647.
@@ -48,7 +49,7 @@ impl SdpdStyle {
     /// [`pair_style`] exactly (numbers with 17 significant digits); LAMMPS restarts use it.
     pub fn to_words(&self) -> Vec<String> {
         let mut w = vec![
-            format!("{:.17e}", self.kt),
+            format!("{:.17e}", self.temp),
             format!("{:.17e}", self.rc),
             self.seed.to_string(),
             "kernel".into(),
@@ -66,9 +67,9 @@ impl SdpdStyle {
 pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<SdpdStyle, String> {
     let usage = PAIR_STYLE.usage;
     need(args, 3, usage)?;
-    let kt = parse_f64(args[0].as_ref(), "T")?;
-    if kt <= 0.0 {
-        return Err(format!("T = {kt} must be > 0"));
+    let temp = parse_f64(args[0].as_ref(), "T")?;
+    if temp <= 0.0 {
+        return Err(format!("T = {temp} must be > 0"));
     }
     let rc = parse_f64(args[1].as_ref(), "rc")?;
     if rc <= 0.0 {
@@ -115,7 +116,7 @@ pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<SdpdStyle, String> {
         at_most(args, used, usage)?;
     }
     Ok(SdpdStyle {
-        kt,
+        temp,
         rc,
         seed,
         kernel,

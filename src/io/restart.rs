@@ -25,8 +25,8 @@ use std::path::Path;
 pub const MAGIC: &[u8; 8] = b"DPDNLRST";
 
 /// The format version this build writes; it reads this one and every older one (version 1:
-/// no topology block, an `atomic` system).
-pub const FORMAT_VERSION: u32 = 2;
+/// no topology block, an `atomic` system; versions 1 and 2: no unit style, `units lj`).
+pub const FORMAT_VERSION: u32 = 3;
 
 /// Bytes before the payload: magic, version and payload length.
 const HEADER: usize = 8 + 4 + 8;
@@ -67,6 +67,8 @@ pub struct Restart {
     pub tally: PairTally,
     /// The topology of a molecular system (version 2; None: `atom_style atomic`).
     pub topo: Option<TopoRecord>,
+    /// The unit style (version 3; `lj` in older files).
+    pub units: crate::units::UnitStyle,
 }
 
 /// The topology block (version 2): what `read_restart` needs to rebuild bonds, angles,
@@ -421,6 +423,7 @@ fn encode_payload(r: &Restart, buf: &mut Vec<u8>) {
             o.f64(t.energies.eangle);
         }
     }
+    o.str(r.units.name());
 }
 
 /// The topology block of a version-2 payload.
@@ -619,6 +622,12 @@ fn decode_payload(buf: &[u8], version: u32) -> Field<Restart> {
     } else {
         None
     };
+    let units = if version >= 3 {
+        let name = i.str("unit style")?;
+        crate::units::Units::standalone(&name)?.style
+    } else {
+        crate::units::UnitStyle::Lj
+    };
     if i.pos != buf.len() {
         return Err(format!("{} bytes after the last field", buf.len() - i.pos));
     }
@@ -637,6 +646,7 @@ fn decode_payload(buf: &[u8], version: u32) -> Field<Restart> {
         atoms,
         tally: PairTally { energy, virial },
         topo,
+        units,
     })
 }
 
@@ -755,7 +765,32 @@ mod tests {
                     eangle: -0.5,
                 },
             }),
+            units: crate::units::UnitStyle::Real,
         }
+    }
+
+    /// `file` re-written as format `version` with its payload cut to `payload_len` bytes.
+    fn as_version(file: &[u8], version: u32, payload_len: usize) -> Vec<u8> {
+        let payload = &file[HEADER..HEADER + payload_len];
+        let mut out = MAGIC.to_vec();
+        out.extend_from_slice(&version.to_le_bytes());
+        out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+        out.extend_from_slice(payload);
+        let sum = fnv1a64(&out);
+        out.extend_from_slice(&sum.to_le_bytes());
+        out
+    }
+
+    /// A version-2 file (before the unit style): read as `units lj`.
+    #[test]
+    fn version_2_files_read_as_lj() {
+        let mut r = sample();
+        let v3 = encode(&r);
+        // Version 2's payload is version 3's without the unit style string ("real": 4 + 4
+        // bytes) at its end.
+        let v2 = as_version(&v3, 2, v3.len() - HEADER - 8 - 8);
+        r.units = crate::units::UnitStyle::Lj;
+        assert_eq!(decode(&v2), Ok(r));
     }
 
     /// A version-1 file (before topology): no topology block, read as an atomic system.
@@ -763,15 +798,11 @@ mod tests {
     fn version_1_files_still_read() {
         let mut r = sample();
         r.topo = None;
-        let v2 = encode(&r);
-        // Version 1's payload is version 2's without the topology flag (its last byte).
-        let payload = &v2[HEADER..v2.len() - 9];
-        let mut v1 = MAGIC.to_vec();
-        v1.extend_from_slice(&1u32.to_le_bytes());
-        v1.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-        v1.extend_from_slice(payload);
-        let sum = fnv1a64(&v1);
-        v1.extend_from_slice(&sum.to_le_bytes());
+        let v3 = encode(&r);
+        // Version 1's payload is version 3's without the unit style string ("real": 8 bytes)
+        // and the topology flag before it (1 byte).
+        let v1 = as_version(&v3, 1, v3.len() - HEADER - 8 - 8 - 1);
+        r.units = crate::units::UnitStyle::Lj;
         assert_eq!(decode(&v1), Ok(r));
     }
 
@@ -805,8 +836,11 @@ mod tests {
         b[30] ^= 1;
         assert!(matches!(decode(&b), Err(RestartError::Checksum { .. })));
         let mut b = bytes.clone();
-        b[8..12].copy_from_slice(&3u32.to_le_bytes());
-        assert_eq!(decode(&b), Err(RestartError::NewerVersion(3)));
+        b[8..12].copy_from_slice(&(FORMAT_VERSION + 1).to_le_bytes());
+        assert_eq!(
+            decode(&b),
+            Err(RestartError::NewerVersion(FORMAT_VERSION + 1))
+        );
         assert_eq!(
             decode(b"LammpS RestartT\0\0\0\0\0\0\0\0\0\0"),
             Err(RestartError::WrongMagic { lammps: true })

@@ -9,7 +9,10 @@
 //! Conventions: r_ij = r_i − r_j, v_ij = v_i − v_j (minimum image, and under Lees–Edwards the
 //! boundary velocity jump, already applied by the caller). Vectors are 3-component; a 2-D caller
 //! passes z = 0, and every formula below reduces to its 2-D form (the cross estimator becomes
-//! (x v_y − y v_x)²). Units are whatever the caller uses consistently (LAMMPS `units lj`).
+//! (x v_y − y v_x)²). Units are LAMMPS's: forces in force units, velocities in velocity units,
+//! kT in energy units; where a force × time / mass becomes a velocity (the two-step kick, the
+//! correction of `noise corrected`) the model's [`PairModel::ftm2v`] converts (1 in `units lj`,
+//! [`crate::units`]).
 //! Sections (§) refer to `docs/models.md`; equation numbers ("eq. 32") are the non-linear
 //! paper's (Naseri, Salueña Perez & Bonet Avalos, PCCP 2025), labelled NL-32 … there, unless
 //! stated.
@@ -265,6 +268,8 @@ pub struct PairModel {
     pub dist: NoiseDist,
     sqrt_dt: f64,
     inv_sqrt_dt: f64,
+    /// force × time / mass → velocity (LAMMPS's `force->ftm2v`; 1 in `units lj`).
+    ftm2v: f64,
 }
 
 impl PairModel {
@@ -278,9 +283,28 @@ impl PairModel {
             dist: NoiseDist::Gaussian,
             sqrt_dt: 1.0,
             inv_sqrt_dt: 1.0,
+            ftm2v: 1.0,
         };
         m.set_timestep(dt);
         m
+    }
+
+    /// The same model in a unit style whose force × time / mass is `ftm2v` velocity units
+    /// (LAMMPS's `force->ftm2v`; [`crate::units::Units::ftm2v`]). Every model starts with 1,
+    /// `units lj`.
+    pub fn with_ftm2v(mut self, ftm2v: f64) -> PairModel {
+        self.ftm2v = ftm2v;
+        self
+    }
+
+    /// Set the force × time / mass → velocity factor (see [`PairModel::with_ftm2v`]).
+    pub fn set_ftm2v(&mut self, ftm2v: f64) {
+        self.ftm2v = ftm2v;
+    }
+
+    /// The force × time / mass → velocity factor of the model's unit style.
+    pub fn ftm2v(&self) -> f64 {
+        self.ftm2v
     }
 
     /// The same model with ξ_ij drawn from `dist`.
@@ -372,8 +396,9 @@ pub fn in_range(rsq: f64, rc: f64) -> bool {
 /// - dissipative F^D = −γ(S) w_D (e · v) e, S at t (§1.1, eq. 30, and eq. 38 for two-step);
 /// - random: `plain`/`corrected` use σ² = 2 kT γ(S) (eq. 31); `twostep` draws the impulse
 ///   δp1 = sqrt(2 kT γ(S) w_D) ξ δt^(1/2), forms the pair-local v'' = v + (1/m_i + 1/m_j) δp1 e
-///   (eq. 35), S'' = S(r, v'') (eq. 36) and uses sqrt(2 kT γ(S'') w_D) ξ δt^(−1/2) (eq. 37);
-/// - correction (`corrected`, eq. 32): F^A = kT (1/m_i + 1/m_j) w_D (e · ∂γ/∂v) ξ², with
+///   (eq. 35; × ftm2v, [`PairModel::ftm2v`]), S'' = S(r, v'') (eq. 36) and uses
+///   sqrt(2 kT γ(S'') w_D) ξ δt^(−1/2) (eq. 37);
+/// - correction (`corrected`, eq. 32): F^A = kT ftm2v (1/m_i + 1/m_j) w_D (e · ∂γ/∂v) ξ², with
 ///   e · ∂γ/∂v = γ'(S) (e · ∂S/∂v); nonzero only for `dot`.
 ///
 /// Evaluation (exact in arithmetic, rounded differently from the literal formulas): γ and σ
@@ -538,7 +563,8 @@ fn friction_at(friction: Friction, c: &PairCoeff, d: &Derived, s: f64) -> (f64, 
 }
 
 /// Stage 3 (`twostep`): S'' (eq. 36) after the pair-local kick v'' = v + κ r_ij with
-/// κ = (1/m_i + 1/m_j) δp1 / r and δp1 = σ(S) w_R ξ δt^(1/2) (eqs. 34–35). The kick is along
+/// κ = (1/m_i + 1/m_j) ftm2v δp1 / r and δp1 = σ(S) w_R ξ δt^(1/2) (eqs. 34–35; the impulse δp1
+/// is a force × time, ftm2v makes (1/m) δp1 a velocity, 1 in `units lj`). The kick is along
 /// r_ij, so S''× = |r × v''|² = S× exactly, and S''· = (r · v + κ r²)².
 #[inline(always)]
 fn twostep_rate(
@@ -550,7 +576,7 @@ fn twostep_rate(
     rsq: f64,
 ) -> f64 {
     let dp1 = sigma * g.wr * p.xi * model.sqrt_dt;
-    let kick = p.inv_mass_sum * dp1 * g.inv_r;
+    let kick = p.inv_mass_sum * model.ftm2v * dp1 * g.inv_r;
     match friction {
         Friction::None | Friction::Cross => g.s,
         Friction::Dot => {
@@ -584,9 +610,10 @@ fn assemble(
             let fr = sigma * g.wr * p.xi * model.inv_sqrt_dt;
             let de_gamma =
                 friction.dgamma_ds(c, gamma) * friction.rate_gradient_along_e(g.r, g.rdotv);
+            // kT (1/m_i + 1/m_j) ftm2v: kT/m as a squared velocity (1 in `units lj`).
             (
                 fr,
-                model.kt * p.inv_mass_sum * g.wd * de_gamma * p.xi * p.xi,
+                model.kt * model.ftm2v * p.inv_mass_sum * g.wd * de_gamma * p.xi * p.xi,
             )
         }
         Noise::TwoStep => (sigma2 * g.wr * p.xi * model.inv_sqrt_dt, 0.0),

@@ -244,21 +244,29 @@ pub struct Tait {
     pub c0: f64,
     /// Particle mass m (> 0).
     pub mass: f64,
-    /// P0 = c_s² ρ0 / 7.
+    /// P0 = c_s² ρ0 / 7 as an energy per volume (× mvv2e of the unit style, 1 in `units lj`:
+    /// [`Tait::in_units`]).
     pub p0: f64,
     /// The reference number density d0 = ρ0 / m.
     pub d0: f64,
 }
 
 impl Tait {
-    /// The equation of state for ρ0, c_s and the mass; each must be finite and > 0.
+    /// The equation of state for ρ0, c_s and the mass; each must be finite and > 0 (`units lj`).
     pub fn new(rho0: f64, c0: f64, mass: f64) -> Result<Tait, String> {
+        Tait::in_units(rho0, c0, mass, 1.0)
+    }
+
+    /// [`Tait::new`] in a unit style whose mass × velocity² is `mvv2e` energy units (LAMMPS's
+    /// `force->mvv2e`): P0 = c_s² ρ0 mvv2e / 7, an energy per volume, so the forces are in
+    /// force units and the energy u(d) in energy units.
+    pub fn in_units(rho0: f64, c0: f64, mass: f64, mvv2e: f64) -> Result<Tait, String> {
         for (name, v) in [("rho0", rho0), ("c0", c0), ("mass", mass)] {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("{name} = {v} must be > 0"));
             }
         }
-        let p0 = c0 * c0 * rho0 / 7.0;
+        let p0 = c0 * c0 * rho0 / 7.0 * mvv2e;
         if !p0.is_finite() {
             return Err(format!(
                 "P0 = c0^2 rho0 / 7 overflows (c0 = {c0}, rho0 = {rho0})"

@@ -25,6 +25,23 @@ pub fn fluid_of(dim: i64, density: f64, rc: f64, mass: f64, kt: f64) -> Result<F
     Fluid::new(d.get(), density, rc, mass, kt)
 }
 
+/// The fluid of the command line in unit style `units` (`--units`, lj by default): kT from
+/// `--kt` or, with `--temp T`, boltz T; the theory's mass m·mvv2e ([`Fluid::with_mvv2e`]).
+pub fn fluid_in(
+    units: &crate::units::Units,
+    dim: i64,
+    density: f64,
+    rc: f64,
+    mass: f64,
+    kt: f64,
+) -> Result<Fluid, TheoryError> {
+    fluid_of(dim, density, rc, mass, kt)?.with_mvv2e(units.mvv2e)
+}
+
+fn is_one(x: &f64) -> bool {
+    *x == 1.0
+}
+
 #[derive(Serialize)]
 pub struct FluidJson {
     pub dim: u32,
@@ -32,6 +49,10 @@ pub struct FluidJson {
     pub cutoff: f64,
     pub mass: f64,
     pub kt: f64,
+    /// The unit style's mass × velocity² → energy (written only outside `units lj`, where it
+    /// is not 1).
+    #[serde(skip_serializing_if = "is_one")]
+    pub mvv2e: f64,
 }
 
 impl From<&Fluid> for FluidJson {
@@ -42,6 +63,7 @@ impl From<&Fluid> for FluidJson {
             cutoff: f.cutoff,
             mass: f.mass,
             kt: f.kt,
+            mvv2e: f.mvv2e,
         }
     }
 }
@@ -91,9 +113,23 @@ pub struct DesignResult {
 }
 
 /// Designs (γ, s) for `eta`, `sc`: the exact inversion, or the weighting-function paper's
-/// approximation η ≈ η0.
+/// approximation η ≈ η0 (`units lj`: the `pair_style` line's T is kT).
 pub fn design(
     fluid: Fluid,
+    eta: f64,
+    sc: f64,
+    paper_approx: bool,
+    seed: u32,
+    lines: InputLines,
+) -> Result<DesignResult, TheoryError> {
+    design_at(fluid, fluid.kt, eta, sc, paper_approx, seed, lines)
+}
+
+/// [`design`] with the `pair_style` line's T given (a temperature outside `units lj`, where
+/// kT = boltz T).
+pub fn design_at(
+    fluid: Fluid,
+    temp: f64,
     eta: f64,
     sc: f64,
     paper_approx: bool,
@@ -110,7 +146,7 @@ pub fn design(
         InputLines::Dpd => (
             format!(
                 "pair_style dpd/nonlinear {} {} {seed} weight {}",
-                short(fluid.kt),
+                short(temp),
                 short(fluid.cutoff),
                 short(design.s)
             ),
@@ -119,7 +155,7 @@ pub fn design(
         InputLines::Sdpd { c0 } => (
             format!(
                 "pair_style sdpd {} {} {seed} kernel proposed {}",
-                short(fluid.kt),
+                short(temp),
                 short(fluid.cutoff),
                 short(design.s)
             ),
@@ -438,7 +474,7 @@ pub fn neighbours(fluid: &Fluid) -> f64 {
 
 /// x = δt √(kT/m) / r_c: a thermal particle's displacement per step in cut-offs.
 pub fn step_x(fluid: &Fluid, dt: f64) -> f64 {
-    dt * (fluid.kt / fluid.mass).sqrt() / fluid.cutoff
+    dt * (fluid.kt / fluid.inertia()).sqrt() / fluid.cutoff
 }
 
 /// The measured velocity-Verlet heating at step `dt` of the family nearest to `fluid` with

@@ -14,10 +14,13 @@
 //! # Conventions
 //! The pair forces are those of `docs/models.md` §3.1: F^D_ij = −γ w_D(r) (e_ij · v_ij) e_ij
 //! with γ ≥ 0 (γ is `gamma0` of `pair_coeff`), F^R_ij = σ w_R(r) ξ_ij δt^(−1/2) e_ij, σ² = 2 γ kT
-//! and w_R² = w_D. All particles have one mass m. Units are any consistent set (LAMMPS `units lj`):
-//! n is particles per unit volume (3-D) or per unit area (2-D), γ is force·time/length, η is
-//! mass/(length^(d−2)·time) (a 2-D viscosity is mass/time), D is length²/time, Sc = η/(m n D) is a
-//! pure number, kT is an energy and δt a time.
+//! and w_R² = w_D. All particles have one mass m. Units are a LAMMPS unit style's
+//! ([`crate::units`]): n is particles per unit volume (3-D) or per unit area (2-D), γ is
+//! force·time/length, η is force·time/length^(d−1) = energy·time/length^d (LAMMPS's native
+//! viscosity; `lj` m/(σ τ), a 2-D viscosity per area), D is length²/time, Sc = η/(m n D) is a
+//! pure number, kT is an energy and δt a time. The style enters only through the mass: where
+//! the formulas need m in force·time²/length (m kT, m D/kT, kT/m) they use m·mvv2e
+//! ([`Fluid::mvv2e`], [`Fluid::inertia`]), which is m itself in `units lj`.
 //!
 //! The integrals are \[f\] = ∫_{r<r_c} f(r) d^d r, all in closed form ([`radial_moment`]); no
 //! quadrature. "The weighting-function paper" is Mai-Duy, Phan-Thien & Tran-Cong, Appl. Math.
@@ -141,6 +144,9 @@ pub struct Fluid {
     pub mass: f64,
     /// Thermal energy kT (k_B T; the LAMMPS `pair_style` temperature in `units lj`).
     pub kt: f64,
+    /// The unit style's mass × velocity² → energy factor (LAMMPS's `force->mvv2e`; 1 in `units
+    /// lj`, the default of [`Fluid::new`]; [`Fluid::with_mvv2e`]).
+    pub mvv2e: f64,
 }
 
 impl Fluid {
@@ -158,22 +164,38 @@ impl Fluid {
             cutoff,
             mass,
             kt,
+            mvv2e: 1.0,
         };
         f.validate()?;
         Ok(f)
     }
 
-    /// Checks that n, r_c, m and kT are finite and > 0.
+    /// The same state point in a unit style whose mass × velocity² is `mvv2e` energy units
+    /// (LAMMPS's `force->mvv2e`, [`crate::units::Units::mvv2e`]); checked finite and > 0.
+    pub fn with_mvv2e(self, mvv2e: f64) -> Result<Fluid, TheoryError> {
+        let f = Fluid { mvv2e, ..self };
+        f.validate()?;
+        Ok(f)
+    }
+
+    /// Checks that n, r_c, m, kT and mvv2e are finite and > 0.
     pub fn validate(&self) -> Result<(), TheoryError> {
         positive("density n", self.density)?;
         positive("cut-off r_c", self.cutoff)?;
         positive("mass m", self.mass)?;
-        positive("kT", self.kt)
+        positive("kT", self.kt)?;
+        positive("mvv2e", self.mvv2e)
+    }
+
+    /// The mass as the formulas need it, m·mvv2e (force·time²/length: kT/(m·mvv2e) is a
+    /// squared velocity); m itself in `units lj`.
+    pub fn inertia(&self) -> f64 {
+        self.mass * self.mvv2e
     }
 
     /// X = m kT n² r_c², the combination in every formula of the weighting-function paper.
     fn x(&self) -> f64 {
-        self.mass * self.kt * self.density * self.density * self.cutoff * self.cutoff
+        self.inertia() * self.kt * self.density * self.density * self.cutoff * self.cutoff
     }
 }
 
@@ -232,7 +254,7 @@ pub fn kinetic_theory(fluid: &Fluid, gamma: f64, s: f64) -> Result<Transport, Th
     positive("weight exponent s", s)?;
     let dim = fluid.dim;
     let d = dim.f();
-    let (n, m, kt) = (fluid.density, fluid.mass, fluid.kt);
+    let (n, m, kt) = (fluid.density, fluid.inertia(), fluid.kt);
     let big_gamma = gamma * radial_moment(dim, 0, s, fluid.cutoff);
     let eta_k = d * m * kt / (2.0 * big_gamma);
     let eta_d = gamma * n * n * radial_moment(dim, 2, s, fluid.cutoff) / (2.0 * d * (d + 2.0));
@@ -510,8 +532,8 @@ pub fn step_scales(fluid: &Fluid, gamma: f64, s: f64) -> Result<StepScales, Theo
     let t = kinetic_theory(fluid, gamma, s)?;
     Ok(StepScales {
         dt_c: euler_critical_dt(fluid, gamma, s)?,
-        tau: fluid.mass * t.diffusion / fluid.kt,
-        t0: fluid.cutoff * (fluid.mass / fluid.kt).sqrt(),
+        tau: fluid.inertia() * t.diffusion / fluid.kt,
+        t0: fluid.cutoff * (fluid.inertia() / fluid.kt).sqrt(),
     })
 }
 
@@ -538,7 +560,7 @@ pub fn euler_coefficients(
     fluid.validate()?;
     positive("friction γ", gamma)?;
     positive("weight exponent s", s)?;
-    let (dim, m, rc) = (fluid.dim, fluid.mass, fluid.cutoff);
+    let (dim, m, rc) = (fluid.dim, fluid.inertia(), fluid.cutoff);
     let d = dim.f();
     let a1 = gamma * radial_moment(dim, 0, s, rc) / (m * d);
     let a2 = 2.0 * gamma * gamma * radial_moment(dim, 0, 2.0 * s, rc) / (m * m * d);

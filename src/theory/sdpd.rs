@@ -70,7 +70,7 @@ pub fn kinetic_theory(
     let c = kinetic_coefficient(fluid.dim, kernel)?;
     let eta_k = c * fluid.x() / eta0;
     let eta = eta_k + eta0;
-    let diffusion = 2.0 * eta_k / (fluid.mass * fluid.density);
+    let diffusion = 2.0 * eta_k / (fluid.inertia() * fluid.density);
     Ok(Transport {
         eta_k,
         eta_d: eta0,

@@ -76,7 +76,8 @@ class TheoryError(ValueError):
 
 class Simulation:
     """The standalone DPD engine, driven by commands of its LAMMPS-style script language
-    (``units lj`` only: mass m, distance σ, energy ε, time τ, k_B = 1).
+    (``units lj`` by default: mass m, distance σ, energy ε, time τ, k_B = 1; ``units real`` and
+    ``metal`` as in LAMMPS).
 
     ``Simulation(dimension=3)`` starts empty, as a script before its first line;
     :meth:`from_script` runs a script as ``dpdnl run PATH -var NAME VALUE`` does. Then

@@ -8,7 +8,7 @@
 use dpdnl::fmtnum::fmt_g;
 use dpdnl::kernel::sdpd::Smoothing;
 use dpdnl::report::theory::{
-    self as rt, EulerBriefJson, InputLines, PairJson, RunJson, ScriptJson, fluid_of, neighbours,
+    self as rt, EulerBriefJson, InputLines, PairJson, RunJson, ScriptJson, fluid_in, neighbours,
     step_x,
 };
 use dpdnl::report::{short as num, to_line};
@@ -46,6 +46,15 @@ pub struct DesignArgs {
     /// Thermal energy kT.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     kt: f64,
+    /// Unit style of the numbers (LAMMPS's `units`): lj, real or metal. Outside lj the mass
+    /// is in the style's mass unit, viscosities in energy × time / volume (LAMMPS's native unit;
+    /// −pxy/γ̇ of the thermo gives η × nktv2p), and T of the printed `pair_style` line is a
+    /// temperature (kT = boltz T).
+    #[arg(long, default_value = "lj")]
+    units: String,
+    /// Temperature T, instead of --kt: kT = boltz T of --units (T = kT in lj).
+    #[arg(long, conflicts_with = "kt", allow_negative_numbers = true)]
+    temp: Option<f64>,
     /// Particle mass m.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     mass: f64,
@@ -119,6 +128,15 @@ pub struct TheoryArgs {
     /// Thermal energy kT (the thermostat's kT0 for the Euler temperature).
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     kt: f64,
+    /// Unit style of the numbers (LAMMPS's `units`): lj (default), real or metal. Outside lj the
+    /// mass is in the style's mass unit and viscosities in energy × time / volume (LAMMPS's
+    /// native unit; −pxy/γ̇ of the thermo gives η × nktv2p). With SCRIPT the script's `units`
+    /// decides (this option and --temp are refused).
+    #[arg(long)]
+    units: Option<String>,
+    /// Temperature T, instead of --kt: kT = boltz T of --units (T = kT in lj).
+    #[arg(long, conflicts_with = "kt", allow_negative_numbers = true)]
+    temp: Option<f64>,
     /// Particle mass m.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     mass: f64,
@@ -131,6 +149,35 @@ pub struct TheoryArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
+}
+
+/// The unit style of `--units` (lj, real or metal), kT (from `--kt`, or boltz T with `--temp`)
+/// and the T of a `pair_style` line.
+fn units_kt(
+    units: &str,
+    kt: f64,
+    temp: Option<f64>,
+) -> Result<(dpdnl::Units, f64, f64), Box<dyn std::error::Error>> {
+    let u = dpdnl::Units::standalone(units).map_err(|e| e.replace("units '", "--units '"))?;
+    let kt = temp.map_or(kt, |t| u.kt(t));
+    Ok((u, kt, temp.unwrap_or(kt / u.boltz)))
+}
+
+/// The line that says which units the numbers are in (nothing in lj).
+fn units_text(out: &mut String, u: &dpdnl::Units, temp: f64) {
+    if !u.is_lj() {
+        let _ = writeln!(
+            out,
+            "# units {}: T = {} (kT = boltz T, boltz = {}), masses in the style's mass unit, \
+             viscosities in energy x time / volume (the thermo's -pxy/rate is eta x nktv2p, \
+             nktv2p = {}); mvv2e = {} converts m v^2 to energy",
+            u.style,
+            num(temp),
+            num(u.boltz),
+            num(u.nktv2p),
+            num(u.mvv2e)
+        );
+    }
 }
 
 fn transport_text(out: &mut String, t: &Transport) {
@@ -158,7 +205,8 @@ fn sdpd_theory(a: &TheoryArgs, name: &str) -> Result<ExitCode, Box<dyn std::erro
     let eta0 = a.eta0.ok_or("--kernel needs --eta0")?;
     let density = a.density.ok_or("--density is required")?;
     let rc = a.rc.ok_or("--rc is required")?;
-    let fluid = fluid_of(a.dim, density, rc, a.mass, a.kt)?;
+    let (u, kt, temp) = units_kt(a.units.as_deref().unwrap_or("lj"), a.kt, a.temp)?;
+    let fluid = fluid_in(&u, a.dim, density, rc, a.mass, kt)?;
     let th = rt::sdpd_theory(fluid, kernel, eta0)?;
     if a.json {
         println!("{}", to_line(&th.json())?);
@@ -166,6 +214,7 @@ fn sdpd_theory(a: &TheoryArgs, name: &str) -> Result<ExitCode, Box<dyn std::erro
     }
     let (c, t, eta_min) = (th.c, &th.predicted, th.eta_min);
     let mut out = String::new();
+    units_text(&mut out, &u, temp);
     let _ = writeln!(
         out,
         "# fluid: d = {}, n = {}, r_c = {}, m = {}, kT = {}; sDPD kernel {kernel}, eta0 = {}",
@@ -218,13 +267,14 @@ fn stiff_warning(gamma: f64, s: f64, t: &StepScales) -> String {
 
 /// `dpdnl design`.
 pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
-    let fluid = fluid_of(a.dim, a.density, a.rc, a.mass, a.kt)?;
+    let (u, kt, temp) = units_kt(&a.units, a.kt, a.temp)?;
+    let fluid = fluid_in(&u, a.dim, a.density, a.rc, a.mass, kt)?;
     let lines = if a.method == "sdpd" {
         InputLines::Sdpd { c0: a.c0 }
     } else {
         InputLines::Dpd
     };
-    let res = rt::design(fluid, a.eta, a.sc, a.paper_approx, a.seed, lines)?;
+    let res = rt::design_at(fluid, temp, a.eta, a.sc, a.paper_approx, a.seed, lines)?;
     let (design, pred) = (&res.design, &res.predicted);
     let scales = step_scales(&fluid, design.gamma, design.s)?;
     if scales.stiff() {
@@ -244,6 +294,7 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
         println!("{}", to_line(&res.json())?);
         return Ok(ExitCode::SUCCESS);
     }
+    units_text(&mut out, &u, temp);
     let _ = writeln!(
         out,
         "# fluid: d = {d}, n = {}, r_c = {}, m = {}, kT = {} (ideal fluid, a = 0)",
@@ -355,6 +406,13 @@ fn limits_text(out: &mut String, design: &Design, d: u32, eqs: &str) {
 /// `dpdnl theory`.
 pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     if let Some(p) = &a.script {
+        if a.units.is_some() || a.temp.is_some() {
+            return Err(
+                "with SCRIPT the script's `units` line sets the units: give no --units or \
+                        --temp"
+                    .into(),
+            );
+        }
         return script::theory_of_script(p, &a);
     }
     if let Some(k) = a.kernel.clone() {
@@ -364,7 +422,8 @@ pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>
     let s = a.s.ok_or("--s is required")?;
     let density = a.density.ok_or("--density is required")?;
     let rc = a.rc.ok_or("--rc is required")?;
-    let fluid = fluid_of(a.dim, density, rc, a.mass, a.kt)?;
+    let (u, kt, temp) = units_kt(a.units.as_deref().unwrap_or("lj"), a.kt, a.temp)?;
+    let fluid = fluid_in(&u, a.dim, density, rc, a.mass, kt)?;
     let th = rt::theory(fluid, gamma, s, a.dt)?;
     if a.json {
         println!("{}", to_line(&th.json())?);
@@ -372,6 +431,7 @@ pub fn theory_main(a: TheoryArgs) -> Result<ExitCode, Box<dyn std::error::Error>
     }
     let t = &th.predicted;
     let mut out = String::new();
+    units_text(&mut out, &u, temp);
     let _ = writeln!(
         out,
         "# fluid: d = {}, n = {}, r_c = {}, m = {}, kT = {}; gamma = {}, s = {}",
@@ -491,7 +551,7 @@ fn vv_text(out: &mut String, fluid: &Fluid, s: f64, gamma: f64, dt: f64, dt_c: f
             );
         }
     }
-    let dt_of = |x1: f64| x1 * fluid.cutoff / (fluid.kt / fluid.mass).sqrt();
+    let dt_of = |x1: f64| x1 * fluid.cutoff / (fluid.kt / fluid.inertia()).sqrt();
     let verdict = match (v.one_percent_at, v.t_ratio) {
         (Some(x1), _) if x >= x1 => format!(
             "heating >= 1 % (measured: the family reaches 1 % at x = {}, i.e. dt = {} here; take a \

@@ -29,6 +29,8 @@ pub(super) struct AveChunk {
     values: Vec<ChunkValue>,
     norm: Norm,
     adof: f64,
+    /// The unit style of the box (`temp`: mvv2e / boltz; `density/mass`: mv2d).
+    units: crate::units::Units,
     nchunk: usize,
     /// Chunks are spatial bins with a coordinate column (bin/1d); molecules have none.
     spatial: bool,
@@ -167,6 +169,7 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveChunk, Vec<Stri
             values,
             norm,
             adof: sys.dim() as f64,
+            units: sys.units,
             nchunk: 0,
             spatial,
             coord: Vec::new(),
@@ -245,9 +248,11 @@ fn add_sample(
                 if cm > 0.0 {
                     for j in 0..nv {
                         let v = values[m * nv + j];
+                        let u = &c.units;
                         c.values_many[m * nv + j] += match c.values[j] {
-                            ChunkValue::Temp => v / (c.adof * cm),
-                            ChunkValue::DensityNumber | ChunkValue::DensityMass => v,
+                            ChunkValue::Temp => u.mvv2e * v / (c.adof * cm * u.boltz),
+                            ChunkValue::DensityNumber => v,
+                            ChunkValue::DensityMass => u.mv2d * v,
                             _ if c.norm == Norm::None => v,
                             _ => v / cm,
                         };
@@ -276,8 +281,10 @@ fn epoch_average(c: &AveChunk, nrepeat: f64, volume: f64) -> Vec<f64> {
                     for j in 0..nv {
                         let v = &mut values_sum[m * nv + j];
                         match c.values[j] {
-                            ChunkValue::Temp => *v *= 1.0 / (c.adof * count_sum[m]),
-                            ChunkValue::DensityMass => *v *= 1.0 / nrepeat,
+                            ChunkValue::Temp => {
+                                *v *= c.units.mvv2e / (c.adof * count_sum[m] * c.units.boltz)
+                            }
+                            ChunkValue::DensityMass => *v *= c.units.mv2d / nrepeat,
                             ChunkValue::DensityNumber => *v /= nrepeat,
                             _ => *v /= count_sum[m],
                         }

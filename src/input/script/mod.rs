@@ -161,6 +161,8 @@ pub struct Interpreter<'c> {
     /// `comm_modify cutoff` (LAMMPS's user ghost cut-off; 0: none given).
     comm_cutoff: f64,
     skin: f64,
+    /// `units` (lj until given; the box takes it when it is created).
+    units: crate::units::Units,
     dry_run: bool,
     planned: Vec<PlannedRun>,
     dt: f64,
@@ -250,6 +252,7 @@ impl<'c> Interpreter<'c> {
             pre_pair: None,
             comm_cutoff: 0.0,
             skin: 0.3,
+            units: crate::units::Units::LJ,
             dry_run: false,
             planned: Vec::new(),
             dt: 0.005,
@@ -467,7 +470,7 @@ impl<'c> Interpreter<'c> {
         match cmd {
             c if IGNORED_COMMANDS.contains(&c) => Ok(()),
             "comm_modify" => self.cmd_comm_modify(args),
-            "units" => Self::cmd_units(args),
+            "units" => self.cmd_units(args),
             "dimension" => self.cmd_dimension(args),
             "boundary" => Self::cmd_boundary(args),
             "atom_style" => self.cmd_atom_style(args),

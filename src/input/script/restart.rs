@@ -93,6 +93,7 @@ impl Interpreter<'_> {
     fn restore(&mut self, r: Restart, file: &str) -> CmdResult {
         let bad = |what: String| format!("restart file {file}: {what}");
         self.dim = r.dim as usize;
+        self.units = crate::units::Units::standalone(r.units.name()).map_err(bad)?;
         self.dt = r.dt;
         self.skin = r.skin;
         self.atom_style = r.topo.as_ref().map_or(AtomStyle::Atomic, |t| t.style);
@@ -220,6 +221,7 @@ impl Interpreter<'_> {
             }),
             atoms: std::mem::take(&mut sys.atoms),
             tally: sys.tally,
+            units: sys.units.style,
         };
         let bytes = restart::encode(&r);
         sys.atoms = r.atoms;

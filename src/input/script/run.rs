@@ -39,6 +39,8 @@ pub struct PlannedRun {
     pub sdpd: Option<PlannedSdpd>,
     /// The set-up's log lines (resolved designs, warnings).
     pub notes: Vec<SetupNote>,
+    /// The unit style of the run.
+    pub units: crate::units::Units,
 }
 
 impl PlannedRun {
@@ -55,13 +57,13 @@ impl PlannedRun {
                 }
             }
             sdpd = Some(PlannedSdpd {
-                kt: sd.style.kt,
+                kt: sys.units.kt(sd.style.temp),
                 kernel: sd.style.kernel,
                 pairs,
             });
             // Placeholder: a `sdpd` run has no DPD model (see `sdpd`).
             PairModel::new(
-                sd.style.kt,
+                sys.units.kt(sd.style.temp),
                 crate::kernel::Friction::None,
                 crate::kernel::Noise::Plain,
                 crate::kernel::Weight::STANDARD,
@@ -91,6 +93,7 @@ impl PlannedRun {
             coeffs,
             sdpd,
             notes,
+            units: sys.units,
         })
     }
 }
@@ -98,7 +101,7 @@ impl PlannedRun {
 /// What a planned run of `pair_style sdpd` holds (targets resolved).
 #[derive(Clone, Debug)]
 pub struct PlannedSdpd {
-    /// kT of the random force.
+    /// kT of the random force (boltz T, an energy).
     pub kt: f64,
     /// The kernel (the designed one when targets were given).
     pub kernel: crate::kernel::sdpd::Smoothing,

@@ -12,11 +12,18 @@ use crate::rng::{STREAM_CREATE_ATOMS, keyed_uniform};
 use std::collections::BTreeMap;
 
 impl Interpreter<'_> {
-    pub(super) fn cmd_units(args: &[String]) -> CmdResult {
-        exact(args, 1, "units lj")?;
-        if args[0] != "lj" {
-            return Err(format!("units '{}' not supported: only 'lj'", args[0]));
+    /// `units lj|real|metal`: LAMMPS's constants ([`crate::units::Units::standalone`]), and
+    /// LAMMPS's default time step and neighbour skin of the style (as `Update::set_units`
+    /// resets them). Before the box only, as in LAMMPS.
+    pub(super) fn cmd_units(&mut self, args: &[String]) -> CmdResult {
+        exact(args, 1, "units lj|real|metal")?;
+        if self.sys.is_some() {
+            return Err("Units command after simulation box is defined".into());
         }
+        let u = crate::units::Units::standalone(&args[0])?;
+        self.units = u;
+        self.dt = u.default_dt();
+        self.skin = u.default_skin();
         Ok(())
     }
 
@@ -141,6 +148,7 @@ impl Interpreter<'_> {
         let bx = SimBox::new(self.dim, lo, hi)?;
         let mut sys = System::new(bx, ntypes);
         sys.dt = self.dt;
+        sys.units = self.units;
         sys.neighbor = crate::engine::NeighborList::new(self.skin);
         sys.comm_cutoff = self.comm_cutoff;
         if self.atom_style.molecular() {

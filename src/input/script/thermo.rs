@@ -15,7 +15,9 @@ pub(super) struct ThermoSettings {
     fmt_int: Option<String>,
     fmt_float: Option<String>,
     fmt_col: BTreeMap<usize, String>,
-    norm: bool,
+    /// `thermo_modify norm yes|no` (None: LAMMPS's default of the unit style at the run, yes in
+    /// `lj`, no otherwise).
+    norm: Option<bool>,
     /// `thermo_modify temp ID` / `press ID` (None: thermo_temp / thermo_press).
     temp: Option<String>,
     press: Option<String>,
@@ -32,7 +34,7 @@ impl Default for ThermoSettings {
             fmt_int: None,
             fmt_float: None,
             fmt_col: BTreeMap::new(),
-            norm: true,
+            norm: None,
             temp: None,
             press: None,
         }
@@ -76,6 +78,12 @@ fn is_int_keyword(kw: &str) -> bool {
 }
 
 impl Interpreter<'_> {
+    /// Whether thermo normalises extensive values by the number of atoms: `thermo_modify norm`,
+    /// else LAMMPS's default of the unit style (yes in `lj` only).
+    fn thermo_norm(&self) -> bool {
+        self.thermo.norm.unwrap_or(self.units.is_lj())
+    }
+
     pub(super) fn thermo_value(&self, kw: &str) -> Option<Result<f64, String>> {
         if let Some(name) = kw.strip_prefix("v_") {
             return Some(self.eval(&format!("v_{name}")));
@@ -85,7 +93,7 @@ impl Interpreter<'_> {
                 let v = self.obs.reference(kind, id, index, self)?;
                 let n = self.sys.as_ref().map_or(0, |s| s.atoms.len());
                 Ok(
-                    if self.thermo.norm && n > 0 && self.obs.extensive(kind, id, index) {
+                    if self.thermo_norm() && n > 0 && self.obs.extensive(kind, id, index) {
                         v / n as f64
                     } else {
                         v
@@ -105,7 +113,7 @@ impl Interpreter<'_> {
             };
         };
         let n = sys.atoms.len() as f64;
-        let norm = if self.thermo.norm && n > 0.0 {
+        let norm = if self.thermo_norm() && n > 0.0 {
             1.0 / n
         } else {
             1.0
@@ -167,7 +175,7 @@ impl Interpreter<'_> {
                     .iter()
                     .map(|&ty| sys.mass[ty as usize].unwrap_or(0.0))
                     .sum();
-                m / t.vol
+                m * sys.units.mv2d / t.vol
             }
             _ => return None,
         };
@@ -294,7 +302,7 @@ impl Interpreter<'_> {
         while k < args.len() {
             need(&args[k..], 2, usage)?;
             match args[k].as_str() {
-                "norm" => self.thermo.norm = args[k + 1] == "yes",
+                "norm" => self.thermo.norm = Some(args[k + 1] == "yes"),
                 "flush" | "lost" | "lost/bond" | "warn" => {}
                 "temp" => {
                     let id = &args[k + 1];

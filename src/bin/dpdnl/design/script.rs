@@ -64,6 +64,8 @@ struct RunPoint<'a> {
     /// The weight exponent.
     s: f64,
     kt: f64,
+    /// The run's unit style.
+    units: dpdnl::Units,
     scheme: &'static str,
 }
 
@@ -90,6 +92,7 @@ fn run_theory(
         m,
         s,
         kt,
+        units: r.units,
         scheme,
     };
     run_header(out, k, nruns, &p, &masses);
@@ -124,6 +127,7 @@ fn run_header(out: &mut String, k: usize, nruns: usize, p: &RunPoint<'_>, masses
         m,
         s,
         kt,
+        units,
         scheme,
     } = *p;
     let _ = writeln!(
@@ -149,6 +153,17 @@ fn run_header(out: &mut String, k: usize, nruns: usize, p: &RunPoint<'_>, masses
             ),
         }
     );
+    if !units.is_lj() {
+        let _ = writeln!(
+            out,
+            "# units {}: kT = boltz T (an energy), masses in the style's mass unit, viscosities in \
+             energy x time / volume (the thermo's -pxy/rate is eta x nktv2p, nktv2p = {}); the \
+             theory takes m mvv2e, mvv2e = {}",
+            units.style,
+            num(units.nktv2p),
+            num(units.mvv2e)
+        );
+    }
     if masses.iter().any(|&x| x != m) {
         let _ = writeln!(
             out,
@@ -175,7 +190,13 @@ fn sdpd_pairs(
     sd: &PlannedSdpd,
     pairs_json: &mut Vec<PairJson>,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    let RunPoint { r, density, m, .. } = *pt;
+    let RunPoint {
+        r,
+        density,
+        m,
+        units,
+        ..
+    } = *pt;
     for (i, j, p) in &sd.pairs {
         let _ = writeln!(
             out,
@@ -186,7 +207,7 @@ fn sdpd_pairs(
             num(p.eta0),
             num(p.rc)
         );
-        let fluid = Fluid::new(r.dim, density, p.rc, m, sd.kt)?;
+        let fluid = Fluid::new(r.dim, density, p.rc, m, sd.kt)?.with_mvv2e(units.mvv2e)?;
         let t = sdpd::kinetic_theory(&fluid, sd.kernel, p.eta0)?;
         let _ = writeln!(
             out,
@@ -222,6 +243,7 @@ fn dpd_pair(
         m,
         s,
         kt,
+        units,
         ..
     } = *p;
     let _ = writeln!(
@@ -236,7 +258,7 @@ fn dpd_pair(
         let _ = writeln!(out, "# gamma0 = 0: no dissipation, no kinetic theory");
         return Ok(None);
     }
-    let fluid = Fluid::new(r.dim, density, c.rc, m, kt)?;
+    let fluid = Fluid::new(r.dim, density, c.rc, m, kt)?.with_mvv2e(units.mvv2e)?;
     let t = kinetic_theory(&fluid, c.gamma0, s)?;
     let _ = writeln!(
         out,
