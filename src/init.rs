@@ -169,9 +169,11 @@ pub(crate) fn euler_warning(
 }
 
 /// The box check of every run's set-up, in both engines: along each periodic dimension the box
-/// must be at least 2 r_c long, else a pair would interact with more than one image of its
-/// partner and those images would share one keyed random number (docs/models.md P-4).
-/// `len` are the box lengths, `periodic` which of the first `dim` dimensions are periodic.
+/// must be at least r_c long. Shorter, an atom would interact with its own periodic image,
+/// which the keyed noise cannot tell from its partner (both tags equal). Between r_c and 2 r_c
+/// a pair can interact with two or more images of its partner at once: each image draws its
+/// own keyed number ([`crate::rng::ImageFrame`], `docs/models.md` P-4b). `len` are the box
+/// lengths, `periodic` which of the first `dim` dimensions are periodic.
 pub fn check_box_images(
     len: [f64; 3],
     periodic: [bool; 3],
@@ -179,14 +181,23 @@ pub fn check_box_images(
     rc_max: f64,
 ) -> Result<(), String> {
     for d in 0..dim.min(3) {
-        if periodic[d] && len[d] < 2.0 * rc_max {
+        if periodic[d] && len[d] < rc_max {
             return Err(format!(
-                "box length {} in {} is shorter than 2 rc = {}: a pair's periodic images would share one random number",
+                "box length {} in {} is shorter than the largest cut-off rc = {}: an atom would \
+                 interact with its own periodic image",
                 len[d],
                 ["x", "y", "z"][d],
-                2.0 * rc_max
+                rc_max
             ));
         }
     }
     Ok(())
+}
+
+/// Whether a pair can meet more than one periodic image of its partner: some periodic box
+/// length below 2 r_c (then the pair loops key the noise by image, P-4b). Box lengths, not
+/// widths, decide it for a tilted box too: two images differ by a lattice vector, which is at
+/// least one box length long ([`crate::rng::ImageFrame`]).
+pub fn images_keyed(len: [f64; 3], periodic: [bool; 3], dim: usize, rc_max: f64) -> bool {
+    (0..dim.min(3)).any(|d| periodic[d] && len[d] < 2.0 * rc_max)
 }

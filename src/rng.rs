@@ -12,7 +12,7 @@
 //! | word | content |
 //! |------|---------|
 //! | key k0 | `seed` (u32, the `pair_style` seed) |
-//! | key k1 | `stream` (u32, the purpose: [`STREAM_PAIR_NOISE`], [`STREAM_VELOCITY`], …) |
+//! | key k1 | `stream` (u32, the purpose: [`STREAM_PAIR_NOISE`], [`STREAM_VELOCITY`], …; for the pair noise in a box shorter than 2 r_c, the image bytes of [`image_stream`]) |
 //! | counter c0 | `step` bits 0–31 |
 //! | counter c1 | `step` bits 32–63 |
 //! | counter c2 | `min(tag_i, tag_j)` (u32) |
@@ -244,6 +244,92 @@ fn cos_turns52(b: u64) -> f64 {
     // cos(q π/2 + φ) = cos φ, −sin φ, −cos φ, sin φ.
     let v = if q & 1 == 0 { c } else { s };
     if q == 1 || q == 2 { -v } else { v }
+}
+
+/// The periodic lattice of a box, for the image part of the pair-noise key (`docs/models.md`
+/// P-4b): in a box shorter than 2 r_c along a periodic axis, atom i can interact with several
+/// periodic images of atom j at once, and each image pair must draw its own ξ. The image is
+/// named by integer coordinates n = (n_x, n_y, n_z) of the separation r_lo − r_hi (lower tag
+/// minus higher tag) in the lattice a = (L_x, 0, 0), b = (xy, L_y, 0), c = (xz, yz, L_z)
+/// (LAMMPS's box; the standalone engine's Lees–Edwards offset is its xy):
+/// n_z = round(d_z / L_z), d ← d − n_z c, n_y = round(d_y / L_y), d ← d − n_y b,
+/// n_x = round(d_x / L_x), rounding half away from zero, a non-periodic axis giving 0. The tilts
+/// are first reduced into [0, L) (xy and xz by L_x, yz by L_y, with xz following the change of
+/// c by b), so a box and its flipped twin (the same lattice) name every image alike. Properties
+/// (tests/small_box.rs): n(−d) = −n(d); images differing by a lattice vector m get codes
+/// differing by m; and when every periodic length is ≥ 2 r_c, |d| < r_c gives n = 0, the
+/// stream of [`STREAM_PAIR_NOISE`] unchanged, so every existing key keeps its numbers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImageFrame {
+    len: [f64; 3],
+    inv_len: [f64; 3],
+    /// xy, xz, yz, reduced.
+    tilt: [f64; 3],
+    /// Which axes are periodic (false past the dimension).
+    periodic: [bool; 3],
+}
+
+impl ImageFrame {
+    /// The frame of a box with side lengths `len`, tilts `[xy, xz, yz]` (0 for an orthogonal
+    /// box) and periodic flags for the first `dim` axes.
+    pub fn new(dim: usize, len: [f64; 3], tilt: [f64; 3], periodic: [bool; 3]) -> ImageFrame {
+        let reduce = |t: f64, l: f64| -> (f64, f64) {
+            let k = (t / l).floor();
+            let r = t - k * l;
+            if r >= l || r < 0.0 { (0.0, k) } else { (r, k) }
+        };
+        let (xy, _) = reduce(tilt[0], len[0]);
+        // c ← c − k b with k = ⌊yz / L_y⌋: yz into [0, L_y), xz follows by −k xy.
+        let (yz, k) = reduce(tilt[2], len[1]);
+        let (xz, _) = reduce(tilt[1] - k * xy, len[0]);
+        let mut p = [false; 3];
+        p[..dim.min(3)].copy_from_slice(&periodic[..dim.min(3)]);
+        ImageFrame {
+            len,
+            inv_len: len.map(|l| 1.0 / l),
+            tilt: [xy, xz, yz],
+            periodic: p,
+        }
+    }
+
+    /// The image coordinates n of a separation `d` (see the type).
+    #[inline]
+    pub fn image_of(&self, mut d: [f64; 3]) -> [i32; 3] {
+        let round = |y: f64| (y + 0.5f64.copysign(y)) as i64 as f64;
+        let mut n = [0.0; 3];
+        if self.periodic[2] {
+            n[2] = round(d[2] * self.inv_len[2]);
+            d[0] -= n[2] * self.tilt[1];
+            d[1] -= n[2] * self.tilt[2];
+        }
+        if self.periodic[1] {
+            n[1] = round(d[1] * self.inv_len[1]);
+            d[0] -= n[1] * self.tilt[0];
+        }
+        if self.periodic[0] {
+            n[0] = round(d[0] * self.inv_len[0]);
+        }
+        n.map(|v| v.clamp(-127.0, 127.0) as i32)
+    }
+
+    /// The pair-noise stream of the pair (tag_i, tag_j) at separation `dr` = r_i − r_j:
+    /// [`image_stream`] of the image coordinates of r_lo − r_hi.
+    #[inline]
+    pub fn pair_stream(&self, tag_i: u32, tag_j: u32, dr: [f64; 3]) -> u32 {
+        let d = if tag_i <= tag_j { dr } else { dr.map(|c| -c) };
+        image_stream(self.image_of(d))
+    }
+}
+
+/// The stream word of the pair noise for image coordinates `n` (P-4b): [`STREAM_PAIR_NOISE`]
+/// for n = 0, else with n_x, n_y, n_z as bytes (two's complement) in bits 8–15, 16–23, 24–31,
+/// a word no other stream uses.
+#[inline(always)]
+pub fn image_stream(n: [i32; 3]) -> u32 {
+    STREAM_PAIR_NOISE
+        | (u32::from(n[0] as i8 as u8) << 8)
+        | (u32::from(n[1] as i8 as u8) << 16)
+        | (u32::from(n[2] as i8 as u8) << 24)
 }
 
 /// ξ_ij: the standard Gaussian of pair (i, j) at `step`, symmetric in the two tags.

@@ -162,9 +162,9 @@ fn bad_scripts_give_clear_errors() {
             "weight exponent",
         ),
         (
-            "pair_style dpd/nonlinear 1.0 3.0 5\npair_coeff 1 1 0 4.5 0\nfix 1 all nve\nrun 1\n",
+            "pair_style dpd/nonlinear 1.0 6.0 5\npair_coeff 1 1 0 4.5 0\nfix 1 all nve\nrun 1\n",
             "run",
-            "shorter than 2 rc",
+            "shorter than the largest cut-off rc = 6",
         ),
         (
             "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 0 4.5 0 x\n",

@@ -122,6 +122,15 @@ typedef struct DpdnlStep {
   int32_t newton_pair;
   // 2 or 3. Coordinates are used as given (z = 0 in 2-D under `fix enforce2d`).
   int32_t dimension;
+  // Box lengths (LAMMPS `domain->xprd`, `yprd`, `zprd`), for the pair noise's image key:
+  // along a periodic axis shorter than 2 r_c a pair meets several images of its partner
+  // (ghosts), each keyed apart (`dpdnl::rng::ImageFrame`, docs/models.md P-4b).
+  double boxlen[3];
+  // Tilts xy, xz, yz (LAMMPS `domain->xy`, `xz`, `yz`; 0 for an orthogonal box).
+  double tilt[3];
+  // Periodic axes (LAMMPS `domain->periodicity`). All 0: no image key (the plain key of
+  // a box at least 2 r_c long).
+  int32_t periodic[3];
 } DpdnlStep;
 
 // Energy and virial accumulators, following LAMMPS `Pair::ev_tally` / `ev_tally_full`.

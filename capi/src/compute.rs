@@ -72,6 +72,15 @@ pub struct DpdnlStep {
     pub newton_pair: i32,
     /// 2 or 3. Coordinates are used as given (z = 0 in 2-D under `fix enforce2d`).
     pub dimension: i32,
+    /// Box lengths (LAMMPS `domain->xprd`, `yprd`, `zprd`), for the pair noise's image key:
+    /// along a periodic axis shorter than 2 r_c a pair meets several images of its partner
+    /// (ghosts), each keyed apart (`dpdnl::rng::ImageFrame`, docs/models.md P-4b).
+    pub boxlen: [f64; 3],
+    /// Tilts xy, xz, yz (LAMMPS `domain->xy`, `xz`, `yz`; 0 for an orthogonal box).
+    pub tilt: [f64; 3],
+    /// Periodic axes (LAMMPS `domain->periodicity`). All 0: no image key (the plain key of
+    /// a box at least 2 r_c long).
+    pub periodic: [i32; 3],
 }
 
 /// Energy and virial accumulators, following LAMMPS `Pair::ev_tally` / `ev_tally_full`.
@@ -441,6 +450,8 @@ struct Walk<'a> {
     step: u64,
     mask: usize,
     nall: usize,
+    /// The image key's frame when the box is shorter than 2 r_c (P-4b).
+    images: Option<dpdnl::rng::ImageFrame>,
 }
 
 impl Walk<'_> {
@@ -483,6 +494,7 @@ impl Walk<'_> {
         mut apply: impl FnMut(&PairBatch, &[u32], &[u32]),
     ) -> Result<(), Error> {
         let (x, ty, nt, mask) = (self.x, self.ty, self.nt, self.mask);
+        bt.batch.images = self.images;
         let kernel = self.kernel;
         let step = self.step;
         // The lanes' v_ij, 1/m_i + 1/m_j and tags (r_ij and the coefficient index are in place).
@@ -546,6 +558,16 @@ impl Walk<'_> {
         bt.flush(kernel, step, gather, &mut apply);
         Ok(())
     }
+}
+
+/// The image key's frame of a step's box when some periodic length is below 2 r_c (the
+/// largest cut-off of `cut`), else None (`dpdnl::init::images_keyed`).
+fn image_frame(st: &DpdnlStep, cut: &[f64]) -> Option<dpdnl::rng::ImageFrame> {
+    let dim = if st.dimension == 2 { 2 } else { 3 };
+    let periodic = st.periodic.map(|p| p != 0);
+    let rc = cut.iter().copied().fold(0.0, f64::max);
+    dpdnl::init::images_keyed(st.boxlen, periodic, dim, rc)
+        .then(|| dpdnl::rng::ImageFrame::new(dim, st.boxlen, st.tilt, periodic))
 }
 
 /// The list walk of [`dpdnl_compute`] for any pair style: every listed pair within `cut[k]`
@@ -642,6 +664,7 @@ pub(crate) unsafe fn walk_pairs(
         step: st.step as u64,
         mask: list.neighmask as u32 as usize,
         nall,
+        images: image_frame(st, cut),
     };
     // SAFETY: `list` as documented (caller's contract).
     let ilist = unsafe { list_ilist(list)? };

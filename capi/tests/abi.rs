@@ -274,6 +274,9 @@ fn run(p: &Params, s: &System, kind: ListKind, cut: f64, step: i64) -> Result {
         dt: DT,
         newton_pair: (kind == ListKind::HalfNewtonOn) as i32,
         dimension: 3,
+        boxlen: [0.0; 3],
+        tilt: [0.0; 3],
+        periodic: [0; 3],
     };
     let mut r = Result {
         f: vec![0.0; 3 * s.nall()],
@@ -532,6 +535,9 @@ fn bad_compute_arguments_give_codes_and_text() {
         dt,
         newton_pair: 1,
         dimension: dim,
+        boxlen: [0.0; 3],
+        tilt: [0.0; 3],
+        periodic: [0; 3],
     };
     let mut call = |a: &DpdnlAtoms, l: &DpdnlNeighList, st: &DpdnlStep| {
         // SAFETY: every array above is sized for nall = 2.

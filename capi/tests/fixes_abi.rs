@@ -789,6 +789,8 @@ fn box_check_as_engine() {
         [1.99, 5.0, 5.0],
         [5.0, 1.5, 5.0],
         [5.0, 5.0, 1.0],
+        [0.99, 5.0, 5.0],
+        [5.0, 0.5, 5.0],
     ] {
         for periodic in [[1, 1, 1], [0, 1, 1], [1, 0, 1], [1, 1, 0], [0, 0, 0]] {
             for dimension in [2, 3] {
@@ -808,13 +810,13 @@ fn box_check_as_engine() {
             }
         }
     }
-    // The refusal is real: a box shorter than 2 rc along a periodic axis.
-    let (len, per) = ([1.99, 5.0, 5.0], [1, 1, 1]);
+    // The refusal is real: a box shorter than rc along a periodic axis.
+    let (len, per) = ([0.99, 5.0, 5.0], [1, 1, 1]);
     // SAFETY: 3 values each.
     let st = unsafe { dpdnl_box_check(len.as_ptr(), per.as_ptr(), 3, 1.0) };
     assert_eq!(st, DpdnlStatus::InvalidArgument);
     assert!(
-        last_error().contains("in x is shorter than 2 rc = 2"),
+        last_error().contains("in x is shorter than the largest cut-off rc = 1"),
         "{}",
         last_error()
     );

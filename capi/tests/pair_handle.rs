@@ -279,6 +279,9 @@ fn evaluate(
         dt: DT,
         newton_pair: 1,
         dimension: 3,
+        boxlen: [0.0; 3],
+        tilt: [0.0; 3],
+        periodic: [0; 3],
     };
     let mut out = Out {
         f: vec![0.0; 3 * a.nall()],
@@ -871,6 +874,9 @@ fn special_bonds_scale_a_pair_or_leave_it_out() {
             dt: DT,
             newton_pair: 1,
             dimension: 3,
+            boxlen: [0.0; 3],
+            tilt: [0.0; 3],
+            periodic: [0; 3],
         };
         let mut f = vec![0.0; 3 * a.nall()];
         let mut energy = 0.0;
@@ -1102,6 +1108,9 @@ fn compute_list(
         dt: DT,
         newton_pair: i32::from(newton),
         dimension: 3,
+        boxlen: [0.0; 3],
+        tilt: [0.0; 3],
+        periodic: [0; 3],
     };
     // Without tallies: a force-only step (the threaded walk's event path).
     let mut tally = if tallies {

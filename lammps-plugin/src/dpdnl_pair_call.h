@@ -67,6 +67,14 @@ inline PairCall fill(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::NeighList *list, bool rm
   c.st.dt = lmp->update->dt;
   c.st.newton_pair = lmp->force->newton_pair;
   c.st.dimension = lmp->domain->dimension;
+  LAMMPS_NS::Domain *domain = lmp->domain;
+  c.st.boxlen[0] = domain->xprd;
+  c.st.boxlen[1] = domain->yprd;
+  c.st.boxlen[2] = domain->zprd;
+  c.st.tilt[0] = domain->xy;
+  c.st.tilt[1] = domain->xz;
+  c.st.tilt[2] = domain->yz;
+  for (int k = 0; k < 3; k++) c.st.periodic[k] = domain->periodicity[k];
 
   c.tally.eflag_global = eflag_global;
   c.tally.vflag_global = vflag_global;

@@ -56,10 +56,11 @@ MASSES = {
     "sdpd2d": {1: 1.0, 2: 1.5},
     "sdpd_le3d": {1: 1.0, 2: 2.0},
     "polymer3d": {1: 1.0, 2: 2.0},
+    "small3d": {1: 1.0, 2: 1.5},
 }
 DATAFILE = {"dpd3d": "dpd3d", "dpd2d": "dpd2d", "euler3d": "dpd3d", "pex3d": "pex3d",
             "lees_edwards3d": "dpd3d", "sdpd2d": "dpd2d", "sdpd_le3d": "dpd3d",
-            "polymer3d": "polymer3d"}
+            "polymer3d": "polymer3d", "small3d": "../crosscheck/small3d"}
 
 failures = []
 
@@ -196,7 +197,7 @@ def consistency(tmp):
     print("newton on/off and MPI ranks (relative differences of thermo | dumps at steps 0/50/100)")
     results = {}
     for name in ["dpd3d", "dpd2d", "euler3d", "pex3d", "lees_edwards3d", "sdpd2d", "sdpd_le3d",
-                 "polymer3d"]:
+                 "polymer3d", "small3d"]:
         script = os.path.join(INPUTS, name + ".in")
         data = os.path.join(DATA, DATAFILE[name] + ".data")
         runs = {}

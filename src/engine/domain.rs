@@ -160,6 +160,68 @@ impl LeesEdwards {
 }
 
 impl SimBox {
+    /// Every periodic image of separation `d` = r_i − r_j with |r|² in [`min_sq`, `rcsq`), and
+    /// its Lees–Edwards velocity correction Δv_x (0 in a periodic box), appended to `out`, for a
+    /// box shorter than 2 r_c along the axes `short` (P-4b): along a short axis the nearest
+    /// image and its neighbours at ±L are tried (with r_c ≤ L no farther one is in range),
+    /// along the others the nearest image only (one at most is in range). Under Lees–Edwards
+    /// an image n_y boxes along y moves by n_y · offset along x and adds n_y γ̇ L_y to Δv_x,
+    /// as [`SimBox::min_image_le`]; x is then reduced to its nearest image again. Order: n_y,
+    /// then n_x, then n_z, each −1, 0, +1.
+    #[allow(clippy::too_many_arguments)]
+    pub fn images_within(
+        &self,
+        d: [f64; 3],
+        le: Option<&LeesEdwards>,
+        short: [bool; 3],
+        rcsq: f64,
+        min_sq: f64,
+        out: &mut Vec<([f64; 3], f64)>,
+    ) {
+        let round = |y: f64| (y + 0.5f64.copysign(y)) as i64 as f64;
+        let (dm, dvx_m, off, jump) = match le {
+            None => (self.min_image(d), 0.0, 0.0, 0.0),
+            Some(le) => {
+                let (dm, dvx) = self.min_image_le(d, le);
+                (dm, dvx, le.offset, le.jump(self))
+            }
+        };
+        let span = |k: usize| -> std::ops::RangeInclusive<i32> {
+            if short[k] && k < self.dim {
+                -1..=1
+            } else {
+                0..=0
+            }
+        };
+        for ny in span(1) {
+            let fy = f64::from(ny);
+            let y = dm[1] + fy * self.len[1];
+            let mut x0 = dm[0];
+            if ny != 0 {
+                x0 += fy * off;
+                x0 -= self.len[0] * round(x0 * self.inv_len[0]);
+            }
+            let dvx = dvx_m + fy * jump;
+            for nx in span(0) {
+                let x = x0 + f64::from(nx) * self.len[0];
+                for nz in span(2) {
+                    let z = dm[2] + f64::from(nz) * self.len[2];
+                    let rsq = x * x + y * y + z * z;
+                    if rsq < rcsq && rsq >= min_sq {
+                        out.push(([x, y, z], dvx));
+                    }
+                }
+            }
+        }
+    }
+
+    /// The image key's frame of this box (P-4b): its lengths, the Lees–Edwards offset as the
+    /// tilt xy, every axis of the dimension periodic.
+    pub fn image_frame(&self, le: Option<&LeesEdwards>) -> crate::rng::ImageFrame {
+        let xy = le.map_or(0.0, |l| l.offset);
+        crate::rng::ImageFrame::new(self.dim, self.len, [xy, 0.0, 0.0], [true; 3])
+    }
+
     /// The minimum image of r_ij = r_i − r_j under Lees–Edwards boundaries, and the velocity
     /// correction Δv_x to add to v_ij = v_i − v_j (`docs/models.md` §0 and P-5: v_ij includes the
     /// boundary velocity jump). When the nearest image of j lies n_y boxes away along y,

@@ -25,6 +25,11 @@ pub struct PairBatch {
     pub tag_i: [u32; BATCH],
     /// Tag of j.
     pub tag_j: [u32; BATCH],
+    /// The box's lattice when it is shorter than 2 r_c along a periodic axis: each lane's
+    /// noise is then keyed by the periodic image of its pair too
+    /// ([`crate::rng::ImageFrame::pair_stream`], `docs/models.md` P-4b). None: the plain key
+    /// (every image code would be 0).
+    pub images: Option<crate::rng::ImageFrame>,
     /// Result: the total pair force divided by r, so the force on i is `fpair · r_ij`
     /// (0 for a pair out of range). Entries from `len` on are unspecified.
     pub fpair: [f64; BATCH],
@@ -62,6 +67,7 @@ impl Default for PairBatch {
             coeff: [0; BATCH],
             tag_i: [0; BATCH],
             tag_j: [0; BATCH],
+            images: None,
             fpair: [0.0; BATCH],
             energy: [0.0; BATCH],
             scratch: BatchScratch {
@@ -332,18 +338,43 @@ pub(super) fn fill_coeff(table: &PairTable, b: &mut PairBatch, n: usize) {
 /// in two loops (random bits, then Gaussians) that run in SIMD lanes.
 #[inline(always)]
 pub(crate) fn pair_gaussians(b: &mut PairBatch, seed: u32, step: u64) {
-    let bits = &mut b.scratch.bits;
-    for l in 0..BATCH {
-        let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
-        let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
-        bits[0][l] = o[0];
-        bits[1][l] = o[1];
-        bits[2][l] = o[2];
-        bits[3][l] = o[3];
-    }
+    lane_bits(b, seed, step);
+    let bits = &b.scratch.bits;
     let xi = &mut b.scratch.xi;
     for l in 0..BATCH {
         xi[l] = crate::rng::gaussian_from_bits([bits[0][l], bits[1][l], bits[2][l], bits[3][l]]);
+    }
+}
+
+/// The keyed bits of every lane into `b.scratch.bits` (P-4; with [`PairBatch::images`], each
+/// lane's stream names its pair's periodic image, P-4b).
+#[inline(always)]
+fn lane_bits(b: &mut PairBatch, seed: u32, step: u64) {
+    let bits = &mut b.scratch.bits;
+    match &b.images {
+        None => {
+            for l in 0..BATCH {
+                let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
+                let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
+                bits[0][l] = o[0];
+                bits[1][l] = o[1];
+                bits[2][l] = o[2];
+                bits[3][l] = o[3];
+            }
+        }
+        Some(frame) => {
+            for l in 0..BATCH {
+                let (ti, tj) = (b.tag_i[l], b.tag_j[l]);
+                let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
+                let stream = frame.pair_stream(ti, tj, dr);
+                let (lo, hi) = crate::rng::ordered_tags(ti, tj);
+                let o = crate::rng::keyed_bits(seed, stream, step, lo, hi);
+                bits[0][l] = o[0];
+                bits[1][l] = o[1];
+                bits[2][l] = o[2];
+                bits[3][l] = o[3];
+            }
+        }
     }
 }
 
@@ -354,13 +385,8 @@ pub(crate) fn pair_noise(b: &mut PairBatch, seed: u32, step: u64, dist: NoiseDis
     if dist == NoiseDist::Gaussian {
         return pair_gaussians(b, seed, step);
     }
-    let bits = &mut b.scratch.bits;
-    for l in 0..BATCH {
-        let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
-        let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
-        bits[0][l] = o[0];
-        bits[1][l] = o[1];
-    }
+    lane_bits(b, seed, step);
+    let bits = &b.scratch.bits;
     let xi = &mut b.scratch.xi;
     for l in 0..BATCH {
         xi[l] = crate::rng::uniform_noise_from_bits([bits[0][l], bits[1][l], 0, 0]);

@@ -49,6 +49,9 @@ pub(super) struct RowBuild<'a> {
     /// The tilt allowance D: rows through the sheared boundary take every pair whose x
     /// separation is within the cut-off + D (`NeighborList::set_shear`).
     pub(super) tilt_allow: f64,
+    /// Sheared with y shorter than 2 r_c: the per-pair test takes the nearest of the y images
+    /// ([`nearest_sq`]).
+    pub(super) short_y: bool,
 }
 
 impl RowBuild<'_> {
@@ -160,14 +163,15 @@ pub(super) fn build_rows<const SIMD: u8>(rb: &RowBuild, s: &mut Slab) {
                 let allow = rb.tilt_allow;
                 for j in lo..hi {
                     let xj = x[j];
-                    let d = pair_image(
+                    let rsq = nearest_sq(
                         rb.bx,
                         rb.le.as_ref(),
+                        rb.short_y,
                         [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]],
+                        allow,
                     );
-                    let dx = (d[0].abs() - allow).max(0.0);
                     s.nbr[l] = j as u32;
-                    l += usize::from(dx * dx + d[1] * d[1] + d[2] * d[2] < rb.cutsq);
+                    l += usize::from(rsq < rb.cutsq);
                 }
                 len = l;
                 return;

@@ -48,6 +48,7 @@ impl NeighborList {
         let (x, typ) = (&atoms.x, &atoms.typ);
         let one_type = ntypes == 1;
         let le = self.le;
+        let short = self.short_axes(bx).map(|(s, _)| s);
         let row_sum = |s: &Slab, own: &mut [f64], next: &mut [f64]| {
             own.fill(0.0);
             next.fill(0.0);
@@ -57,11 +58,48 @@ impl NeighborList {
                 (&s.row_start, &s.nbr)
             };
             let (mut rsq, mut wv) = (Vec::new(), Vec::new());
+            let mut images = Vec::new();
             for i in s.start..s.end {
                 let r = i - s.start;
                 let xi = x[i];
                 let ti = typ[i] as usize * nt;
                 let row = &nbr[row_start[r] as usize..row_start[r + 1] as usize];
+                if let Some(short) = short {
+                    // A box shorter than 2 r_c: every image of j in range adds its weight
+                    // (P-4b), in image order, to both atoms.
+                    let mut di = 0.0;
+                    for &j in row {
+                        let ju = j as usize;
+                        if let Some(sp) = special
+                            && sp.action[sp.class_of(i, atoms.tag[ju])]
+                                == crate::engine::topology::SpecialAction::Exclude
+                        {
+                            continue;
+                        }
+                        let xj = x[ju];
+                        let k = ti + typ[ju] as usize;
+                        images.clear();
+                        bx.images_within(
+                            [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]],
+                            le.as_ref(),
+                            short,
+                            rcsq[k],
+                            0.0,
+                            &mut images,
+                        );
+                        let mut wj = 0.0;
+                        for &(d, _) in &images {
+                            wj += w(k, d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                        }
+                        di += wj;
+                        match own.get_mut(ju.wrapping_sub(s.start)) {
+                            Some(o) => *o += wj,
+                            None => next[ju - s.next_start] += wj,
+                        }
+                    }
+                    own[r] += di;
+                    continue;
+                }
                 // Squared minimum-image distances of the row (images only near the boundary).
                 rsq.clear();
                 rsq.extend(row.iter().map(|&j| {

@@ -108,6 +108,53 @@ fn own_next_slices<'a, T>(
     (own_k, next_k)
 }
 
+impl NeighborList {
+    /// The axes along which the box is shorter than 2 r_c, with the image key's frame
+    /// (P-4b), or None when every axis is long enough for one image per pair.
+    fn short_axes(&self, bx: &SimBox) -> Option<([bool; 3], crate::rng::ImageFrame)> {
+        let len = bx.len();
+        let short: [bool; 3] = std::array::from_fn(|k| k < bx.dim && len[k] < 2.0 * self.rc_max);
+        short
+            .contains(&true)
+            .then(|| (short, bx.image_frame(self.le.as_ref())))
+    }
+}
+
+/// The squared length of the nearest image of separation `d` for the lists' cut-off tests,
+/// its x component less `allow` (the tilt allowance; 0 for a test at the current offset).
+/// Periodic, or sheared in a box at least 2 r_c long in y: the minimum image
+/// ([`pair_image`]). Sheared with y shorter than 2 r_c (`short_y`): the nearest of the
+/// sliding-brick images one box either side along y too, as [`SimBox::images_within`] forms
+/// them (the brick's rounding in y first need not find the nearest image there, so a pair
+/// whose only image in range crosses y would be missed).
+#[inline]
+fn nearest_sq(
+    bx: &SimBox,
+    le: Option<&LeesEdwards>,
+    short_y: bool,
+    d: [f64; 3],
+    allow: f64,
+) -> f64 {
+    let sq = |d: [f64; 3]| {
+        let dx = (d[0].abs() - allow).max(0.0);
+        dx * dx + d[1] * d[1] + d[2] * d[2]
+    };
+    let dm = pair_image(bx, le, d);
+    match le {
+        Some(le) if short_y => {
+            let (len, off) = (bx.len(), le.offset);
+            let mut best = sq(dm);
+            for ny in [-1.0f64, 1.0] {
+                let mut x = dm[0] + ny * off;
+                x -= len[0] * (x / len[0]).round();
+                best = best.min(sq([x, dm[1] + ny * len[1], dm[2]]));
+            }
+            best
+        }
+        _ => sq(dm),
+    }
+}
+
 /// The minimum image of a separation: the periodic one, or under Lees–Edwards the sliding-brick
 /// one ([`SimBox::min_image_le`], its velocity jump dropped).
 #[inline(always)]
@@ -453,6 +500,7 @@ impl NeighborList {
             slab_axis: if slab_mode { Some(bx.dim - 1) } else { None },
             le: self.le,
             tilt_allow: self.tilt_allow,
+            short_y: self.le.is_some() && len[1] < 2.0 * rc_max,
         };
         let isa = match self.isa {
             Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
@@ -656,6 +704,7 @@ impl NeighborList {
         let quarter = [0.25 * len[0], 0.25 * len[1], 0.25 * len[2]];
         let x = &atoms.x;
         let le = self.le;
+        let short_y = le.is_some() && len[1] < 2.0 * self.rc_max;
         self.slabs.par_iter_mut().for_each(|s| {
             s.in_row_start.clear();
             s.in_nbr.clear();
@@ -670,15 +719,17 @@ impl NeighborList {
                 }
                 for &j in row {
                     let xj = x[j as usize];
-                    let mut d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
-                    if (d[0].abs() >= quarter[0])
+                    let d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
+                    let rsq = if (d[0].abs() >= quarter[0])
                         | (d[1].abs() >= quarter[1])
                         | (d[2].abs() >= quarter[2])
                     {
-                        d = pair_image(bx, le.as_ref(), d);
-                    }
+                        nearest_sq(bx, le.as_ref(), short_y, d, 0.0)
+                    } else {
+                        d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
+                    };
                     s.in_nbr[len] = j;
-                    len += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cutsq);
+                    len += usize::from(rsq < cutsq);
                 }
                 s.in_row_start.push(len as u32);
             }
@@ -749,6 +800,7 @@ impl NeighborList {
         let ctx = Ctx {
             special,
             le: self.le,
+            short: self.short_axes(bx),
             inner: self.inner_on,
             isa,
             bx,

@@ -11,6 +11,9 @@ pub(super) struct Ctx<'a> {
     pub(super) special: Option<&'a crate::engine::topology::SpecialPairs>,
     /// Lees–Edwards boundaries of this step (None: periodic).
     pub(super) le: Option<LeesEdwards>,
+    /// A box shorter than 2 r_c: the short axes and the image key's frame (P-4b). Every
+    /// candidate pair then goes through [`SimBox::images_within`], each image keyed apart.
+    pub(super) short: Option<([bool; 3], crate::rng::ImageFrame)>,
     /// Iterate the working list instead of the list.
     pub(super) inner: bool,
     /// The instruction set of the pair loop (supported by this CPU).
@@ -190,6 +193,7 @@ pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const SIMD: u8>(
         i: [0; BATCH],
         j: [0; BATCH],
     };
+    p.batch.images = ctx.short.map(|(_, frame)| frame);
     let (x, typ) = (ctx.x, ctx.typ);
     if x.is_empty() || typ.len() != x.len() || ctx.rcsq.is_empty() {
         return tally;
@@ -211,7 +215,12 @@ pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const SIMD: u8>(
         one_coeff,
         one_rcsq: ctx.rcsq.get(one_coeff).copied().unwrap_or(0.0),
         min_sq: MIN_PAIR_DISTANCE * MIN_PAIR_DISTANCE,
-        quarter: [0.25 * box_len[0], 0.25 * box_len[1], 0.25 * box_len[2]],
+        // In a box shorter than 2 r_c every entry takes the image pass (a quarter of 0).
+        quarter: if ctx.short.is_some() {
+            [0.0; 3]
+        } else {
+            [0.25 * box_len[0], 0.25 * box_len[1], 0.25 * box_len[2]]
+        },
     };
     let at = (w.start, w.next_start);
     let mut len = 0;
@@ -256,7 +265,40 @@ pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const SIMD: u8>(
         // Pairs through a periodic boundary: minimum images in a branch-free pass (it
         // vectorises), then the in-range ones appended in row order.
         let nf = sc.far.len();
-        if nf > 0 {
+        if let Some((short, _)) = ctx.short {
+            // Every image in range, each its own pair (P-4b): scalar, small boxes only.
+            let mut images = Vec::with_capacity(27);
+            for q in 0..nf {
+                let j = r.row[sc.far[q] as usize];
+                let xj = x[j as usize];
+                let rcsq = if ONE_TYPE {
+                    pc.one_rcsq
+                } else {
+                    ctx.rcsq[r.row_t + typ[j as usize] as usize]
+                };
+                images.clear();
+                bx.images_within(
+                    [r.xi[0] - xj[0], r.xi[1] - xj[1], r.xi[2] - xj[2]],
+                    ctx.le.as_ref(),
+                    short,
+                    rcsq,
+                    pc.min_sq,
+                    &mut images,
+                );
+                for &(d, dvx) in &images {
+                    let b = &mut p.batch;
+                    b.dr[0][len] = d[0];
+                    b.dr[1][len] = d[1];
+                    b.dr[2][len] = d[2];
+                    append_rest::<ONE_TYPE>(&r, &pc, p_lane(&mut p, len), j);
+                    p.batch.dv[0][len] += dvx;
+                    len += 1;
+                    if len == BATCH {
+                        sink.evaluate::<ONE_TYPE>(&mut p, &mut len);
+                    }
+                }
+            }
+        } else if nf > 0 {
             for v in sc.far_dr.iter_mut() {
                 if v.len() < nf {
                     v.resize(nf, 0.0);
