@@ -3,6 +3,7 @@
 
 use dpdnl::engine::pair::{Batcher, lane_force};
 use dpdnl::engine::simd::within_cut;
+use dpdnl::engine::topology::SpecialRule;
 use dpdnl::kernel::Isa;
 use dpdnl::{DpdKernel, PairBatch, PairKernel, PairTable};
 
@@ -187,16 +188,6 @@ pub(crate) unsafe fn compute(
 #[inline(always)]
 pub(crate) fn special_class(jraw: i32) -> usize {
     (jraw as u32 >> 30) as usize
-}
-
-/// How a walk treats LAMMPS's special-bond bits: the `special_bonds lj` factors by class, and
-/// whether the kernel's table holds a scaled block per class (`PairStyle::scales_special`).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Special {
-    /// Factors by class (entry 0 is 1).
-    pub(crate) lj: [f64; 4],
-    /// Coefficient blocks per class in the kernel's table.
-    pub(crate) scaled: bool,
 }
 
 /// The rows of a LAMMPS neighbour list, checked: `visit(i, row, mask)` for every i of `ilist`,
@@ -436,7 +427,7 @@ struct Walk<'a> {
     kernel: &'a dyn PairKernel,
     cut: &'a [f64],
     nt: usize,
-    special: Option<Special>,
+    special: Option<SpecialRule>,
     x: &'a [f64],
     v: &'a [f64],
     tag: &'a [i32],
@@ -522,7 +513,6 @@ impl Walk<'_> {
                 b.tag_j[l] = *tag.get_unchecked(j) as u32;
             }
         };
-        let block = (nt + 1) * (nt + 1);
         for r in rows {
             let (i, jlist) = r?;
             let bonded = check_row(i, jlist, mask, self.nall)?;
@@ -534,10 +524,9 @@ impl Walk<'_> {
             if let Some(sp) = self.special
                 && bonded
             {
-                let kept = jlist.iter().filter(|&&jr| sp.lj[special_class(jr)] != 0.0);
+                let kept = jlist.iter().filter(|&&jr| !sp.excludes(special_class(jr)));
                 let fill = |b: &mut PairBatch, l, &jr: &i32| {
-                    let class = special_class(jr);
-                    let extra = if sp.scaled { class * block } else { 0 };
+                    let extra = sp.offset(special_class(jr)) as usize;
                     self.offer(b, l, at, jr as u32 as usize & mask, extra)
                 };
                 bt.extend(kept, fill, kernel, step, &mut gather, &mut apply);
@@ -590,7 +579,7 @@ pub(crate) unsafe fn walk_pairs(
     kernel: &dyn PairKernel,
     cut: &[f64],
     ntypes: usize,
-    special: Option<Special>,
+    special: Option<SpecialRule>,
     atoms: &DpdnlAtoms,
     list: &DpdnlNeighList,
     st: &DpdnlStep,

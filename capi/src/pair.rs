@@ -20,7 +20,7 @@ use dpdnl::engine::style::{STYLES, check_special, from_restart_lines};
 use dpdnl::kernel::Isa;
 use dpdnl::{PairStyle, SetupContext, new_pair_style};
 
-use crate::compute::{Special, Workers, for_each_row, special_class, walk_pairs};
+use crate::compute::{Workers, for_each_row, special_class, walk_pairs};
 use crate::init::set_last_message;
 use crate::styles::{put, words};
 use crate::team::DpdnlLaunch;
@@ -29,6 +29,7 @@ use crate::{
     DpdnlAtoms, DpdnlNeighList, DpdnlStatus, DpdnlStep, DpdnlTally, Error, c_str, guard, slice,
     slice_mut,
 };
+use dpdnl::engine::topology::SpecialRule;
 
 /// A pair style and its coefficients (opaque to C).
 pub struct DpdnlPair {
@@ -585,7 +586,7 @@ pub unsafe extern "C" fn dpdnl_pair_prepass(
         rho.fill(0.0);
         let newton = newton_pair != 0;
         let rcsq = pp.rcsq();
-        let special = h.special;
+        let rule = SpecialRule::new(h.special, h.style.scales_special(), nt);
         // SAFETY: forwarded caller's contract.
         unsafe {
             for_each_row(list, nall, |i, jlist, mask| {
@@ -595,7 +596,7 @@ pub unsafe extern "C" fn dpdnl_pair_prepass(
                 for &jraw in jlist {
                     // A bonded neighbour of factor 0 is not in the sum (fractional factors
                     // are refused at set-up: `check_special`).
-                    if special[special_class(jraw)] == 0.0 {
+                    if rule.excludes(special_class(jraw)) {
                         continue;
                     }
                     let j = jraw as u32 as usize & mask;
@@ -737,10 +738,7 @@ pub unsafe extern "C" fn dpdnl_pair_compute(
         let style = &*h.style;
         let kernel = style.kernel(Isa::detect());
         let workers = h.workers.as_mut();
-        let special = Special {
-            lj: h.special,
-            scaled: style.scales_special(),
-        };
+        let special = SpecialRule::new(h.special, style.scales_special(), nt);
         // SAFETY: null or valid (caller's contract).
         let t = unsafe { tally.as_ref() }.copied();
         // SAFETY: forwarded caller's contract.

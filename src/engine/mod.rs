@@ -281,7 +281,8 @@ impl System {
             .ok_or("no pair style defined (pair_style dpd/nonlinear … or sdpd …)")?;
         style::check_special(style, ctx.special_lj)?;
         self.setup_notes = style.setup(&ctx)?;
-        let action = special_actions(ctx.special_lj, style.scales_special(), style.ntypes());
+        let rule =
+            topology::SpecialRule::new(ctx.special_lj, style.scales_special(), style.ntypes());
         let rc_max = style.rc_max();
         for p in &self.pex {
             crate::grammar::fix::pex_box_check(p.width, self.bx.len()[0], self.tri.is_some(), true)
@@ -312,7 +313,7 @@ impl System {
         // builds one too, gets the same bits).
         self.set_shear();
         self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
-        self.setup_topology(action, rc_max)?;
+        self.setup_topology(rule, rc_max)?;
         self.compute_forces(true);
         Ok(())
     }
@@ -329,11 +330,7 @@ impl System {
     /// warnings), the special partners, the index form of the topology, and LAMMPS's checks of
     /// the bonded atoms' images ([`System::check_bonded_images`]; `rc_max`: the largest pair
     /// cut-off).
-    fn setup_topology(
-        &mut self,
-        action: [topology::SpecialAction; 4],
-        rc_max: f64,
-    ) -> Result<(), String> {
+    fn setup_topology(&mut self, rule: topology::SpecialRule, rc_max: f64) -> Result<(), String> {
         let Some(t) = &self.topo else { return Ok(()) };
         if !t.bonds.is_empty() {
             match &t.bond_style {
@@ -377,7 +374,7 @@ impl System {
             }
         }
         self.partners = t.special_partners();
-        t.index(&self.atoms.tag, &self.partners, action, &mut self.bonded)?;
+        t.index(&self.atoms.tag, &self.partners, rule, &mut self.bonded)?;
         self.bonded.build = self.neighbor.builds;
         if self.check_bonded_images(rc_max)? {
             self.setup_notes
@@ -823,9 +820,9 @@ impl System {
         let mut extra_energy = 0.0;
         self.pair_fault = None;
         if self.topo.is_some() && self.bonded.build != self.neighbor.builds {
-            let action = self.bonded.special.action;
+            let rule = self.bonded.special.rule;
             if let Some(t) = &self.topo
-                && let Err(e) = t.index(&self.atoms.tag, &self.partners, action, &mut self.bonded)
+                && let Err(e) = t.index(&self.atoms.tag, &self.partners, rule, &mut self.bonded)
             {
                 self.pair_fault.get_or_insert(e);
             }
@@ -1148,25 +1145,6 @@ pub fn check_atoms(
         }
     }
     Ok(())
-}
-
-/// What the pair loop does with each special class under factors `lj`: factor 1 an ordinary
-/// pair, 0 left out, fractional the style's scaled block (`PairStyle::scales_special`; other
-/// styles refuse fractional factors at `check_special`).
-fn special_actions(lj: [f64; 4], scales: bool, ntypes: usize) -> [topology::SpecialAction; 4] {
-    use topology::SpecialAction as A;
-    let block = ((ntypes + 1) * (ntypes + 1)) as u32;
-    let mut out = [A::Keep; 4];
-    for c in 1..4 {
-        out[c] = if lj[c] == 0.0 {
-            A::Exclude
-        } else if lj[c] == 1.0 || !scales {
-            A::Keep
-        } else {
-            A::Offset(c as u32 * block)
-        };
-    }
-    out
 }
 
 /// A length with 8 significant digits in its shortest form (LAMMPS's `{:.8}` of a double in its

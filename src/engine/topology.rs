@@ -273,6 +273,58 @@ pub enum SpecialAction {
     Offset(u32),
 }
 
+/// The special-bond rule (`docs/models.md` §4.8), written once for every pair loop (the
+/// standalone engine's pair and density passes, the C ABI's walks of LAMMPS's lists): what a
+/// pair of bonded neighbours of class 1–3 (1-2, 1-3, 1-4) gets under the `special_bonds lj`
+/// factors: factor 1 an ordinary pair, 0 left out, fractional the coefficients of the class's
+/// scaled block of the style's table (`PairStyle::scales_special`; a style without scaled
+/// blocks refuses fractional factors at set-up, `check_special`). Class 0 (not bonded) is
+/// always kept.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SpecialRule {
+    action: [SpecialAction; 4],
+}
+
+impl SpecialRule {
+    /// The rule for factors `lj` (entry 0 unused), a style that does (`scales`) or does not
+    /// hold scaled blocks, and `ntypes` atom types (a block is (ntypes + 1)² entries).
+    pub fn new(lj: [f64; 4], scales: bool, ntypes: usize) -> SpecialRule {
+        let block = ((ntypes + 1) * (ntypes + 1)) as u32;
+        let mut action = [SpecialAction::Keep; 4];
+        for c in 1..4 {
+            action[c] = if lj[c] == 0.0 {
+                SpecialAction::Exclude
+            } else if lj[c] == 1.0 || !scales {
+                SpecialAction::Keep
+            } else {
+                SpecialAction::Offset(c as u32 * block)
+            };
+        }
+        SpecialRule { action }
+    }
+
+    /// What a pair of class `class` (0–3) gets.
+    #[inline(always)]
+    pub fn action(&self, class: usize) -> SpecialAction {
+        self.action[class & 3]
+    }
+
+    /// Whether a pair of class `class` is left out.
+    #[inline(always)]
+    pub fn excludes(&self, class: usize) -> bool {
+        self.action(class) == SpecialAction::Exclude
+    }
+
+    /// The offset of a kept pair's coefficient index (0 unless its class is scaled).
+    #[inline(always)]
+    pub fn offset(&self, class: usize) -> u32 {
+        match self.action(class) {
+            SpecialAction::Offset(o) => o,
+            _ => 0,
+        }
+    }
+}
+
 /// Each atom's special partners (by index, after the last sort), and what a pair of each class
 /// gets: the pair loop's view of [`Topology::special`].
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -283,8 +335,8 @@ pub struct SpecialPairs {
     pub tag: Vec<u32>,
     /// Partner classes (1–3).
     pub class: Vec<u8>,
-    /// The action of each class.
-    pub action: [SpecialAction; 4],
+    /// What a pair of each class gets.
+    pub rule: SpecialRule,
 }
 
 impl SpecialPairs {
@@ -410,14 +462,14 @@ impl Topology {
     }
 
     /// The index form of the topology for atoms with ids `tags` (storage order), with
-    /// `partners` from [`Topology::special_partners`] and the class actions `action`. An id
+    /// `partners` from [`Topology::special_partners`] and the special-bond rule `rule`. An id
     /// without an atom is an error naming it (the data file's checks make that impossible for
     /// the atoms they read).
     pub fn index(
         &self,
         tags: &[u32],
         partners: &HashMap<u32, Vec<(u32, u8)>>,
-        action: [SpecialAction; 4],
+        rule: SpecialRule,
         out: &mut BondedIndex,
     ) -> Result<(), String> {
         let map = TagMap::new(tags);
@@ -447,7 +499,7 @@ impl Topology {
         for t in tags {
             if let Some(list) = partners.get(t) {
                 for &(p, c) in list {
-                    if action[c as usize] != SpecialAction::Keep {
+                    if rule.action(c as usize) != SpecialAction::Keep {
                         sp.tag.push(p);
                         sp.class.push(c);
                     }
@@ -455,7 +507,7 @@ impl Topology {
             }
             sp.start.push(sp.tag.len() as u32);
         }
-        sp.action = action;
+        sp.rule = rule;
         Ok(())
     }
 }
@@ -508,5 +560,22 @@ mod tests {
         let p = t.special_partners();
         // In the 5-ring every other atom is 1-2 or 1-3; nothing is 1-4, nor the atom itself.
         assert_eq!(p[&1], vec![(2, 1), (5, 1), (3, 2), (4, 2)]);
+    }
+
+    /// The rule of docs/models.md §4.8: 0 drops, 1 keeps, a fraction takes its class's block
+    /// (of (ntypes + 1)² entries) when the style scales, and is kept as is otherwise (such a
+    /// style refuses fractional factors at set-up); class 0 is always an ordinary pair.
+    #[test]
+    fn special_rule_drops_keeps_and_scales() {
+        let rule = SpecialRule::new([1.0, 0.0, 0.5, 1.0], true, 2);
+        assert_eq!(rule.action(0), SpecialAction::Keep);
+        assert!(rule.excludes(1));
+        assert_eq!(rule.action(2), SpecialAction::Offset(2 * 9));
+        assert_eq!((rule.offset(2), rule.offset(3), rule.offset(0)), (18, 0, 0));
+        assert!(!rule.excludes(3) && !rule.excludes(0));
+        let plain = SpecialRule::new([1.0, 0.0, 0.5, 1.0], false, 2);
+        assert_eq!(plain.action(2), SpecialAction::Keep);
+        assert!(plain.excludes(1));
+        assert_eq!(SpecialRule::default().action(1), SpecialAction::Keep);
     }
 }

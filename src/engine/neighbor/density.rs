@@ -71,8 +71,7 @@ impl NeighborList {
                     for &j in row {
                         let ju = j as usize;
                         if let Some(sp) = special
-                            && sp.action[sp.class_of(i, atoms.tag[ju])]
-                                == crate::engine::topology::SpecialAction::Exclude
+                            && sp.rule.excludes(sp.class_of(i, atoms.tag[ju]))
                         {
                             continue;
                         }
@@ -127,8 +126,7 @@ impl NeighborList {
                     && sp.start[i] != sp.start[i + 1]
                 {
                     for (wk, &j) in wv.iter_mut().zip(row) {
-                        let class = sp.class_of(i, atoms.tag[j as usize]);
-                        if sp.action[class] == crate::engine::topology::SpecialAction::Exclude {
+                        if sp.rule.excludes(sp.class_of(i, atoms.tag[j as usize])) {
                             *wk = 0.0;
                         }
                     }

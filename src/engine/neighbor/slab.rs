@@ -573,7 +573,7 @@ fn apply_special(sp: &crate::engine::topology::SpecialPairs, p: &mut Pending, n:
     let mut w = 0;
     for l in 0..n {
         let class = sp.class_of(p.i[l] as usize, p.batch.tag_j[l]);
-        let keep = match sp.action[class] {
+        let keep = match sp.rule.action(class) {
             SpecialAction::Keep => true,
             SpecialAction::Exclude => false,
             SpecialAction::Offset(o) => {
