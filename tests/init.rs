@@ -22,7 +22,7 @@ fn script2d(n_atoms: usize, pair: &str, dt: f64, fix: &str, steps: u32) -> Strin
 }
 
 fn gamma0(sys: &System, i: usize, j: usize) -> f64 {
-    sys.dpd().unwrap().get(i, j).unwrap().gamma0
+    common::dpd(sys).unwrap().get(i, j).unwrap().gamma0
 }
 
 /// γ0 and s are the exact kinetic-theory design at n = N/V, recomputed at every run: adding
@@ -56,7 +56,7 @@ fn targets_resolve_from_the_current_density() {
             d6.gamma
         );
     }
-    let s = sys.dpd().unwrap().model.weight.exponent();
+    let s = common::dpd(&sys).unwrap().model.weight.exponent();
     assert!((s - d6.s).abs() <= 1e-12 * d6.s, "{s} vs {}", d6.s);
     // The first run logged the n = 4 design, the second the n = 6 one.
     let logged: Vec<&String> = lines

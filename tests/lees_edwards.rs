@@ -87,7 +87,7 @@ fn system(bx: SimBox, n: usize, xy: f64, erate: f64, seed: u64) -> System {
 /// `pair_force` with the pair's keyed Gaussian (`docs/models.md` §1.1–1.4; P-5: the boundary
 /// velocity jump). Returns (f, energy, virial, pairs through the sheared boundary).
 fn brute(sys: &System) -> (Vec<[f64; 3]>, f64, [f64; 6], usize) {
-    let ff = sys.dpd().expect("ff");
+    let ff = common::dpd(sys).expect("ff");
     let tri = sys.tri.as_ref().expect("triclinic");
     let (off, rate) = (tri.le.offset, tri.le.rate);
     let l = sys.bx.len();

@@ -132,7 +132,7 @@ fn forces_match_brute_force() {
         sys.setup().expect("setup");
         let a = &sys.atoms;
         let n = a.len();
-        let ff = sys.dpd().expect("ff");
+        let ff = common::dpd(&sys).expect("ff");
         let inv_m = |t: u32| 1.0 / sys.mass[t as usize].expect("mass");
         let mut f = vec![[0.0; 3]; n];
         let mut scale = vec![[0.0; 3]; n];

@@ -375,7 +375,7 @@ fn the_file_holds_the_system_in_storage_order() {
     assert_eq!(r.fixes.len(), 2);
     assert_eq!(r.fixes[1].words[..3], ["push", "all", "pex/push"]);
     let (_, back) = run_on(1, &format!("read_restart {}\n", file.display())).expect("reads");
-    let ff = back.dpd().expect("pair style restored");
+    let ff = common::dpd(&back).expect("pair style restored");
     assert_eq!(ff.seed, 9898);
     assert_eq!(ff.get(1, 2).map(|p| p.rc), Some(0.9));
     assert_eq!(back.neighbor.skin, 0.5);

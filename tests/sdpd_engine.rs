@@ -98,7 +98,7 @@ fn densities_match_brute_force() {
     ] {
         let text = script(dim, 1200, kernel, "", 3);
         let sys = run(&text).expect("runs").1.expect("system");
-        let sd = sys.sdpd().expect("sdpd");
+        let sd = common::sdpd(&sys).expect("sdpd");
         let shape = KernelShape::new(k, dim, 2.0).unwrap();
         let a = &sys.atoms;
         let len = sys.bx.len();
@@ -209,7 +209,7 @@ fn density_compute() {
     let text = script(2, 900, "lucy", &extra, 10).replace("thermo 0\n", "");
     let (lines, sys) = run(&text).expect("runs");
     let sys = sys.unwrap();
-    let d = &sys.sdpd().unwrap().density;
+    let d = &common::sdpd(&sys).unwrap().density;
     let n = d.len() as f64;
     let mean = d.iter().sum::<f64>() / n;
     let rms = (d.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n).sqrt() / mean;

@@ -203,7 +203,7 @@ fn small_box_forces_match_a_sum_over_every_image() {
         sys.setup().expect("setup");
         let a = &sys.atoms;
         let n = a.len();
-        let ff = sys.dpd().expect("ff");
+        let ff = common::dpd(&sys).expect("ff");
         let c = ff.get(1, 1).expect("coefficients");
         let frame = ImageFrame::new(spec.dim, sys.bx.len(), [0.0; 3], [true; 3]);
         let mut f = vec![[0.0; 3]; n];

@@ -286,6 +286,18 @@ impl PairStyle for DpdPair {
         "dpd/nonlinear"
     }
 
+    fn plan(&self, _units: &crate::units::Units, _dt: f64) -> super::style::StylePlan {
+        let n = self.ff.ntypes();
+        let coeffs = (1..=n)
+            .flat_map(|i| (i..=n).map(move |j| (i, j)))
+            .filter_map(|(i, j)| self.ff.get(i, j).map(|c| (i, j, *c)))
+            .collect();
+        super::style::StylePlan::Dpd {
+            model: self.ff.model,
+            coeffs,
+        }
+    }
+
     fn ntypes(&self) -> usize {
         self.ff.ntypes()
     }

@@ -213,17 +213,6 @@ impl System {
         }
     }
 
-    /// The `dpd/nonlinear` style's force field, if that is the pair style.
-    pub fn dpd(&self) -> Option<&ForceField> {
-        let p = self.pair.as_deref()?;
-        Some(&p.as_any().downcast_ref::<forcefield::DpdPair>()?.ff)
-    }
-
-    /// The `sdpd` style, if that is the pair style.
-    pub fn sdpd(&self) -> Option<&sdpd::SdpdField> {
-        self.pair.as_deref()?.as_any().downcast_ref()
-    }
-
     /// Make `style` the pair style.
     pub fn set_pair(&mut self, style: impl PairStyle + 'static) {
         self.pair = Some(Box::new(style));

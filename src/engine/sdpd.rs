@@ -323,6 +323,23 @@ impl PairStyle for SdpdField {
         "sdpd"
     }
 
+    fn plan(&self, units: &crate::units::Units, _dt: f64) -> super::style::StylePlan {
+        let n = self.ntypes;
+        let pairs = (1..=n)
+            .flat_map(|i| (i..=n).map(move |j| (i, j)))
+            .filter_map(|(i, j)| self.get(i, j).map(|p| (i, j, *p)))
+            .collect();
+        super::style::StylePlan::Sdpd(super::style::PlannedSdpd {
+            kt: units.kt(self.style.temp),
+            kernel: self.style.kernel,
+            pairs,
+        })
+    }
+
+    fn atom_values(&self) -> Option<&[f64]> {
+        Some(&self.density)
+    }
+
     fn ntypes(&self) -> usize {
         self.ntypes
     }

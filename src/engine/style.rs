@@ -72,6 +72,35 @@ pub trait PrePass: Sync {
     fn fault(&self, who: &str, d: f64, step: u64) -> String;
 }
 
+/// What a run of a pair style would use, as its set-up resolved it: the typed report that
+/// `dpdnl theory SCRIPT`, `dpdnl design` and dry runs read ([`PairStyle::plan`]), so that no
+/// caller needs to know the style's type.
+#[derive(Clone, Debug)]
+pub enum StylePlan {
+    /// A DPD-form style: its model (kT, friction, noise, weight; δt set) and (i, j,
+    /// coefficients) for i ≤ j, (η, Sc) targets resolved.
+    Dpd {
+        /// The model.
+        model: crate::kernel::PairModel,
+        /// The pairs' coefficients.
+        coeffs: Vec<(usize, usize, crate::kernel::PairCoeff)>,
+    },
+    /// Smoothed DPD: kT (boltz T), the kernel (the designed one when targets were given) and
+    /// (i, j, values) for i ≤ j.
+    Sdpd(PlannedSdpd),
+}
+
+/// What a planned run of `pair_style sdpd` holds (targets resolved).
+#[derive(Clone, Debug)]
+pub struct PlannedSdpd {
+    /// kT of the random force (boltz T, an energy).
+    pub kt: f64,
+    /// The kernel (the designed one when targets were given).
+    pub kernel: crate::kernel::sdpd::Smoothing,
+    /// (i, j, values) for i ≤ j.
+    pub pairs: Vec<(usize, usize, crate::engine::sdpd::SdpdPair)>,
+}
+
 /// One pair style (see the module documentation).
 pub trait PairStyle: Send + Sync + Debug {
     /// The style's name (`dpd/nonlinear`, `sdpd`).
@@ -131,7 +160,15 @@ pub trait PairStyle: Send + Sync + Debug {
     fn single(&self, _i: usize, _j: usize, _rsq: f64) -> Option<(f64, f64)> {
         None
     }
-    /// The style as `Any`, for reports that read one style's own settings.
+    /// The per-atom values of the last pre-pass (sDPD's densities, in the engine's atom
+    /// order), if the style has a pre-pass and it ran.
+    fn atom_values(&self) -> Option<&[f64]> {
+        None
+    }
+    /// What a run would use, after [`PairStyle::setup`] (`units` for kT, `dt` the time step).
+    fn plan(&self, units: &crate::units::Units, dt: f64) -> StylePlan;
+    /// The style as `Any`: for tests that read one style's own fields (no code path of the
+    /// engines downcasts; they use the trait).
     fn as_any(&self) -> &dyn Any;
     /// A copy of the style.
     fn clone_box(&self) -> Box<dyn PairStyle>;

@@ -14,6 +14,20 @@ pub fn run(text: &str) -> Result<(Vec<String>, Option<System>), ScriptError> {
     Ok((console.0, sys))
 }
 
+/// The `dpd/nonlinear` style's force field, if that is the pair style (a test's downcast: the
+/// engines read styles through the trait only).
+#[allow(dead_code)] // not every test crate that includes this module calls it
+pub fn dpd(sys: &System) -> Option<&dpdnl::engine::ForceField> {
+    let p = sys.pair.as_deref()?.as_any();
+    Some(&p.downcast_ref::<dpdnl::engine::forcefield::DpdPair>()?.ff)
+}
+
+/// The `sdpd` style, if that is the pair style (a test's downcast, as [`dpd`]).
+#[allow(dead_code)] // not every test crate that includes this module calls it
+pub fn sdpd(sys: &System) -> Option<&dpdnl::engine::sdpd::SdpdField> {
+    sys.pair.as_deref()?.as_any().downcast_ref()
+}
+
 /// Every atom's tag, position bits and velocity bits, sorted by tag (for bit-identity checks).
 #[allow(dead_code)] // not every test crate that includes this module calls it
 pub fn state_by_tag(sys: &System) -> Vec<(u32, [u64; 3], [u64; 3])> {

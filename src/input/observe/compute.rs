@@ -198,7 +198,7 @@ impl Observe {
             }
             "sdpd/density" => {
                 extra(3)?;
-                if sys.sdpd().is_none() {
+                if sys.pair.as_deref().and_then(|p| p.prepass()).is_none() {
                     return Err(
                         "compute sdpd/density needs pair_style sdpd (define it first)".into(),
                     );
@@ -535,19 +535,23 @@ impl Observe {
 
 /// The densities of the last `pair_style sdpd` evaluation (one per atom, internal order).
 fn sdpd_densities<'a>(c: &ComputeDef, sys: &'a System) -> Result<&'a [f64], String> {
-    let sd = sys.sdpd().ok_or_else(|| {
-        format!(
-            "compute sdpd/density '{}': the pair style is no longer sdpd",
-            c.id
-        )
-    })?;
-    if sd.density.len() != sys.atoms.len() {
+    let density = sys
+        .pair
+        .as_deref()
+        .and_then(|p| p.atom_values())
+        .ok_or_else(|| {
+            format!(
+                "compute sdpd/density '{}': the pair style is no longer sdpd",
+                c.id
+            )
+        })?;
+    if density.len() != sys.atoms.len() {
         return Err(format!(
             "compute sdpd/density '{}': no densities yet (they are computed by a run's set-up)",
             c.id
         ));
     }
-    Ok(&sd.density)
+    Ok(density)
 }
 
 /// LAMMPS's `compute gyration` of group all: the mass-weighted tensor

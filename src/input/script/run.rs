@@ -4,6 +4,8 @@
 use super::fix::FixKind;
 use super::{CmdResult, Interpreter};
 use crate::engine::lees_edwards::flip_jump_note;
+pub use crate::engine::style::PlannedSdpd;
+use crate::engine::style::StylePlan;
 use crate::engine::{Integrator, SetupNote, System};
 use crate::grammar::{need, parse_int};
 use crate::kernel::{PairCoeff, PairModel};
@@ -45,40 +47,20 @@ pub struct PlannedRun {
 
 impl PlannedRun {
     fn of(sys: &mut System, steps: u64, notes: Vec<SetupNote>) -> Result<PlannedRun, String> {
-        let mut coeffs = Vec::new();
-        let mut sdpd = None;
-        let model = if let Some(sd) = sys.sdpd() {
-            let mut pairs = Vec::new();
-            for i in 1..=sys.ntypes {
-                for j in i..=sys.ntypes {
-                    if let Some(p) = sd.get(i, j) {
-                        pairs.push((i, j, *p));
-                    }
-                }
+        let style = sys.pair.as_deref().ok_or("no pair style")?;
+        let (model, coeffs, sdpd) = match style.plan(&sys.units, sys.dt) {
+            StylePlan::Dpd { model, coeffs } => (model, coeffs, None),
+            StylePlan::Sdpd(sd) => {
+                // Placeholder: a `sdpd` run has no DPD model (see `sdpd`).
+                let model = PairModel::new(
+                    sd.kt,
+                    crate::kernel::Friction::None,
+                    crate::kernel::Noise::Plain,
+                    crate::kernel::Weight::STANDARD,
+                    sys.dt,
+                );
+                (model, Vec::new(), Some(sd))
             }
-            sdpd = Some(PlannedSdpd {
-                kt: sys.units.kt(sd.style.temp),
-                kernel: sd.style.kernel,
-                pairs,
-            });
-            // Placeholder: a `sdpd` run has no DPD model (see `sdpd`).
-            PairModel::new(
-                sys.units.kt(sd.style.temp),
-                crate::kernel::Friction::None,
-                crate::kernel::Noise::Plain,
-                crate::kernel::Weight::STANDARD,
-                sys.dt,
-            )
-        } else {
-            let ff = sys.dpd().ok_or("no pair style")?;
-            for i in 1..=sys.ntypes {
-                for j in i..=sys.ntypes {
-                    if let Some(c) = ff.get(i, j) {
-                        coeffs.push((i, j, *c));
-                    }
-                }
-            }
-            ff.model
         };
         Ok(PlannedRun {
             first_step: sys.step,
@@ -96,17 +78,6 @@ impl PlannedRun {
             units: sys.units,
         })
     }
-}
-
-/// What a planned run of `pair_style sdpd` holds (targets resolved).
-#[derive(Clone, Debug)]
-pub struct PlannedSdpd {
-    /// kT of the random force (boltz T, an energy).
-    pub kt: f64,
-    /// The kernel (the designed one when targets were given).
-    pub kernel: crate::kernel::sdpd::Smoothing,
-    /// (i, j, values) for i ≤ j.
-    pub pairs: Vec<(usize, usize, crate::engine::sdpd::SdpdPair)>,
 }
 
 /// Commands a dry run ([`Interpreter::set_dry_run`]) skips: everything that writes a file or
