@@ -182,6 +182,11 @@ typedef struct DpdnlSetup {
   const double *special_lj;
   // The unit style and its constants.
   struct DpdnlUnits units;
+  // Nonzero when the style is a sub-style of the host's `pair_style hybrid` or
+  // `hybrid/overlay` (LAMMPS: `force->pair != this`): type pairs without coefficients then
+  // belong to other styles and get no interaction from this one; zero: the top-level style,
+  // every type pair must be set (`dpdnl::engine::style::coverage`, the rule).
+  int32_t substyle;
 } DpdnlSetup;
 
 // The arguments of `fix pex/push` (from [`dpdnl_parse_fix_pex_push`]); `width` 0 means the
@@ -436,7 +441,9 @@ enum DpdnlStatus dpdnl_pair_launcher(struct DpdnlPair *h, DpdnlLaunch launch);
 // `h` is null or a live handle.
 struct DpdnlPairInfo dpdnl_pair_info(const struct DpdnlPair *h);
 
-// Set-up of a run (`Pair::init_style`): every pair set, kT = boltz T in the host's units,
+// Set-up of a run (`Pair::init_style`): every pair set (as a sub-style, `setup.substyle`,
+// the pairs with coefficients only; the others get no interaction and `*rc_max` is over the
+// style's own pairs), kT = boltz T in the host's units,
 // (η, Sc) targets resolved at the current density, the per-run tables built, the Euler
 // warning. `*rc_max` gets the largest cut-off; [`crate::dpdnl_last_message`] holds the lines
 // to log, one per line, warnings starting with "WARNING: ".

@@ -115,6 +115,11 @@ pub struct DpdnlSetup {
     pub special_lj: *const f64,
     /// The unit style and its constants.
     pub units: DpdnlUnits,
+    /// Nonzero when the style is a sub-style of the host's `pair_style hybrid` or
+    /// `hybrid/overlay` (LAMMPS: `force->pair != this`): type pairs without coefficients then
+    /// belong to other styles and get no interaction from this one; zero: the top-level style,
+    /// every type pair must be set (`dpdnl::engine::style::coverage`, the rule).
+    pub substyle: i32,
 }
 
 /// The styles' names and LAMMPS's one-line descriptions, as C strings that live as long as the
@@ -394,22 +399,23 @@ pub unsafe extern "C" fn dpdnl_pair_info(h: *const DpdnlPair) -> DpdnlPairInfo {
     }
 }
 
-/// A set-up error as LAMMPS users meet it: a type pair without coefficients is most often a
-/// sub-style of `pair_style hybrid` given only some type pairs, which these styles refuse (their
-/// noise and set-up cover every type pair); `hybrid/overlay` with coefficients for all pairs
-/// works as the style alone.
+/// A set-up error as LAMMPS users meet it: a type pair without coefficients in the top-level
+/// style is most often meant for another style, which `pair_style hybrid` provides.
 fn lammps_hint(e: String) -> String {
     if e.contains("are not set (pair_coeff)") {
         format!(
-            "{e}; as a sub-style of pair_style hybrid this style needs coefficients for every \
-             type pair (pair_style hybrid/overlay adds it to other styles over all pairs)"
+            "{e}; as the top-level pair style this style needs coefficients for every type pair \
+             (under pair_style hybrid or hybrid/overlay it may take some type pairs only, the \
+             others going to other styles)"
         )
     } else {
         e
     }
 }
 
-/// Set-up of a run (`Pair::init_style`): every pair set, kT = boltz T in the host's units,
+/// Set-up of a run (`Pair::init_style`): every pair set (as a sub-style, `setup.substyle`,
+/// the pairs with coefficients only; the others get no interaction and `*rc_max` is over the
+/// style's own pairs), kT = boltz T in the host's units,
 /// (η, Sc) targets resolved at the current density, the per-run tables built, the Euler
 /// warning. `*rc_max` gets the largest cut-off; [`crate::dpdnl_last_message`] holds the lines
 /// to log, one per line, warnings starting with "WARNING: ".
@@ -472,6 +478,7 @@ pub unsafe extern "C" fn dpdnl_pair_init(
             euler: s.euler != 0,
             special_lj: special,
             units,
+            substyle: s.substyle != 0,
         };
         let notes = h
             .style
@@ -891,6 +898,12 @@ pub unsafe extern "C" fn dpdnl_pair_single(
         // SAFETY: forwarded caller's contract.
         let h = unsafe { handle(h)? };
         let (i, j) = type_pair(h, i, j)?;
+        if h.style.cutoff(i, j).is_none() {
+            return Err(Error::invalid(format!(
+                "pair_style {} has no coefficients for types {i} {j} (single)",
+                h.style.name()
+            )));
+        }
         let (fpair, e) = h.style.single(i, j, rsq).ok_or_else(|| {
             Error::invalid(format!("pair style {} has no single()", h.style.name()))
         })?;

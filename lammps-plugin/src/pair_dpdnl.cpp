@@ -172,6 +172,10 @@ void PairDpdnl::init_style()
   s.units.ftm2v = force->ftm2v;
   s.units.nktv2p = force->nktv2p;
   s.units.mv2d = force->mv2d;
+  // A sub-style of pair_style hybrid or hybrid/overlay: which type pairs it may leave to other
+  // styles is decided in Rust. PairHybrid turns this style's list request into a skip list of
+  // its own type pairs.
+  s.substyle = (force->pair != this) ? 1 : 0;
   // Threads of the force pass inside this rank: LAMMPS's OpenMP threads per MPI task
   // (package omp N, -pk omp N, -sf omp, or OMP_NUM_THREADS at start-up); the same bits for
   // every count. Before the set-up, whose notes name the count.
