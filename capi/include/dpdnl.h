@@ -455,6 +455,17 @@ enum DpdnlStatus dpdnl_pair_init(struct DpdnlPair *h,
                                  const struct DpdnlSetup *setup,
                                  double *rc_max);
 
+// The special-bond factors in force for the next [`dpdnl_pair_compute`] (LAMMPS's
+// `force->special_lj`, 4 doubles: entry 0 unused, then 1-2, 1-3, 1-4), given before every
+// evaluation: under `pair_style hybrid`, `pair_modify pair NAME special lj …` sets a sub-style's
+// own factors only around its evaluation, after its set-up. Factors equal to the last ones
+// change nothing; others are checked as at set-up (`check_special`) and the style's scaled
+// coefficient blocks rebuilt.
+//
+// # Safety
+// `h` is a live handle; `special_lj` is null (no change) or holds 4 doubles.
+enum DpdnlStatus dpdnl_pair_special(struct DpdnlPair *h, const double *special_lj);
+
 // The pre-pass, pass 1: `values[0..nall]` is overwritten with Σ_j w(r_ij) over the half list
 // `list`, added to i and to j (j owned, or any j when `newton_pair` is non-zero), without the
 // self term. A style without a pre-pass is an error.

@@ -510,6 +510,38 @@ pub unsafe extern "C" fn dpdnl_pair_init(
     })
 }
 
+/// The special-bond factors in force for the next [`dpdnl_pair_compute`] (LAMMPS's
+/// `force->special_lj`, 4 doubles: entry 0 unused, then 1-2, 1-3, 1-4), given before every
+/// evaluation: under `pair_style hybrid`, `pair_modify pair NAME special lj …` sets a sub-style's
+/// own factors only around its evaluation, after its set-up. Factors equal to the last ones
+/// change nothing; others are checked as at set-up (`check_special`) and the style's scaled
+/// coefficient blocks rebuilt.
+///
+/// # Safety
+/// `h` is a live handle; `special_lj` is null (no change) or holds 4 doubles.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_special(
+    h: *mut DpdnlPair,
+    special_lj: *const f64,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let h = unsafe { handle(h)? };
+        if special_lj.is_null() {
+            return Ok(());
+        }
+        // SAFETY: 4 doubles (caller's contract).
+        let f = unsafe { slice(special_lj, 4, "special_lj")? };
+        let special = [1.0, f[1], f[2], f[3]];
+        if special != h.special {
+            check_special(&*h.style, special).map_err(Error::invalid)?;
+            h.style.set_special(special);
+            h.special = special;
+        }
+        Ok(())
+    })
+}
+
 /// Positions (`3 nall`), types (`nall`), nlocal and nall of one rank's atoms.
 type AtomViews<'a> = (&'a [f64], &'a [i32], usize, usize);
 

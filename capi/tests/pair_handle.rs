@@ -1504,3 +1504,107 @@ fn init_sdpd(h: &Handle, substyle: i32) -> Result<f64, String> {
         Err(last_error())
     }
 }
+
+/// `dpdnl_pair_special` (issue 42: `pair_modify pair NAME special lj …` under `pair_style
+/// hybrid`, in force only around the sub-style's compute): a handle set up with other factors
+/// and given the new ones before the evaluation gives the bits of a handle set up with them; a
+/// style that cannot weight bonded neighbours refuses fractional factors there too.
+#[test]
+fn special_factors_given_before_a_compute_rebuild_the_blocks() {
+    let special = [0.0, 0.5, 0.0, 0.25];
+    let a = Atoms::new(60, 3.0, 1.2);
+    let mut lists = a.half_list(1.2);
+    for (i, l) in lists.iter_mut().enumerate() {
+        for e in l.iter_mut() {
+            *e |= (class_of(&a, i, *e as usize) as i32) << 30;
+        }
+    }
+    let forces = |h: &Handle, at_setup: [f64; 4], before: Option<[f64; 4]>| {
+        let s = DpdnlSetup {
+            dimension: 3,
+            natoms: 60,
+            volume: 27.0,
+            mass: MASS.as_ptr(),
+            dt: DT,
+            euler: 0,
+            special_lj: at_setup.as_ptr(),
+            units: lj_units(),
+            substyle: 1,
+        };
+        let mut rc = 0.0;
+        // SAFETY: a live handle; `s` valid with 4 special factors.
+        assert_eq!(
+            unsafe { dpdnl_pair_init(h.0, &s, &mut rc) },
+            DpdnlStatus::Ok
+        );
+        if let Some(f) = before {
+            // SAFETY: a live handle; 4 factors.
+            let st = unsafe { dpdnl_pair_special(h.0, f.as_ptr()) };
+            assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
+        }
+        // SAFETY: a live handle; null changes nothing.
+        assert_eq!(unsafe { dpdnl_pair_special(h.0, null()) }, DpdnlStatus::Ok);
+        let rows = CList::first(a.nlocal, &lists);
+        let atoms = a.c_atoms();
+        let list = rows.view(0x1FFF_FFFF, false);
+        let st = DpdnlStep {
+            step: 7,
+            dt: DT,
+            newton_pair: 1,
+            dimension: 3,
+        };
+        let mut f = vec![0.0; 3 * a.nall()];
+        let mut energy = 0.0;
+        let mut tally = DpdnlTally {
+            eflag_global: 1,
+            vflag_global: 0,
+            eng_vdwl: &mut energy,
+            virial: null_mut(),
+            eatom: null_mut(),
+            vatom: null_mut(),
+        };
+        // SAFETY: arrays as documented.
+        let code = unsafe {
+            dpdnl_pair_compute(h.0, &atoms, &list, &st, null(), f.as_mut_ptr(), &mut tally)
+        };
+        assert_eq!(code, DpdnlStatus::Ok, "{}", last_error());
+        (f, energy)
+    };
+    for (fr, no) in MODELS {
+        let set_up = forces(&dpd_handle(fr, no), special, None);
+        let given = forces(&dpd_handle(fr, no), [0.0, 0.75, 0.5, 1.0], Some(special));
+        let plain = forces(&dpd_handle(fr, no), [0.0, 0.75, 0.5, 1.0], None);
+        assert_eq!(set_up, given, "{fr}/{no}");
+        assert_ne!(
+            set_up.0, plain.0,
+            "{fr}/{no}: the factors change the forces"
+        );
+    }
+    let h = sdpd_handle();
+    let ones = [0.0, 1.0, 1.0, 1.0];
+    let s = DpdnlSetup {
+        dimension: 3,
+        natoms: 60,
+        volume: 27.0,
+        mass: MASS.as_ptr(),
+        dt: DT,
+        euler: 0,
+        special_lj: ones.as_ptr(),
+        units: lj_units(),
+        substyle: 0,
+    };
+    let mut rc = 0.0;
+    // SAFETY: a live handle; `s` valid.
+    assert_eq!(
+        unsafe { dpdnl_pair_init(h.0, &s, &mut rc) },
+        DpdnlStatus::Ok
+    );
+    // SAFETY: a live handle; 4 factors.
+    let st = unsafe { dpdnl_pair_special(h.0, special.as_ptr()) };
+    assert_eq!(st, DpdnlStatus::InvalidArgument);
+    assert!(
+        last_error().contains("cannot weight bonded neighbours"),
+        "{}",
+        last_error()
+    );
+}

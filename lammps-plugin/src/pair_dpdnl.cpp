@@ -246,6 +246,10 @@ void PairDpdnl::compute(int eflag, int vflag)
       dpdnl_pair_call::fill(lmp, list, !prepass, eflag_global, vflag_global, eflag_atom,
                             vflag_atom, &eng_vdwl, virial, eatom, vatom);
   const std::string where = "Pair " + name + ": ";
+  // The factors in force now: under pair_style hybrid, pair_modify pair NAME special lj sets
+  // this sub-style's own around its compute (after init_style).
+  if (dpdnl_pair_special(handle, force->special_lj) != DPDNL_STATUS_OK)
+    error->all(FLERR, where + dpdnl_last_error());
   if (prepass) {
     if (atom->nmax > nmax) {
       memory->destroy(values);

@@ -693,8 +693,49 @@ def hybrid(tmp):
             continue
         rt, rv = rel_diff_rows(thermo_blocks(got[a][1])[-1][1], thermo_blocks(got[b][1])[-1][1])
         check(rt <= TOL, f"{what}: thermo {rt:.2e} over 100 steps")
+    # Type pair 1 2 left to hybrid's mixing, which gives it to the style of 1 1 and 2 2: these
+    # styles do not mix (as pair dpd).
+    path = os.path.join(d, "in.mixed")
+    with open(path, "w") as f:
+        f.write(head + f"pair_style hybrid {style}\npair_coeff 1 1 dpd/nonlinear 5.0 4.5 1.0\n"
+                "pair_coeff 2 2 dpd/nonlinear 5.0 4.5 1.0\nrun 0\n")
+    rc, log, out = run_lammps(d, "mixed", path, cwd=d)
+    errs = error_lines(log + out)
+    check(rc != 0 and any("types 1 2 are not set (this style does not mix)" in e for e in errs),
+          "hybrid's mixing of type pair 1 2 into dpd/nonlinear is refused: "
+          + (errs[0] if errs else out[-300:]))
+    hybrid_restart(d, head)
     if PLUGIN_MODE:
         hybrid_vs_pair_dpd(d)
+
+
+def hybrid_restart(d, head):
+    """write_restart under pair_style hybrid with sdpd (1 1) and dpd/nonlinear (2 2): LAMMPS's
+    hybrid stores its sub-styles' settings (not their coefficients); read_restart and the
+    pair_coeff lines again continue the run as the uninterrupted one (thermo <= 1e-12)."""
+    coeffs = ("pair_coeff 1 1 sdpd 3.0 10.0 1.0\npair_coeff 2 2 dpd/nonlinear 25.0 4.5 1.0\n"
+              "pair_coeff 1 2 soft 3.0\n")
+    run = ("neighbor 1.0 bin\nneigh_modify delay 0 every 1 check yes\ntimestep 0.01\n"
+           "fix 1 all nve\nthermo 10\nthermo_style custom step temp press pe pxy\n"
+           "thermo_modify format float %.15g\n")
+    scripts = {
+        "hyb_write": head + "pair_style hybrid dpd/nonlinear 1.0 1.0 5 friction dot sdpd 1.0 1.0 "
+                            "7 soft 1.0\n" + coeffs + run + "run 20\nwrite_restart hyb.restart\n"
+                            "run 20\n",
+        "hyb_read": "read_restart hyb.restart\ncomm_modify vel yes\n" + coeffs + run + "run 20\n",
+    }
+    got = {}
+    for name, text in scripts.items():
+        path = os.path.join(d, "in." + name)
+        with open(path, "w") as f:
+            f.write(text)
+        rc, log, out = run_lammps(d, name, path, cwd=d)
+        check(rc == 0, f"pair_style hybrid {name} runs" + ("" if rc == 0 else ": " + out[-600:]))
+        got[name] = thermo_blocks(log) if rc == 0 else None
+    if got.get("hyb_write") and got.get("hyb_read"):
+        rt, rv = rel_diff_rows(got["hyb_write"][-1][1], got["hyb_read"][-1][1])
+        check(rt <= TOL, f"pair_style hybrid (sdpd + dpd/nonlinear + soft): the restart continues "
+              f"the run: thermo {rt:.2e}")
 
 
 def hybrid_vs_pair_dpd(d):
@@ -703,19 +744,25 @@ def hybrid_vs_pair_dpd(d):
     on 1 2, at T = 1e-30 (noise ~1e-15 of the forces) with atoms moving (velocity create 1.0),
     so the force is conservative + dissipative; a run with gamma = 0 shows the dissipative part
     is not negligible. Then the same on bead-spring chains with special_bonds lj 0.25 0.5 0.75
-    (bonded 1-3 and 1-4 neighbours of dpd's pairs scaled as pair dpd scales them)."""
+    (bonded 1-3 and 1-4 neighbours of dpd's pairs scaled as pair dpd scales them), and with the
+    sub-style's own factors (pair_modify pair NAME special lj 0.5 0.1 0.9)."""
     chains_data(os.path.join(d, "chains.data"))
+    chains = ("atom_style bond\nread_data chains.data\n",
+              "bond_style harmonic\nbond_coeff 1 50.0 0.9\nspecial_bonds lj 0.25 0.5 0.75\n")
     systems = {
-        "fluid": ("atom_style atomic\nread_data " + os.path.join(DATA, "dpd3d.data") + "\n", ""),
-        "chains": ("atom_style bond\nread_data chains.data\n",
-                   "bond_style harmonic\nbond_coeff 1 50.0 0.9\nspecial_bonds lj 0.25 0.5 0.75\n"),
+        "fluid": ("atom_style atomic\nread_data " + os.path.join(DATA, "dpd3d.data") + "\n", "",
+                  ""),
+        "chains": chains + ("",),
+        # The sub-style's own factors (pair_modify pair NAME special), set by hybrid around its
+        # compute only: dpdnl_pair_special.
+        "chains_pair_modify": chains + ("pair_modify pair {sub} special lj 0.5 0.1 0.9\n",),
     }
     styles = {
         "nl": ("dpd/nonlinear 1.0e-30 1.0 34387 friction none", "{a} {g} 0.0"),
         "dpd": ("dpd 1.0e-30 1.0 34387", "{a} {g}"),
         "dpd_g0": ("dpd 1.0e-30 1.0 34387", "{a} 0.0"),
     }
-    for system, (read, extra) in systems.items():
+    for system, (read, extra, post) in systems.items():
         forces = {}
         for name, (style, cf) in styles.items():
             sub = style.split()[0]
@@ -727,7 +774,7 @@ def hybrid_vs_pair_dpd(d):
                         "velocity all create 1.0 4928 mom yes dist gaussian\n"
                         f"pair_style hybrid {style} soft 1.0\n"
                         f"pair_coeff 1 1 {sub} {c11}\npair_coeff 2 2 {sub} {c22}\n"
-                        "pair_coeff 1 2 soft 3.0\n"
+                        "pair_coeff 1 2 soft 3.0\n" + post.format(sub=sub) +
                         f"dump 1 all custom 1 dump.h2h_{system}_{name} id fx fy fz\n"
                         "dump_modify 1 sort id format float %.17g\nrun 0\n")
             rc, log, out = run_lammps(d, f"h2h_{system}_{name}", script, cwd=d)

@@ -424,6 +424,12 @@ impl PairStyle for DpdPair {
         true
     }
 
+    fn set_special(&mut self, special_lj: [f64; 4]) {
+        if special_lj != self.special {
+            self.build_tables(self.dt, special_lj);
+        }
+    }
+
     fn kernel(&self, isa: Isa) -> Box<dyn PairKernel + '_> {
         Box::new(DpdKernel {
             model: &self.ff.model,

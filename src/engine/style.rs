@@ -132,6 +132,11 @@ pub trait PairStyle: Send + Sync + Debug {
     fn scales_special(&self) -> bool {
         false
     }
+    /// New `special_lj` factors between set-ups (LAMMPS's `pair_modify pair NAME special lj …`
+    /// under `pair_style hybrid`, in force only around this sub-style's evaluation), already
+    /// accepted by [`check_special`]: a style that scales its coefficients rebuilds its blocks;
+    /// the default keeps nothing (the pair walk reads factors 0 and 1 itself).
+    fn set_special(&mut self, _special_lj: [f64; 4]) {}
     /// The many-body pre-pass, if the style has one (after [`PairStyle::setup`]).
     fn prepass(&self) -> Option<&dyn PrePass> {
         None
