@@ -705,8 +705,44 @@ def hybrid(tmp):
           "hybrid's mixing of type pair 1 2 into dpd/nonlinear is refused: "
           + (errs[0] if errs else out[-300:]))
     hybrid_restart(d, head)
+    hybrid_pair_modify_special(d)
     if PLUGIN_MODE:
         hybrid_vs_pair_dpd(d)
+
+
+def hybrid_pair_modify_special(d):
+    """pair_modify pair dpd/nonlinear special lj 0.5 0.1 0.9 under pair_style hybrid (LAMMPS
+    sets the sub-style's factors only around its compute, after its set-up: dpdnl_pair_special)
+    gives the step-0 forces of the same hybrid with special_bonds lj 0.5 0.1 0.9 (the other
+    sub-style, zero, has no force), on bead-spring chains of two types; both LAMMPS versions."""
+    chains_data(os.path.join(d, "chains.data"))
+    forces = {}
+    for name, special, modify in [
+            ("own", "0.25 0.5 0.75", "pair_modify pair dpd/nonlinear special lj 0.5 0.1 0.9\n"),
+            ("global", "0.5 0.1 0.9", ""),
+            ("plain", "0.25 0.5 0.75", "")]:
+        path = os.path.join(d, f"in.special_{name}")
+        with open(path, "w") as f:
+            f.write("units lj\natom_style bond\ncomm_modify vel yes\nread_data chains.data\n"
+                    "mass * 1.0\nbond_style harmonic\nbond_coeff 1 50.0 0.9\n"
+                    f"special_bonds lj {special}\n"
+                    "velocity all create 1.0 4928 mom yes dist gaussian\n"
+                    "pair_style hybrid dpd/nonlinear 1.0e-30 1.0 34387 zero 1.0\n"
+                    "pair_coeff 1 1 dpd/nonlinear 25.0 4.5 0.0\n"
+                    "pair_coeff 2 2 dpd/nonlinear 18.0 3.0 0.0\npair_coeff 1 2 zero\n" + modify +
+                    f"dump 1 all custom 1 dump.special_{name} id fx fy fz\n"
+                    "dump_modify 1 sort id format float %.17g\nrun 0\n")
+        rc, log, out = run_lammps(d, f"special_{name}", path, cwd=d)
+        check(rc == 0, f"hybrid with special factors ({name}) runs"
+              + ("" if rc == 0 else ": " + out[-600:]))
+        if rc == 0:
+            forces[name] = dump_forces(os.path.join(d, f"dump.special_{name}"))
+    if len(forces) == 3:
+        same = force_diff(forces["own"], forces["global"])
+        changed = force_diff(forces["plain"], forces["global"])
+        check(same <= TOL and changed > 1e-2,
+              f"pair_modify pair dpd/nonlinear special lj under hybrid equals special_bonds with "
+              f"those factors: step-0 forces {same:.2e} (the factors change them by {changed:.2e})")
 
 
 def hybrid_restart(d, head):
@@ -778,7 +814,7 @@ def hybrid_vs_pair_dpd(d):
                         f"dump 1 all custom 1 dump.h2h_{system}_{name} id fx fy fz\n"
                         "dump_modify 1 sort id format float %.17g\nrun 0\n")
             rc, log, out = run_lammps(d, f"h2h_{system}_{name}", script, cwd=d)
-            check(rc == 0, f"hybrid {system} with {sub} runs" + ("" if rc == 0 else ": " + out[-600:]))
+            check(rc == 0, f"hybrid {system} with {name} ({sub}) runs" + ("" if rc == 0 else ": " + out[-600:]))
             if rc == 0:
                 forces[name] = dump_forces(os.path.join(d, f"dump.h2h_{system}_{name}"))
         if len(forces) < 3:
