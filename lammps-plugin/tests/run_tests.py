@@ -814,7 +814,8 @@ def hybrid_vs_pair_dpd(d):
                         f"dump 1 all custom 1 dump.h2h_{system}_{name} id fx fy fz\n"
                         "dump_modify 1 sort id format float %.17g\nrun 0\n")
             rc, log, out = run_lammps(d, f"h2h_{system}_{name}", script, cwd=d)
-            check(rc == 0, f"hybrid {system} with {name} ({sub}) runs" + ("" if rc == 0 else ": " + out[-600:]))
+            check(rc == 0, f"hybrid {system} with {name} ({sub}) runs"
+                  + ("" if rc == 0 else ": " + out[-600:]))
             if rc == 0:
                 forces[name] = dump_forces(os.path.join(d, f"dump.h2h_{system}_{name}"))
         if len(forces) < 3:

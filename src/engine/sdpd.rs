@@ -129,7 +129,8 @@ impl SdpdField {
 
     /// Set-up of a run in unit style `units`: kT = boltz T, resolve (η, Sc) targets at number
     /// density `density` (one mass for all types), build every pair's kernel and coefficients
-    /// for time step `dt` and every type's equation of state with its mass (its pressure
+    /// for time step `dt` and the equation of state of every type in the style's pairs (every
+    /// type as the top-level style; from its `I I` line) with its mass (its pressure
     /// c0² ρ0/7 × mvv2e, an energy per volume). Returns the lines to log.
     pub fn resolve(
         &mut self,
