@@ -191,6 +191,11 @@ typedef struct DpdnlSetup {
   const double *special_lj;
   // The unit style and its constants.
   struct DpdnlUnits units;
+  // Nonzero when the style is a sub-style of the host's `pair_style hybrid` or
+  // `hybrid/overlay` (LAMMPS: `force->pair != this`): type pairs without coefficients then
+  // belong to other styles and get no interaction from this one; zero: the top-level style,
+  // every type pair must be set (`dpdnl::engine::style::coverage`, the rule).
+  int32_t substyle;
 } DpdnlSetup;
 
 // The arguments of `fix pex/push` (from [`dpdnl_parse_fix_pex_push`]); `width` 0 means the
@@ -445,7 +450,9 @@ enum DpdnlStatus dpdnl_pair_launcher(struct DpdnlPair *h, DpdnlLaunch launch);
 // `h` is null or a live handle.
 struct DpdnlPairInfo dpdnl_pair_info(const struct DpdnlPair *h);
 
-// Set-up of a run (`Pair::init_style`): every pair set, kT = boltz T in the host's units,
+// Set-up of a run (`Pair::init_style`): every pair set (as a sub-style, `setup.substyle`,
+// the pairs with coefficients only; the others get no interaction and `*rc_max` is over the
+// style's own pairs), kT = boltz T in the host's units,
 // (η, Sc) targets resolved at the current density, the per-run tables built, the Euler
 // warning. `*rc_max` gets the largest cut-off; [`crate::dpdnl_last_message`] holds the lines
 // to log, one per line, warnings starting with "WARNING: ".
@@ -456,6 +463,17 @@ struct DpdnlPairInfo dpdnl_pair_info(const struct DpdnlPair *h);
 enum DpdnlStatus dpdnl_pair_init(struct DpdnlPair *h,
                                  const struct DpdnlSetup *setup,
                                  double *rc_max);
+
+// The special-bond factors in force for the next [`dpdnl_pair_compute`] (LAMMPS's
+// `force->special_lj`, 4 doubles: entry 0 unused, then 1-2, 1-3, 1-4), given before every
+// evaluation: under `pair_style hybrid`, `pair_modify pair NAME special lj …` sets a sub-style's
+// own factors only around its evaluation, after its set-up. Factors equal to the last ones
+// change nothing; others are checked as at set-up (`check_special`) and the style's scaled
+// coefficient blocks rebuilt.
+//
+// # Safety
+// `h` is a live handle; `special_lj` is null (no change) or holds 4 doubles.
+enum DpdnlStatus dpdnl_pair_special(struct DpdnlPair *h, const double *special_lj);
 
 // The pre-pass, pass 1: `values[0..nall]` is overwritten with Σ_j w(r_ij) over the half list
 // `list`, added to i and to j (j owned, or any j when `newton_pair` is non-zero), without the

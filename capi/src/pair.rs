@@ -116,6 +116,11 @@ pub struct DpdnlSetup {
     pub special_lj: *const f64,
     /// The unit style and its constants.
     pub units: DpdnlUnits,
+    /// Nonzero when the style is a sub-style of the host's `pair_style hybrid` or
+    /// `hybrid/overlay` (LAMMPS: `force->pair != this`): type pairs without coefficients then
+    /// belong to other styles and get no interaction from this one; zero: the top-level style,
+    /// every type pair must be set (`dpdnl::engine::style::coverage`, the rule).
+    pub substyle: i32,
 }
 
 /// The styles' names and LAMMPS's one-line descriptions, as C strings that live as long as the
@@ -395,22 +400,23 @@ pub unsafe extern "C" fn dpdnl_pair_info(h: *const DpdnlPair) -> DpdnlPairInfo {
     }
 }
 
-/// A set-up error as LAMMPS users meet it: a type pair without coefficients is most often a
-/// sub-style of `pair_style hybrid` given only some type pairs, which these styles refuse (their
-/// noise and set-up cover every type pair); `hybrid/overlay` with coefficients for all pairs
-/// works as the style alone.
+/// A set-up error as LAMMPS users meet it: a type pair without coefficients in the top-level
+/// style is most often meant for another style, which `pair_style hybrid` provides.
 fn lammps_hint(e: String) -> String {
     if e.contains("are not set (pair_coeff)") {
         format!(
-            "{e}; as a sub-style of pair_style hybrid this style needs coefficients for every \
-             type pair (pair_style hybrid/overlay adds it to other styles over all pairs)"
+            "{e}; as the top-level pair style this style needs coefficients for every type pair \
+             (under pair_style hybrid or hybrid/overlay it may take some type pairs only, the \
+             others going to other styles)"
         )
     } else {
         e
     }
 }
 
-/// Set-up of a run (`Pair::init_style`): every pair set, kT = boltz T in the host's units,
+/// Set-up of a run (`Pair::init_style`): every pair set (as a sub-style, `setup.substyle`,
+/// the pairs with coefficients only; the others get no interaction and `*rc_max` is over the
+/// style's own pairs), kT = boltz T in the host's units,
 /// (η, Sc) targets resolved at the current density, the per-run tables built, the Euler
 /// warning. `*rc_max` gets the largest cut-off; [`crate::dpdnl_last_message`] holds the lines
 /// to log, one per line, warnings starting with "WARNING: ".
@@ -473,6 +479,7 @@ pub unsafe extern "C" fn dpdnl_pair_init(
             euler: s.euler != 0,
             special_lj: special,
             units,
+            substyle: s.substyle != 0,
         };
         let notes = h
             .style
@@ -500,6 +507,38 @@ pub unsafe extern "C" fn dpdnl_pair_init(
         // SAFETY: valid for writing (caller's contract).
         unsafe { put(rc_max, h.style.rc_max())? };
         set_last_message(&text.join("\n"));
+        Ok(())
+    })
+}
+
+/// The special-bond factors in force for the next [`dpdnl_pair_compute`] (LAMMPS's
+/// `force->special_lj`, 4 doubles: entry 0 unused, then 1-2, 1-3, 1-4), given before every
+/// evaluation: under `pair_style hybrid`, `pair_modify pair NAME special lj …` sets a sub-style's
+/// own factors only around its evaluation, after its set-up. Factors equal to the last ones
+/// change nothing; others are checked as at set-up (`check_special`) and the style's scaled
+/// coefficient blocks rebuilt.
+///
+/// # Safety
+/// `h` is a live handle; `special_lj` is null (no change) or holds 4 doubles.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_special(
+    h: *mut DpdnlPair,
+    special_lj: *const f64,
+) -> DpdnlStatus {
+    guard(|| {
+        // SAFETY: forwarded caller's contract.
+        let h = unsafe { handle(h)? };
+        if special_lj.is_null() {
+            return Ok(());
+        }
+        // SAFETY: 4 doubles (caller's contract).
+        let f = unsafe { slice(special_lj, 4, "special_lj")? };
+        let special = [1.0, f[1], f[2], f[3]];
+        if special != h.special {
+            check_special(&*h.style, special).map_err(Error::invalid)?;
+            h.style.set_special(special);
+            h.special = special;
+        }
         Ok(())
     })
 }
@@ -889,6 +928,12 @@ pub unsafe extern "C" fn dpdnl_pair_single(
         // SAFETY: forwarded caller's contract.
         let h = unsafe { handle(h)? };
         let (i, j) = type_pair(h, i, j)?;
+        if h.style.cutoff(i, j).is_none() {
+            return Err(Error::invalid(format!(
+                "pair_style {} has no coefficients for types {i} {j} (single)",
+                h.style.name()
+            )));
+        }
         let (fpair, e) = h.style.single(i, j, rsq).ok_or_else(|| {
             Error::invalid(format!("pair style {} has no single()", h.style.name()))
         })?;

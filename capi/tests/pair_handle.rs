@@ -98,6 +98,17 @@ fn real_units() -> DpdnlUnits {
 
 /// [`init`] in the host's unit style `units`.
 fn init_in(h: &Handle, natoms: i64, volume: f64, units: DpdnlUnits) -> Result<f64, String> {
+    init_as(h, natoms, volume, units, 0)
+}
+
+/// [`init`] as the top-level style (`substyle` 0) or as a sub-style of `pair_style hybrid` (1).
+fn init_as(
+    h: &Handle,
+    natoms: i64,
+    volume: f64,
+    units: DpdnlUnits,
+    substyle: i32,
+) -> Result<f64, String> {
     let s = DpdnlSetup {
         dimension: 3,
         natoms,
@@ -107,6 +118,7 @@ fn init_in(h: &Handle, natoms: i64, volume: f64, units: DpdnlUnits) -> Result<f6
         euler: 0,
         special_lj: null(),
         units,
+        substyle,
     };
     let mut rc = 0.0;
     // SAFETY: a live handle; `s` and `rc` valid.
@@ -552,6 +564,7 @@ fn restart_text_gives_the_same_style_back() {
             euler: 0,
             special_lj: null(),
             units: lj_units(),
+            substyle: 0,
         };
         let mut rc = 0.0;
         // SAFETY: a live handle.
@@ -711,6 +724,7 @@ fn sdpd_prepass_is_the_direct_density_sum_and_forces_conserve_momentum() {
             euler: false,
             special_lj: [1.0; 4],
             units: dpdnl::Units::LJ,
+            substyle: false,
         })
         .unwrap();
     let pp = field.prepass().expect("sdpd has a pre-pass");
@@ -859,6 +873,7 @@ fn special_bonds_scale_a_pair_or_leave_it_out() {
             euler: 0,
             special_lj: special.as_ptr(),
             units: lj_units(),
+            substyle: 0,
         };
         let mut rc = 0.0;
         // SAFETY: a live handle; `s` valid with 4 special factors.
@@ -985,6 +1000,7 @@ fn sdpd_refuses_fractional_special_factors() {
             euler: 0,
             special_lj: special.as_ptr(),
             units: lj_units(),
+            substyle: 0,
         };
         // SAFETY: a live handle; `s` valid.
         let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
@@ -1007,6 +1023,7 @@ fn sdpd_refuses_fractional_special_factors() {
         euler: 0,
         special_lj: special.as_ptr(),
         units: lj_units(),
+        substyle: 0,
     };
     // SAFETY: as above.
     assert_eq!(
@@ -1225,6 +1242,7 @@ fn threads_give_the_same_bits_as_one() {
             euler: 0,
             special_lj: special.map_or(null(), |s| s.as_ptr()),
             units: lj_units(),
+            substyle: 0,
         };
         let mut rc = 0.0;
         // SAFETY: a live handle; `s` valid, 4 special factors when not null.
@@ -1394,4 +1412,211 @@ fn the_working_copy_of_the_list_gives_the_same_bits_as_the_list() {
         }
     }
     assert!(in_range, "atom 0 never reached its partner's cut-off");
+}
+
+/// `pair_style hybrid` on a subset of type pairs (issue 42): as a sub-style the pairs without
+/// coefficients belong to other styles and get no force (the same bits as the pair given zero
+/// coefficients), the largest cut-off is over the style's own pairs; as the top-level style the
+/// same coefficients are refused as before; a sub-style with no pair, (η, Sc) targets on a
+/// subset, sDPD on a cross pair without its types' own lines and single() of a pair not the
+/// style's are refused, each naming why.
+#[test]
+fn a_substyle_covers_a_subset_of_type_pairs() {
+    let a = Atoms::new(60, 3.0, 1.2);
+    let style = ["0.7", "1.0", "4242", "friction", "none"];
+    let subset = new_style("dpd/nonlinear", &style, 2).expect("style");
+    coeff(&subset, 2, &["1", "1", "25", "4.5", "0", "1.0"]).unwrap();
+    coeff(&subset, 2, &["2", "2", "10", "3.0", "0", "0.9"]).unwrap();
+    let top = init_as(&subset, 60, 27.0, lj_units(), 0).unwrap_err();
+    assert!(top.contains("types 1 2 are not set (pair_coeff)"), "{top}");
+    assert!(top.contains("as the top-level pair style"), "{top}");
+    assert!(
+        top.contains("under pair_style hybrid or hybrid/overlay"),
+        "{top}"
+    );
+    assert_eq!(
+        init_as(&subset, 60, 27.0, lj_units(), 1).expect("sub-style"),
+        1.0
+    );
+    let zero = new_style("dpd/nonlinear", &style, 2).expect("style");
+    coeff(&zero, 2, &["1", "1", "25", "4.5", "0", "1.0"]).unwrap();
+    coeff(&zero, 2, &["2", "2", "10", "3.0", "0", "0.9"]).unwrap();
+    coeff(&zero, 2, &["1", "2", "0", "0", "0", "1.2"]).unwrap();
+    assert_eq!(init(&zero, 60, 27.0).expect("all set"), 1.2);
+    let [mine, theirs] = [&subset, &zero].map(|h| {
+        evaluate(&a, 1.2, |at, l, st, f, t| {
+            // SAFETY: arrays sized as documented, alive across the call.
+            unsafe { dpdnl_pair_compute(h.0, at, l, st, null(), f, t) }
+        })
+    });
+    assert!(mine.f.iter().any(|&x| x != 0.0));
+    assert_eq!(mine.f, theirs.f);
+    assert_eq!((mine.energy, mine.virial), (theirs.energy, theirs.virial));
+    // single() of a pair of another style.
+    let (mut f, mut e) = (0.0, 0.0);
+    // SAFETY: a live handle; out pointers valid.
+    let st = unsafe { dpdnl_pair_single(subset.0, 1, 2, 0.36, 1.0, &mut f, &mut e) };
+    assert_eq!(st, DpdnlStatus::InvalidArgument);
+    assert!(
+        last_error().contains("no coefficients for types 1 2"),
+        "{}",
+        last_error()
+    );
+    // A sub-style with no pair at all.
+    let bare = new_style("dpd/nonlinear", &style, 2).expect("style");
+    let e = init_as(&bare, 60, 27.0, lj_units(), 1).unwrap_err();
+    assert!(e.contains("has no type pair"), "{e}");
+    // (η, Sc) targets: the design is for the whole fluid.
+    let designed = new_style("dpd/nonlinear", &style, 2).expect("style");
+    coeff(&designed, 2, &["1", "1", "25", "eta", "0.5", "sc", "3"]).unwrap();
+    let e = init_as(&designed, 60, 27.0, lj_units(), 1).unwrap_err();
+    assert!(e.contains("give gamma0 instead of eta and sc"), "{e}");
+    // sDPD: a type's equation of state is its own line's; type 3 outside the style is inert.
+    let sdpd = || {
+        let h = new_style("sdpd", &["1.0", "1.0", "4242"], 3).expect("sdpd");
+        coeff(&h, 3, &["1", "1", "3.0", "10.0", "1.0", "1.0"]).unwrap();
+        h
+    };
+    let cross = sdpd();
+    coeff(&cross, 3, &["1", "2", "3.0", "10.0", "1.0", "1.0"]).unwrap();
+    let e = init_sdpd(&cross, 1).unwrap_err();
+    assert!(e.contains("covers type pair 2 1 but not 2 2"), "{e}");
+    let own = sdpd();
+    assert!(
+        init_sdpd(&own, 0)
+            .unwrap_err()
+            .contains("types 1 2 are not set")
+    );
+    assert_eq!(init_sdpd(&own, 1).expect("sdpd on 1 1 only"), 1.0);
+}
+
+/// Set-up of a 3-type sDPD handle (masses 1, 1, 2), top-level (0) or a sub-style (1).
+fn init_sdpd(h: &Handle, substyle: i32) -> Result<f64, String> {
+    let mass = [0.0, 1.0, 1.0, 2.0];
+    let s = DpdnlSetup {
+        dimension: 3,
+        natoms: 60,
+        volume: 27.0,
+        mass: mass.as_ptr(),
+        dt: DT,
+        euler: 0,
+        special_lj: null(),
+        units: lj_units(),
+        substyle,
+    };
+    let mut rc = 0.0;
+    // SAFETY: a live handle; `s` and `rc` valid.
+    let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
+    if st == DpdnlStatus::Ok {
+        Ok(rc)
+    } else {
+        Err(last_error())
+    }
+}
+
+/// `dpdnl_pair_special` (issue 42: `pair_modify pair NAME special lj …` under `pair_style
+/// hybrid`, in force only around the sub-style's compute): a handle set up with other factors
+/// and given the new ones before the evaluation gives the bits of a handle set up with them; a
+/// style that cannot weight bonded neighbours refuses fractional factors there too.
+#[test]
+fn special_factors_given_before_a_compute_rebuild_the_blocks() {
+    let special = [0.0, 0.5, 0.0, 0.25];
+    let a = Atoms::new(60, 3.0, 1.2);
+    let mut lists = a.half_list(1.2);
+    for (i, l) in lists.iter_mut().enumerate() {
+        for e in l.iter_mut() {
+            *e |= (class_of(&a, i, *e as usize) as i32) << 30;
+        }
+    }
+    let forces = |h: &Handle, at_setup: [f64; 4], before: Option<[f64; 4]>| {
+        let s = DpdnlSetup {
+            dimension: 3,
+            natoms: 60,
+            volume: 27.0,
+            mass: MASS.as_ptr(),
+            dt: DT,
+            euler: 0,
+            special_lj: at_setup.as_ptr(),
+            units: lj_units(),
+            substyle: 1,
+        };
+        let mut rc = 0.0;
+        // SAFETY: a live handle; `s` valid with 4 special factors.
+        assert_eq!(
+            unsafe { dpdnl_pair_init(h.0, &s, &mut rc) },
+            DpdnlStatus::Ok
+        );
+        if let Some(f) = before {
+            // SAFETY: a live handle; 4 factors.
+            let st = unsafe { dpdnl_pair_special(h.0, f.as_ptr()) };
+            assert_eq!(st, DpdnlStatus::Ok, "{}", last_error());
+        }
+        // SAFETY: a live handle; null changes nothing.
+        assert_eq!(unsafe { dpdnl_pair_special(h.0, null()) }, DpdnlStatus::Ok);
+        let rows = CList::first(a.nlocal, &lists);
+        let atoms = a.c_atoms();
+        let list = rows.view(0x1FFF_FFFF, false);
+        let st = DpdnlStep {
+            step: 7,
+            dt: DT,
+            newton_pair: 1,
+            dimension: 3,
+            boxlen: [0.0; 3],
+            tilt: [0.0; 3],
+            periodic: [0; 3],
+        };
+        let mut f = vec![0.0; 3 * a.nall()];
+        let mut energy = 0.0;
+        let mut tally = DpdnlTally {
+            eflag_global: 1,
+            vflag_global: 0,
+            eng_vdwl: &mut energy,
+            virial: null_mut(),
+            eatom: null_mut(),
+            vatom: null_mut(),
+        };
+        // SAFETY: arrays as documented.
+        let code = unsafe {
+            dpdnl_pair_compute(h.0, &atoms, &list, &st, null(), f.as_mut_ptr(), &mut tally)
+        };
+        assert_eq!(code, DpdnlStatus::Ok, "{}", last_error());
+        (f, energy)
+    };
+    for (fr, no) in MODELS {
+        let set_up = forces(&dpd_handle(fr, no), special, None);
+        let given = forces(&dpd_handle(fr, no), [0.0, 0.75, 0.5, 1.0], Some(special));
+        let plain = forces(&dpd_handle(fr, no), [0.0, 0.75, 0.5, 1.0], None);
+        assert_eq!(set_up, given, "{fr}/{no}");
+        assert_ne!(
+            set_up.0, plain.0,
+            "{fr}/{no}: the factors change the forces"
+        );
+    }
+    let h = sdpd_handle();
+    let ones = [0.0, 1.0, 1.0, 1.0];
+    let s = DpdnlSetup {
+        dimension: 3,
+        natoms: 60,
+        volume: 27.0,
+        mass: MASS.as_ptr(),
+        dt: DT,
+        euler: 0,
+        special_lj: ones.as_ptr(),
+        units: lj_units(),
+        substyle: 0,
+    };
+    let mut rc = 0.0;
+    // SAFETY: a live handle; `s` valid.
+    assert_eq!(
+        unsafe { dpdnl_pair_init(h.0, &s, &mut rc) },
+        DpdnlStatus::Ok
+    );
+    // SAFETY: a live handle; 4 factors.
+    let st = unsafe { dpdnl_pair_special(h.0, special.as_ptr()) };
+    assert_eq!(st, DpdnlStatus::InvalidArgument);
+    assert!(
+        last_error().contains("cannot weight bonded neighbours"),
+        "{}",
+        last_error()
+    );
 }

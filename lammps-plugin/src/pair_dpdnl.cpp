@@ -172,6 +172,10 @@ void PairDpdnl::init_style()
   s.units.ftm2v = force->ftm2v;
   s.units.nktv2p = force->nktv2p;
   s.units.mv2d = force->mv2d;
+  // A sub-style of pair_style hybrid or hybrid/overlay: which type pairs it may leave to other
+  // styles is decided in Rust. PairHybrid turns this style's list request into a skip list of
+  // its own type pairs.
+  s.substyle = (force->pair != this) ? 1 : 0;
   // Threads of the force pass inside this rank: LAMMPS's OpenMP threads per MPI task
   // (package omp N, -pk omp N, -sf omp, or OMP_NUM_THREADS at start-up); the same bits for
   // every count. Before the set-up, whose notes name the count.
@@ -242,6 +246,10 @@ void PairDpdnl::compute(int eflag, int vflag)
       dpdnl_pair_call::fill(lmp, list, !prepass, eflag_global, vflag_global, eflag_atom,
                             vflag_atom, &eng_vdwl, virial, eatom, vatom);
   const std::string where = "Pair " + name + ": ";
+  // The factors in force now: under pair_style hybrid, pair_modify pair NAME special lj sets
+  // this sub-style's own around its compute (after init_style).
+  if (dpdnl_pair_special(handle, force->special_lj) != DPDNL_STATUS_OK)
+    error->all(FLERR, where + dpdnl_last_error());
   if (prepass) {
     if (atom->nmax > nmax) {
       memory->destroy(values);

@@ -170,6 +170,18 @@ impl ForceField {
     }
 }
 
+/// The refusal of (η, Sc) targets on a subset of the type pairs (`pair_style hybrid`): the
+/// kinetic theory behind the design is for one fluid whose every pair interacts through the
+/// style, at the number density of all atoms. `coeff` names the style's own friction
+/// coefficient, to give instead.
+pub(crate) fn targets_on_subset(style: &str, coeff: &str) -> String {
+    format!(
+        "pair_coeff … eta … sc …: the design is for one fluid whose every type pair interacts \
+         through pair_style {style} (at the number density of all atoms), but as a sub-style of \
+         pair_style hybrid it covers only some type pairs; give {coeff} instead of eta and sc"
+    )
+}
+
 /// `pair_style dpd/nonlinear` + `pair_coeff`: the style object of both engines.
 #[derive(Clone, Debug)]
 pub struct DpdPair {
@@ -362,10 +374,9 @@ impl PairStyle for DpdPair {
     /// targets resolved (one mass), the Euler warning, the dense tables.
     fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String> {
         let mut notes = Vec::new();
-        if let Some((i, j)) = self.missing() {
-            return Err(format!(
-                "pair coefficients for types {i} {j} are not set (pair_coeff)"
-            ));
+        let subset = super::style::coverage(self, ctx)?;
+        if subset && self.ff.has_targets() {
+            return Err(targets_on_subset("dpd/nonlinear", "gamma0"));
         }
         let u = ctx.units;
         self.ff.model.kt = u.kt(self.settings.temp);
@@ -374,7 +385,11 @@ impl PairStyle for DpdPair {
             u.temperature_note("dpd/nonlinear", self.settings.temp)
                 .map(SetupNote::Info),
         );
-        let masses: Vec<f64> = ctx.mass.iter().skip(1).flatten().copied().collect();
+        // The masses of the types in the style's own pairs (every type as the top-level style).
+        let masses: Vec<f64> = (1..=self.ff.ntypes())
+            .filter(|&t| self.covers_type(t))
+            .filter_map(|t| ctx.mass.get(t).copied().flatten())
+            .collect();
         let m_min = masses.iter().copied().fold(f64::INFINITY, f64::min);
         if self.ff.has_targets() {
             if masses.len() != self.ff.ntypes() {
@@ -419,6 +434,12 @@ impl PairStyle for DpdPair {
 
     fn scales_special(&self) -> bool {
         true
+    }
+
+    fn set_special(&mut self, special_lj: [f64; 4]) {
+        if special_lj != self.special {
+            self.build_tables(self.dt, special_lj);
+        }
     }
 
     fn kernel(&self, isa: Isa) -> Box<dyn PairKernel + '_> {

@@ -263,6 +263,7 @@ impl System {
             euler: self.integrator == Some(Integrator::Euler),
             special_lj: self.special_lj(),
             units: self.units,
+            substyle: false,
         };
         let style = self
             .pair

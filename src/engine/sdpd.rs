@@ -129,7 +129,8 @@ impl SdpdField {
 
     /// Set-up of a run in unit style `units`: kT = boltz T, resolve (η, Sc) targets at number
     /// density `density` (one mass for all types), build every pair's kernel and coefficients
-    /// for time step `dt` and every type's equation of state with its mass (its pressure
+    /// for time step `dt` and the equation of state of every type in the style's pairs (every
+    /// type as the top-level style; from its `I I` line) with its mass (its pressure
     /// c0² ρ0/7 × mvv2e, an energy per volume). Returns the lines to log.
     pub fn resolve(
         &mut self,
@@ -196,8 +197,20 @@ impl SdpdField {
         self.tait = vec![None; n];
         self.w0 = vec![0.0; n];
         for t in 1..=self.ntypes {
+            // A type in none of the style's pairs (a sub-style of `pair_style hybrid`) has no
+            // equation of state here: its atoms get no density, energy or force from sdpd.
+            if !self.covers_type(t) {
+                continue;
+            }
             let p = self.pairs[t * n + t].ok_or_else(|| {
-                format!("pair coefficients for types {t} {t} are not set (pair_coeff)")
+                match (1..=self.ntypes).find(|&u| self.pairs[t * n + u].is_some()) {
+                    Some(u) => format!(
+                        "pair_style sdpd covers type pair {t} {u} but not {t} {t}: a type's \
+                         equation of state (rho0, c0) and self density come from its pair_coeff \
+                         {t} {t} line, so a type in any pair of the style needs that line too"
+                    ),
+                    None => format!("pair coefficients for types {t} {t} are not set (pair_coeff)"),
+                }
             })?;
             let m = mass[t].ok_or_else(|| format!("mass of atom type {t} is not set (mass)"))?;
             let tait = Tait::in_units(p.rho0, p.c0, m, units.mvv2e)
@@ -367,12 +380,15 @@ impl PairStyle for SdpdField {
     }
 
     fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String> {
-        if let Some((i, j)) = self.missing() {
-            return Err(format!(
-                "pair coefficients for types {i} {j} are not set (pair_coeff)"
-            ));
+        let subset = super::style::coverage(self, ctx)?;
+        if subset && self.pairs.iter().flatten().any(|p| p.targets.is_some()) {
+            return Err(super::forcefield::targets_on_subset("sdpd", "eta0"));
         }
-        if ctx.mass.iter().skip(1).any(Option::is_none) {
+        // Per-type masses of the types in the style's own pairs (every type as the top-level
+        // style).
+        if (1..=self.ntypes)
+            .any(|t| self.covers_type(t) && ctx.mass.get(t).is_none_or(Option::is_none))
+        {
             return Err(
                 "pair_style sdpd needs per-type masses (mass command): its equation of state is \
                  per type, so per-atom masses are not supported"

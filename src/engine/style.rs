@@ -52,6 +52,37 @@ pub struct SetupContext<'a> {
     /// The unit style and its constants (LAMMPS's, through the C ABI; the `units` command's in
     /// the standalone engine): T of the pair styles is a temperature, kT = boltz T.
     pub units: crate::units::Units,
+    /// True when the style is a sub-style of LAMMPS's `pair_style hybrid` or `hybrid/overlay`
+    /// (the C ABI's `DpdnlSetup::substyle`; never in the standalone engine, which has no
+    /// hybrid): type pairs without coefficients then belong to other styles ([`coverage`]).
+    pub substyle: bool,
+}
+
+/// Which type pairs a set-up covers: `Ok(false)` when the style has coefficients for every type
+/// pair, `Ok(true)` when, as a sub-style of LAMMPS's `pair_style hybrid` or `hybrid/overlay`
+/// ([`SetupContext::substyle`]), it has them for some pairs only: the others belong to other
+/// styles, get no interaction from this one (cut-off 0 in [`PairStyle::cut_table`]), and
+/// every derived quantity (the largest cut-off, designs, warnings) is over the style's own
+/// pairs. As the top-level style every pair must be set, and a sub-style must be given at least
+/// one pair.
+pub fn coverage(style: &dyn PairStyle, ctx: &SetupContext) -> Result<bool, String> {
+    let Some((i, j)) = style.missing() else {
+        return Ok(false);
+    };
+    if !ctx.substyle {
+        return Err(format!(
+            "pair coefficients for types {i} {j} are not set (pair_coeff)"
+        ));
+    }
+    if !style.covers_any() {
+        return Err(format!(
+            "pair_style {} as a sub-style of pair_style hybrid has no type pair: give it one \
+             (pair_coeff I J {} …)",
+            style.name(),
+            style.name()
+        ));
+    }
+    Ok(true)
 }
 
 /// A many-body style's pre-pass: one value per atom, d_i = complete(Σ_j w_k(r_ij²)) over the
@@ -114,8 +145,9 @@ pub trait PairStyle: Send + Sync + Debug {
     fn coeff(&mut self, args: &[String]) -> Result<(), String>;
     /// The cut-off of type pair (i, j), or `None` when it has no coefficients.
     fn cutoff(&self, i: usize, j: usize) -> Option<f64>;
-    /// Set-up of a run: every pair set, targets resolved, the per-run tables built. Returns the
-    /// lines to log.
+    /// Set-up of a run: every pair set (or, as a sub-style of LAMMPS's `hybrid`, the pairs
+    /// [`coverage`] allows), targets resolved, the per-run tables built. Returns the lines to
+    /// log.
     fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String>;
     /// A new time step between set-ups (LAMMPS's `fix dt/reset`); the default keeps the set-up's.
     fn set_timestep(&mut self, _dt: f64) {}
@@ -129,6 +161,11 @@ pub trait PairStyle: Send + Sync + Debug {
     fn scales_special(&self) -> bool {
         false
     }
+    /// New `special_lj` factors between set-ups (LAMMPS's `pair_modify pair NAME special lj …`
+    /// under `pair_style hybrid`, in force only around this sub-style's evaluation), already
+    /// accepted by [`check_special`]: a style that scales its coefficients rebuilds its blocks;
+    /// the default keeps nothing (the pair walk reads factors 0 and 1 itself).
+    fn set_special(&mut self, _special_lj: [f64; 4]) {}
     /// The many-body pre-pass, if the style has one (after [`PairStyle::setup`]).
     fn prepass(&self) -> Option<&dyn PrePass> {
         None
@@ -179,6 +216,14 @@ pub trait PairStyle: Send + Sync + Debug {
         (1..=n)
             .flat_map(|i| (i..=n).map(move |j| (i, j)))
             .find(|&(i, j)| self.cutoff(i, j).is_none())
+    }
+    /// True when type `t` is in at least one type pair with coefficients.
+    fn covers_type(&self, t: usize) -> bool {
+        (1..=self.ntypes()).any(|u| self.cutoff(t, u).is_some())
+    }
+    /// True when at least one type pair has coefficients.
+    fn covers_any(&self) -> bool {
+        (1..=self.ntypes()).any(|t| self.covers_type(t))
     }
     /// The largest cut-off over the set type pairs.
     fn rc_max(&self) -> f64 {

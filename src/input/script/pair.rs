@@ -12,9 +12,24 @@
 use super::{CmdResult, Interpreter};
 use crate::grammar::{self, need};
 
+/// The standalone engine has one pair style per run: `pair_style hybrid` (and `hybrid/overlay`,
+/// `hybrid/scaled`), which LAMMPS provides, is refused with a pointer to it.
+fn hybrid_refusal(name: &str) -> String {
+    format!(
+        "style '{}': the standalone engine runs one pair style over every type pair and has \
+         no pair_style hybrid or hybrid/overlay; LAMMPS with the dpdnl plugin (or build/lmp_dpdnl) runs \
+         dpd/nonlinear and sdpd as sub-styles of hybrid and hybrid/overlay, on any subset of \
+         type pairs",
+        grammar::shown(name)
+    )
+}
+
 impl Interpreter<'_> {
     pub(super) fn cmd_pair_style(&mut self, args: &[String]) -> CmdResult {
         need(args, 1, grammar::pair::PAIR_STYLE.usage)?;
+        if args[0].starts_with("hybrid") {
+            return Err(hybrid_refusal(&args[0]));
+        }
         let dt = self.dt;
         let Some(sys) = self.sys.as_mut() else {
             // Before the box: checked now (the same words and messages as after it), made for
