@@ -666,25 +666,19 @@ impl System {
                 t.leak.momentum += m * f64::from(n) * jump;
             }
         }
+        // With fix flip/momentum the atoms put through y get remap v's velocity jump; without
+        // it (LAMMPS's remap) the same wrap with a jump of 0 (rate 0: v_x − n·0 is v_x).
         let mut le = t.le;
         if t.flip_fix == Some(true) {
             t.leak.conserved = true;
-            let a = &mut self.atoms;
-            a.x.par_iter_mut()
-                .zip(a.v.par_iter_mut())
-                .zip(a.image.par_iter_mut())
-                .for_each(|((x, v), im)| bx.wrap_le(x, v, im, &le));
         } else {
             le.rate = 0.0;
-            self.atoms
-                .x
-                .par_iter_mut()
-                .zip(self.atoms.image.par_iter_mut())
-                .for_each(|(x, im)| {
-                    let mut v = [0.0; 3];
-                    bx.wrap_le(x, &mut v, im, &le);
-                });
         }
+        let a = &mut self.atoms;
+        a.x.par_iter_mut()
+            .zip(a.v.par_iter_mut())
+            .zip(a.image.par_iter_mut())
+            .for_each(|((x, v), im)| bx.wrap_le(x, v, im, &le));
     }
 
     /// The end-of-run warning of the flips' momentum leak (`lees_edwards::flip_leak_warning`),
