@@ -25,47 +25,6 @@ typedef enum DpdnlStatus {
 // A pair style and its coefficients (opaque to C).
 typedef struct DpdnlPair DpdnlPair;
 
-// The validated parameter table of `pair_style dpd/nonlinear` + `pair_coeff` (opaque to C).
-typedef struct DpdnlParams DpdnlParams;
-
-// The host's unit style and its conversion constants (LAMMPS: `update->unit_style`,
-// `force->boltz`, `force->mvv2e`, `force->ftm2v`, `force->nktv2p`, `force->mv2d`), so that no
-// constant is written in the host's code: T of the pair styles is a temperature (kT = boltz
-// T, as for LAMMPS's `pair_style dpd`), the two-step kick and the correction of `noise
-// corrected` take ftm2v, the theory's mass and sDPD's pressure mvv2e (`dpdnl::units`).
-typedef struct DpdnlUnits {
-  // The unit style's name, NUL-terminated: one of LAMMPS's (lj real metal si cgs electron
-  // micro nano); null is an error.
-  const char *style;
-  // Boltzmann's constant in energy / temperature.
-  double boltz;
-  // mass × velocity² → energy.
-  double mvv2e;
-  // force × time / mass → velocity.
-  double ftm2v;
-  // energy / volume → pressure.
-  double nktv2p;
-  // mass / volume → mass density.
-  double mv2d;
-} DpdnlUnits;
-
-// The four force parts of one pair as projections on e_ij, plus the conservative energy and
-// 1/r (force on i = `(fc + fd + fr + fa) * inv_r * r_ij`). Mirrors `dpdnl::kernel::PairForce`.
-typedef struct DpdnlPairForce {
-  // Conservative part.
-  double fc;
-  // Dissipative part.
-  double fd;
-  // Random part.
-  double fr;
-  // Spurious-drift correction (`noise corrected` only).
-  double fa;
-  // Conservative pair energy a r_c (1 − r/r_c)² / 2.
-  double energy;
-  // 1/r (0 when the pair is outside the cut-off).
-  double inv_r;
-} DpdnlPairForce;
-
 // Per-atom arrays of one MPI rank, owned atoms first then ghosts (LAMMPS layout).
 typedef struct DpdnlAtoms {
   // Positions, `nall * 3` doubles (LAMMPS `&x[0][0]`).
@@ -85,70 +44,6 @@ typedef struct DpdnlAtoms {
   // Owned plus ghost atoms.
   int32_t nall;
 } DpdnlAtoms;
-
-// A LAMMPS neighbour list (`NeighList`): `inum`, `ilist`, `numneigh`, `firstneigh`.
-typedef struct DpdnlNeighList {
-  // Number of atoms with a list.
-  int32_t inum;
-  // Their indices, `inum` entries.
-  const int32_t *ilist;
-  // `numneigh[i]`: length of atom i's list, valid for every i in `ilist`.
-  const int32_t *numneigh;
-  // `firstneigh[i]`: atom i's neighbours, valid for every i in `ilist`.
-  const int32_t *const *firstneigh;
-  // Mask applied to every neighbour entry (LAMMPS `NEIGHMASK`; the upper bits flag special
-  // bonds). 0x3FFFFFFF in LAMMPS 2021–2022, 0x1FFFFFFF in later versions: pass the header's.
-  int32_t neighmask;
-  // 0: half list (each pair once); 1: full list (each pair seen from both atoms).
-  int32_t full;
-  // Which build of the list this is (LAMMPS `neighbor->ncalls`), ≥ 1; 0 when unknown. While
-  // it, the counts and the pointers stay the same, the list's entries must be unchanged: a
-  // pair-style handle then keeps a working copy of the list's rows within the cut-off plus
-  // a margin (a third of `skin`), refreshed when an atom has moved half the margin, and walks
-  // that instead (the same pairs in the same order, so the same bits). 0: the list itself
-  // is walked at every call. The low-level [`dpdnl_compute`] ignores it.
-  int64_t build;
-  // The list's skin (LAMMPS `neighbor->skin`), ≥ 0; only read when `build` ≥ 1.
-  double skin;
-} DpdnlNeighList;
-
-// Step-level settings of one force evaluation.
-typedef struct DpdnlStep {
-  // Time step number used as the key of the pair noise (LAMMPS `update->ntimestep`), ≥ 0.
-  int64_t step;
-  // Time step δt (> 0): the random force scales as δt^(−1/2).
-  double dt;
-  // LAMMPS `force->newton_pair` (half lists: 1 also updates ghost forces).
-  int32_t newton_pair;
-  // 2 or 3. Coordinates are used as given (z = 0 in 2-D under `fix enforce2d`).
-  int32_t dimension;
-  // Box lengths (LAMMPS `domain->xprd`, `yprd`, `zprd`), for the pair noise's image key:
-  // along a periodic axis shorter than 2 r_c a pair meets several images of its partner
-  // (ghosts), each keyed apart (`dpdnl::rng::ImageFrame`, docs/models.md P-4b).
-  double boxlen[3];
-  // Tilts xy, xz, yz (LAMMPS `domain->xy`, `xz`, `yz`; 0 for an orthogonal box).
-  double tilt[3];
-  // Periodic axes (LAMMPS `domain->periodicity`). All 0: no image key (the plain key of
-  // a box at least 2 r_c long).
-  int32_t periodic[3];
-} DpdnlStep;
-
-// Energy and virial accumulators, following LAMMPS `Pair::ev_tally` / `ev_tally_full`.
-// Every pointer may be null when its flag is 0; results are added to what is there.
-typedef struct DpdnlTally {
-  // Nonzero: add the conservative energy to `*eng_vdwl`.
-  int32_t eflag_global;
-  // Nonzero: add the pair virial to `virial[0..6]` (xx, yy, zz, xy, xz, yz).
-  int32_t vflag_global;
-  // Global energy accumulator (LAMMPS `Pair::eng_vdwl`).
-  double *eng_vdwl;
-  // Global virial accumulator, 6 doubles (LAMMPS `Pair::virial`).
-  double *virial;
-  // Per-atom energy (`nall` doubles) or null.
-  double *eatom;
-  // Per-atom virial (`nall * 6` doubles, LAMMPS `&vatom[0][0]`) or null.
-  double *vatom;
-} DpdnlTally;
 
 // A team member's work: `body(ctx, thread)`, called once by each thread of a launch (never
 // null when this library calls a launcher).
@@ -171,6 +66,27 @@ typedef struct DpdnlPairInfo {
   // 1 when [`dpdnl_pair_data`] answers (LAMMPS's `writedata`).
   int32_t data;
 } DpdnlPairInfo;
+
+// The host's unit style and its conversion constants (LAMMPS: `update->unit_style`,
+// `force->boltz`, `force->mvv2e`, `force->ftm2v`, `force->nktv2p`, `force->mv2d`), so that no
+// constant is written in the host's code: T of the pair styles is a temperature (kT = boltz
+// T, as for LAMMPS's `pair_style dpd`), the two-step kick and the correction of `noise
+// corrected` take ftm2v, the theory's mass and sDPD's pressure mvv2e (`dpdnl::units`).
+typedef struct DpdnlUnits {
+  // The unit style's name, NUL-terminated: one of LAMMPS's (lj real metal si cgs electron
+  // micro nano); null is an error.
+  const char *style;
+  // Boltzmann's constant in energy / temperature.
+  double boltz;
+  // mass × velocity² → energy.
+  double mvv2e;
+  // force × time / mass → velocity.
+  double ftm2v;
+  // energy / volume → pressure.
+  double nktv2p;
+  // mass / volume → mass density.
+  double mv2d;
+} DpdnlUnits;
 
 // What a run's set-up knows (LAMMPS's state at `init_style`).
 typedef struct DpdnlSetup {
@@ -197,6 +113,70 @@ typedef struct DpdnlSetup {
   // every type pair must be set (`dpdnl::engine::style::coverage`, the rule).
   int32_t substyle;
 } DpdnlSetup;
+
+// A LAMMPS neighbour list (`NeighList`): `inum`, `ilist`, `numneigh`, `firstneigh`.
+typedef struct DpdnlNeighList {
+  // Number of atoms with a list.
+  int32_t inum;
+  // Their indices, `inum` entries.
+  const int32_t *ilist;
+  // `numneigh[i]`: length of atom i's list, valid for every i in `ilist`.
+  const int32_t *numneigh;
+  // `firstneigh[i]`: atom i's neighbours, valid for every i in `ilist`.
+  const int32_t *const *firstneigh;
+  // Mask applied to every neighbour entry (LAMMPS `NEIGHMASK`; the upper bits flag special
+  // bonds). 0x3FFFFFFF in LAMMPS 2021–2022, 0x1FFFFFFF in later versions: pass the header's.
+  int32_t neighmask;
+  // 0: half list (each pair once); 1: full list (each pair seen from both atoms).
+  int32_t full;
+  // Which build of the list this is (LAMMPS `neighbor->ncalls`), ≥ 1; 0 when unknown. While
+  // it, the counts and the pointers stay the same, the list's entries must be unchanged: a
+  // pair-style handle then keeps a working copy of the list's rows within the cut-off plus
+  // a margin (a third of `skin`), refreshed when an atom has moved half the margin, and walks
+  // that instead (the same pairs in the same order, so the same bits). 0: the list itself
+  // is walked at every call.
+  int64_t build;
+  // The list's skin (LAMMPS `neighbor->skin`), ≥ 0; only read when `build` ≥ 1.
+  double skin;
+} DpdnlNeighList;
+
+// Energy and virial accumulators, following LAMMPS `Pair::ev_tally` / `ev_tally_full`.
+// Every pointer may be null when its flag is 0; results are added to what is there.
+typedef struct DpdnlTally {
+  // Nonzero: add the conservative energy to `*eng_vdwl`.
+  int32_t eflag_global;
+  // Nonzero: add the pair virial to `virial[0..6]` (xx, yy, zz, xy, xz, yz).
+  int32_t vflag_global;
+  // Global energy accumulator (LAMMPS `Pair::eng_vdwl`).
+  double *eng_vdwl;
+  // Global virial accumulator, 6 doubles (LAMMPS `Pair::virial`).
+  double *virial;
+  // Per-atom energy (`nall` doubles) or null.
+  double *eatom;
+  // Per-atom virial (`nall * 6` doubles, LAMMPS `&vatom[0][0]`) or null.
+  double *vatom;
+} DpdnlTally;
+
+// Step-level settings of one force evaluation.
+typedef struct DpdnlStep {
+  // Time step number used as the key of the pair noise (LAMMPS `update->ntimestep`), ≥ 0.
+  int64_t step;
+  // Time step δt (> 0): the random force scales as δt^(−1/2).
+  double dt;
+  // LAMMPS `force->newton_pair` (half lists: 1 also updates ghost forces).
+  int32_t newton_pair;
+  // 2 or 3. Coordinates are used as given (z = 0 in 2-D under `fix enforce2d`).
+  int32_t dimension;
+  // Box lengths (LAMMPS `domain->xprd`, `yprd`, `zprd`), for the pair noise's image key:
+  // along a periodic axis shorter than 2 r_c a pair meets several images of its partner
+  // (ghosts), each keyed apart (`dpdnl::rng::ImageFrame`, docs/models.md P-4b).
+  double boxlen[3];
+  // Tilts xy, xz, yz (LAMMPS `domain->xy`, `xz`, `yz`; 0 for an orthogonal box).
+  double tilt[3];
+  // Periodic axes (LAMMPS `domain->periodicity`). All 0: no image key (the plain key of
+  // a box at least 2 r_c long).
+  int32_t periodic[3];
+} DpdnlStep;
 
 // The arguments of `fix pex/push` (from [`dpdnl_parse_fix_pex_push`]); `width` 0 means the
 // default Lx/20 of each run's box.
@@ -235,99 +215,9 @@ const char *dpdnl_version(void);
 // valid until the next `dpdnl_*` call on the same thread.
 const char *dpdnl_last_error(void);
 
-// Create a parameter table: `pair_style dpd/nonlinear` settings for `ntypes` atom types.
-// `friction` is "none", "cross" or "dot"; `noise` is "plain", "corrected" or "twostep";
-// `kt > 0`, `1 <= seed <= 2^31 − 1`, `weight_s > 0`, `ntypes >= 1`. On success `*out` holds a
-// table to release with [`dpdnl_params_free`]; on failure `*out` is null.
-//
-// # Safety
-// `friction` and `noise` are NUL-terminated strings; `out` is null or valid for writing.
-enum DpdnlStatus dpdnl_params_new(double kt,
-                                  int64_t seed,
-                                  const char *friction,
-                                  const char *noise,
-                                  double weight_s,
-                                  int32_t ntypes,
-                                  struct DpdnlParams **out);
-
-// The caller's unit style (LAMMPS's constants, [`DpdnlUnits`]): the kernel's two-step kick
-// and the correction of `noise corrected` take its `ftm2v` (a table starts in `units lj`,
-// ftm2v = 1). The table's kT stays the energy given to [`dpdnl_params_new`] (this low-level
-// table takes kT, not the temperature T of the pair styles). Every constant must be finite and
-// > 0.
-//
-// # Safety
-// `params` is null or a live table, not used concurrently; `units` is null or valid for
-// reading, its `style` a NUL-terminated string.
-enum DpdnlStatus dpdnl_params_set_units(struct DpdnlParams *params, const struct DpdnlUnits *units);
-
-// Release a table from [`dpdnl_params_new`] (null is ignored).
-//
-// # Safety
-// `params` is null or a pointer returned by `dpdnl_params_new` and not yet freed.
-void dpdnl_params_free(struct DpdnlParams *params);
-
-// Check one set of pair coefficients without a table (`pair_coeff` argument validation):
-// finite a, gamma0 >= 0, gamma1 >= 0, rc > 0.
-enum DpdnlStatus dpdnl_coeff_check(double a, double gamma0, double gamma1, double rc);
-
-// Set the coefficients of type pair (itype, jtype) and (jtype, itype); types are 1-based.
-//
-// # Safety
-// `params` is null or a live table from [`dpdnl_params_new`], not used concurrently.
-enum DpdnlStatus dpdnl_params_set_coeff(struct DpdnlParams *params,
-                                        int32_t itype,
-                                        int32_t jtype,
-                                        double a,
-                                        double gamma0,
-                                        double gamma1,
-                                        double rc);
-
-// `Ok` if every type pair has coefficients, else `Incomplete` naming the first missing pair.
-//
-// # Safety
-// `params` is null or a live table from [`dpdnl_params_new`].
-enum DpdnlStatus dpdnl_params_check_complete(const struct DpdnlParams *params);
-
 // ξ_ij, the standard Gaussian of pair (tag_i, tag_j) at `step` (`dpdnl::rng::pair_gaussian`;
 // symmetric in the tags).
 double dpdnl_pair_gaussian(uint32_t seed, uint64_t step, uint32_t tag_i, uint32_t tag_j);
-
-// One pair through the kernel (`dpdnl::kernel::pair_force`), for tests and `Pair::single`.
-// `dr` = r_i − r_j and `dv` = v_i − v_j (3 doubles each), `inv_mass_sum` = 1/m_i + 1/m_j,
-// `xi` the pair's Gaussian, `dt` > 0. Outside the cut-off every part is 0.
-//
-// # Safety
-// `params` is null or a live table; `dr`, `dv` are null or point to 3 doubles; `out` is null or
-// valid for writing.
-enum DpdnlStatus dpdnl_pair_force(const struct DpdnlParams *params,
-                                  int32_t itype,
-                                  int32_t jtype,
-                                  const double *dr,
-                                  const double *dv,
-                                  double inv_mass_sum,
-                                  double xi,
-                                  double dt,
-                                  struct DpdnlPairForce *out);
-
-// All pair forces of one LAMMPS neighbour list, accumulated into `f` (`nall * 3` doubles,
-// LAMMPS `&f[0][0]`), with energy and virial tallied into `tally` (may be null when nothing is
-// tallied).
-//
-// Half list (`full == 0`): each listed pair once; force on i is added, force on j subtracted if
-// `newton_pair` or j is owned; energy/virial as LAMMPS `ev_tally` (newton on: the whole pair;
-// off: half for each owned partner; per-atom halves likewise). Full list: only i's force, and
-// half of the pair's energy/virial to i (`ev_tally_full`).
-//
-// # Safety
-// Every non-null pointer in `atoms`, `list`, `tally` and `f` is valid for the sizes documented
-// on those structs and not aliased by another argument; `params` is a live table.
-enum DpdnlStatus dpdnl_compute(const struct DpdnlParams *params,
-                               const struct DpdnlAtoms *atoms,
-                               const struct DpdnlNeighList *list,
-                               const struct DpdnlStep *step,
-                               double *f,
-                               struct DpdnlTally *tally);
 
 // The blow-up check of the standalone engine (`dpdnl::engine::check_atoms`) on the owned atoms:
 // a non-finite position, velocity or force, or a velocity crossing half the box length `len`
@@ -336,7 +226,7 @@ enum DpdnlStatus dpdnl_compute(const struct DpdnlParams *params,
 // rebuild and every 100 steps, after their forces.
 //
 // # Safety
-// `atoms` as for [`dpdnl_compute`] (x, v, tag of the `nlocal` owned atoms are read); `f` holds
+// `atoms` as for [`crate::dpdnl_pair_compute`] (x, v, tag of the `nlocal` owned atoms are read); `f` holds
 // `3 * nlocal` doubles; `len` 3 doubles.
 enum DpdnlStatus dpdnl_check_health(const struct DpdnlAtoms *atoms,
                                     const double *f,
@@ -480,7 +370,7 @@ enum DpdnlStatus dpdnl_pair_special(struct DpdnlPair *h, const double *special_l
 // self term. A style without a pre-pass is an error.
 //
 // # Safety
-// `h` is a live handle; `atoms` and `list` as for `dpdnl_compute`; `values` holds `nall`
+// `h` is a live handle; `atoms` and `list` as for [`dpdnl_pair_compute`]; `values` holds `nall`
 // doubles.
 enum DpdnlStatus dpdnl_pair_prepass(struct DpdnlPair *h,
                                     const struct DpdnlAtoms *atoms,
@@ -494,21 +384,28 @@ enum DpdnlStatus dpdnl_pair_prepass(struct DpdnlPair *h,
 // index is named).
 //
 // # Safety
-// `h` is a live handle; `atoms` as for `dpdnl_compute` (types and tags of the owned atoms are
-// read); `values` holds `nlocal` doubles; `tally` is null or as for `dpdnl_compute`.
+// `h` is a live handle; `atoms` as for [`dpdnl_pair_compute`] (types and tags of the owned atoms are
+// read); `values` holds `nlocal` doubles; `tally` is null or as for [`dpdnl_pair_compute`].
 enum DpdnlStatus dpdnl_pair_prepass_finish(struct DpdnlPair *h,
                                            const struct DpdnlAtoms *atoms,
                                            int64_t step,
                                            double *values,
                                            const struct DpdnlTally *tally);
 
-// The pair forces of every listed pair, accumulated into `f` and `tally` exactly as
-// `dpdnl_compute` does (the same list walk and `ev_tally` conventions). A style with a
-// pre-pass reads every atom's value from `values[0..nall]` (owned and ghost atoms, ghosts
-// communicated); `values` may be null for the others.
+// The pair forces of every listed pair of one LAMMPS neighbour list through the style's
+// kernel, accumulated into `f` (`nall * 3` doubles, LAMMPS `&f[0][0]`), with energy and virial
+// tallied into `tally` (null when nothing is tallied). Half list (`full == 0`): each listed
+// pair once; the force on i is added, the force on j subtracted if `newton_pair` or j is
+// owned; energy and virial as LAMMPS's `ev_tally` (newton on: the whole pair; off: half for
+// each owned partner; per-atom halves likewise). Full list: only i's force, and half of the
+// pair's energy and virial to i (`ev_tally_full`). A style with a pre-pass reads every atom's
+// value from `values[0..nall]` (owned and ghost atoms, ghosts communicated); `values` may be
+// null for the others.
 //
 // # Safety
-// As `dpdnl_compute`; `h` is a live handle and `values` is null or holds `nall` doubles.
+// `h` is a live handle; every non-null pointer in `atoms`, `list`, `step`, `tally` and `f` is
+// valid for the sizes documented on those structs and not aliased by another argument;
+// `values` is null or holds `nall` doubles.
 enum DpdnlStatus dpdnl_pair_compute(struct DpdnlPair *h,
                                     const struct DpdnlAtoms *atoms,
                                     const struct DpdnlNeighList *list,

@@ -1,15 +1,16 @@
-//! [`dpdnl_compute`]: one LAMMPS neighbour list walked in Rust, its pairs evaluated through the
-//! pair-style seam (`dpdnl::engine::pair`) and added with LAMMPS's `ev_tally` conventions.
+//! The walk of [`crate::dpdnl_pair_compute`]: one LAMMPS neighbour list walked in Rust, its pairs
+//! evaluated through the pair-style seam (`dpdnl::engine::pair`) and added with LAMMPS's
+//! `ev_tally` conventions.
 
 use dpdnl::engine::pair::{Batcher, lane_force};
 use dpdnl::engine::simd::within_cut;
 use dpdnl::engine::topology::SpecialRule;
 use dpdnl::kernel::Isa;
-use dpdnl::{DpdKernel, PairBatch, PairKernel, PairTable};
+use dpdnl::{PairBatch, PairKernel};
 
 use crate::team::{DpdnlLaunch, Team};
 use crate::working::WorkingList;
-use crate::{DpdnlParams, DpdnlStatus, Error, guard, slice, slice_mut};
+use crate::{DpdnlStatus, Error, guard, slice, slice_mut};
 
 /// Per-atom arrays of one MPI rank, owned atoms first then ghosts (LAMMPS layout).
 #[repr(C)]
@@ -55,7 +56,7 @@ pub struct DpdnlNeighList {
     /// pair-style handle then keeps a working copy of the list's rows within the cut-off plus
     /// a margin (a third of `skin`), refreshed when an atom has moved half the margin, and walks
     /// that instead (the same pairs in the same order, so the same bits). 0: the list itself
-    /// is walked at every call. The low-level [`dpdnl_compute`] ignores it.
+    /// is walked at every call.
     pub build: i64,
     /// The list's skin (LAMMPS `neighbor->skin`), ≥ 0; only read when `build` ≥ 1.
     pub skin: f64,
@@ -103,84 +104,12 @@ pub struct DpdnlTally {
     pub vatom: *mut f64,
 }
 
-/// All pair forces of one LAMMPS neighbour list, accumulated into `f` (`nall * 3` doubles,
-/// LAMMPS `&f[0][0]`), with energy and virial tallied into `tally` (may be null when nothing is
-/// tallied).
-///
-/// Half list (`full == 0`): each listed pair once; force on i is added, force on j subtracted if
-/// `newton_pair` or j is owned; energy/virial as LAMMPS `ev_tally` (newton on: the whole pair;
-/// off: half for each owned partner; per-atom halves likewise). Full list: only i's force, and
-/// half of the pair's energy/virial to i (`ev_tally_full`).
-///
-/// # Safety
-/// Every non-null pointer in `atoms`, `list`, `tally` and `f` is valid for the sizes documented
-/// on those structs and not aliased by another argument; `params` is a live table.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn dpdnl_compute(
-    params: *const DpdnlParams,
-    atoms: *const DpdnlAtoms,
-    list: *const DpdnlNeighList,
-    step: *const DpdnlStep,
-    f: *mut f64,
-    tally: *mut DpdnlTally,
-) -> DpdnlStatus {
-    guard(|| {
-        // SAFETY: each pointer is null or valid for reading by the caller's contract.
-        let (p, atoms, list, step) = unsafe {
-            (
-                params.as_ref().ok_or_else(|| Error::null("params"))?,
-                atoms.as_ref().ok_or_else(|| Error::null("atoms"))?,
-                list.as_ref().ok_or_else(|| Error::null("list"))?,
-                step.as_ref().ok_or_else(|| Error::null("step"))?,
-            )
-        };
-        // SAFETY: null or valid for reading by the caller's contract.
-        let tally = unsafe { tally.as_ref() }.copied();
-        // SAFETY: forwarded caller's contract on every array.
-        unsafe { compute(p, atoms, list, step, f, tally) }
-    })
-}
-
 /// Where the tallies go, resolved to slices once.
 pub(crate) struct Sinks<'a> {
     eng: Option<&'a mut f64>,
     virial: Option<&'a mut [f64]>,
     eatom: Option<&'a mut [f64]>,
     vatom: Option<&'a mut [f64]>,
-}
-
-/// The body of [`dpdnl_compute`].
-///
-/// # Safety
-/// As [`dpdnl_compute`].
-pub(crate) unsafe fn compute(
-    p: &DpdnlParams,
-    atoms: &DpdnlAtoms,
-    list: &DpdnlNeighList,
-    st: &DpdnlStep,
-    f: *mut f64,
-    tally: Option<DpdnlTally>,
-) -> Result<(), Error> {
-    // The step and dimension are checked by `walk_pairs`.
-    let model = p.model(st.dt)?;
-    let table = p.dense_table();
-    let ptable = PairTable::new(&model, &table);
-    // In-range pairs are evaluated through the pair-style seam (`DpdKernel`:
-    // `pair_forces_batch`, the same function as `pair_force` for each pair, same bits, in SIMD
-    // lanes).
-    let kernel = DpdKernel {
-        model: &model,
-        table: &ptable,
-        seed: p.seed,
-        isa: Isa::detect(),
-    };
-    let cut: Vec<f64> = table.iter().map(|c| c.rc).collect();
-    // SAFETY: forwarded caller's contract.
-    unsafe {
-        walk_pairs(
-            &kernel, &cut, p.ntypes, None, atoms, list, st, f, tally, None, None,
-        )
-    }
 }
 
 /// LAMMPS's special-bond class of a raw neighbour entry (bits 30–31, `SBBITS` = 30 in every
@@ -559,21 +488,21 @@ fn image_frame(st: &DpdnlStep, cut: &[f64]) -> Option<dpdnl::rng::ImageFrame> {
         .then(|| dpdnl::rng::ImageFrame::new(dim, st.boxlen, st.tilt, periodic))
 }
 
-/// The list walk of [`dpdnl_compute`] for any pair style: every listed pair within `cut[k]`
+/// The list walk of [`crate::dpdnl_pair_compute`] for any pair style: every listed pair within `cut[k]`
 /// (k the dense type-pair index, `ntypes + 1` per row) through `kernel`, forces and tallies
 /// added with LAMMPS's conventions. Checks the step, dimension, counts, types and masses.
 ///
 /// With `special`, a pair flagged as a bonded neighbour of class b is left out when its factor
 /// is 0 and otherwise evaluated with the coefficients of block b (`k + b (ntypes + 1)²`) when
-/// the table is scaled; without it (the low-level [`dpdnl_compute`]) the flags are masked away
-/// and every pair has its full strength.
+/// the table is scaled; without it the flags are masked away and every pair has its full
+/// strength.
 ///
 /// With `workers` of 2 or more threads the rows are evaluated in parallel and added in list
 /// order ([`Workers`]): the same bits as one thread. With `working`, the rows of its copy of
 /// the list are walked when it has one ([`WorkingList`]): the same pairs in the same order.
 ///
 /// # Safety
-/// As [`dpdnl_compute`].
+/// As [`crate::dpdnl_pair_compute`].
 #[allow(clippy::too_many_arguments)]
 pub(crate) unsafe fn walk_pairs(
     kernel: &dyn PairKernel,
@@ -1224,7 +1153,7 @@ fn tally_pair(
 /// rebuild and every 100 steps, after their forces.
 ///
 /// # Safety
-/// `atoms` as for [`dpdnl_compute`] (x, v, tag of the `nlocal` owned atoms are read); `f` holds
+/// `atoms` as for [`crate::dpdnl_pair_compute`] (x, v, tag of the `nlocal` owned atoms are read); `f` holds
 /// `3 * nlocal` doubles; `len` 3 doubles.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dpdnl_check_health(

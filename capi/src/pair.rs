@@ -10,7 +10,7 @@
 //!   [`dpdnl_pair_prepass_finish`] completes the owned atoms and tallies their energy, the
 //!   style sends the owners' values to their ghosts (`forward_comm`);
 //! - [`dpdnl_pair_compute`]: the pair forces through the style's kernel, the same list walk and
-//!   `ev_tally` conventions as [`crate::dpdnl_compute`].
+//!   `ev_tally` conventions (half list: newton on or off; full list: `ev_tally_full`).
 
 use std::ffi::{CString, c_char};
 use std::sync::OnceLock;
@@ -598,7 +598,7 @@ fn prepass_of(h: &DpdnlPair) -> Result<(&dyn dpdnl::engine::style::PrePass, usiz
 /// self term. A style without a pre-pass is an error.
 ///
 /// # Safety
-/// `h` is a live handle; `atoms` and `list` as for `dpdnl_compute`; `values` holds `nall`
+/// `h` is a live handle; `atoms` and `list` as for [`dpdnl_pair_compute`]; `values` holds `nall`
 /// doubles.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dpdnl_pair_prepass(
@@ -664,8 +664,8 @@ pub unsafe extern "C" fn dpdnl_pair_prepass(
 /// index is named).
 ///
 /// # Safety
-/// `h` is a live handle; `atoms` as for `dpdnl_compute` (types and tags of the owned atoms are
-/// read); `values` holds `nlocal` doubles; `tally` is null or as for `dpdnl_compute`.
+/// `h` is a live handle; `atoms` as for [`dpdnl_pair_compute`] (types and tags of the owned atoms are
+/// read); `values` holds `nlocal` doubles; `tally` is null or as for [`dpdnl_pair_compute`].
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dpdnl_pair_prepass_finish(
     h: *mut DpdnlPair,
@@ -729,13 +729,20 @@ pub unsafe extern "C" fn dpdnl_pair_prepass_finish(
     })
 }
 
-/// The pair forces of every listed pair, accumulated into `f` and `tally` exactly as
-/// `dpdnl_compute` does (the same list walk and `ev_tally` conventions). A style with a
-/// pre-pass reads every atom's value from `values[0..nall]` (owned and ghost atoms, ghosts
-/// communicated); `values` may be null for the others.
+/// The pair forces of every listed pair of one LAMMPS neighbour list through the style's
+/// kernel, accumulated into `f` (`nall * 3` doubles, LAMMPS `&f[0][0]`), with energy and virial
+/// tallied into `tally` (null when nothing is tallied). Half list (`full == 0`): each listed
+/// pair once; the force on i is added, the force on j subtracted if `newton_pair` or j is
+/// owned; energy and virial as LAMMPS's `ev_tally` (newton on: the whole pair; off: half for
+/// each owned partner; per-atom halves likewise). Full list: only i's force, and half of the
+/// pair's energy and virial to i (`ev_tally_full`). A style with a pre-pass reads every atom's
+/// value from `values[0..nall]` (owned and ghost atoms, ghosts communicated); `values` may be
+/// null for the others.
 ///
 /// # Safety
-/// As `dpdnl_compute`; `h` is a live handle and `values` is null or holds `nall` doubles.
+/// `h` is a live handle; every non-null pointer in `atoms`, `list`, `step`, `tally` and `f` is
+/// valid for the sizes documented on those structs and not aliased by another argument;
+/// `values` is null or holds `nall` doubles.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dpdnl_pair_compute(
     h: *mut DpdnlPair,

@@ -54,10 +54,17 @@ fn every_exported_function_is_called_by_a_test() {
 
     let this = Path::new(file!()).file_name().expect("this file's name");
     let mut tests = Vec::new();
-    for entry in std::fs::read_dir(dir.join("tests")).expect("capi/tests") {
-        let path = entry.expect("capi/tests entry").path();
-        if path.extension().is_some_and(|e| e == "rs") && path.file_name() != Some(this) {
-            tests.push(std::fs::read_to_string(&path).expect("a test file"));
+    // The test crates and their shared modules one level down (`common/mod.rs`).
+    let mut dirs = vec![dir.join("tests")];
+    while let Some(d) = dirs.pop() {
+        for entry in std::fs::read_dir(&d).expect("capi/tests") {
+            let path = entry.expect("capi/tests entry").path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") && path.file_name() != Some(this)
+            {
+                tests.push(std::fs::read_to_string(&path).expect("a test file"));
+            }
         }
     }
     // A call: the name followed by `(` (a name only mentioned, without `(`, does not count).

@@ -1,134 +1,19 @@
-//! The one pair handle (`dpdnl_pair_*`) against the low-level per-table API it replaces in the
-//! LAMMPS styles: the same forces, energy and virial bit for bit, a restart text that gives the
-//! same style back, sDPD's pre-pass against a direct sum, and bad calls as codes plus text.
+//! The one pair handle (`dpdnl_pair_*`), the C API of the LAMMPS styles: its forces, energy and
+//! virial against the direct pair loop with the kernel, a restart text that gives the same style
+//! back, sDPD's pre-pass against a direct sum, and bad calls as codes plus text.
 
-use std::ffi::{CStr, CString, c_char, c_void};
+use std::ffi::{CStr, c_void};
 use std::ptr::{null, null_mut};
 
-use dpdnl::rng::keyed_uniform;
+use dpdnl::kernel::{Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force};
+use dpdnl::rng::{keyed_uniform, pair_gaussian};
 use dpdnl_capi::*;
+
+mod common;
+use common::*;
 
 const SEED: u32 = 4242;
 const DT: f64 = 0.01;
-
-fn last_error() -> String {
-    // SAFETY: a valid NUL-terminated string owned by this thread.
-    unsafe { CStr::from_ptr(dpdnl_last_error()) }
-        .to_string_lossy()
-        .into_owned()
-}
-
-fn last_message() -> String {
-    // SAFETY: a valid NUL-terminated string owned by this thread.
-    unsafe { CStr::from_ptr(dpdnl_last_message()) }
-        .to_string_lossy()
-        .into_owned()
-}
-
-#[derive(Debug)]
-struct Handle(*mut DpdnlPair);
-
-impl Drop for Handle {
-    fn drop(&mut self) {
-        // SAFETY: a handle from dpdnl_pair_new / _from_restart, freed once.
-        unsafe { dpdnl_pair_free(self.0) };
-    }
-}
-
-fn cwords(words: &[&str]) -> (Vec<CString>, Vec<*const c_char>) {
-    let c: Vec<CString> = words.iter().map(|w| CString::new(*w).unwrap()).collect();
-    let p = c.iter().map(|s| s.as_ptr()).collect();
-    (c, p)
-}
-
-fn new_style(name: &str, words: &[&str], ntypes: i32) -> Result<Handle, String> {
-    let n = CString::new(name).unwrap();
-    let (_c, p) = cwords(words);
-    let mut h = null_mut();
-    // SAFETY: valid strings that outlive the call; `h` is valid for writing.
-    let st = unsafe { dpdnl_pair_new(n.as_ptr(), p.len() as i32, p.as_ptr(), ntypes, &mut h) };
-    if st != DpdnlStatus::Ok {
-        assert!(h.is_null());
-        return Err(last_error());
-    }
-    Ok(Handle(h))
-}
-
-fn coeff(h: &Handle, ntypes: i32, words: &[&str]) -> Result<(), String> {
-    let (_c, p) = cwords(words);
-    // SAFETY: a live handle; valid strings.
-    let st = unsafe { dpdnl_pair_coeff(h.0, ntypes, p.len() as i32, p.as_ptr()) };
-    if st == DpdnlStatus::Ok {
-        Ok(())
-    } else {
-        Err(last_error())
-    }
-}
-
-const MASS: [f64; 3] = [0.0, 1.0, 2.5];
-
-/// LAMMPS's `units lj` as the styles pass it.
-fn lj_units() -> DpdnlUnits {
-    DpdnlUnits {
-        style: c"lj".as_ptr(),
-        boltz: 1.0,
-        mvv2e: 1.0,
-        ftm2v: 1.0,
-        nktv2p: 1.0,
-        mv2d: 1.0,
-    }
-}
-
-fn init(h: &Handle, natoms: i64, volume: f64) -> Result<f64, String> {
-    init_in(h, natoms, volume, lj_units())
-}
-
-/// LAMMPS's `units real` as the styles pass it (`force->boltz`, …).
-fn real_units() -> DpdnlUnits {
-    let u = dpdnl::Units::REAL;
-    DpdnlUnits {
-        style: c"real".as_ptr(),
-        boltz: u.boltz,
-        mvv2e: u.mvv2e,
-        ftm2v: u.ftm2v,
-        nktv2p: u.nktv2p,
-        mv2d: u.mv2d,
-    }
-}
-
-/// [`init`] in the host's unit style `units`.
-fn init_in(h: &Handle, natoms: i64, volume: f64, units: DpdnlUnits) -> Result<f64, String> {
-    init_as(h, natoms, volume, units, 0)
-}
-
-/// [`init`] as the top-level style (`substyle` 0) or as a sub-style of `pair_style hybrid` (1).
-fn init_as(
-    h: &Handle,
-    natoms: i64,
-    volume: f64,
-    units: DpdnlUnits,
-    substyle: i32,
-) -> Result<f64, String> {
-    let s = DpdnlSetup {
-        dimension: 3,
-        natoms,
-        volume,
-        mass: MASS.as_ptr(),
-        dt: DT,
-        euler: 0,
-        special_lj: null(),
-        units,
-        substyle,
-    };
-    let mut rc = 0.0;
-    // SAFETY: a live handle; `s` and `rc` valid.
-    let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
-    if st == DpdnlStatus::Ok {
-        Ok(rc)
-    } else {
-        Err(last_error())
-    }
-}
 
 /// `n` owned atoms in a cube of side `len`, two types, ghosts: the periodic images within
 /// `cut` of the box.
@@ -201,6 +86,41 @@ impl Atoms {
     }
 
     /// A half list with newton on (each physical pair once) within `cut`.
+    fn rsq(&self, i: usize, j: usize) -> f64 {
+        (0..3)
+            .map(|d| (self.x[3 * i + d] - self.x[3 * j + d]).powi(2))
+            .sum()
+    }
+
+    /// A LAMMPS-like neighbour list within `cut`: `Half(newton)` or `Full`.
+    fn list(&self, kind: ListKind, cut: f64) -> Vec<Vec<i32>> {
+        let mut lists = vec![vec![]; self.nlocal];
+        for (i, li) in lists.iter_mut().enumerate() {
+            for j in 0..self.nall() {
+                if j == i || self.rsq(i, j) >= cut * cut {
+                    continue;
+                }
+                let keep = match kind {
+                    ListKind::Full => true,
+                    ListKind::HalfNewtonOff => j >= self.nlocal || j > i,
+                    // Each physical pair once: ghosts only towards the larger tag.
+                    ListKind::HalfNewtonOn => {
+                        if j < self.nlocal {
+                            j > i
+                        } else {
+                            self.tag[i] < self.tag[j]
+                        }
+                    }
+                };
+                if keep {
+                    // Set a special-bond bit the driver must mask away.
+                    li.push(j as i32 | (1 << 30));
+                }
+            }
+        }
+        lists
+    }
+
     fn half_list(&self, cut: f64) -> Vec<Vec<i32>> {
         let rsq = |i: usize, j: usize| -> f64 {
             (0..3)
@@ -349,8 +269,87 @@ fn dpd_handle(fr: &str, no: &str) -> Handle {
     h
 }
 
+/// The forces, energy and virial of `a` (owned atoms; ghosts folded into their owners, as
+/// [`evaluate`] returns them) by the direct loop over every owned i and every image j ≠ i within
+/// the cut-off, each pair through `pair_force` with the keyed ξ of step 7, seen from both of its
+/// owned atoms (half the energy and virial each).
+fn direct(a: &Atoms, model: &PairModel, coeff: impl Fn(i32, i32) -> PairCoeff) -> Out {
+    let mut out = Out {
+        f: vec![0.0; 3 * a.nlocal],
+        energy: 0.0,
+        virial: [0.0; 6],
+    };
+    let inv_m = |t: i32| 1.0 / MASS[t as usize];
+    for i in 0..a.nlocal {
+        for j in 0..a.nall() {
+            if j == i {
+                continue;
+            }
+            let dr = [0, 1, 2].map(|d| a.x[3 * i + d] - a.x[3 * j + d]);
+            let input = PairInput {
+                dr,
+                dv: [0, 1, 2].map(|d| a.v[3 * i + d] - a.v[3 * j + d]),
+                inv_mass_sum: inv_m(a.ty[i]) + inv_m(a.ty[j]),
+                xi: pair_gaussian(SEED, 7, a.tag[i] as u32, a.tag[j] as u32),
+            };
+            let pf = pair_force(model, &coeff(a.ty[i], a.ty[j]), &input);
+            let fv = pf.vector(dr);
+            for (o, v) in out.f[3 * i..3 * i + 3].iter_mut().zip(fv) {
+                *o += v;
+            }
+            out.energy += 0.5 * pf.energy;
+            let fp = 0.5 * pf.total() * pf.inv_r;
+            for (k, (p, q)) in [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)]
+                .into_iter()
+                .enumerate()
+            {
+                out.virial[k] += dr[p] * dr[q] * fp;
+            }
+        }
+    }
+    out
+}
+
+/// `got` equals `want` to 1e-12 of the largest magnitude of each quantity (only the summation
+/// order differs: a few tens of terms per atom, each rounding at 1.1e-16 relative).
+fn assert_same(got: &Out, want: &Out, what: &str) {
+    let close = |a: &[f64], b: &[f64], q: &str| {
+        let scale = b.iter().fold(1e-300_f64, |m, x| m.max(x.abs()));
+        for (k, (x, y)) in a.iter().zip(b).enumerate() {
+            assert!(
+                (x - y).abs() <= 1e-12 * scale,
+                "{what}: {q}[{k}] {x} vs {y} (scale {scale})"
+            );
+        }
+    };
+    close(&got.f, &want.f, "force");
+    close(&[got.energy], &[want.energy], "energy");
+    close(&got.virial, &want.virial, "virial");
+}
+
+/// The dense coefficients of [`dpd_handle`] by type pair.
+fn dpd_coeff(fr: &str) -> impl Fn(i32, i32) -> PairCoeff {
+    let g1 = if fr == "none" { 0.0 } else { 1.0 };
+    move |i, j| {
+        let c = |a, gamma0, gamma1: f64, rc| PairCoeff {
+            a,
+            gamma0,
+            gamma1: gamma1 * g1,
+            rc,
+        };
+        match (i.min(j), i.max(j)) {
+            (1, 1) => c(25.0, 4.5, 1.0, 1.0),
+            (1, 2) => c(10.0, 3.0, 0.5, 1.2),
+            _ => c(0.0, 5.0, 2.0, 0.9),
+        }
+    }
+}
+
+/// The handle's forces, energy and virial over a LAMMPS-like half list (newton on, ghosts)
+/// equal the direct pair loop with the kernel (formerly checked against the low-level
+/// parameter-table API, removed in issue 45).
 #[test]
-fn dpd_handle_equals_the_parameter_table_bit_for_bit() {
+fn dpd_handle_equals_the_direct_pair_loop() {
     let a = Atoms::new(60, 3.0, 1.2);
     for (fr, no) in MODELS {
         let h = dpd_handle(fr, no);
@@ -359,48 +358,31 @@ fn dpd_handle_equals_the_parameter_table_bit_for_bit() {
             // SAFETY: arrays sized as documented, alive across the call.
             unsafe { dpdnl_pair_compute(h.0, at, l, st, null(), f, t) }
         });
-        let (fc, nc) = (CString::new(fr).unwrap(), CString::new(no).unwrap());
-        let mut p = null_mut();
-        // SAFETY: valid strings and out pointer.
-        let s = unsafe {
-            dpdnl_params_new(
-                0.7,
-                i64::from(SEED),
-                fc.as_ptr(),
-                nc.as_ptr(),
-                0.5,
-                2,
-                &mut p,
-            )
-        };
-        assert_eq!(s, DpdnlStatus::Ok);
-        let g1 = |g: f64| if fr == "none" { 0.0 } else { g };
-        for (i, j, aa, g0, g, rc) in [
-            (1, 1, 25.0, 4.5, g1(1.0), 1.0),
-            (1, 2, 10.0, 3.0, g1(0.5), 1.2),
-            (2, 2, 0.0, 5.0, g1(2.0), 0.9),
-        ] {
-            // SAFETY: a live table.
-            assert_eq!(
-                unsafe { dpdnl_params_set_coeff(p, i, j, aa, g0, g, rc) },
-                DpdnlStatus::Ok
-            );
-        }
-        let table = evaluate(&a, 1.2, |at, l, st, f, t| {
-            // SAFETY: as above; a live table.
-            unsafe { dpdnl_compute(p, at, l, st, f, t) }
-        });
-        // SAFETY: from dpdnl_params_new, freed once.
-        unsafe { dpdnl_params_free(p) };
-        assert_eq!(mine, table, "{fr}/{no}");
+        let model = PairModel::new(
+            0.7,
+            Friction::from_keyword(fr).unwrap(),
+            Noise::from_keyword(no).unwrap(),
+            Weight::new(0.5).unwrap(),
+            DT,
+        );
+        assert_same(
+            &mine,
+            &direct(&a, &model, dpd_coeff(fr)),
+            &format!("{fr}/{no}"),
+        );
         assert!(mine.energy != 0.0 && mine.f.iter().any(|&x| x != 0.0));
+        // Momentum: the pair forces sum to zero.
+        for d in 0..3 {
+            let total: f64 = (0..a.nlocal).map(|i| mine.f[3 * i + d]).sum();
+            assert!(total.abs() < 1e-10, "{fr}/{no}: net force {total}");
+        }
     }
 }
 
 /// In the host's `units real`, T = 300 of the handle is a temperature: its forces are those of
-/// the low-level table given kT = boltz · 300 and the same units (whose ftm2v the two-step kick
-/// and the correction take), bit for bit; and they differ from a table left in `units lj`
-/// (ftm2v = 1), so the units reach the kernel. The table's set-up with bad units is refused.
+/// the direct loop with kT = boltz · 300 and the unit style's ftm2v (which the two-step kick and
+/// the correction take); and they differ from the loop with ftm2v = 1, so the units reach the
+/// kernel. A set-up with bad units is refused.
 #[test]
 fn dpd_handle_takes_the_hosts_units() {
     let a = Atoms::new(60, 3.0, 1.2);
@@ -425,47 +407,32 @@ fn dpd_handle_takes_the_hosts_units() {
             // SAFETY: arrays sized as documented, alive across the call.
             unsafe { dpdnl_pair_compute(h.0, at, l, st, null(), f, t) }
         });
-        let table = |units: Option<&DpdnlUnits>| {
-            let (fc, nc) = (CString::new(fr).unwrap(), CString::new(no).unwrap());
-            let mut p = null_mut();
-            let kt = dpdnl::Units::REAL.kt(300.0);
-            // SAFETY: valid strings and out pointer.
-            let st = unsafe {
-                dpdnl_params_new(
-                    kt,
-                    i64::from(SEED),
-                    fc.as_ptr(),
-                    nc.as_ptr(),
-                    2.0,
-                    2,
-                    &mut p,
-                )
+        let loop_with = |ftm2v: f64| {
+            let model = PairModel::new(
+                dpdnl::Units::REAL.kt(300.0),
+                Friction::from_keyword(fr).unwrap(),
+                Noise::from_keyword(no).unwrap(),
+                Weight::STANDARD,
+                DT,
+            )
+            .with_ftm2v(ftm2v);
+            let coeff = |_, _| PairCoeff {
+                a: 2.0,
+                gamma0: 4.5,
+                gamma1: if fr == "none" { 0.0 } else { 0.7 },
+                rc: 1.0,
             };
-            assert_eq!(st, DpdnlStatus::Ok);
-            let g = if fr == "none" { 0.0 } else { 0.7 };
-            for (i, j) in [(1, 1), (1, 2), (2, 2)] {
-                // SAFETY: a live table.
-                let st = unsafe { dpdnl_params_set_coeff(p, i, j, 2.0, 4.5, g, 1.0) };
-                assert_eq!(st, DpdnlStatus::Ok);
-            }
-            if let Some(u) = units {
-                // SAFETY: a live table; `u.style` a static string.
-                assert_eq!(unsafe { dpdnl_params_set_units(p, u) }, DpdnlStatus::Ok);
-            }
-            let out = evaluate(&a, 1.0, |at, l, st, f, t| {
-                // SAFETY: as above; a live table.
-                unsafe { dpdnl_compute(p, at, l, st, f, t) }
-            });
-            // SAFETY: from dpdnl_params_new, freed once.
-            unsafe { dpdnl_params_free(p) };
-            out
+            direct(&a, &model, coeff)
         };
-        assert_eq!(mine, table(Some(&u)), "{fr}/{no}: the table in units real");
-        if fr == "none" {
-            // No conversion is involved without a velocity-dependent friction.
-            assert_eq!(mine, table(None), "none/plain needs no ftm2v");
-        } else {
-            assert_ne!(mine, table(None), "{fr}/{no}: ftm2v must reach the kernel");
+        assert_same(
+            &mine,
+            &loop_with(u.ftm2v),
+            &format!("{fr}/{no} in units real"),
+        );
+        if fr != "none" {
+            let lj = loop_with(1.0);
+            let differs = mine.f.iter().zip(&lj.f).any(|(x, y)| (x - y).abs() > 1e-9);
+            assert!(differs, "{fr}/{no}: ftm2v must reach the kernel");
         }
     }
     let h = dpd_handle("none", "plain");
@@ -489,29 +456,10 @@ fn dpd_handle_takes_the_hosts_units() {
                 ..u
             },
         ),
+        ("mvv2e = -1", DpdnlUnits { mvv2e: -1.0, ..u }),
     ] {
         let e = init_in(&h, 60, 27.0, bad).expect_err(what);
         assert!(e.contains(what), "{what}: {e}");
-    }
-    let mut p = null_mut();
-    // SAFETY: valid strings and out pointer.
-    let st =
-        unsafe { dpdnl_params_new(1.0, 5, c"none".as_ptr(), c"plain".as_ptr(), 2.0, 1, &mut p) };
-    assert_eq!(st, DpdnlStatus::Ok);
-    let bad = DpdnlUnits { mvv2e: -1.0, ..u };
-    // SAFETY: a live table and valid units, then null pointers (refused).
-    unsafe {
-        assert_eq!(
-            dpdnl_params_set_units(p, &bad),
-            DpdnlStatus::InvalidArgument
-        );
-        assert!(last_error().contains("mvv2e = -1"), "{}", last_error());
-        assert_eq!(dpdnl_params_set_units(p, null()), DpdnlStatus::NullPointer);
-        assert_eq!(
-            dpdnl_params_set_units(null_mut(), &u),
-            DpdnlStatus::NullPointer
-        );
-        dpdnl_params_free(p);
     }
 }
 
@@ -1619,4 +1567,238 @@ fn special_factors_given_before_a_compute_rebuild_the_blocks() {
         "{}",
         last_error()
     );
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum ListKind {
+    HalfNewtonOn,
+    HalfNewtonOff,
+    Full,
+}
+
+/// One evaluation over a list of `kind`, ghosts folded into their owners (reverse
+/// communication), with per-atom tallies.
+struct Run {
+    f: Vec<f64>,
+    energy: f64,
+    virial: [f64; 6],
+    eatom: Vec<f64>,
+    vatom: Vec<f64>,
+}
+
+fn run(h: &Handle, s: &Atoms, kind: ListKind, cut: f64, step: i64) -> Run {
+    let lists = s.list(kind, cut);
+    let ilist: Vec<i32> = (0..s.nlocal as i32).collect();
+    let numneigh: Vec<i32> = lists.iter().map(|l| l.len() as i32).collect();
+    let firstneigh: Vec<*const i32> = lists.iter().map(|l| l.as_ptr()).collect();
+    let atoms = DpdnlAtoms {
+        x: s.x.as_ptr(),
+        v: s.v.as_ptr(),
+        tag: s.tag.as_ptr(),
+        atom_type: s.ty.as_ptr(),
+        mass: MASS.as_ptr(),
+        rmass: null(),
+        nlocal: s.nlocal as i32,
+        nall: s.nall() as i32,
+    };
+    let list = DpdnlNeighList {
+        inum: s.nlocal as i32,
+        ilist: ilist.as_ptr(),
+        numneigh: numneigh.as_ptr(),
+        firstneigh: firstneigh.as_ptr(),
+        neighmask: 0x3FFF_FFFF,
+        full: (kind == ListKind::Full) as i32,
+        build: 0,
+        skin: 0.0,
+    };
+    let st = DpdnlStep {
+        step,
+        dt: DT,
+        newton_pair: (kind == ListKind::HalfNewtonOn) as i32,
+        dimension: 3,
+        boxlen: [0.0; 3],
+        tilt: [0.0; 3],
+        periodic: [0; 3],
+    };
+    let mut r = Run {
+        f: vec![0.0; 3 * s.nall()],
+        energy: 0.0,
+        virial: [0.0; 6],
+        eatom: vec![0.0; s.nall()],
+        vatom: vec![0.0; 6 * s.nall()],
+    };
+    let mut tally = DpdnlTally {
+        eflag_global: 1,
+        vflag_global: 1,
+        eng_vdwl: &mut r.energy,
+        virial: r.virial.as_mut_ptr(),
+        eatom: r.eatom.as_mut_ptr(),
+        vatom: r.vatom.as_mut_ptr(),
+    };
+    // SAFETY: every array is sized as documented and lives across the call.
+    let code = unsafe {
+        dpdnl_pair_compute(
+            h.0,
+            &atoms,
+            &list,
+            &st,
+            null(),
+            r.f.as_mut_ptr(),
+            &mut tally,
+        )
+    };
+    assert_eq!(code, DpdnlStatus::Ok, "{}", last_error());
+    // Reverse communication: fold ghost forces and per-atom tallies into the owners.
+    for g in s.nlocal..s.nall() {
+        let o = s.owner[g];
+        for d in 0..3 {
+            r.f[3 * o + d] += r.f[3 * g + d];
+        }
+        r.eatom[o] += r.eatom[g];
+        for d in 0..6 {
+            r.vatom[6 * o + d] += r.vatom[6 * g + d];
+        }
+    }
+    r.f.truncate(3 * s.nlocal);
+    r.eatom.truncate(s.nlocal);
+    r.vatom.truncate(6 * s.nlocal);
+    r
+}
+
+fn assert_close(a: &[f64], b: &[f64], what: &str) {
+    let scale = a.iter().fold(1e-300_f64, |m, x| m.max(x.abs()));
+    for (k, (x, y)) in a.iter().zip(b).enumerate() {
+        assert!(
+            (x - y).abs() <= 1e-12 * scale,
+            "{what}[{k}]: {x} vs {y} (scale {scale})"
+        );
+    }
+}
+
+#[test]
+fn newton_on_off_and_full_lists_agree() {
+    let (len, cut) = (3.0, 1.2);
+    let s = Atoms::new(60, len, cut);
+    let h = dpd_handle("dot", "twostep");
+    init(&h, 60, 27.0).expect("init");
+    let on = run(&h, &s, ListKind::HalfNewtonOn, cut, 3);
+    for kind in [ListKind::HalfNewtonOff, ListKind::Full] {
+        let other = run(&h, &s, kind, cut, 3);
+        assert_close(&other.f, &on.f, &format!("{kind:?} force"));
+        assert_close(&[other.energy], &[on.energy], &format!("{kind:?} energy"));
+        assert_close(&other.virial, &on.virial, &format!("{kind:?} virial"));
+        assert_close(&other.eatom, &on.eatom, &format!("{kind:?} eatom"));
+        assert_close(&other.vatom, &on.vatom, &format!("{kind:?} vatom"));
+    }
+    let esum: f64 = on.eatom.iter().sum();
+    assert_close(&[esum], &[on.energy], "sum of per-atom energies");
+}
+
+fn status_of(f: impl FnOnce() -> DpdnlStatus) -> (DpdnlStatus, String) {
+    let st = f();
+    (st, last_error())
+}
+
+#[test]
+fn bad_compute_arguments_give_codes_and_text() {
+    let h = dpd_handle("cross", "plain");
+    init(&h, 2, 27.0).expect("init");
+    let x = [0.0, 0.0, 0.0, 0.5, 0.0, 0.0];
+    let v = [0.0; 6];
+    let tag = [1, 2];
+    let mut f = [0.0; 6];
+    let neigh: [i32; 1] = [1];
+    let firstneigh = [neigh.as_ptr(), null()];
+    let numneigh = [1, 0];
+    let ilist = [0, 1];
+    let good_atoms = |ty: &[i32; 2]| DpdnlAtoms {
+        x: x.as_ptr(),
+        v: v.as_ptr(),
+        tag: tag.as_ptr(),
+        atom_type: ty.as_ptr(),
+        mass: MASS.as_ptr(),
+        rmass: null(),
+        nlocal: 2,
+        nall: 2,
+    };
+    let list = DpdnlNeighList {
+        inum: 2,
+        ilist: ilist.as_ptr(),
+        numneigh: numneigh.as_ptr(),
+        firstneigh: firstneigh.as_ptr(),
+        build: 0,
+        skin: 0.0,
+        neighmask: 0x3FFF_FFFF,
+        full: 0,
+    };
+    let step = |s, dt, dim| DpdnlStep {
+        step: s,
+        dt,
+        newton_pair: 1,
+        dimension: dim,
+        boxlen: [0.0; 3],
+        tilt: [0.0; 3],
+        periodic: [0; 3],
+    };
+    let mut call = |a: &DpdnlAtoms, l: &DpdnlNeighList, st: &DpdnlStep| {
+        // SAFETY: every array above is sized for nall = 2.
+        status_of(|| unsafe {
+            dpdnl_pair_compute(h.0, a, l, st, null(), f.as_mut_ptr(), null_mut())
+        })
+    };
+    let ty_ok = [1, 2];
+    let (st, msg) = call(&good_atoms(&ty_ok), &list, &step(0, 0.01, 3));
+    assert_eq!(st, DpdnlStatus::Ok, "{msg}");
+    for ((st, msg), want) in [
+        (
+            call(&good_atoms(&[1, 3]), &list, &step(0, 0.01, 3)),
+            "type 3",
+        ),
+        (call(&good_atoms(&ty_ok), &list, &step(-1, 0.01, 3)), "step"),
+        (call(&good_atoms(&ty_ok), &list, &step(0, 0.0, 3)), "dt"),
+        (
+            call(&good_atoms(&ty_ok), &list, &step(0, 0.01, 4)),
+            "dimension",
+        ),
+    ] {
+        assert_eq!(st, DpdnlStatus::InvalidArgument, "{msg}");
+        assert!(msg.contains(want), "'{msg}' should mention {want}");
+    }
+    let far: [i32; 1] = [7];
+    let bad_first = [far.as_ptr(), null()];
+    let bad_list = DpdnlNeighList {
+        firstneigh: bad_first.as_ptr(),
+        ..list
+    };
+    let (st, msg) = call(&good_atoms(&ty_ok), &bad_list, &step(0, 0.01, 3));
+    assert_eq!(st, DpdnlStatus::InvalidArgument);
+    assert!(msg.contains("neighbour index 7"), "{msg}");
+    let null_x = DpdnlAtoms {
+        x: null(),
+        ..good_atoms(&ty_ok)
+    };
+    let (st, msg) = call(&null_x, &list, &step(0, 0.01, 3));
+    assert_eq!(st, DpdnlStatus::NullPointer);
+    assert!(msg.contains('x'), "{msg}");
+    let zero_mass = [0.0, 1.0, 0.0];
+    let bad_mass = DpdnlAtoms {
+        mass: zero_mass.as_ptr(),
+        ..good_atoms(&ty_ok)
+    };
+    let (st, msg) = call(&bad_mass, &list, &step(0, 0.01, 3));
+    assert_eq!(st, DpdnlStatus::InvalidArgument);
+    assert!(msg.contains("mass[2]"), "{msg}");
+    // SAFETY: null pointers are reported, not dereferenced.
+    let st = unsafe {
+        dpdnl_pair_compute(
+            null_mut(),
+            null(),
+            null(),
+            null(),
+            null(),
+            null_mut(),
+            null_mut(),
+        )
+    };
+    assert_eq!(st, DpdnlStatus::NullPointer);
 }

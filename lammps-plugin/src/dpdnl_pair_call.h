@@ -21,7 +21,7 @@
 
 namespace dpdnl_pair_call {
 
-// Everything a dpdnl_compute-style entry point reads, for the owned and ghost atoms of this
+// Everything dpdnl_pair_compute and the pre-pass entry points read, for the owned and ghost atoms of this
 // rank, its half neighbour list, the step, and the pair style's tallies.
 struct PairCall {
   DpdnlAtoms atoms;
