@@ -28,15 +28,19 @@ use dpdnl::pair_gaussian;
 
 mod compute;
 mod init;
+mod list;
 mod pair;
 mod styles;
 mod team;
+mod types;
 mod working;
 pub use compute::*;
 pub use init::*;
+pub use list::DpdnlNeighList;
 pub use pair::*;
 pub use styles::*;
 pub use team::{DpdnlLaunch, DpdnlTeamBody};
+pub use types::*;
 
 /// Result of every fallible call. Anything but `Ok` leaves a message for [`dpdnl_last_error`].
 #[repr(C)]

@@ -20,8 +20,9 @@ use dpdnl::engine::style::{STYLES, check_special, from_restart_lines};
 use dpdnl::kernel::Isa;
 use dpdnl::{PairStyle, SetupContext, new_pair_style};
 
-use crate::compute::{Workers, for_each_row, special_class, walk_pairs};
+use crate::compute::{Workers, walk_pairs};
 use crate::init::set_last_message;
+use crate::list::{for_each_row, special_class};
 use crate::styles::{put, words};
 use crate::team::DpdnlLaunch;
 use crate::working::WorkingList;

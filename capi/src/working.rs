@@ -17,7 +17,7 @@
 use dpdnl::engine::neighbor::{INNER_MARGIN, INNER_MIN_LIFE};
 
 use crate::Error;
-use crate::compute::{DpdnlNeighList, check_row, list_row};
+use crate::list::{DpdnlNeighList, check_row, list_row};
 
 /// What identifies the LAMMPS list a copy was taken from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -42,11 +42,16 @@ fn every_exported_function_is_called_by_a_test() {
     // As many declarations as exports in src/ (`#[unsafe(no_mangle)]`): the parse above missed
     // none.
     let mut exports = 0;
-    for entry in std::fs::read_dir(dir.join("src")).expect("capi/src") {
-        let path = entry.expect("capi/src entry").path();
-        if path.extension().is_some_and(|e| e == "rs") {
-            let text = std::fs::read_to_string(&path).expect("a source file");
-            exports += text.matches("#[unsafe(no_mangle)]").count();
+    let mut dirs = vec![dir.join("src")];
+    while let Some(d) = dirs.pop() {
+        for entry in std::fs::read_dir(&d).expect("capi/src") {
+            let path = entry.expect("capi/src entry").path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let text = std::fs::read_to_string(&path).expect("a source file");
+                exports += text.matches("#[unsafe(no_mangle)]").count();
+            }
         }
     }
     assert!(exports > 0, "no exports found in capi/src");
