@@ -71,8 +71,8 @@ fn bond_forces_are_minus_the_energy_gradient() {
             let want = -de / r;
             assert!(
                 (fbond - want).abs() <= 1e-6 * want.abs() + 1e-8,
-                "{:?} r = {r}: fbond {fbond}, −E'/r {want}",
-                style.kind
+                "{} r = {r}: fbond {fbond}, −E'/r {want}",
+                style.form.word()
             );
         }
     }
@@ -131,8 +131,8 @@ fn angle_forces_are_minus_the_energy_gradient() {
                     );
                     assert!(
                         (f[c] + g).abs() <= 1e-6 * g.abs() + 1e-7,
-                        "{:?} atom {atom} axis {c}: force {} vs −∂E {}",
-                        style.kind,
+                        "{} atom {atom} axis {c}: force {} vs −∂E {}",
+                        style.form.word(),
                         f[c],
                         -g
                     );

@@ -340,11 +340,8 @@ impl System {
                             "Bond coeffs are not set (bond type {k} has none: bond_coeff)"
                         ));
                     }
-                    let lj = t.special.lj;
-                    if b.kind == bonded::BondKind::Fene && lj[1..] != [0.0, 1.0, 1.0] {
-                        self.setup_notes.push(SetupNote::Warning(
-                            "Use special bonds = 0,1,1 with bond style fene".into(),
-                        ));
+                    if let Some(w) = b.form.special_warning(t.special.lj) {
+                        self.setup_notes.push(SetupNote::Warning(w.into()));
                     }
                 }
             }

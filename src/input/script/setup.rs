@@ -462,12 +462,12 @@ impl Interpreter<'_> {
                         .topo
                         .as_ref()
                         .and_then(|t| t.bond_style.as_ref())
-                        .map(|b| b.kind.word()),
+                        .map(|b| b.form.word()),
                     CoeffKind::Angle => sys
                         .topo
                         .as_ref()
                         .and_then(|t| t.angle_style.as_ref())
-                        .map(|a| a.kind.word()),
+                        .map(|a| a.form.word()),
                 }
             };
             let Some(defined) = defined else {
@@ -584,12 +584,12 @@ impl Interpreter<'_> {
                 if let Some(b) = &t.bond_style
                     && t.nbondtypes > 0
                 {
-                    coeffs[0] = rows(&b.coeff).map(|r| (b.kind.word().to_string(), r));
+                    coeffs[0] = rows(&b.coeff).map(|r| (b.form.word().to_string(), r));
                 }
                 if let Some(a) = &t.angle_style
                     && t.nangletypes > 0
                 {
-                    coeffs[1] = rows(&a.coeff).map(|r| (a.kind.word().to_string(), r));
+                    coeffs[1] = rows(&a.coeff).map(|r| (a.form.word().to_string(), r));
                 }
             }
         }

@@ -1,79 +1,64 @@
-//! Bond and angle styles (`bond_style harmonic|fene`, `angle_style harmonic|cosine`): their
-//! coefficients and the force of one bond or angle, with LAMMPS's formulas and conventions
+//! Bond and angle styles (`bond_style harmonic|fene`, `angle_style harmonic|cosine`, one file
+//! each behind [`BondForm`] and [`AngleForm`], named only in [`BOND_STYLES`] and
+//! [`ANGLE_STYLES`]): their coefficients and the force of one bond or angle, with LAMMPS's formulas and conventions
 //! (docs/models.md §4.9, P-23–P-26), so that the standalone engine and LAMMPS agree to
 //! round-off. The driver (`System`, `topology.rs`) walks the topology in its fixed order.
 
 use crate::grammar::{need, parse_f64, shown, type_range};
 
-/// LAMMPS's 2^(1/3) (`MY_CUBEROOT2`): the WCA cut-off of `bond fene`, squared over σ².
-const CUBEROOT2: f64 = 1.259_921_049_894_873_2;
-/// LAMMPS's floor on sin θ in the angle forces (`SMALL` of `angle harmonic`).
-const SMALL_SIN: f64 = 0.001;
+mod angle_cosine;
+mod angle_harmonic;
+mod bond_fene;
+mod bond_harmonic;
 
-/// A bond style's functional form.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BondKind {
-    /// E = K (r − r0)² (no ½, as LAMMPS); coefficients K r0.
-    Harmonic,
-    /// E = −½ K R0² ln(1 − (r/R0)²) + 4ε[(σ/r)¹² − (σ/r)⁶] + ε for r < 2^(1/6) σ; coefficients
-    /// K R0 ε σ.
-    Fene,
-}
-
-impl BondKind {
-    /// The style word.
-    pub fn word(self) -> &'static str {
-        match self {
-            BondKind::Harmonic => "harmonic",
-            BondKind::Fene => "fene",
-        }
+/// A bond style's functional form: its words and the force of one bond. A new bond style is one
+/// file implementing this trait and one entry in [`BOND_STYLES`].
+pub trait BondForm: Sync + std::fmt::Debug {
+    /// The style word (`bond_style WORD`).
+    fn word(&self) -> &'static str;
+    /// The usage line of its `bond_coeff`.
+    fn usage(&self) -> &'static str;
+    /// The names of its coefficients, in order (their count is the line's).
+    fn names(&self) -> &'static [&'static str];
+    /// A check of one type's coefficients beyond their being numbers.
+    fn check(&self, _c: &[f64]) -> Result<(), String> {
+        Ok(())
     }
-
-    fn ncoeff(self) -> usize {
-        match self {
-            BondKind::Harmonic => 2,
-            BondKind::Fene => 4,
-        }
-    }
-
-    fn usage(self) -> &'static str {
-        match self {
-            BondKind::Harmonic => "bond_coeff N K r0",
-            BondKind::Fene => "bond_coeff N K R0 epsilon sigma",
-        }
+    /// (fbond, energy, flag) of a bond with coefficients `c` at squared length `rsq`, the force
+    /// on the first atom being fbond · (x1 − x2) (LAMMPS's `bond->compute`).
+    fn eval(&self, c: &[f64], rsq: f64) -> (f64, f64, BondFlag);
+    /// LAMMPS's set-up warning of this form under `special_bonds lj` factors `lj`, if any.
+    fn special_warning(&self, _lj: [f64; 4]) -> Option<&'static str> {
+        None
     }
 }
 
-/// An angle style's functional form.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AngleKind {
-    /// E = K (θ − θ0)²; coefficients K θ0 (θ0 in degrees).
-    Harmonic,
-    /// E = K (1 + cos θ); coefficient K.
-    Cosine,
+/// An angle style's functional form: its words and the prefactor and energy of one angle. A new
+/// angle style is one file implementing this trait and one entry in [`ANGLE_STYLES`].
+pub trait AngleForm: Sync + std::fmt::Debug {
+    /// The style word (`angle_style WORD`).
+    fn word(&self) -> &'static str;
+    /// The usage line of its `angle_coeff`.
+    fn usage(&self) -> &'static str;
+    /// The names of its coefficients, in order.
+    fn names(&self) -> &'static [&'static str];
+    /// (a, energy) of an angle with coefficients `c` and cos θ = `cs` (clamped to [−1, 1]): the
+    /// forces are a (cs d1/r1² − d2/(r1 r2)) on the first atom and likewise on the third
+    /// (LAMMPS's `angle->compute`, [`AngleStyle::eval`]).
+    fn eval(&self, c: &[f64], cs: f64) -> (f64, f64);
 }
 
-impl AngleKind {
-    /// The style word.
-    pub fn word(self) -> &'static str {
-        match self {
-            AngleKind::Harmonic => "harmonic",
-            AngleKind::Cosine => "cosine",
-        }
-    }
+/// The bond styles, the one place that names them.
+pub const BOND_STYLES: &[&dyn BondForm] = &[&bond_harmonic::Harmonic, &bond_fene::Fene];
+/// The angle styles, the one place that names them.
+pub const ANGLE_STYLES: &[&dyn AngleForm] = &[&angle_harmonic::Harmonic, &angle_cosine::Cosine];
 
-    fn ncoeff(self) -> usize {
-        match self {
-            AngleKind::Harmonic => 2,
-            AngleKind::Cosine => 1,
-        }
-    }
-
-    fn usage(self) -> &'static str {
-        match self {
-            AngleKind::Harmonic => "angle_coeff N K theta0",
-            AngleKind::Cosine => "angle_coeff N K",
-        }
+/// "a, b and c" of the registry's words, for "not supported" errors.
+fn words(w: Vec<&str>) -> String {
+    match w.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        Some((last, _)) => last.to_string(),
+        None => String::new(),
     }
 }
 
@@ -89,22 +74,29 @@ pub enum BondFlag {
 }
 
 /// A bond style with its coefficients by bond type (index 0 unused).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct BondStyle {
     /// The form.
-    pub kind: BondKind,
+    pub form: &'static dyn BondForm,
     /// Coefficients by type, as given (`None`: not set).
     pub coeff: Vec<Option<Vec<f64>>>,
+}
+
+impl PartialEq for BondStyle {
+    fn eq(&self, other: &Self) -> bool {
+        self.form.word() == other.form.word() && self.coeff == other.coeff
+    }
 }
 
 /// A coefficient line's type range and numbers: `TYPE(S) c1 c2 …`, exactly `n` numbers.
 fn coeff_line(
     args: &[String],
     ntypes: usize,
-    n: usize,
+    names: &[&str],
     usage: &str,
     what: &str,
 ) -> Result<((usize, usize), Vec<f64>), String> {
+    let n = names.len();
     need(args, n + 1, usage)?;
     if args.len() > n + 1 {
         return Err(format!(
@@ -116,12 +108,6 @@ fn coeff_line(
         return Err(format!("{what}_coeff: the system has no {what} types"));
     }
     let range = type_range(&args[0], ntypes).map_err(|e| format!("{what} {e}"))?;
-    let names: &[&str] = match (what, n) {
-        ("bond", 2) => &["K", "r0"],
-        ("bond", _) => &["K", "R0", "epsilon", "sigma"],
-        (_, 2) => &["K", "theta0"],
-        _ => &["K"],
-    };
     let mut c = Vec::with_capacity(n);
     for (k, tok) in args[1..=n].iter().enumerate() {
         c.push(parse_f64(tok, names[k])?);
@@ -130,28 +116,26 @@ fn coeff_line(
 }
 
 impl BondStyle {
-    /// `bond_style harmonic|fene` for `ntypes` bond types.
+    /// `bond_style WORD` ([`BOND_STYLES`]) for `ntypes` bond types.
     pub fn new(args: &[String], ntypes: usize) -> Result<BondStyle, String> {
-        need(args, 1, "bond_style harmonic|fene")?;
-        let kind = match args[0].as_str() {
-            "harmonic" => BondKind::Harmonic,
-            "fene" => BondKind::Fene,
-            other => {
-                return Err(format!(
-                    "bond style '{}' not supported: only harmonic and fene",
-                    shown(other)
-                ));
-            }
+        let all: Vec<&str> = BOND_STYLES.iter().map(|f| f.word()).collect();
+        need(args, 1, &format!("bond_style {}", all.join("|")))?;
+        let Some(&form) = BOND_STYLES.iter().find(|f| f.word() == args[0]) else {
+            return Err(format!(
+                "bond style '{}' not supported: only {}",
+                shown(&args[0]),
+                words(all)
+            ));
         };
         if let Some(w) = args.get(1) {
             return Err(format!(
                 "bond_style {}: unexpected word '{}'",
-                kind.word(),
+                form.word(),
                 shown(w)
             ));
         }
         Ok(BondStyle {
-            kind,
+            form,
             coeff: vec![None; ntypes + 1],
         })
     }
@@ -159,11 +143,9 @@ impl BondStyle {
     /// One `bond_coeff` line (its words after the command).
     pub fn set_coeff(&mut self, args: &[String]) -> Result<(), String> {
         let nt = self.coeff.len() - 1;
-        let k = self.kind;
-        let ((lo, hi), c) = coeff_line(args, nt, k.ncoeff(), k.usage(), "bond")?;
-        if k == BondKind::Fene && c[1] <= 0.0 {
-            return Err(format!("bond fene: R0 = {} must be > 0", c[1]));
-        }
+        let f = self.form;
+        let ((lo, hi), c) = coeff_line(args, nt, f.names(), f.usage(), "bond")?;
+        f.check(&c)?;
         for t in lo..=hi {
             self.coeff[t] = Some(c.clone());
         }
@@ -183,43 +165,12 @@ impl BondStyle {
         let Some(c) = self.coeff.get(t).and_then(|c| c.as_deref()) else {
             return (0.0, 0.0, BondFlag::Ok);
         };
-        match self.kind {
-            BondKind::Harmonic => {
-                let r = rsq.sqrt();
-                let dr = r - c[1];
-                let rk = c[0] * dr;
-                let fbond = if r > 0.0 { -2.0 * rk / r } else { 0.0 };
-                (fbond, rk * dr, BondFlag::Ok)
-            }
-            BondKind::Fene => {
-                let (k, r0, eps, sigma) = (c[0], c[1], c[2], c[3]);
-                let r0sq = r0 * r0;
-                let mut rlogarg = 1.0 - rsq / r0sq;
-                let mut flag = BondFlag::Ok;
-                if rlogarg < 0.1 {
-                    flag = if rlogarg <= -3.0 {
-                        BondFlag::Bad
-                    } else {
-                        BondFlag::TooLong
-                    };
-                    rlogarg = 0.1;
-                }
-                let mut fbond = -k / rlogarg;
-                let mut e = -0.5 * k * r0sq * rlogarg.ln();
-                if rsq < CUBEROOT2 * sigma * sigma {
-                    let sr2 = sigma * sigma / rsq;
-                    let sr6 = sr2 * sr2 * sr2;
-                    fbond += 48.0 * eps * sr6 * (sr6 - 0.5) / rsq;
-                    e += 4.0 * eps * sr6 * (sr6 - 1.0) + eps;
-                }
-                (fbond, e, flag)
-            }
-        }
+        self.form.eval(c, rsq)
     }
 
     /// The `bond_style` and `bond_coeff` lines that rebuild this style (restart files).
     pub fn lines(&self) -> Vec<Vec<String>> {
-        let mut out = vec![vec!["bond_style".to_string(), self.kind.word().to_string()]];
+        let mut out = vec![vec!["bond_style".to_string(), self.form.word().to_string()]];
         for (t, c) in self.coeff.iter().enumerate() {
             if let Some(c) = c {
                 let mut l = vec!["bond_coeff".to_string(), t.to_string()];
@@ -232,53 +183,51 @@ impl BondStyle {
 }
 
 /// An angle style with its coefficients by angle type (index 0 unused).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct AngleStyle {
     /// The form.
-    pub kind: AngleKind,
+    pub form: &'static dyn AngleForm,
     /// Coefficients by type as given (θ0 in degrees; `None`: not set).
     pub coeff: Vec<Option<Vec<f64>>>,
-    /// θ0 in radians by type (harmonic), as LAMMPS converts it: θ0/180 · π.
-    theta0: Vec<f64>,
+}
+
+impl PartialEq for AngleStyle {
+    fn eq(&self, other: &Self) -> bool {
+        self.form.word() == other.form.word() && self.coeff == other.coeff
+    }
 }
 
 impl AngleStyle {
-    /// `angle_style harmonic|cosine` for `ntypes` angle types.
+    /// `angle_style WORD` ([`ANGLE_STYLES`]) for `ntypes` angle types.
     pub fn new(args: &[String], ntypes: usize) -> Result<AngleStyle, String> {
-        need(args, 1, "angle_style harmonic|cosine")?;
-        let kind = match args[0].as_str() {
-            "harmonic" => AngleKind::Harmonic,
-            "cosine" => AngleKind::Cosine,
-            other => {
-                return Err(format!(
-                    "angle style '{}' not supported: only harmonic and cosine",
-                    shown(other)
-                ));
-            }
+        let all: Vec<&str> = ANGLE_STYLES.iter().map(|f| f.word()).collect();
+        need(args, 1, &format!("angle_style {}", all.join("|")))?;
+        let Some(&form) = ANGLE_STYLES.iter().find(|f| f.word() == args[0]) else {
+            return Err(format!(
+                "angle style '{}' not supported: only {}",
+                shown(&args[0]),
+                words(all)
+            ));
         };
         if let Some(w) = args.get(1) {
             return Err(format!(
                 "angle_style {}: unexpected word '{}'",
-                kind.word(),
+                form.word(),
                 shown(w)
             ));
         }
         Ok(AngleStyle {
-            kind,
+            form,
             coeff: vec![None; ntypes + 1],
-            theta0: vec![0.0; ntypes + 1],
         })
     }
 
     /// One `angle_coeff` line (its words after the command).
     pub fn set_coeff(&mut self, args: &[String]) -> Result<(), String> {
         let nt = self.coeff.len() - 1;
-        let k = self.kind;
-        let ((lo, hi), c) = coeff_line(args, nt, k.ncoeff(), k.usage(), "angle")?;
+        let f = self.form;
+        let ((lo, hi), c) = coeff_line(args, nt, f.names(), f.usage(), "angle")?;
         for t in lo..=hi {
-            if k == AngleKind::Harmonic {
-                self.theta0[t] = c[1] / 180.0 * std::f64::consts::PI;
-            }
             self.coeff[t] = Some(c.clone());
         }
         Ok(())
@@ -303,19 +252,7 @@ impl AngleStyle {
         let mut cs = d1[0] * d2[0] + d1[1] * d2[1] + d1[2] * d2[2];
         cs /= r1 * r2;
         cs = cs.clamp(-1.0, 1.0);
-        let (a, e) = match self.kind {
-            AngleKind::Harmonic => {
-                let mut s = (1.0 - cs * cs).sqrt();
-                if s < SMALL_SIN {
-                    s = SMALL_SIN;
-                }
-                s = 1.0 / s;
-                let dtheta = cs.acos() - self.theta0[t];
-                let tk = c[0] * dtheta;
-                (-2.0 * tk * s, tk * dtheta)
-            }
-            AngleKind::Cosine => (c[0], c[0] * (1.0 + cs)),
-        };
+        let (a, e) = self.form.eval(c, cs);
         let a11 = a * cs / rsq1;
         let a12 = -a / (r1 * r2);
         let a22 = a * cs / rsq2;
@@ -336,7 +273,7 @@ impl AngleStyle {
     pub fn lines(&self) -> Vec<Vec<String>> {
         let mut out = vec![vec![
             "angle_style".to_string(),
-            self.kind.word().to_string(),
+            self.form.word().to_string(),
         ]];
         for (t, c) in self.coeff.iter().enumerate() {
             if let Some(c) = c {
