@@ -35,43 +35,46 @@ fn declared() -> Vec<String> {
     names
 }
 
+/// Every `.rs` file below `dir`, in subfolders too.
+fn rs_files(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    let mut dirs = vec![dir.to_path_buf()];
+    while let Some(d) = dirs.pop() {
+        for entry in std::fs::read_dir(&d).expect("a folder of capi") {
+            let path = entry.expect("a folder entry").path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                out.push(path);
+            }
+        }
+    }
+    out
+}
+
 #[test]
 fn every_exported_function_is_called_by_a_test() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
     let names = declared();
     // As many declarations as exports in src/ (`#[unsafe(no_mangle)]`): the parse above missed
     // none.
-    let mut exports = 0;
-    let mut dirs = vec![dir.join("src")];
-    while let Some(d) = dirs.pop() {
-        for entry in std::fs::read_dir(&d).expect("capi/src") {
-            let path = entry.expect("capi/src entry").path();
-            if path.is_dir() {
-                dirs.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                let text = std::fs::read_to_string(&path).expect("a source file");
-                exports += text.matches("#[unsafe(no_mangle)]").count();
-            }
-        }
-    }
+    let exports: usize = rs_files(&dir.join("src"))
+        .iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(p).expect("a source file");
+            text.matches("#[unsafe(no_mangle)]").count()
+        })
+        .sum();
     assert!(exports > 0, "no exports found in capi/src");
     assert_eq!(names.len(), exports, "header functions {names:?}");
 
     let this = Path::new(file!()).file_name().expect("this file's name");
-    let mut tests = Vec::new();
-    // The test crates and their shared modules one level down (`common/mod.rs`).
-    let mut dirs = vec![dir.join("tests")];
-    while let Some(d) = dirs.pop() {
-        for entry in std::fs::read_dir(&d).expect("capi/tests") {
-            let path = entry.expect("capi/tests entry").path();
-            if path.is_dir() {
-                dirs.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") && path.file_name() != Some(this)
-            {
-                tests.push(std::fs::read_to_string(&path).expect("a test file"));
-            }
-        }
-    }
+    // The test crates and their shared modules (`common/mod.rs`).
+    let tests: Vec<String> = rs_files(&dir.join("tests"))
+        .iter()
+        .filter(|p| p.file_name() != Some(this))
+        .map(|p| std::fs::read_to_string(p).expect("a test file"))
+        .collect();
     // A call: the name followed by `(` (a name only mentioned, without `(`, does not count).
     let untested: Vec<&String> = names
         .iter()

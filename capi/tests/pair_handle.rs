@@ -798,6 +798,39 @@ fn class_of(a: &Atoms, i: usize, j: usize) -> usize {
     (ti + tj) % 5 % 4
 }
 
+/// One force-only step (step 7, newton on, energy tallied) of `h` over the half list `lists`
+/// of `a`, whose entries carry LAMMPS's special-bond bits (mask 0x1FFFFFFF): the forces on
+/// every atom (owned and ghost, not folded) and the energy.
+fn special_step(h: &Handle, a: &Atoms, lists: &[Vec<i32>]) -> (Vec<f64>, f64) {
+    let rows = CList::first(a.nlocal, lists);
+    let atoms = a.c_atoms();
+    let list = rows.view(0x1FFF_FFFF, false);
+    let st = DpdnlStep {
+        step: 7,
+        dt: DT,
+        newton_pair: 1,
+        dimension: 3,
+        boxlen: [0.0; 3],
+        tilt: [0.0; 3],
+        periodic: [0; 3],
+    };
+    let mut f = vec![0.0; 3 * a.nall()];
+    let mut energy = 0.0;
+    let mut tally = DpdnlTally {
+        eflag_global: 1,
+        vflag_global: 0,
+        eng_vdwl: &mut energy,
+        virial: null_mut(),
+        eatom: null_mut(),
+        vatom: null_mut(),
+    };
+    // SAFETY: arrays as documented.
+    let code =
+        unsafe { dpdnl_pair_compute(h.0, &atoms, &list, &st, null(), f.as_mut_ptr(), &mut tally) };
+    assert_eq!(code, DpdnlStatus::Ok, "{}", last_error());
+    (f, energy)
+}
+
 #[test]
 fn special_bonds_scale_a_pair_or_leave_it_out() {
     // special_bonds lj 0.5 0 0.25: 1-2 pairs at half strength (a, γ0 and σ² halved), 1-3
@@ -829,33 +862,7 @@ fn special_bonds_scale_a_pair_or_leave_it_out() {
             unsafe { dpdnl_pair_init(h.0, &s, &mut rc) },
             DpdnlStatus::Ok
         );
-        let rows = CList::first(a.nlocal, &lists);
-        let atoms = a.c_atoms();
-        let list = rows.view(0x1FFF_FFFF, false);
-        let st = DpdnlStep {
-            step: 7,
-            dt: DT,
-            newton_pair: 1,
-            dimension: 3,
-            boxlen: [0.0; 3],
-            tilt: [0.0; 3],
-            periodic: [0; 3],
-        };
-        let mut f = vec![0.0; 3 * a.nall()];
-        let mut energy = 0.0;
-        let mut tally = DpdnlTally {
-            eflag_global: 1,
-            vflag_global: 0,
-            eng_vdwl: &mut energy,
-            virial: null_mut(),
-            eatom: null_mut(),
-            vatom: null_mut(),
-        };
-        // SAFETY: arrays as documented.
-        let code = unsafe {
-            dpdnl_pair_compute(h.0, &atoms, &list, &st, null(), f.as_mut_ptr(), &mut tally)
-        };
-        assert_eq!(code, DpdnlStatus::Ok, "{}", last_error());
+        let (f, energy) = special_step(&h, &a, &lists);
         // The same pairs one by one through the kernel with scaled coefficients: f a, f γ0.
         let friction = dpdnl::kernel::Friction::from_keyword(fr).unwrap();
         let noise = dpdnl::kernel::Noise::from_keyword(no).unwrap();
@@ -1501,33 +1508,7 @@ fn special_factors_given_before_a_compute_rebuild_the_blocks() {
         }
         // SAFETY: a live handle; null changes nothing.
         assert_eq!(unsafe { dpdnl_pair_special(h.0, null()) }, DpdnlStatus::Ok);
-        let rows = CList::first(a.nlocal, &lists);
-        let atoms = a.c_atoms();
-        let list = rows.view(0x1FFF_FFFF, false);
-        let st = DpdnlStep {
-            step: 7,
-            dt: DT,
-            newton_pair: 1,
-            dimension: 3,
-            boxlen: [0.0; 3],
-            tilt: [0.0; 3],
-            periodic: [0; 3],
-        };
-        let mut f = vec![0.0; 3 * a.nall()];
-        let mut energy = 0.0;
-        let mut tally = DpdnlTally {
-            eflag_global: 1,
-            vflag_global: 0,
-            eng_vdwl: &mut energy,
-            virial: null_mut(),
-            eatom: null_mut(),
-            vatom: null_mut(),
-        };
-        // SAFETY: arrays as documented.
-        let code = unsafe {
-            dpdnl_pair_compute(h.0, &atoms, &list, &st, null(), f.as_mut_ptr(), &mut tally)
-        };
-        assert_eq!(code, DpdnlStatus::Ok, "{}", last_error());
+        let (f, energy) = special_step(h, &a, &lists);
         (f, energy)
     };
     for (fr, no) in MODELS {

@@ -1,12 +1,12 @@
 //! `angle_style cosine`: E = K (1 + cos θ); coefficient K (docs/models.md §4.9).
 
-use super::AngleForm;
+use super::{AngleForm, Form};
 
 /// The cosine angle.
 #[derive(Debug)]
 pub(super) struct Cosine;
 
-impl AngleForm for Cosine {
+impl Form for Cosine {
     fn word(&self) -> &'static str {
         "cosine"
     }
@@ -18,7 +18,9 @@ impl AngleForm for Cosine {
     fn names(&self) -> &'static [&'static str] {
         &["K"]
     }
+}
 
+impl AngleForm for Cosine {
     #[inline]
     fn eval(&self, c: &[f64], cs: f64) -> (f64, f64) {
         (c[0], c[0] * (1.0 + cs))

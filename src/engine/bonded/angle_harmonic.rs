@@ -1,7 +1,7 @@
 //! `angle_style harmonic`: E = K (θ − θ0)²; coefficients K θ0 (θ0 in degrees, turned into
 //! radians as LAMMPS does, θ0/180 · π) (docs/models.md §4.9).
 
-use super::AngleForm;
+use super::{AngleForm, Form};
 
 /// LAMMPS's floor on sin θ in the angle forces (`SMALL` of `angle harmonic`).
 const SMALL_SIN: f64 = 0.001;
@@ -10,7 +10,7 @@ const SMALL_SIN: f64 = 0.001;
 #[derive(Debug)]
 pub(super) struct Harmonic;
 
-impl AngleForm for Harmonic {
+impl Form for Harmonic {
     fn word(&self) -> &'static str {
         "harmonic"
     }
@@ -22,7 +22,9 @@ impl AngleForm for Harmonic {
     fn names(&self) -> &'static [&'static str] {
         &["K", "theta0"]
     }
+}
 
+impl AngleForm for Harmonic {
     #[inline]
     fn eval(&self, c: &[f64], cs: f64) -> (f64, f64) {
         let theta0 = c[1] / 180.0 * std::f64::consts::PI;

@@ -2,7 +2,7 @@
 //! r < 2^(1/6) σ; coefficients K R0 ε σ, with LAMMPS's checks of a stretched bond
 //! (docs/models.md §4.9).
 
-use super::{BondFlag, BondForm};
+use super::{BondFlag, BondForm, Form};
 
 /// LAMMPS's 2^(1/3) (`MY_CUBEROOT2`): the WCA cut-off of `bond fene`, squared over σ².
 const CUBEROOT2: f64 = 1.259_921_049_894_873_2;
@@ -11,7 +11,7 @@ const CUBEROOT2: f64 = 1.259_921_049_894_873_2;
 #[derive(Debug)]
 pub(super) struct Fene;
 
-impl BondForm for Fene {
+impl Form for Fene {
     fn word(&self) -> &'static str {
         "fene"
     }
@@ -30,7 +30,9 @@ impl BondForm for Fene {
         }
         Ok(())
     }
+}
 
+impl BondForm for Fene {
     /// 1 − (r/R0)² below 0.1 is LAMMPS's "FENE bond too long" (warned, 0.1 used), at or below
     /// −3 its "Bad FENE bond" (an error).
     #[inline]

@@ -1,13 +1,13 @@
 //! `bond_style harmonic`: E = K (r − r0)² (no ½, as LAMMPS); coefficients K r0
 //! (docs/models.md §4.9).
 
-use super::{BondFlag, BondForm};
+use super::{BondFlag, BondForm, Form};
 
 /// The harmonic bond.
 #[derive(Debug)]
 pub(super) struct Harmonic;
 
-impl BondForm for Harmonic {
+impl Form for Harmonic {
     fn word(&self) -> &'static str {
         "harmonic"
     }
@@ -19,7 +19,9 @@ impl BondForm for Harmonic {
     fn names(&self) -> &'static [&'static str] {
         &["K", "r0"]
     }
+}
 
+impl BondForm for Harmonic {
     #[inline]
     fn eval(&self, c: &[f64], rsq: f64) -> (f64, f64, BondFlag) {
         let r = rsq.sqrt();

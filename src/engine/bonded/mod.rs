@@ -1,8 +1,9 @@
-//! Bond and angle styles (`bond_style harmonic|fene`, `angle_style harmonic|cosine`, one file
+//! Bond and angle styles (`bond_style harmonic|fene`, `angle_style harmonic|cosine`), one file
 //! each behind [`BondForm`] and [`AngleForm`], named only in [`BOND_STYLES`] and
-//! [`ANGLE_STYLES`]): their coefficients and the force of one bond or angle, with LAMMPS's formulas and conventions
-//! (docs/models.md §4.9, P-23–P-26), so that the standalone engine and LAMMPS agree to
-//! round-off. The driver (`System`, `topology.rs`) walks the topology in its fixed order.
+//! [`ANGLE_STYLES`]: their coefficients and the force of one bond or angle, with LAMMPS's
+//! formulas and conventions (docs/models.md §4.9, P-23–P-26), so that the standalone engine and
+//! LAMMPS agree to round-off. The driver (`System`, `topology.rs`) walks the topology in its
+//! fixed order.
 
 use crate::grammar::{need, parse_f64, shown, type_range};
 
@@ -11,12 +12,11 @@ mod angle_harmonic;
 mod bond_fene;
 mod bond_harmonic;
 
-/// A bond style's functional form: its words and the force of one bond. A new bond style is one
-/// file implementing this trait and one entry in [`BOND_STYLES`].
-pub trait BondForm: Sync + std::fmt::Debug {
-    /// The style word (`bond_style WORD`).
+/// What every bonded form has: its words (the grammar of its `*_coeff` lines).
+pub trait Form: Sync + std::fmt::Debug {
+    /// The style word (`bond_style WORD`, `angle_style WORD`).
     fn word(&self) -> &'static str;
-    /// The usage line of its `bond_coeff`.
+    /// The usage line of its coefficient command.
     fn usage(&self) -> &'static str;
     /// The names of its coefficients, in order (their count is the line's).
     fn names(&self) -> &'static [&'static str];
@@ -24,6 +24,11 @@ pub trait BondForm: Sync + std::fmt::Debug {
     fn check(&self, _c: &[f64]) -> Result<(), String> {
         Ok(())
     }
+}
+
+/// A bond style's functional form. A new bond style is one file implementing this trait (and
+/// [`Form`]) and one entry in [`BOND_STYLES`].
+pub trait BondForm: Form {
     /// (fbond, energy, flag) of a bond with coefficients `c` at squared length `rsq`, the force
     /// on the first atom being fbond · (x1 − x2) (LAMMPS's `bond->compute`).
     fn eval(&self, c: &[f64], rsq: f64) -> (f64, f64, BondFlag);
@@ -33,15 +38,9 @@ pub trait BondForm: Sync + std::fmt::Debug {
     }
 }
 
-/// An angle style's functional form: its words and the prefactor and energy of one angle. A new
-/// angle style is one file implementing this trait and one entry in [`ANGLE_STYLES`].
-pub trait AngleForm: Sync + std::fmt::Debug {
-    /// The style word (`angle_style WORD`).
-    fn word(&self) -> &'static str;
-    /// The usage line of its `angle_coeff`.
-    fn usage(&self) -> &'static str;
-    /// The names of its coefficients, in order.
-    fn names(&self) -> &'static [&'static str];
+/// An angle style's functional form. A new angle style is one file implementing this trait (and
+/// [`Form`]) and one entry in [`ANGLE_STYLES`].
+pub trait AngleForm: Form {
     /// (a, energy) of an angle with coefficients `c` and cos θ = `cs` (clamped to [−1, 1]): the
     /// forces are a (cs d1/r1² − d2/(r1 r2)) on the first atom and likewise on the third
     /// (LAMMPS's `angle->compute`, [`AngleStyle::eval`]).
@@ -73,21 +72,6 @@ pub enum BondFlag {
     Bad,
 }
 
-/// A bond style with its coefficients by bond type (index 0 unused).
-#[derive(Clone, Debug)]
-pub struct BondStyle {
-    /// The form.
-    pub form: &'static dyn BondForm,
-    /// Coefficients by type, as given (`None`: not set).
-    pub coeff: Vec<Option<Vec<f64>>>,
-}
-
-impl PartialEq for BondStyle {
-    fn eq(&self, other: &Self) -> bool {
-        self.form.word() == other.form.word() && self.coeff == other.coeff
-    }
-}
-
 /// A coefficient line's type range and numbers: `TYPE(S) c1 c2 …`, exactly `n` numbers.
 fn coeff_line(
     args: &[String],
@@ -115,36 +99,74 @@ fn coeff_line(
     Ok((range, c))
 }
 
-impl BondStyle {
-    /// `bond_style WORD` ([`BOND_STYLES`]) for `ntypes` bond types.
-    pub fn new(args: &[String], ntypes: usize) -> Result<BondStyle, String> {
-        let all: Vec<&str> = BOND_STYLES.iter().map(|f| f.word()).collect();
-        need(args, 1, &format!("bond_style {}", all.join("|")))?;
-        let Some(&form) = BOND_STYLES.iter().find(|f| f.word() == args[0]) else {
+/// A bonded style (`what` = "bond" or "angle") with its coefficients by type (index 0 unused):
+/// [`BondStyle`] and [`AngleStyle`].
+#[derive(Debug)]
+pub struct Styled<F: ?Sized + 'static> {
+    /// The form.
+    pub form: &'static F,
+    /// Coefficients by type, as given (`None`: not set).
+    pub coeff: Vec<Option<Vec<f64>>>,
+    what: &'static str,
+}
+
+/// A bond style with its coefficients by bond type.
+pub type BondStyle = Styled<dyn BondForm>;
+/// An angle style with its coefficients by angle type (θ0 in degrees, as given).
+pub type AngleStyle = Styled<dyn AngleForm>;
+
+impl<F: ?Sized> Clone for Styled<F> {
+    fn clone(&self) -> Self {
+        Styled {
+            form: self.form,
+            coeff: self.coeff.clone(),
+            what: self.what,
+        }
+    }
+}
+
+impl<F: ?Sized + Form> PartialEq for Styled<F> {
+    fn eq(&self, other: &Self) -> bool {
+        self.form.word() == other.form.word() && self.coeff == other.coeff
+    }
+}
+
+impl<F: ?Sized + Form> Styled<F> {
+    /// `WHAT_style WORD` of the forms `all` for `ntypes` types.
+    fn pick(
+        all: &[&'static F],
+        what: &'static str,
+        args: &[String],
+        ntypes: usize,
+    ) -> Result<Self, String> {
+        let names: Vec<&str> = all.iter().map(|f| f.word()).collect();
+        need(args, 1, &format!("{what}_style {}", names.join("|")))?;
+        let Some(&form) = all.iter().find(|f| f.word() == args[0]) else {
             return Err(format!(
-                "bond style '{}' not supported: only {}",
+                "{what} style '{}' not supported: only {}",
                 shown(&args[0]),
-                words(all)
+                words(names)
             ));
         };
         if let Some(w) = args.get(1) {
             return Err(format!(
-                "bond_style {}: unexpected word '{}'",
+                "{what}_style {}: unexpected word '{}'",
                 form.word(),
                 shown(w)
             ));
         }
-        Ok(BondStyle {
+        Ok(Styled {
             form,
             coeff: vec![None; ntypes + 1],
+            what,
         })
     }
 
-    /// One `bond_coeff` line (its words after the command).
+    /// One coefficient line (its words after the command).
     pub fn set_coeff(&mut self, args: &[String]) -> Result<(), String> {
         let nt = self.coeff.len() - 1;
         let f = self.form;
-        let ((lo, hi), c) = coeff_line(args, nt, f.names(), f.usage(), "bond")?;
+        let ((lo, hi), c) = coeff_line(args, nt, f.names(), f.usage(), self.what)?;
         f.check(&c)?;
         for t in lo..=hi {
             self.coeff[t] = Some(c.clone());
@@ -152,9 +174,32 @@ impl BondStyle {
         Ok(())
     }
 
-    /// The first bond type without coefficients.
+    /// The first type without coefficients.
     pub fn missing(&self) -> Option<usize> {
         (1..self.coeff.len()).find(|&t| self.coeff[t].is_none())
+    }
+
+    /// The `WHAT_style` and `WHAT_coeff` lines that rebuild this style (restart files).
+    pub fn lines(&self) -> Vec<Vec<String>> {
+        let mut out = vec![vec![
+            format!("{}_style", self.what),
+            self.form.word().to_string(),
+        ]];
+        for (t, c) in self.coeff.iter().enumerate() {
+            if let Some(c) = c {
+                let mut l = vec![format!("{}_coeff", self.what), t.to_string()];
+                l.extend(c.iter().map(|&x| super::style::word(x)));
+                out.push(l);
+            }
+        }
+        out
+    }
+}
+
+impl BondStyle {
+    /// `bond_style WORD` ([`BOND_STYLES`]) for `ntypes` bond types.
+    pub fn new(args: &[String], ntypes: usize) -> Result<BondStyle, String> {
+        Self::pick(BOND_STYLES, "bond", args, ntypes)
     }
 
     /// The force of a bond of type `t` at squared length `rsq`: (fbond, energy, flag), the force
@@ -167,75 +212,12 @@ impl BondStyle {
         };
         self.form.eval(c, rsq)
     }
-
-    /// The `bond_style` and `bond_coeff` lines that rebuild this style (restart files).
-    pub fn lines(&self) -> Vec<Vec<String>> {
-        let mut out = vec![vec!["bond_style".to_string(), self.form.word().to_string()]];
-        for (t, c) in self.coeff.iter().enumerate() {
-            if let Some(c) = c {
-                let mut l = vec!["bond_coeff".to_string(), t.to_string()];
-                l.extend(c.iter().map(|&x| super::style::word(x)));
-                out.push(l);
-            }
-        }
-        out
-    }
-}
-
-/// An angle style with its coefficients by angle type (index 0 unused).
-#[derive(Clone, Debug)]
-pub struct AngleStyle {
-    /// The form.
-    pub form: &'static dyn AngleForm,
-    /// Coefficients by type as given (θ0 in degrees; `None`: not set).
-    pub coeff: Vec<Option<Vec<f64>>>,
-}
-
-impl PartialEq for AngleStyle {
-    fn eq(&self, other: &Self) -> bool {
-        self.form.word() == other.form.word() && self.coeff == other.coeff
-    }
 }
 
 impl AngleStyle {
     /// `angle_style WORD` ([`ANGLE_STYLES`]) for `ntypes` angle types.
     pub fn new(args: &[String], ntypes: usize) -> Result<AngleStyle, String> {
-        let all: Vec<&str> = ANGLE_STYLES.iter().map(|f| f.word()).collect();
-        need(args, 1, &format!("angle_style {}", all.join("|")))?;
-        let Some(&form) = ANGLE_STYLES.iter().find(|f| f.word() == args[0]) else {
-            return Err(format!(
-                "angle style '{}' not supported: only {}",
-                shown(&args[0]),
-                words(all)
-            ));
-        };
-        if let Some(w) = args.get(1) {
-            return Err(format!(
-                "angle_style {}: unexpected word '{}'",
-                form.word(),
-                shown(w)
-            ));
-        }
-        Ok(AngleStyle {
-            form,
-            coeff: vec![None; ntypes + 1],
-        })
-    }
-
-    /// One `angle_coeff` line (its words after the command).
-    pub fn set_coeff(&mut self, args: &[String]) -> Result<(), String> {
-        let nt = self.coeff.len() - 1;
-        let f = self.form;
-        let ((lo, hi), c) = coeff_line(args, nt, f.names(), f.usage(), "angle")?;
-        for t in lo..=hi {
-            self.coeff[t] = Some(c.clone());
-        }
-        Ok(())
-    }
-
-    /// The first angle type without coefficients.
-    pub fn missing(&self) -> Option<usize> {
-        (1..self.coeff.len()).find(|&t| self.coeff[t].is_none())
+        Self::pick(ANGLE_STYLES, "angle", args, ntypes)
     }
 
     /// The forces of an angle of type `t` with arms d1 = x1 − x2 and d2 = x3 − x2: (f1, f3,
@@ -267,22 +249,6 @@ impl AngleStyle {
             a22 * d2[2] + a12 * d1[2],
         ];
         (f1, f3, e)
-    }
-
-    /// The `angle_style` and `angle_coeff` lines that rebuild this style (restart files).
-    pub fn lines(&self) -> Vec<Vec<String>> {
-        let mut out = vec![vec![
-            "angle_style".to_string(),
-            self.form.word().to_string(),
-        ]];
-        for (t, c) in self.coeff.iter().enumerate() {
-            if let Some(c) = c {
-                let mut l = vec!["angle_coeff".to_string(), t.to_string()];
-                l.extend(c.iter().map(|&x| super::style::word(x)));
-                out.push(l);
-            }
-        }
-        out
     }
 }
 
