@@ -11,6 +11,7 @@ mod angle_cosine;
 mod angle_harmonic;
 mod bond_fene;
 mod bond_harmonic;
+mod terms;
 
 /// What every bonded form has: its words (the grammar of its `*_coeff` lines).
 pub trait Form: Sync + std::fmt::Debug {
