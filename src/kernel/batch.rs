@@ -25,11 +25,6 @@ pub struct PairBatch {
     pub tag_i: [u32; BATCH],
     /// Tag of j.
     pub tag_j: [u32; BATCH],
-    /// The box's lattice when it is shorter than 2 r_c along a periodic axis: each lane's
-    /// noise is then keyed by the periodic image of its pair too
-    /// ([`crate::rng::ImageFrame::pair_stream`], `docs/models.md` P-4b). None: the plain key
-    /// (every image code would be 0).
-    pub images: Option<crate::rng::ImageFrame>,
     /// Result: the total pair force divided by r, so the force on i is `fpair · r_ij`
     /// (0 for a pair out of range). Entries from `len` on are unspecified.
     pub fpair: [f64; BATCH],
@@ -38,6 +33,11 @@ pub struct PairBatch {
     pub energy: [f64; BATCH],
     /// Working arrays of [`pair_forces_batch`] (kept here so that no call zeroes them).
     pub(super) scratch: BatchScratch,
+    /// (Last, after the lane arrays, so that their alignment is that of the struct.) The box's lattice when it is shorter than 2 r_c along a periodic axis: each lane's
+    /// noise is then keyed by the periodic image of its pair too
+    /// ([`crate::rng::ImageFrame::pair_stream`], `docs/models.md` P-4b). None: the plain key
+    /// (every image code would be 0).
+    pub images: Option<crate::rng::ImageFrame>,
 }
 
 /// The per-lane coefficients, random bits and Gaussians of one batch evaluation.

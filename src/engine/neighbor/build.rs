@@ -49,9 +49,6 @@ pub(super) struct RowBuild<'a> {
     /// The tilt allowance D: rows through the sheared boundary take every pair whose x
     /// separation is within the cut-off + D (`NeighborList::set_shear`).
     pub(super) tilt_allow: f64,
-    /// Sheared with y shorter than 2 r_c: the per-pair test takes the nearest of the y images
-    /// ([`nearest_sq`]).
-    pub(super) short_y: bool,
 }
 
 impl RowBuild<'_> {
@@ -161,17 +158,30 @@ pub(super) fn build_rows<const SIMD: u8>(rb: &RowBuild, s: &mut Slab) {
                 // Under Lees–Edwards the x separation counts less the tilt allowance (0 in a
                 // periodic box, where this is the plain test).
                 let allow = rb.tilt_allow;
+                // Sheared with y shorter than twice the list cut-off: the nearest of the
+                // sliding-brick images along y too ([`nearest_sq`]; in a box of 2 r_c or more
+                // the extra candidates are out of range and drop out of the pair loop).
+                if rb.le.is_some() && rb.len[1] * rb.len[1] < 4.0 * rb.cutsq {
+                    for j in lo..hi {
+                        let xj = x[j];
+                        let d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
+                        let rsq = nearest_sq(rb.bx, rb.le.as_ref(), true, d, allow);
+                        s.nbr[l] = j as u32;
+                        l += usize::from(rsq < rb.cutsq);
+                    }
+                    len = l;
+                    return;
+                }
                 for j in lo..hi {
                     let xj = x[j];
-                    let rsq = nearest_sq(
+                    let d = pair_image(
                         rb.bx,
                         rb.le.as_ref(),
-                        rb.short_y,
                         [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]],
-                        allow,
                     );
+                    let dx = (d[0].abs() - allow).max(0.0);
                     s.nbr[l] = j as u32;
-                    l += usize::from(rsq < rb.cutsq);
+                    l += usize::from(dx * dx + d[1] * d[1] + d[2] * d[2] < rb.cutsq);
                 }
                 len = l;
                 return;

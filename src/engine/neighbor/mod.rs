@@ -500,7 +500,6 @@ impl NeighborList {
             slab_axis: if slab_mode { Some(bx.dim - 1) } else { None },
             le: self.le,
             tilt_allow: self.tilt_allow,
-            short_y: self.le.is_some() && len[1] < 2.0 * rc_max,
         };
         let isa = match self.isa {
             Some(i) if (i as u8) <= (Isa::best_supported() as u8) => i,
@@ -717,19 +716,26 @@ impl NeighborList {
                 if s.in_nbr.len() < len + row.len() {
                     grow_buffer(&mut s.in_nbr, len + row.len());
                 }
-                for &j in row {
-                    let xj = x[j as usize];
-                    let d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
-                    let rsq = if (d[0].abs() >= quarter[0])
-                        | (d[1].abs() >= quarter[1])
-                        | (d[2].abs() >= quarter[2])
-                    {
-                        nearest_sq(bx, le.as_ref(), short_y, d, 0.0)
-                    } else {
-                        d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
-                    };
-                    s.in_nbr[len] = j;
-                    len += usize::from(rsq < cutsq);
+                if short_y {
+                    for &j in row {
+                        let xj = x[j as usize];
+                        let d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
+                        s.in_nbr[len] = j;
+                        len += usize::from(nearest_sq(bx, le.as_ref(), true, d, 0.0) < cutsq);
+                    }
+                } else {
+                    for &j in row {
+                        let xj = x[j as usize];
+                        let mut d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
+                        if (d[0].abs() >= quarter[0])
+                            | (d[1].abs() >= quarter[1])
+                            | (d[2].abs() >= quarter[2])
+                        {
+                            d = pair_image(bx, le.as_ref(), d);
+                        }
+                        s.in_nbr[len] = j;
+                        len += usize::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < cutsq);
+                    }
                 }
                 s.in_row_start.push(len as u32);
             }

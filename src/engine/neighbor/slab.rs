@@ -267,37 +267,16 @@ pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const SIMD: u8>(
         let nf = sc.far.len();
         if let Some((short, _)) = ctx.short {
             // Every image in range, each its own pair (P-4b): scalar, small boxes only.
-            let mut images = Vec::with_capacity(27);
-            for q in 0..nf {
-                let j = r.row[sc.far[q] as usize];
-                let xj = x[j as usize];
-                let rcsq = if ONE_TYPE {
-                    pc.one_rcsq
-                } else {
-                    ctx.rcsq[r.row_t + typ[j as usize] as usize]
-                };
-                images.clear();
-                bx.images_within(
-                    [r.xi[0] - xj[0], r.xi[1] - xj[1], r.xi[2] - xj[2]],
-                    ctx.le.as_ref(),
-                    short,
-                    rcsq,
-                    pc.min_sq,
-                    &mut images,
-                );
-                for &(d, dvx) in &images {
-                    let b = &mut p.batch;
-                    b.dr[0][len] = d[0];
-                    b.dr[1][len] = d[1];
-                    b.dr[2][len] = d[2];
-                    append_rest::<ONE_TYPE>(&r, &pc, p_lane(&mut p, len), j);
-                    p.batch.dv[0][len] += dvx;
-                    len += 1;
-                    if len == BATCH {
-                        sink.evaluate::<ONE_TYPE>(&mut p, &mut len);
-                    }
-                }
-            }
+            far_images::<ONE_TYPE>(
+                &r,
+                &pc,
+                &sc.far,
+                short,
+                (bx, ctx),
+                &mut p,
+                &mut len,
+                &mut sink,
+            );
         } else if nf > 0 {
             for v in sc.far_dr.iter_mut() {
                 if v.len() < nf {
@@ -382,6 +361,55 @@ pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const SIMD: u8>(
     }
     sink.evaluate::<ONE_TYPE>(&mut p, &mut len);
     tally
+}
+
+/// The pairs of row `r` at its entries `far` in a box shorter than 2 r_c along the axes
+/// `short`: every periodic image of each partner in range (`SimBox::images_within`), each its
+/// own lane, keyed apart through the batch's image frame (P-4b). Out of line: the hot loop of
+/// the ordinary box keeps its shape.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn far_images<const ONE_TYPE: bool>(
+    r: &RowArgs,
+    pc: &PassConst,
+    far: &[u32],
+    short: [bool; 3],
+    (bx, ctx): (&SimBox, &Ctx),
+    p: &mut Pending,
+    len: &mut usize,
+    sink: &mut Sink,
+) {
+    let mut images = Vec::with_capacity(27);
+    for &q in far {
+        let j = r.row[q as usize];
+        let xj = pc.x[j as usize];
+        let rcsq = if ONE_TYPE {
+            pc.one_rcsq
+        } else {
+            ctx.rcsq[r.row_t + pc.typ[j as usize] as usize]
+        };
+        images.clear();
+        bx.images_within(
+            [r.xi[0] - xj[0], r.xi[1] - xj[1], r.xi[2] - xj[2]],
+            ctx.le.as_ref(),
+            short,
+            rcsq,
+            pc.min_sq,
+            &mut images,
+        );
+        for &(d, dvx) in &images {
+            let b = &mut p.batch;
+            b.dr[0][*len] = d[0];
+            b.dr[1][*len] = d[1];
+            b.dr[2][*len] = d[2];
+            append_rest::<ONE_TYPE>(r, pc, p_lane(p, *len), j);
+            p.batch.dv[0][*len] += dvx;
+            *len += 1;
+            if *len == BATCH {
+                sink.evaluate::<ONE_TYPE>(p, len);
+            }
+        }
+    }
 }
 
 /// Lane `l` of the pending batch, for [`append_rest`].
