@@ -70,15 +70,16 @@ pub(crate) fn resolve_design(
 }
 
 /// Check that every designed pair implies the same exponent (it is global in `pair_style
-/// dpd/nonlinear`'s weight and `pair_style sdpd`'s kernel; `style` names the style).
+/// dpd/nonlinear`'s weight and `pair_style sdpd`'s kernel; `style` names the style, `what` its
+/// exponent's owner, "weight" or "kernel").
 /// `designs` holds (pair label, s); `current` is the pair style's exponent. Returns the common
 /// s and, when it differs from `current`, the line to log.
 pub(crate) fn common_exponent(
     style: &str,
+    what: &str,
     designs: &[(String, f64)],
     current: f64,
 ) -> Result<Option<(f64, Option<String>)>, String> {
-    let what = if style == "sdpd" { "kernel" } else { "weight" };
     let Some((first_label, s0)) = designs.first() else {
         return Ok(None);
     };

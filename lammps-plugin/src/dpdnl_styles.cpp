@@ -36,5 +36,6 @@ void dpdnl_register_styles(LAMMPS *lmp)
 
 bool dpdnl_styles_registered(LAMMPS *lmp)
 {
-  return lmp->force && lmp->force->pair_map->count("dpd/nonlinear") == 1;
+  // Registered when the registry's first style is in LAMMPS's map (no style named here).
+  return lmp->force && lmp->force->pair_map->count(dpdnl_pair_style_name(0)) == 1;
 }

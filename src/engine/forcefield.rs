@@ -103,7 +103,8 @@ impl ForceField {
             }
         }
         let current = self.model.weight.exponent();
-        if let Some((s, note)) = crate::init::common_exponent("dpd/nonlinear", &exponents, current)?
+        if let Some((s, note)) =
+            crate::init::common_exponent("dpd/nonlinear", "weight", &exponents, current)?
         {
             self.model.weight = crate::kernel::Weight::new(s)
                 .ok_or_else(|| format!("designed weight exponent s = {s} is not > 0"))?;

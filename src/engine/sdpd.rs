@@ -188,7 +188,9 @@ impl SdpdField {
             }
         }
         let current = self.style.kernel.exponent().unwrap_or(0.0);
-        if let Some((s, note)) = crate::init::common_exponent("sdpd", &exponents, current)? {
+        if let Some((s, note)) =
+            crate::init::common_exponent(self.name(), "kernel", &exponents, current)?
+        {
             self.style.kernel = Smoothing::proposed(s)
                 .ok_or_else(|| format!("designed kernel exponent s = {s} is not > 0"))?;
             notes.extend(note);
