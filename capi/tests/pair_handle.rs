@@ -1459,14 +1459,7 @@ fn init_sdpd(h: &Handle, substyle: i32) -> Result<f64, String> {
         units: lj_units(),
         substyle,
     };
-    let mut rc = 0.0;
-    // SAFETY: a live handle; `s` and `rc` valid.
-    let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
-    if st == DpdnlStatus::Ok {
-        Ok(rc)
-    } else {
-        Err(last_error())
-    }
+    init_with(h, &s)
 }
 
 /// `dpdnl_pair_special` (issue 42: `pair_modify pair NAME special lj …` under `pair_style

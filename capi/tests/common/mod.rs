@@ -130,9 +130,15 @@ pub fn init_as(
         units,
         substyle,
     };
+    init_with(h, &s)
+}
+
+/// `dpdnl_pair_init` of `h` with set-up `s`: the largest cut-off, or the thread's error.
+#[allow(dead_code)] // not every test crate uses every helper
+pub fn init_with(h: &Handle, s: &DpdnlSetup) -> Result<f64, String> {
     let mut rc = 0.0;
-    // SAFETY: a live handle; `s` and `rc` valid.
-    let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
+    // SAFETY: a live handle; `s` (its pointers valid for the call) and `rc` valid.
+    let st = unsafe { dpdnl_pair_init(h.0, s, &mut rc) };
     if st == DpdnlStatus::Ok {
         Ok(rc)
     } else {

@@ -165,7 +165,7 @@ pub(super) fn build_rows<const SIMD: u8>(rb: &RowBuild, s: &mut Slab) {
                     for j in lo..hi {
                         let xj = x[j];
                         let d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
-                        let rsq = nearest_sq(rb.bx, rb.le.as_ref(), true, d, allow);
+                        let rsq = nearest_sq(rb.bx, rb.le.as_ref(), d, allow);
                         s.nbr[l] = j as u32;
                         l += usize::from(rsq < rb.cutsq);
                     }

@@ -120,39 +120,30 @@ impl NeighborList {
     }
 }
 
-/// The squared length of the nearest image of separation `d` for the lists' cut-off tests,
-/// its x component less `allow` (the tilt allowance; 0 for a test at the current offset).
-/// Periodic, or sheared in a box at least 2 r_c long in y: the minimum image
-/// ([`pair_image`]). Sheared with y shorter than 2 r_c (`short_y`): the nearest of the
-/// sliding-brick images one box either side along y too, as [`SimBox::images_within`] forms
-/// them (the brick's rounding in y first need not find the nearest image there, so a pair
-/// whose only image in range crosses y would be missed).
+/// The squared length of the nearest image of separation `d` for the lists' cut-off tests in a
+/// box shorter than twice the cut-off along y, its x component less `allow` (the tilt
+/// allowance; 0 for a test at the current offset). Periodic: the minimum image
+/// ([`pair_image`]). Sheared: the nearest of the sliding-brick images one box either side along
+/// y too, as [`SimBox::images_within`] forms them (the brick's rounding in y first need not find
+/// the nearest image there, so a pair whose only image in range crosses y would be missed).
 #[inline]
-fn nearest_sq(
-    bx: &SimBox,
-    le: Option<&LeesEdwards>,
-    short_y: bool,
-    d: [f64; 3],
-    allow: f64,
-) -> f64 {
+fn nearest_sq(bx: &SimBox, le: Option<&LeesEdwards>, d: [f64; 3], allow: f64) -> f64 {
     let sq = |d: [f64; 3]| {
         let dx = (d[0].abs() - allow).max(0.0);
         dx * dx + d[1] * d[1] + d[2] * d[2]
     };
     let dm = pair_image(bx, le, d);
-    match le {
-        Some(le) if short_y => {
-            let (len, off) = (bx.len(), le.offset);
-            let mut best = sq(dm);
-            for ny in [-1.0f64, 1.0] {
-                let mut x = dm[0] + ny * off;
-                x -= len[0] * (x / len[0]).round();
-                best = best.min(sq([x, dm[1] + ny * len[1], dm[2]]));
-            }
-            best
-        }
-        _ => sq(dm),
+    let Some(le) = le else {
+        return sq(dm);
+    };
+    let (len, off) = (bx.len(), le.offset);
+    let mut best = sq(dm);
+    for ny in [-1.0f64, 1.0] {
+        let mut x = dm[0] + ny * off;
+        x -= len[0] * (x / len[0]).round();
+        best = best.min(sq([x, dm[1] + ny * len[1], dm[2]]));
     }
+    best
 }
 
 /// The minimum image of a separation: the periodic one, or under Lees–Edwards the sliding-brick
@@ -721,7 +712,7 @@ impl NeighborList {
                         let xj = x[j as usize];
                         let d = [xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]];
                         s.in_nbr[len] = j;
-                        len += usize::from(nearest_sq(bx, le.as_ref(), true, d, 0.0) < cutsq);
+                        len += usize::from(nearest_sq(bx, le.as_ref(), d, 0.0) < cutsq);
                     }
                 } else {
                     for &j in row {
