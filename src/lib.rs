@@ -19,6 +19,8 @@
 //!   engine's restart files ([`io::restart`]).
 //! - **Theory and set-up** ([`theory`], [`init`]): kinetic theory, (η, Sc) design, the
 //!   finite-step temperature; what a run's set-up resolves and checks in both engines.
+//! - **A host engine's facade** ([`host`]): what the C ABI needs to run the styles and fixes on
+//!   LAMMPS's atoms and lists.
 //! - **Units** ([`units`]): LAMMPS's unit styles and the conversion constants both engines
 //!   take from one [`Units`].
 //! - **Grammar** ([`grammar`]): the arguments of this project's styles, parsed once for both
@@ -42,11 +44,12 @@
 pub mod analysis;
 pub mod engine;
 pub mod fmtnum;
+pub mod forces;
 pub mod grammar;
+pub mod host;
 pub mod init;
 pub mod input;
 pub mod io;
-pub mod kernel;
 // The fields of the figure description (series, panels, bands) are documented on their
 // structs and read as the plotting options they set.
 #[allow(missing_docs)]
@@ -60,16 +63,18 @@ pub mod stats;
 pub mod theory;
 pub mod units;
 
-pub use engine::pair::{DpdKernel, PairKernel};
-pub use engine::style::new_pair_style;
-pub use engine::{Atoms, Integrator, PairStyle, SetupContext, SimBox, System, Thermo};
+pub use engine::{Atoms, Integrator, SimBox, System, Thermo};
+pub use forces::batcher::PairKernel;
+pub use forces::dpd::DpdKernel;
+pub use forces::dpd::kernel::{
+    Friction, Noise, PairCoeff, PairForce, PairInput, PairModel, PairTable, Weight, pair_force,
+    pair_forces_batch,
+};
+pub use forces::{NoiseDist, PairBatch};
+pub use forces::{PairStyle, SetupContext, new_pair_style};
 pub use input::{Collect, Console, Interpreter, Options, ScriptError};
 pub use io::data::parse_data;
 pub use io::dump_read::parse_dump;
 pub use io::lammps_log::parse_log;
-pub use kernel::{
-    Friction, Noise, NoiseDist, PairBatch, PairCoeff, PairForce, PairInput, PairModel, PairTable,
-    Weight, pair_force, pair_forces_batch,
-};
 pub use rng::pair_gaussian;
 pub use units::{UnitStyle, Units};

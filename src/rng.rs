@@ -29,7 +29,7 @@
 //! the angle exactly in integers (the octant is `round(b / 2⁵⁰)`, the remainder `d = b − 2⁵⁰ ·
 //! octant` is converted exactly) before fdlibm's `__kernel_sin`/`__kernel_cos` on
 //! [−π/4, π/4]. So ξ has the same bits on every machine and in every engine, and a batch of
-//! pairs vectorises (no calls, no branches): see [`crate::kernel::PairBatch`]. Largest |ξ|:
+//! pairs vectorises (no calls, no branches): see [`crate::forces::PairBatch`]. Largest |ξ|:
 //! sqrt(−2 ln 2⁻⁵²) = 8.49 (P(|ξ| > 8.49) = 2·10⁻¹⁷).
 //!
 //! **Uniform pair noise** (`pair_style dpd/nonlinear … noise_dist uniform`, [`uniform_noise_from_bits`]):

@@ -5,7 +5,7 @@
 //! when Debian's `lmp` is installed, LAMMPS reads it and gets the same energies).
 
 use dpdnl::engine::System;
-use dpdnl::engine::bonded::{AngleStyle, BondStyle};
+use dpdnl::forces::bonded::{AngleStyle, BondStyle};
 
 mod common;
 
@@ -66,7 +66,7 @@ fn bond_forces_are_minus_the_energy_gradient() {
     ] {
         for r in rs {
             let (fbond, _, flag) = style.eval(1, r * r);
-            assert_eq!(flag, dpdnl::engine::bonded::BondFlag::Ok);
+            assert_eq!(flag, dpdnl::forces::bonded::BondFlag::Ok);
             let de = diff(|r| style.eval(1, r * r).1, r, 1e-6);
             let want = -de / r;
             assert!(

@@ -1,7 +1,7 @@
 //! Tier (a): exact identities of the pair kernel (`docs/models.md` §1.1–1.4; "eq. N" below is
 //! the non-linear paper's, NL-N there).
 
-use dpdnl::kernel::{
+use dpdnl::forces::dpd::kernel::{
     Friction, Noise, PairCoeff, PairForce, PairInput, PairModel, Weight, pair_force,
 };
 use dpdnl::rng::keyed_gaussian;

@@ -3,11 +3,12 @@
 //! short Couette viscosity, and input errors.
 #![allow(clippy::needless_range_loop)]
 
-use dpdnl::engine::forcefield::DpdPair;
 use dpdnl::engine::lees_edwards::{Deform, DeformOrder, Triclinic};
 use dpdnl::engine::{Atoms, ForceField, Integrator, SimBox, System};
+use dpdnl::forces;
+use dpdnl::forces::dpd::DpdPair;
+use dpdnl::forces::dpd::kernel::{Friction, Noise, PairCoeff, PairInput, PairModel, Weight};
 use dpdnl::input::ScriptError;
-use dpdnl::kernel::{self, Friction, Noise, PairCoeff, PairInput, PairModel, Weight};
 use dpdnl::rng::pair_gaussian;
 
 mod common;
@@ -112,7 +113,7 @@ fn brute(sys: &System) -> (Vec<[f64; 3]>, f64, [f64; 6], usize) {
                             a.x[i][2] - a.x[j][2] - f64::from(iz) * l[2],
                         ];
                         let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
-                        if !kernel::in_range(rsq, c.rc) {
+                        if !forces::in_range(rsq, c.rc) {
                             continue;
                         }
                         if iy != 0 {
@@ -124,7 +125,7 @@ fn brute(sys: &System) -> (Vec<[f64; 3]>, f64, [f64; 6], usize) {
                             a.v[i][2] - a.v[j][2],
                         ];
                         let xi = pair_gaussian(ff.seed, sys.step, a.tag[i], a.tag[j]);
-                        let p = kernel::pair_force(
+                        let p = dpdnl::pair_force(
                             &ff.model,
                             &c,
                             &PairInput {

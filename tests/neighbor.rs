@@ -3,9 +3,12 @@
 //! thread count and instruction set (slab mode with 3-D and 2-D boxes, the serial small-box
 //! mode, one and two atom types).
 
-use dpdnl::engine::forcefield::DpdPair;
 use dpdnl::engine::{ForceField, Integrator, NeighborList, SimBox, System};
-use dpdnl::kernel::{Friction, Isa, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force};
+use dpdnl::forces::Isa;
+use dpdnl::forces::dpd::DpdPair;
+use dpdnl::forces::dpd::kernel::{
+    Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force,
+};
 use dpdnl::rng::{keyed_gaussian, keyed_uniform, pair_gaussian};
 
 mod common;

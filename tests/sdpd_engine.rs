@@ -4,7 +4,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use dpdnl::engine::System;
-use dpdnl::kernel::sdpd::{KernelShape, Smoothing};
+use dpdnl::forces::sdpd::kernel::{KernelShape, Smoothing};
 
 mod common;
 use common::{run, state_by_tag};

@@ -2,7 +2,9 @@
 //! kernel at s = 2 is Lucy's, antisymmetric pair forces, and conservative forces that are the
 //! gradient of the Tait energy.
 
-use dpdnl::kernel::sdpd::{KernelShape, SdpdAtom, SdpdCoeff, Smoothing, Tait, sdpd_pair_force};
+use dpdnl::forces::sdpd::kernel::{
+    KernelShape, SdpdAtom, SdpdCoeff, Smoothing, Tait, sdpd_pair_force,
+};
 use std::f64::consts::PI;
 
 fn kernels() -> Vec<Smoothing> {
@@ -296,8 +298,8 @@ fn bad_kernel_parameters_are_refused() {
 /// with lanes in and out of range, mixed coefficient indices and a lane at r < 1e-10.
 #[test]
 fn batch_equals_scalar_to_the_bit() {
-    use dpdnl::kernel::sdpd::sdpd_forces_batch;
-    use dpdnl::kernel::{BATCH, Isa, PairBatch};
+    use dpdnl::forces::sdpd::kernel::sdpd_forces_batch;
+    use dpdnl::forces::{BATCH, Isa, PairBatch};
     use dpdnl::rng::pair_gaussian;
     let mut g = Lcg(99);
     for k in [

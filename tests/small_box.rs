@@ -12,9 +12,11 @@
 //! - The two engines agree in such boxes: the golden cross-engine cases
 //!   `tests/data/crosscheck/in.small_box_*` (tests/crosscheck.rs).
 
-use dpdnl::engine::forcefield::DpdPair;
 use dpdnl::engine::{ForceField, Integrator, NeighborList, SimBox, System};
-use dpdnl::kernel::{Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force};
+use dpdnl::forces::dpd::DpdPair;
+use dpdnl::forces::dpd::kernel::{
+    Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force,
+};
 use dpdnl::rng::{
     ImageFrame, STREAM_PAIR_NOISE, gaussian_from_bits, keyed_bits, keyed_gaussian, keyed_uniform,
     ordered_tags,

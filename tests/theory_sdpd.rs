@@ -3,7 +3,7 @@
 //! (`tests/data/weighting_sdpd_tables_2d.csv`, a copy of the project's reference CSV), each at its
 //! printed precision; and the kernel moments against a quadrature of the engine's kernels.
 
-use dpdnl::kernel::sdpd::{KernelShape, Smoothing};
+use dpdnl::forces::sdpd::kernel::{KernelShape, Smoothing};
 use dpdnl::theory::sdpd::{eta_min, eta0_for, kernel_moment, kinetic_coefficient, kinetic_theory};
 use dpdnl::theory::{Dim, Fluid, design_paper_approx};
 use std::f64::consts::PI;

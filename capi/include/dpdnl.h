@@ -110,7 +110,7 @@ typedef struct DpdnlSetup {
   // Nonzero when the style is a sub-style of the host's `pair_style hybrid` or
   // `hybrid/overlay` (LAMMPS: `force->pair != this`): type pairs without coefficients then
   // belong to other styles and get no interaction from this one; zero: the top-level style,
-  // every type pair must be set (`dpdnl::engine::style::coverage`, the rule).
+  // every type pair must be set (`dpdnl::host::coverage`, the rule).
   int32_t substyle;
 } DpdnlSetup;
 
@@ -169,7 +169,7 @@ typedef struct DpdnlStep {
   int32_t dimension;
   // Box lengths (LAMMPS `domain->xprd`, `yprd`, `zprd`), for the pair noise's image key:
   // along a periodic axis shorter than 2 r_c a pair meets several images of its partner
-  // (ghosts), each keyed apart (`dpdnl::rng::ImageFrame`, docs/models.md P-4b).
+  // (ghosts), each keyed apart (`dpdnl::host::ImageFrame`, docs/models.md P-4b).
   double boxlen[3];
   // Tilts xy, xz, yz (LAMMPS `domain->xy`, `xz`, `yz`; 0 for an orthogonal box).
   double tilt[3];
@@ -219,7 +219,7 @@ const char *dpdnl_last_error(void);
 // symmetric in the tags).
 double dpdnl_pair_gaussian(uint32_t seed, uint64_t step, uint32_t tag_i, uint32_t tag_j);
 
-// The blow-up check of the standalone engine (`dpdnl::engine::check_atoms`) on the owned atoms:
+// The blow-up check of the standalone engine (`dpdnl::host::check_atoms`) on the owned atoms:
 // a non-finite position, velocity or force, or a velocity crossing half the box length `len`
 // (3 doubles) in one step of `dt`, is an error (status and [`crate::dpdnl_last_error`]) naming
 // the step, the atom's tag and the quantity. The LAMMPS pair styles call it at every neighbour
@@ -240,7 +240,7 @@ enum DpdnlStatus dpdnl_check_health(const struct DpdnlAtoms *atoms,
 // call on this thread.
 const char *dpdnl_last_message(void);
 
-// The set-up box check of both engines (`dpdnl::init::check_box_images`): every periodic
+// The set-up box check of both engines (`dpdnl::host::check_box_images`): every periodic
 // dimension (`periodic[d]` nonzero, d < `dimension`) of the box `len` (3 doubles) must be at
 // least 2 `rc_max` long. Call it at every `init` and after every box change.
 //
@@ -525,7 +525,7 @@ enum DpdnlStatus dpdnl_pex_apply(const struct DpdnlPexArgs *args,
                                  int32_t fast_tag);
 
 // `fix nve/euler` on one rank: for each owned atom in group `groupbit`, x += dtv v(t) and
-// v += (dtf/m) f(t) (`dpdnl::engine::fixes::euler_update`; dtf = δt·ftm2v).
+// v += (dtf/m) f(t) (`dpdnl::host::euler_update`; dtf = δt·ftm2v).
 //
 // # Safety
 // `x`, `v`, `f` hold `3 nlocal` doubles (`x` and `v` not aliased); `atom_type`, `mask`
@@ -564,7 +564,7 @@ enum DpdnlStatus dpdnl_flip_momentum_setup(const char *deform_id,
 
 // `fix flip/momentum` at the step of a flip, before `fix deform`'s `pre_exchange` flips the
 // box and remaps the atoms: every owned atom of group `groupbit` outside `ylo..yhi` along y
-// is put through y by `dpdnl::engine::lees_edwards::flip_wrap_y` (tilt `xy`) and, with `jump`
+// is put through y by `dpdnl::host::flip_wrap_y` (tilt `xy`) and, with `jump`
 // nonzero, gets `remap v`'s velocity jump −n `h_rate_xy`; `ny[i]` receives its crossings n
 // (0 for the others; the caller moves its image flags), and `*atoms` and `*momentum` are
 // incremented by the atoms put through and by Σ m n h_rate_xy, the momentum relative to the

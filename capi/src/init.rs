@@ -23,7 +23,7 @@ pub extern "C" fn dpdnl_last_message() -> *const c_char {
     LAST_MESSAGE.with(|e| e.borrow().as_ptr())
 }
 
-/// The set-up box check of both engines (`dpdnl::init::check_box_images`): every periodic
+/// The set-up box check of both engines (`dpdnl::host::check_box_images`): every periodic
 /// dimension (`periodic[d]` nonzero, d < `dimension`) of the box `len` (3 doubles) must be at
 /// least 2 `rc_max` long. Call it at every `init` and after every box change.
 ///
@@ -44,7 +44,7 @@ pub unsafe extern "C" fn dpdnl_box_check(
                 crate::slice(periodic, 3, "periodic")?,
             )
         };
-        dpdnl::init::check_box_images(
+        dpdnl::host::check_box_images(
             [len[0], len[1], len[2]],
             [per[0] != 0, per[1] != 0, per[2] != 0],
             usize::try_from(dimension).unwrap_or(0),

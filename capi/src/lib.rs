@@ -10,7 +10,7 @@
 //!   handle, [`dpdnl_pair_new`], parses LAMMPS's own words); the kernels then trust them.
 //! - [`dpdnl_pair_compute`] walks a whole LAMMPS neighbour list in Rust: the hot loop never crosses the
 //!   boundary per pair. Pairs in range are evaluated in batches of 64 by
-//!   [`dpdnl::kernel::pair_forces_batch`] (SIMD lanes, the same bits as `pair_force`), and their
+//!   [`dpdnl::pair_forces_batch`] (SIMD lanes, the same bits as `pair_force`), and their
 //!   forces and tallies are added in list order, so the result is that of the pair-by-pair loop.
 //!   Forces, energy and virial follow LAMMPS's `ev_tally` (half list, newton on/off) and
 //!   `ev_tally_full` (full list) conventions.

@@ -1,5 +1,5 @@
 //! One C handle for every pair style: an opaque [`DpdnlPair`] holds the style object of the
-//! standalone engine (`dpdnl::engine::style::PairStyle`: the same grammar, set-up, kernel and
+//! standalone engine (`dpdnl::host::PairStyle`: the same grammar, set-up, kernel and
 //! restart lines), so a LAMMPS style forwards `narg/arg`, marshals arrays and does MPI, and
 //! knows no coefficient, rule or equation of its own.
 //!
@@ -15,9 +15,10 @@
 use std::ffi::{CString, c_char};
 use std::sync::OnceLock;
 
-use dpdnl::engine::SetupNote;
-use dpdnl::engine::style::{STYLES, check_special, from_restart_lines};
-use dpdnl::kernel::Isa;
+use dpdnl::host::Isa;
+use dpdnl::host::SetupNote;
+use dpdnl::host::check_special;
+use dpdnl::host::{PAIR_STYLES, from_restart_lines};
 use dpdnl::{PairStyle, SetupContext, new_pair_style};
 
 use crate::compute::{Workers, walk_pairs};
@@ -30,7 +31,7 @@ use crate::{
     DpdnlAtoms, DpdnlNeighList, DpdnlStatus, DpdnlStep, DpdnlTally, Error, c_str, guard, slice,
     slice_mut,
 };
-use dpdnl::engine::topology::SpecialRule;
+use dpdnl::host::SpecialRule;
 
 /// A pair style and its coefficients (opaque to C).
 pub struct DpdnlPair {
@@ -120,7 +121,7 @@ pub struct DpdnlSetup {
     /// Nonzero when the style is a sub-style of the host's `pair_style hybrid` or
     /// `hybrid/overlay` (LAMMPS: `force->pair != this`): type pairs without coefficients then
     /// belong to other styles and get no interaction from this one; zero: the top-level style,
-    /// every type pair must be set (`dpdnl::engine::style::coverage`, the rule).
+    /// every type pair must be set (`dpdnl::host::coverage`, the rule).
     pub substyle: i32,
 }
 
@@ -129,15 +130,19 @@ pub struct DpdnlSetup {
 fn style_names() -> &'static [(CString, CString)] {
     static NAMES: OnceLock<Vec<(CString, CString)>> = OnceLock::new();
     NAMES.get_or_init(|| {
-        STYLES
+        PAIR_STYLES
             .iter()
-            .map(|(name, what)| {
-                let text = |s: String| CString::new(s).unwrap_or_default();
-                (
-                    text(name.to_string()),
-                    text(format!("pair_style {name} (dpdnl: {what})")),
-                )
-            })
+            .map(
+                |&dpdnl::host::PairStyleEntry {
+                     name, about: what, ..
+                 }| {
+                    let text = |s: String| CString::new(s).unwrap_or_default();
+                    (
+                        text(name.to_string()),
+                        text(format!("pair_style {name} (dpdnl: {what})")),
+                    )
+                },
+            )
             .collect()
     })
 }
@@ -146,7 +151,7 @@ fn style_names() -> &'static [(CString, CString)] {
 /// LAMMPS under [`dpdnl_pair_style_name`]).
 #[unsafe(no_mangle)]
 pub extern "C" fn dpdnl_pair_style_count() -> i32 {
-    STYLES.len() as i32
+    PAIR_STYLES.len() as i32
 }
 
 /// The name of pair style `k` (0-based), a static string; null when `k` is out of range.
@@ -585,7 +590,7 @@ fn ready(h: &DpdnlPair) -> Result<(), Error> {
 }
 
 /// The style's pre-pass and type count, after its set-up (a style without one is an error).
-fn prepass_of(h: &DpdnlPair) -> Result<(&dyn dpdnl::engine::style::PrePass, usize), Error> {
+fn prepass_of(h: &DpdnlPair) -> Result<(&dyn dpdnl::host::PrePass, usize), Error> {
     ready(h)?;
     let pp = h
         .style

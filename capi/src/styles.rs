@@ -5,11 +5,9 @@
 
 use std::ffi::c_char;
 
-use dpdnl::engine::fixes::{PexPick, PexSlabs, euler_update, pex_apply};
-use dpdnl::engine::lees_edwards::{
-    FlipLeak, flip_jump_note, flip_leak_warning, flip_wrap_y, y_crossings,
-};
 use dpdnl::grammar::{self, fix::PexArgs};
+use dpdnl::host::{FlipLeak, flip_jump_note, flip_leak_warning, flip_wrap_y, y_crossings};
+use dpdnl::host::{PexPick, PexSlabs, euler_update, pex_apply};
 
 use crate::{Error, c_str, guard, slice, slice_mut};
 
@@ -335,7 +333,7 @@ pub unsafe extern "C" fn dpdnl_pex_apply(
 }
 
 /// `fix nve/euler` on one rank: for each owned atom in group `groupbit`, x += dtv v(t) and
-/// v += (dtf/m) f(t) (`dpdnl::engine::fixes::euler_update`; dtf = δt·ftm2v).
+/// v += (dtf/m) f(t) (`dpdnl::host::euler_update`; dtf = δt·ftm2v).
 ///
 /// # Safety
 /// `x`, `v`, `f` hold `3 nlocal` doubles (`x` and `v` not aliased); `atom_type`, `mask`
@@ -427,7 +425,7 @@ pub unsafe extern "C" fn dpdnl_flip_momentum_setup(
 
 /// `fix flip/momentum` at the step of a flip, before `fix deform`'s `pre_exchange` flips the
 /// box and remaps the atoms: every owned atom of group `groupbit` outside `ylo..yhi` along y
-/// is put through y by `dpdnl::engine::lees_edwards::flip_wrap_y` (tilt `xy`) and, with `jump`
+/// is put through y by `dpdnl::host::flip_wrap_y` (tilt `xy`) and, with `jump`
 /// nonzero, gets `remap v`'s velocity jump −n `h_rate_xy`; `ny[i]` receives its crossings n
 /// (0 for the others; the caller moves its image flags), and `*atoms` and `*momentum` are
 /// incremented by the atoms put through and by Σ m n h_rate_xy, the momentum relative to the

@@ -37,7 +37,7 @@ pub struct DpdnlStep {
     pub dimension: i32,
     /// Box lengths (LAMMPS `domain->xprd`, `yprd`, `zprd`), for the pair noise's image key:
     /// along a periodic axis shorter than 2 r_c a pair meets several images of its partner
-    /// (ghosts), each keyed apart (`dpdnl::rng::ImageFrame`, docs/models.md P-4b).
+    /// (ghosts), each keyed apart (`dpdnl::host::ImageFrame`, docs/models.md P-4b).
     pub boxlen: [f64; 3],
     /// Tilts xy, xz, yz (LAMMPS `domain->xy`, `xz`, `yz`; 0 for an orthogonal box).
     pub tilt: [f64; 3],

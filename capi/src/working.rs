@@ -14,7 +14,7 @@
 //! `neighbor->ncalls`) or anything else about the list changes (counts, pointers, mask, the
 //! cut-offs); lists that LAMMPS rebuilds within 12 force calls are walked as they are.
 
-use dpdnl::engine::neighbor::{INNER_MARGIN, INNER_MIN_LIFE};
+use dpdnl::host::{INNER_MARGIN, INNER_MIN_LIFE};
 
 use crate::Error;
 use crate::list::{DpdnlNeighList, check_row, list_row};

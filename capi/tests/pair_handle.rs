@@ -5,7 +5,9 @@
 use std::ffi::{CStr, c_void};
 use std::ptr::{null, null_mut};
 
-use dpdnl::kernel::{Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force};
+use dpdnl::forces::dpd::kernel::{
+    Friction, Noise, PairCoeff, PairInput, PairModel, Weight, pair_force,
+};
 use dpdnl::rng::{keyed_uniform, pair_gaussian};
 use dpdnl_capi::*;
 
@@ -648,7 +650,7 @@ fn sdpd_prepass_is_the_direct_density_sum_and_forces_conserve_momentum() {
         rho[g] = rho[a.owner[g]];
     }
     // The same densities from the standalone style object, summed directly over every image.
-    let mut field = dpdnl::engine::style::new_pair_style(
+    let mut field = dpdnl::forces::new_pair_style(
         "sdpd",
         &["1.0", "1.2", &SEED.to_string(), "kernel", "quintic"].map(String::from),
         2,
@@ -864,13 +866,13 @@ fn special_bonds_scale_a_pair_or_leave_it_out() {
         );
         let (f, energy) = special_step(&h, &a, &lists);
         // The same pairs one by one through the kernel with scaled coefficients: f a, f γ0.
-        let friction = dpdnl::kernel::Friction::from_keyword(fr).unwrap();
-        let noise = dpdnl::kernel::Noise::from_keyword(no).unwrap();
-        let model = dpdnl::kernel::PairModel::new(
+        let friction = dpdnl::forces::dpd::kernel::Friction::from_keyword(fr).unwrap();
+        let noise = dpdnl::forces::dpd::kernel::Noise::from_keyword(no).unwrap();
+        let model = dpdnl::forces::dpd::kernel::PairModel::new(
             0.7,
             friction,
             noise,
-            dpdnl::kernel::Weight::new(0.5).unwrap(),
+            dpdnl::forces::dpd::kernel::Weight::new(0.5).unwrap(),
             DT,
         );
         let g1 = |g: f64| if fr == "none" { 0.0 } else { g };
@@ -880,7 +882,7 @@ fn special_bonds_scale_a_pair_or_leave_it_out() {
                 (1, 2) => (10.0, 3.0, g1(0.5), 1.2),
                 _ => (0.0, 5.0, g1(2.0), 0.9),
             };
-            dpdnl::kernel::PairCoeff {
+            dpdnl::forces::dpd::kernel::PairCoeff {
                 a: aa,
                 gamma0: g0,
                 gamma1: g,
@@ -903,18 +905,18 @@ fn special_bonds_scale_a_pair_or_leave_it_out() {
                     continue;
                 }
                 scaled += usize::from(factor != 1.0);
-                let c = dpdnl::kernel::PairCoeff {
+                let c = dpdnl::forces::dpd::kernel::PairCoeff {
                     a: factor * c.a,
                     gamma0: factor * c.gamma0,
                     ..c
                 };
-                let input = dpdnl::kernel::PairInput {
+                let input = dpdnl::forces::dpd::kernel::PairInput {
                     dr,
                     dv: [0, 1, 2].map(|d| a.v[3 * i + d] - a.v[3 * j + d]),
                     inv_mass_sum: 1.0 / MASS[a.ty[i] as usize] + 1.0 / MASS[a.ty[j] as usize],
                     xi: dpdnl::rng::pair_gaussian(SEED, 7, a.tag[i] as u32, a.tag[j] as u32),
                 };
-                let p = dpdnl::kernel::pair_force(&model, &c, &input);
+                let p = dpdnl::forces::dpd::kernel::pair_force(&model, &c, &input);
                 let s = (p.fc + p.fd + p.fr + p.fa) * p.inv_r;
                 for d in 0..3 {
                     want[3 * i + d] += s * dr[d];

@@ -12,7 +12,8 @@
 
 use std::ffi::{CString, c_char};
 
-use dpdnl::grammar::{fix, pair, sdpd};
+use dpdnl::forces::{dpd::grammar as pair, sdpd::grammar as sdpd};
+use dpdnl::grammar::fix;
 use dpdnl_capi as capi;
 use libfuzzer_sys::fuzz_target;
 

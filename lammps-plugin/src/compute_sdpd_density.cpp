@@ -4,6 +4,8 @@
 
 #include "compute_sdpd_density.h"
 
+#include "pair_dpdnl.h"
+
 #include "atom.h"
 #include "error.h"
 #include "force.h"
@@ -42,7 +44,10 @@ ComputeSDPDDensity::~ComputeSDPDDensity()
 
 void ComputeSDPDDensity::init()
 {
-  if (!force->pair || !force->pair_match("sdpd", 1))
+  // Any of this library's pair styles with a per-atom pre-pass (the rule of the standalone
+  // engine's compute), found by its class, not by its name.
+  auto *pair = dynamic_cast<PairDpdnl *>(force->pair);
+  if (!pair || !pair->has_atom_values())
     error->all(FLERR, std::string("compute sdpd/density needs pair_style sdpd (define it first)"));
 }
 

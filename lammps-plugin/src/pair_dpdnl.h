@@ -45,6 +45,8 @@ class PairDpdnl : public Pair {
   void unpack_reverse_comm(int, int *, double *) override;
   double memory_usage() override;
   void *extract(const char *, int &) override;
+  // True when the style has a per-atom pre-pass (a many-body density, e.g. sdpd's).
+  bool has_atom_values() const { return info.values_per_atom > 0; }
 
  protected:
   std::string name;      // the style's name, as LAMMPS knows it

@@ -4,7 +4,7 @@
 //! which `thermo` is parsed with the crate's own log parser.
 
 use crate::{FormatError, arr, script_error};
-use dpdnl::engine::System;
+use dpdnl::System;
 use dpdnl::input::{Console, Interpreter, Options, ScriptError as CoreError};
 use dpdnl::io::lammps_log::parse_log;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
@@ -247,7 +247,7 @@ impl Simulation {
         &mut self,
         values: PyReadonlyArray2<'_, f64>,
         what: &str,
-        set: impl Fn(&mut dpdnl::engine::Atoms, usize, [f64; 3]),
+        set: impl Fn(&mut dpdnl::Atoms, usize, [f64; 3]),
     ) -> PyResult<()> {
         let view = values.as_array();
         let sys = self

@@ -2,7 +2,7 @@
 //! walk over a LAMMPS list ([`within_cut`]): the same arithmetic as the portable loops, so the
 //! same pairs are kept with every instruction set.
 
-use crate::kernel::Isa;
+use crate::forces::Isa;
 
 /// The atoms of `jlist` (each entry masked with `mask`: LAMMPS's `NEIGHMASK`) within `cutsq` of
 /// `xi`, in list order: |x_i − x_j|² < `cutsq` with the pair loops' arithmetic ((dx² + dy²) +

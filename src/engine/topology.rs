@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use super::bonded::{AngleStyle, BondStyle};
+use crate::forces::bonded::{AngleStyle, BondStyle};
 use crate::grammar::{parse_f64, shown};
 
 /// LAMMPS's `atom_style` (the ones this engine reads).
@@ -141,7 +141,7 @@ impl Default for SpecialBonds {
 }
 
 /// The usage of `special_bonds`.
-pub const SPECIAL_USAGE: &str = "special_bonds [lj|coul|lj/coul a b c] [fene|charmm|dreiding|amber] [angle yes|no] [dihedral yes|no]";
+pub(crate) const SPECIAL_USAGE: &str = "special_bonds [lj|coul|lj/coul a b c] [fene|charmm|dreiding|amber] [angle yes|no] [dihedral yes|no]";
 
 impl SpecialBonds {
     /// A `special_bonds` command: every setting not given returns to its default, as in
@@ -227,7 +227,7 @@ impl SpecialBonds {
 
     /// The words of a `special_bonds` command that restores these settings exactly.
     pub fn words(&self) -> Vec<String> {
-        let w = super::style::word;
+        let w = crate::forces::style::word;
         let mut out = vec!["lj".to_string()];
         out.extend(self.lj[1..].iter().map(|&f| w(f)));
         out.push("coul".into());

@@ -17,8 +17,6 @@
 //!   against the box of that run, `every` in 1..=2147483647.
 
 pub mod fix;
-pub mod pair;
-pub mod sdpd;
 
 /// The usage line and keywords of one style.
 #[derive(Clone, Copy, Debug)]
@@ -35,12 +33,12 @@ pub struct StyleSpec {
 
 /// Every style of this project, the single source of usage strings and keyword lists.
 pub(crate) const SPECS: &[StyleSpec] = &[
-    pair::PAIR_STYLE,
-    pair::PAIR_COEFF,
-    pair::PAIR_COEFF_TARGETS,
-    sdpd::PAIR_STYLE,
-    sdpd::PAIR_COEFF,
-    sdpd::PAIR_COEFF_TARGETS,
+    crate::forces::dpd::grammar::PAIR_STYLE,
+    crate::forces::dpd::grammar::PAIR_COEFF,
+    crate::forces::dpd::grammar::PAIR_COEFF_TARGETS,
+    crate::forces::sdpd::grammar::PAIR_STYLE,
+    crate::forces::sdpd::grammar::PAIR_COEFF,
+    crate::forces::sdpd::grammar::PAIR_COEFF_TARGETS,
     fix::NVE,
     fix::NVE_EULER,
     fix::PEX_PUSH,

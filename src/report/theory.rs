@@ -2,7 +2,7 @@
 //! package's dicts). The structs ending in `Json` are serialised with serde: their fields are
 //! the keys, in the order `--json` prints them ([`super::to_line`]).
 
-use crate::kernel::sdpd::Smoothing;
+use crate::forces::sdpd::kernel::Smoothing;
 use crate::theory::vv_measured::vv_verdict;
 use crate::theory::{
     Design, DesignMode, Dim, Fluid, Targets, TheoryError, Transport, design_from_targets,

@@ -15,7 +15,7 @@
 //! DPD's, so a target (η, Sc) designs (η0, s) exactly as [`super::design_from_targets`] does.
 
 use super::{Dim, Fluid, TheoryError, Transport, positive, radial_moment};
-use crate::kernel::sdpd::Smoothing;
+use crate::forces::sdpd::kernel::Smoothing;
 use std::f64::consts::PI;
 
 /// \[F\] = ∫ F(r) d^d r of the kernel at cut-off `rc` (F = −W'/r), in closed form.

@@ -19,12 +19,12 @@ pub fn run(text: &str) -> Result<(Vec<String>, Option<System>), ScriptError> {
 #[allow(dead_code)] // not every test crate that includes this module calls it
 pub fn dpd(sys: &System) -> Option<&dpdnl::engine::ForceField> {
     let p = sys.pair.as_deref()?.as_any();
-    Some(&p.downcast_ref::<dpdnl::engine::forcefield::DpdPair>()?.ff)
+    Some(&p.downcast_ref::<dpdnl::forces::dpd::DpdPair>()?.ff)
 }
 
 /// The `sdpd` style, if that is the pair style (a test's downcast, as [`dpd`]).
 #[allow(dead_code)] // not every test crate that includes this module calls it
-pub fn sdpd(sys: &System) -> Option<&dpdnl::engine::sdpd::SdpdField> {
+pub fn sdpd(sys: &System) -> Option<&dpdnl::forces::sdpd::SdpdField> {
     sys.pair.as_deref()?.as_any().downcast_ref()
 }
 

@@ -1,12 +1,12 @@
 //! The walk of [`crate::dpdnl_pair_compute`]: one LAMMPS neighbour list walked in Rust, its pairs
-//! evaluated through the pair-style seam (`dpdnl::engine::pair`) and added with LAMMPS's
+//! evaluated through the pair-style seam (`dpdnl::forces::batcher`) and added with LAMMPS's
 //! `ev_tally` conventions. `walk.rs`: the rows and their batches (one thread); `threads.rs`:
 //! the same walk on a team of threads, the same bits; `tally.rs`: LAMMPS's tally conventions.
 
 use dpdnl::PairKernel;
-use dpdnl::engine::pair::Batcher;
-use dpdnl::engine::topology::SpecialRule;
-use dpdnl::kernel::Isa;
+use dpdnl::host::Batcher;
+use dpdnl::host::Isa;
+use dpdnl::host::SpecialRule;
 
 use crate::list::*;
 use crate::types::*;
@@ -22,13 +22,13 @@ pub(crate) use threads::*;
 use walk::*;
 
 /// The image key's frame of a step's box when some periodic length is below 2 r_c (the
-/// largest cut-off of `cut`), else None (`dpdnl::init::images_keyed`).
-fn image_frame(st: &DpdnlStep, cut: &[f64]) -> Option<dpdnl::rng::ImageFrame> {
+/// largest cut-off of `cut`), else None (`dpdnl::host::images_keyed`).
+fn image_frame(st: &DpdnlStep, cut: &[f64]) -> Option<dpdnl::host::ImageFrame> {
     let dim = if st.dimension == 2 { 2 } else { 3 };
     let periodic = st.periodic.map(|p| p != 0);
     let rc = cut.iter().copied().fold(0.0, f64::max);
-    dpdnl::init::images_keyed(st.boxlen, periodic, dim, rc)
-        .then(|| dpdnl::rng::ImageFrame::new(dim, st.boxlen, st.tilt, periodic))
+    dpdnl::host::images_keyed(st.boxlen, periodic, dim, rc)
+        .then(|| dpdnl::host::ImageFrame::new(dim, st.boxlen, st.tilt, periodic))
 }
 
 /// The list walk of [`crate::dpdnl_pair_compute`] for any pair style: every listed pair within `cut[k]`
@@ -213,7 +213,7 @@ pub(crate) fn inverse_masses(m: &[f64], offset: usize) -> Result<Vec<f64>, Error
         .collect()
 }
 
-/// The blow-up check of the standalone engine (`dpdnl::engine::check_atoms`) on the owned atoms:
+/// The blow-up check of the standalone engine (`dpdnl::host::check_atoms`) on the owned atoms:
 /// a non-finite position, velocity or force, or a velocity crossing half the box length `len`
 /// (3 doubles) in one step of `dt`, is an error (status and [`crate::dpdnl_last_error`]) naming
 /// the step, the atom's tag and the quantity. The LAMMPS pair styles call it at every neighbour
@@ -247,7 +247,7 @@ pub unsafe extern "C" fn dpdnl_check_health(
             )
         };
         let v3 = |p: &[f64], i: usize| [p[3 * i], p[3 * i + 1], p[3 * i + 2]];
-        dpdnl::engine::check_atoms(
+        dpdnl::host::check_atoms(
             step.max(0) as u64,
             dt,
             if dimension == 2 { 2 } else { 3 },

@@ -2,7 +2,7 @@
 //! half list, newton on or off; `ev_tally_full` on a full list), global and per atom.
 
 use dpdnl::PairBatch;
-use dpdnl::engine::pair::lane_force;
+use dpdnl::host::lane_force;
 
 use crate::types::*;
 use crate::{Error, slice_mut};

@@ -3,7 +3,7 @@
 //! one-thread order and the bits do not depend on the thread count.
 
 use dpdnl::PairBatch;
-use dpdnl::engine::pair::{Batcher, lane_force};
+use dpdnl::host::{Batcher, lane_force};
 
 use super::tally::*;
 use super::walk::*;

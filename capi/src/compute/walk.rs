@@ -1,10 +1,10 @@
 //! The single-threaded walk: the rows of a LAMMPS list, their in-range pairs in batches through
 //! the style's kernel, and the sums of a force-only step.
 
-use dpdnl::engine::pair::{Batcher, lane_force};
-use dpdnl::engine::simd::within_cut;
-use dpdnl::engine::topology::SpecialRule;
-use dpdnl::kernel::Isa;
+use dpdnl::host::Isa;
+use dpdnl::host::SpecialRule;
+use dpdnl::host::within_cut;
+use dpdnl::host::{Batcher, lane_force};
 use dpdnl::{PairBatch, PairKernel};
 
 use super::tally::*;
@@ -31,7 +31,7 @@ pub(crate) struct Walk<'a> {
     pub(crate) mask: usize,
     pub(crate) nall: usize,
     /// The image key's frame when the box is shorter than 2 r_c (P-4b).
-    pub(crate) images: Option<dpdnl::rng::ImageFrame>,
+    pub(crate) images: Option<dpdnl::host::ImageFrame>,
 }
 
 impl Walk<'_> {

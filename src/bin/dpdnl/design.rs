@@ -6,7 +6,7 @@
 //! ("eqs. 52-53, 65", WF-52 … in `docs/models.md`) and the finite-step paper's (FS-22 …).
 
 use dpdnl::fmtnum::fmt_g;
-use dpdnl::kernel::sdpd::Smoothing;
+use dpdnl::forces::sdpd::kernel::Smoothing;
 use dpdnl::report::theory::{
     self as rt, EulerBriefJson, InputLines, PairJson, RunJson, ScriptJson, fluid_in, neighbours,
     step_x,

@@ -6,7 +6,7 @@
 //! `engine::simd::avx2`, shared with the C ABI's list walk.
 use super::slab::{PassConst, Pending, RowArgs, Sink};
 use crate::engine::simd::avx2::{front_epi32, front_pd, load4, separation};
-use crate::kernel::BATCH;
+use crate::forces::BATCH;
 use std::arch::x86_64::*;
 
 // Whole 4-lane chunks fit in the batch arrays.

@@ -2,7 +2,7 @@
 //! in-range near pairs compressed into the batch. Same pairs, same order, same bits as the
 //! portable `near_row`.
 use super::slab::{PassConst, Pending, RowArgs, Sink};
-use crate::kernel::BATCH;
+use crate::forces::BATCH;
 use std::arch::x86_64::*;
 
 // Whole 8-lane chunks fit in the batch arrays.

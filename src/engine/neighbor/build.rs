@@ -2,7 +2,7 @@
 //! neighbour-cell runs), and the cell-order permutation of the atoms.
 
 use super::*;
-use crate::kernel::Isa;
+use crate::forces::Isa;
 
 /// Stencil image code: the neighbour cell's periodic image is decided per pair.
 pub(super) const AMBIGUOUS: i8 = 2;

@@ -16,14 +16,14 @@
 //! whole list (j > i in every neighbouring cell).
 //!
 //! Inside a task, in-range pairs are gathered into a [`PairBatch`] and evaluated by the pair
-//! style's [`PairKernel`] (`pair.rs`; for `dpd/nonlinear` [`crate::kernel::pair_forces_batch`],
-//! the same function as [`crate::kernel::pair_force`], in SIMD lanes). The displacement of every
+//! style's [`PairKernel`] (`pair.rs`; for `dpd/nonlinear` [`crate::forces::dpd::kernel::pair_forces_batch`],
+//! the same function as [`crate::forces::dpd::kernel::pair_force`], in SIMD lanes). The displacement of every
 //! pair is the box's minimum image, computed per pair.
 
 use super::atoms::Atoms;
 use super::domain::{LeesEdwards, SimBox};
-use super::pair::PairKernel;
-use crate::kernel::Isa;
+use crate::forces::Isa;
+use crate::forces::batcher::PairKernel;
 use rayon::prelude::*;
 
 #[cfg(target_arch = "x86_64")]

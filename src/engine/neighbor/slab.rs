@@ -3,7 +3,8 @@
 //! the pair style's kernel and adds the forces in batch order.
 
 use super::*;
-use crate::kernel::{BATCH, Isa, MIN_PAIR_DISTANCE, PairBatch};
+use crate::forces::lanes::MIN_PAIR_DISTANCE;
+use crate::forces::{BATCH, Isa, PairBatch};
 
 /// Everything a slab task reads.
 pub(super) struct Ctx<'a> {

@@ -1,13 +1,13 @@
 //! The topology commands: `bond_style`, `bond_coeff`, `angle_style`, `angle_coeff`,
-//! `special_bonds` (the styles and formulas are in `engine::bonded`, the special neighbours in
+//! `special_bonds` (the styles and formulas are in `forces::bonded`, the special neighbours in
 //! `engine::topology`). As in LAMMPS, the styles and `special_bonds` may come before the box
 //! (`read_data` then applies them, and its `Bond Coeffs`/`Angle Coeffs` sections need them);
 //! the coefficients need the box.
 
 use super::{CmdResult, Interpreter};
 use crate::engine::Topology;
-use crate::engine::bonded::{AngleStyle, BondStyle};
 use crate::engine::topology::SpecialBonds;
+use crate::forces::bonded::{AngleStyle, BondStyle};
 
 /// What the topology commands set before the box exists.
 #[derive(Clone, Debug, Default)]

@@ -1,4 +1,4 @@
-//! `pair_style` and `pair_coeff`: the words go to the style object (`engine::style`, one for
+//! `pair_style` and `pair_coeff`: the words go to the style object (`forces::style`, one for
 //! both engines), which parses them with [`crate::grammar`]. A `pair_style` of another style
 //! replaces the old one and its coefficients; the same style again keeps its coefficients
 //! under that style's rule (`PairStyle::restyle`), as LAMMPS does. A restart file stores the
@@ -26,7 +26,7 @@ fn hybrid_refusal(name: &str) -> String {
 
 impl Interpreter<'_> {
     pub(super) fn cmd_pair_style(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, grammar::pair::PAIR_STYLE.usage)?;
+        need(args, 1, crate::forces::dpd::grammar::PAIR_STYLE.usage)?;
         if args[0].starts_with("hybrid") {
             return Err(hybrid_refusal(&args[0]));
         }
@@ -35,14 +35,14 @@ impl Interpreter<'_> {
             // Before the box: checked now (the same words and messages as after it), made for
             // the box's atom types when the box exists. With no coefficients yet, the same
             // style again is the same as a new one.
-            crate::engine::style::new_pair_style(&args[0], &args[1..], 1, dt)?;
+            crate::forces::new_pair_style(&args[0], &args[1..], 1, dt)?;
             self.pre_pair = Some(args.to_vec());
             return Ok(());
         };
         match sys.pair.as_deref_mut() {
             Some(style) if style.name() == args[0] => style.restyle(&args[1..])?,
             _ => {
-                sys.pair = Some(crate::engine::style::new_pair_style(
+                sys.pair = Some(crate::forces::new_pair_style(
                     &args[0],
                     &args[1..],
                     sys.ntypes,

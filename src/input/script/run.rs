@@ -4,11 +4,11 @@
 use super::fix::FixKind;
 use super::{CmdResult, Interpreter};
 use crate::engine::lees_edwards::flip_jump_note;
-pub use crate::engine::style::PlannedSdpd;
-use crate::engine::style::StylePlan;
 use crate::engine::{Integrator, SetupNote, System};
+use crate::forces::dpd::kernel::{PairCoeff, PairModel};
+pub use crate::forces::style::PlannedSdpd;
+use crate::forces::style::StylePlan;
 use crate::grammar::{need, parse_int};
-use crate::kernel::{PairCoeff, PairModel};
 use std::io::Write;
 use std::time::Instant;
 
@@ -54,9 +54,9 @@ impl PlannedRun {
                 // Placeholder: a `sdpd` run has no DPD model (see `sdpd`).
                 let model = PairModel::new(
                     sd.kt,
-                    crate::kernel::Friction::None,
-                    crate::kernel::Noise::Plain,
-                    crate::kernel::Weight::STANDARD,
+                    crate::forces::dpd::kernel::Friction::None,
+                    crate::forces::dpd::kernel::Noise::Plain,
+                    crate::forces::dpd::kernel::Weight::STANDARD,
                     sys.dt,
                 );
                 (model, Vec::new(), Some(sd))

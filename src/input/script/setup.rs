@@ -156,7 +156,7 @@ impl Interpreter<'_> {
         }
         // A `pair_style` given before the box: made now, for the box's atom types.
         if let Some(words) = &self.pre_pair {
-            sys.pair = Some(crate::engine::style::new_pair_style(
+            sys.pair = Some(crate::forces::new_pair_style(
                 &words[0],
                 &words[1..],
                 ntypes,

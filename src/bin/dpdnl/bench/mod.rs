@@ -70,7 +70,7 @@ pub struct BenchArgs {
     /// Only the scaling series (no reference systems, no LAMMPS).
     #[arg(long)]
     pub scaling_only: bool,
-    /// Only the pair kernel: ns per pair of `kernel::pair_forces_batch` for every friction and
+    /// Only the pair kernel: ns per pair of `forces::dpd::kernel::pair_forces_batch` for every friction and
     /// noise, with each instruction set (one thread; the minimum over many repeats, so the
     /// load of the machine hardly matters).
     #[arg(long)]

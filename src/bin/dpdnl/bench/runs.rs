@@ -183,10 +183,10 @@ pub(super) fn loop_time<'a>(lines: impl Iterator<Item = &'a str>) -> Option<f64>
 /// of 64 in-range pairs (n = 16-like separations and velocities), evaluated 2000 times per
 /// repeat; the minimum over 30 repeats.
 pub(super) fn kernel_micro() -> Result<String, Box<dyn std::error::Error>> {
-    use dpdnl::kernel::{
-        BATCH, Friction, Isa, Noise, NoiseDist, PairBatch, PairCoeff, PairModel, PairTable, Weight,
-        pair_forces_batch_isa,
+    use dpdnl::forces::dpd::kernel::{
+        Friction, Noise, PairCoeff, PairModel, PairTable, Weight, pair_forces_batch_isa,
     };
+    use dpdnl::forces::{BATCH, Isa, NoiseDist, PairBatch};
     let coeff = [PairCoeff {
         a: 0.0,
         gamma0: 5.0,
@@ -212,7 +212,7 @@ pub(super) fn kernel_micro() -> Result<String, Box<dyn std::error::Error>> {
         b.tag_i[l] = l as u32 + 1;
         b.tag_j[l] = 1000 + 3 * l as u32;
     }
-    // DPDNL_SIMD (see kernel::Isa::detect) narrows the table to one instruction set.
+    // DPDNL_SIMD (see forces::Isa::detect) narrows the table to one instruction set.
     let only = std::env::var_os("DPDNL_SIMD").map(|_| Isa::detect());
     let isas: Vec<Isa> = [Isa::Baseline, Isa::Avx2, Isa::Avx512]
         .into_iter()

@@ -2,9 +2,9 @@
 
 use super::*;
 use dpdnl::engine::{Integrator, SetupNote};
+use dpdnl::forces::dpd::kernel::PairCoeff;
 use dpdnl::input::script::PlannedSdpd;
 use dpdnl::input::{Collect, Interpreter, Options, PlannedRun};
-use dpdnl::kernel::PairCoeff;
 
 /// `dpdnl theory SCRIPT`: set up every `run` of the script without running it and print, for
 /// each, the state point, the kinetic theory of each type pair (ideal fluid, a = 0) and the Euler

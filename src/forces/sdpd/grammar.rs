@@ -1,10 +1,10 @@
 //! `pair_style sdpd` and its `pair_coeff` lines (docs/input.md), for both engines.
 
-use super::{
+use crate::forces::sdpd::kernel::Smoothing;
+use crate::grammar::{
     INT_MAX, StyleSpec, at_most, coeff_types, keywords, need, parse_f64, parse_int_in,
     sets_some_pair, shown, type_pairs,
 };
-use crate::kernel::sdpd::Smoothing;
 
 /// `pair_style sdpd …` (the words after the style name).
 pub(crate) const PAIR_STYLE: StyleSpec = StyleSpec {

@@ -3,167 +3,27 @@
 //! for the engines' hot loops, with a choice of instruction set ([`Isa`]).
 
 use super::*;
-/// Pairs per [`PairBatch`].
-pub const BATCH: usize = 64;
-
-/// Up to [`BATCH`] pairs in structure-of-arrays form, for [`pair_forces_batch`]: the inputs of
-/// [`pair_force`] for each pair, with the pair's tags in place of its Gaussian (the batch draws
-/// ξ_ij itself, [`crate::rng::pair_gaussian`]) and an index into the caller's coefficient table.
-#[derive(Clone, Debug)]
-pub struct PairBatch {
-    /// Number of pairs filled (≤ [`BATCH`]).
-    pub len: usize,
-    /// r_ij by component: `dr[k][l]` is component k of pair l.
-    pub dr: [[f64; BATCH]; 3],
-    /// v_ij by component (with any Lees–Edwards velocity offset already added).
-    pub dv: [[f64; BATCH]; 3],
-    /// 1/m_i + 1/m_j.
-    pub inv_mass_sum: [f64; BATCH],
-    /// Index of the pair's coefficients in the table passed to [`pair_forces_batch`].
-    pub coeff: [u32; BATCH],
-    /// Tag of i.
-    pub tag_i: [u32; BATCH],
-    /// Tag of j.
-    pub tag_j: [u32; BATCH],
-    /// Result: the total pair force divided by r, so the force on i is `fpair · r_ij`
-    /// (0 for a pair out of range). Entries from `len` on are unspecified.
-    pub fpair: [f64; BATCH],
-    /// Result: the conservative pair energy (0 for a pair out of range). Entries from `len` on
-    /// are unspecified.
-    pub energy: [f64; BATCH],
-    /// Working arrays of [`pair_forces_batch`] (kept here so that no call zeroes them).
-    pub(super) scratch: BatchScratch,
-    /// (Last, after the lane arrays, so that their alignment is that of the struct.) The box's lattice when it is shorter than 2 r_c along a periodic axis: each lane's
-    /// noise is then keyed by the periodic image of its pair too
-    /// ([`crate::rng::ImageFrame::pair_stream`], `docs/models.md` P-4b). None: the plain key
-    /// (every image code would be 0).
-    pub images: Option<crate::rng::ImageFrame>,
-}
-
-/// The per-lane coefficients, random bits and Gaussians of one batch evaluation.
-#[derive(Clone, Debug)]
-pub(super) struct BatchScratch {
-    co: LaneCoeff,
-    bits: [[u32; BATCH]; 4],
-    xi: [f64; BATCH],
-    st: StageArrays,
-}
-
+use crate::forces::lanes::{BatchScratch, pair_noise};
 /// The results of the kernel's stages for each lane: `g` = the fields of [`Geom`] (r, 1/r, q,
 /// w_D, w_R, r·v, S), `gs` = γ(S), σ(S), σ(S'').
 #[derive(Clone, Debug)]
-pub(super) struct StageArrays {
-    g: [[f64; BATCH]; 7],
-    gs: [[f64; BATCH]; 3],
+pub(crate) struct StageArrays {
+    pub(super) g: [[f64; BATCH]; 7],
+    pub(super) gs: [[f64; BATCH]; 3],
 }
 
-impl Default for PairBatch {
+impl Default for StageArrays {
     fn default() -> Self {
-        PairBatch {
-            len: 0,
-            dr: [[0.0; BATCH]; 3],
-            dv: [[0.0; BATCH]; 3],
-            inv_mass_sum: [0.0; BATCH],
-            coeff: [0; BATCH],
-            tag_i: [0; BATCH],
-            tag_j: [0; BATCH],
-            images: None,
-            fpair: [0.0; BATCH],
-            energy: [0.0; BATCH],
-            scratch: BatchScratch {
-                co: LaneCoeff {
-                    a: [0.0; BATCH],
-                    gamma0: [0.0; BATCH],
-                    gamma1: [0.0; BATCH],
-                    rc: [0.0; BATCH],
-                    inv_rc: [0.0; BATCH],
-                    sigma0: [0.0; BATCH],
-                    half_a_rc: [0.0; BATCH],
-                },
-                bits: [[0; BATCH]; 4],
-                xi: [0.0; BATCH],
-                st: StageArrays {
-                    g: [[0.0; BATCH]; 7],
-                    gs: [[0.0; BATCH]; 3],
-                },
-            },
+        StageArrays {
+            g: [[0.0; BATCH]; 7],
+            gs: [[0.0; BATCH]; 3],
         }
-    }
-}
-
-/// Instruction sets [`pair_forces_batch`] can use (chosen at run time; the results are the same
-/// bits with each, since the arithmetic is IEEE and never fused).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Isa {
-    /// Baseline x86-64 / any target: SSE2 vectors (2 lanes) or scalar code.
-    Baseline,
-    /// AVX2 + FMA (4 lanes; FMA instructions are available but never used for a·b + c).
-    Avx2,
-    /// AVX-512 F/DQ/VL/BW (8 lanes).
-    Avx512,
-}
-
-impl Isa {
-    /// The best instruction set this CPU has, capped by the environment variable `DPDNL_SIMD`
-    /// (`baseline`, `avx2` or `avx512`; for benchmarks and tests), read once.
-    pub fn detect() -> Isa {
-        static ISA: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
-        *ISA.get_or_init(|| {
-            let best = Isa::best_supported();
-            let cap = match std::env::var("DPDNL_SIMD").as_deref() {
-                Ok("baseline") => Isa::Baseline,
-                Ok("avx2") => Isa::Avx2,
-                _ => Isa::Avx512,
-            };
-            if (cap as u8) < (best as u8) {
-                cap
-            } else {
-                best
-            }
-        })
-    }
-
-    /// The best instruction set the CPU supports, probed once (the hot loops ask per batch
-    /// and per list row; ten feature tests each time were 1 % of the LAMMPS path's profile).
-    pub fn best_supported() -> Isa {
-        static BEST: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
-        *BEST.get_or_init(Isa::probe)
-    }
-
-    /// The CPU's feature tests behind [`Isa::best_supported`].
-    fn probe() -> Isa {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx512f")
-                && std::arch::is_x86_feature_detected!("avx512dq")
-                && std::arch::is_x86_feature_detected!("avx512vl")
-                && std::arch::is_x86_feature_detected!("avx512bw")
-                && std::arch::is_x86_feature_detected!("avx2")
-                && std::arch::is_x86_feature_detected!("fma")
-                && std::arch::is_x86_feature_detected!("popcnt")
-                && std::arch::is_x86_feature_detected!("bmi1")
-                && std::arch::is_x86_feature_detected!("bmi2")
-                && std::arch::is_x86_feature_detected!("lzcnt")
-            {
-                return Isa::Avx512;
-            }
-            if std::arch::is_x86_feature_detected!("avx2")
-                && std::arch::is_x86_feature_detected!("fma")
-                && std::arch::is_x86_feature_detected!("popcnt")
-                && std::arch::is_x86_feature_detected!("bmi1")
-                && std::arch::is_x86_feature_detected!("bmi2")
-                && std::arch::is_x86_feature_detected!("lzcnt")
-            {
-                return Isa::Avx2;
-            }
-        }
-        Isa::Baseline
     }
 }
 
 /// The coefficients of each pair of a batch, gathered from the table.
 #[derive(Clone, Debug)]
-pub(super) struct LaneCoeff {
+pub(crate) struct LaneCoeff {
     a: [f64; BATCH],
     gamma0: [f64; BATCH],
     gamma1: [f64; BATCH],
@@ -171,6 +31,20 @@ pub(super) struct LaneCoeff {
     inv_rc: [f64; BATCH],
     sigma0: [f64; BATCH],
     half_a_rc: [f64; BATCH],
+}
+
+impl Default for LaneCoeff {
+    fn default() -> Self {
+        LaneCoeff {
+            a: [0.0; BATCH],
+            gamma0: [0.0; BATCH],
+            gamma1: [0.0; BATCH],
+            rc: [0.0; BATCH],
+            inv_rc: [0.0; BATCH],
+            sigma0: [0.0; BATCH],
+            half_a_rc: [0.0; BATCH],
+        }
+    }
 }
 
 /// Evaluate every pair of `b` at `step`: `b.fpair[l]` and `b.energy[l]` become exactly
@@ -331,72 +205,6 @@ pub(super) fn fill_coeff(table: &PairTable, b: &mut PairBatch, n: usize) {
             co.half_a_rc[l] = d.half_a_rc;
         }
     }
-}
-
-/// ξ_ij of every lane into `b.scratch.xi` (all [`BATCH`] lanes: those past `b.len` get
-/// garbage from stale tags that nobody reads): [`crate::rng::pair_gaussian`] of the lane's tags,
-/// in two loops (random bits, then Gaussians) that run in SIMD lanes.
-#[inline(always)]
-pub(crate) fn pair_gaussians(b: &mut PairBatch, seed: u32, step: u64) {
-    lane_bits(b, seed, step);
-    let bits = &b.scratch.bits;
-    let xi = &mut b.scratch.xi;
-    for l in 0..BATCH {
-        xi[l] = crate::rng::gaussian_from_bits([bits[0][l], bits[1][l], bits[2][l], bits[3][l]]);
-    }
-}
-
-/// The keyed bits of every lane into `b.scratch.bits` (P-4; with [`PairBatch::images`], each
-/// lane's stream names its pair's periodic image, P-4b).
-#[inline(always)]
-fn lane_bits(b: &mut PairBatch, seed: u32, step: u64) {
-    let bits = &mut b.scratch.bits;
-    match &b.images {
-        None => {
-            for l in 0..BATCH {
-                let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
-                let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
-                bits[0][l] = o[0];
-                bits[1][l] = o[1];
-                bits[2][l] = o[2];
-                bits[3][l] = o[3];
-            }
-        }
-        Some(frame) => {
-            for l in 0..BATCH {
-                let (ti, tj) = (b.tag_i[l], b.tag_j[l]);
-                let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
-                let stream = frame.pair_stream(ti, tj, dr);
-                let (lo, hi) = crate::rng::ordered_tags(ti, tj);
-                let o = crate::rng::keyed_bits(seed, stream, step, lo, hi);
-                bits[0][l] = o[0];
-                bits[1][l] = o[1];
-                bits[2][l] = o[2];
-                bits[3][l] = o[3];
-            }
-        }
-    }
-}
-
-/// ξ_ij of every lane from `dist` (as [`pair_gaussians`]; the uniform variate needs only the
-/// first two words of the keyed bits and no ln or cos, [`crate::rng::uniform_noise_from_bits`]).
-#[inline(always)]
-pub(crate) fn pair_noise(b: &mut PairBatch, seed: u32, step: u64, dist: NoiseDist) {
-    if dist == NoiseDist::Gaussian {
-        return pair_gaussians(b, seed, step);
-    }
-    lane_bits(b, seed, step);
-    let bits = &b.scratch.bits;
-    let xi = &mut b.scratch.xi;
-    for l in 0..BATCH {
-        xi[l] = crate::rng::uniform_noise_from_bits([bits[0][l], bits[1][l], 0, 0]);
-    }
-}
-
-/// The lane Gaussians left by the last [`pair_gaussians`].
-#[inline(always)]
-pub(crate) fn lane_gaussians(b: &PairBatch) -> &[f64; BATCH] {
-    &b.scratch.xi
 }
 
 /// The per-pair loop of [`pair_forces_batch`], with friction, noise and weight fixed.

@@ -10,12 +10,14 @@
 
 use std::any::Any;
 
-use super::SetupNote;
-use super::pair::PairKernel;
-use super::style::{PairStyle, PrePass, SetupContext};
-use crate::grammar::sdpd::{SdpdCoeffLine, SdpdStyle};
-use crate::kernel::sdpd::{KernelShape, SdpdAtom, SdpdCoeff, Smoothing, Tait, sdpd_forces_batch};
-use crate::kernel::{Isa, PairBatch};
+pub mod grammar;
+pub mod kernel;
+
+use crate::forces::batcher::PairKernel;
+use crate::forces::style::{PairStyle, PrePass, SetupContext, SetupNote};
+use crate::forces::{Isa, PairBatch};
+use grammar::{SdpdCoeffLine, SdpdStyle};
+use kernel::{KernelShape, SdpdAtom, SdpdCoeff, Smoothing, Tait, sdpd_forces_batch};
 
 /// One type pair's `pair_coeff` values.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,10 +81,7 @@ impl SdpdField {
 
     /// The style from the words after `pair_style sdpd`, for `ntypes` types.
     pub fn from_words(args: &[String], ntypes: usize) -> Result<SdpdField, String> {
-        Ok(SdpdField::new(
-            crate::grammar::sdpd::pair_style(args)?,
-            ntypes,
-        ))
+        Ok(SdpdField::new(grammar::pair_style(args)?, ntypes))
     }
 
     /// Number of atom types.
@@ -338,13 +337,13 @@ impl PairStyle for SdpdField {
         "sdpd"
     }
 
-    fn plan(&self, units: &crate::units::Units, _dt: f64) -> super::style::StylePlan {
+    fn plan(&self, units: &crate::units::Units, _dt: f64) -> crate::forces::style::StylePlan {
         let n = self.ntypes;
         let pairs = (1..=n)
             .flat_map(|i| (i..=n).map(move |j| (i, j)))
             .filter_map(|(i, j)| self.get(i, j).map(|p| (i, j, *p)))
             .collect();
-        super::style::StylePlan::Sdpd(super::style::PlannedSdpd {
+        crate::forces::style::StylePlan::Sdpd(crate::forces::style::PlannedSdpd {
             kt: units.kt(self.style.temp),
             kernel: self.style.kernel,
             pairs,
@@ -371,7 +370,7 @@ impl PairStyle for SdpdField {
     }
 
     fn coeff(&mut self, args: &[String]) -> Result<(), String> {
-        let line = crate::grammar::sdpd::pair_coeff(args, self.ntypes, &self.style)?;
+        let line = grammar::pair_coeff(args, self.ntypes, &self.style)?;
         self.set_line(&line);
         self.coeff_words.push(args.to_vec());
         Ok(())
@@ -382,9 +381,9 @@ impl PairStyle for SdpdField {
     }
 
     fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String> {
-        let subset = super::style::coverage(self, ctx)?;
+        let subset = crate::forces::style::coverage(self, ctx)?;
         if subset && self.pairs.iter().flatten().any(|p| p.targets.is_some()) {
-            return Err(super::forcefield::targets_on_subset("sdpd", "eta0"));
+            return Err(crate::forces::dpd::targets_on_subset("sdpd", "eta0"));
         }
         // Per-type masses of the types in the style's own pairs (every type as the top-level
         // style).
@@ -472,7 +471,7 @@ impl PairStyle for SdpdField {
 }
 
 /// Pass 2 of `pair_style sdpd`: the forces of WF-12/19 with the keyed pair Gaussian of the
-/// lane's tags ([`sdpd_forces_batch`], bit for bit `kernel::sdpd::sdpd_pair_force`).
+/// lane's tags ([`sdpd_forces_batch`], bit for bit `kernel::sdpd_pair_force`).
 pub(crate) struct SdpdKernel<'a> {
     coeff: &'a [SdpdCoeff],
     atoms: &'a [SdpdAtom],

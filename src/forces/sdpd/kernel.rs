@@ -16,7 +16,7 @@
 //! Lees–Edwards velocity jump applied by the caller), 3-component vectors with z = 0 in 2-D.
 //! d_i is a number density (particles per volume, per area in 2-D), ρ_i = m_i d_i.
 
-use super::{MIN_PAIR_DISTANCE, dot};
+use crate::forces::lanes::{MIN_PAIR_DISTANCE, dot};
 use std::f64::consts::PI;
 
 /// The sDPD kernel family of `pair_style sdpd … kernel NAME [s]`.
@@ -413,22 +413,22 @@ const K_LINEAR: u8 = 3; // (1 − u) (proposed s = 1)
 /// `pair_style sdpd`). Panics if an index is outside `coeff` or `atoms` (a caller bug).
 #[allow(clippy::too_many_arguments)]
 pub fn sdpd_forces_batch(
-    isa: super::Isa,
+    isa: crate::forces::Isa,
     coeff: &[SdpdCoeff],
     atoms: &[SdpdAtom],
     seed: u32,
     step: u64,
-    b: &mut super::PairBatch,
+    b: &mut crate::forces::PairBatch,
     i: &[u32],
     j: &[u32],
 ) {
-    let n = b.len.min(super::BATCH).min(i.len()).min(j.len());
+    let n = b.len.min(crate::forces::BATCH).min(i.len()).min(j.len());
     b.len = n;
     if n == 0 {
         return;
     }
-    let isa = if (isa as u8) > (super::Isa::best_supported() as u8) {
-        super::Isa::Baseline
+    let isa = if (isa as u8) > (crate::forces::Isa::best_supported() as u8) {
+        crate::forces::Isa::Baseline
     } else {
         isa
     };
@@ -444,22 +444,22 @@ pub fn sdpd_forces_batch(
         #[cfg(target_arch = "x86_64")]
         // SAFETY: `isa` is at most `Isa::best_supported()` (checked above), so the CPU has every
         // feature the function is compiled for.
-        (super::Isa::Avx512, K_SQUARE) => unsafe { sdpd_avx512::<K_SQUARE>(args, b) },
+        (crate::forces::Isa::Avx512, K_SQUARE) => unsafe { sdpd_avx512::<K_SQUARE>(args, b) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        (super::Isa::Avx512, K_QUINTIC) => unsafe { sdpd_avx512::<K_QUINTIC>(args, b) },
+        (crate::forces::Isa::Avx512, K_QUINTIC) => unsafe { sdpd_avx512::<K_QUINTIC>(args, b) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        (super::Isa::Avx512, K_LINEAR) => unsafe { sdpd_avx512::<K_LINEAR>(args, b) },
+        (crate::forces::Isa::Avx512, K_LINEAR) => unsafe { sdpd_avx512::<K_LINEAR>(args, b) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        (super::Isa::Avx2, K_SQUARE) => unsafe { sdpd_avx2::<K_SQUARE>(args, b) },
+        (crate::forces::Isa::Avx2, K_SQUARE) => unsafe { sdpd_avx2::<K_SQUARE>(args, b) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        (super::Isa::Avx2, K_QUINTIC) => unsafe { sdpd_avx2::<K_QUINTIC>(args, b) },
+        (crate::forces::Isa::Avx2, K_QUINTIC) => unsafe { sdpd_avx2::<K_QUINTIC>(args, b) },
         #[cfg(target_arch = "x86_64")]
         // SAFETY: as above.
-        (super::Isa::Avx2, K_LINEAR) => unsafe { sdpd_avx2::<K_LINEAR>(args, b) },
+        (crate::forces::Isa::Avx2, K_LINEAR) => unsafe { sdpd_avx2::<K_LINEAR>(args, b) },
         (_, K_SQUARE) => sdpd_lanes::<K_SQUARE>(args, b),
         (_, K_QUINTIC) => sdpd_lanes::<K_QUINTIC>(args, b),
         (_, K_LINEAR) => sdpd_lanes::<K_LINEAR>(args, b),
@@ -479,24 +479,24 @@ type SdpdArgs<'a> = (
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq,avx512vl,avx512bw,avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
-fn sdpd_avx512<const K: u8>(args: SdpdArgs<'_>, b: &mut super::PairBatch) {
+fn sdpd_avx512<const K: u8>(args: SdpdArgs<'_>, b: &mut crate::forces::PairBatch) {
     sdpd_lanes::<K>(args, b)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,popcnt,bmi1,bmi2,lzcnt")]
-fn sdpd_avx2<const K: u8>(args: SdpdArgs<'_>, b: &mut super::PairBatch) {
+fn sdpd_avx2<const K: u8>(args: SdpdArgs<'_>, b: &mut crate::forces::PairBatch) {
     sdpd_lanes::<K>(args, b)
 }
 
 /// The lane loops of [`sdpd_forces_batch`] for kernel family `K`: the same operations, in the
 /// same order, as [`sdpd_pair_force`] and [`KernelShape::f`].
 #[inline(always)]
-fn sdpd_lanes<const K: u8>(args: SdpdArgs<'_>, b: &mut super::PairBatch) {
-    use super::BATCH;
+fn sdpd_lanes<const K: u8>(args: SdpdArgs<'_>, b: &mut crate::forces::PairBatch) {
+    use crate::forces::BATCH;
     let (coeff, atoms, seed, step, i, j) = args;
     let n = b.len;
-    super::batch::pair_gaussians(b, seed, step);
+    crate::forces::lanes::pair_gaussians(b, seed, step);
     // Per-lane coefficients and atom terms (a broadcast for one type pair).
     let mut rcsq = [0.0; BATCH];
     let mut inv_rc = [0.0; BATCH];
@@ -529,7 +529,7 @@ fn sdpd_lanes<const K: u8>(args: SdpdArgs<'_>, b: &mut super::PairBatch) {
         ptsum[l] = ai.pterm + aj.pterm;
         idd[l] = ai.inv_d * aj.inv_d;
     }
-    let xi = super::batch::lane_gaussians(b);
+    let xi = crate::forces::lanes::lane_gaussians(b);
     let min_sq = MIN_PAIR_DISTANCE * MIN_PAIR_DISTANCE;
     let mut out = [0.0; BATCH];
     for l in 0..BATCH {

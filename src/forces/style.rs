@@ -1,12 +1,13 @@
 //! The style object: everything one pair style is — its settings and `pair_coeff` lines (parsed
-//! by [`crate::grammar`]), its set-up at each run, an optional per-atom pre-pass (a many-body
+//! by its own `grammar` module, e.g. [`crate::forces::dpd::grammar`]), its set-up at each run, an optional per-atom pre-pass (a many-body
 //! style's density), its batched kernel, its cut-offs, its restart lines and its `write_data`
 //! coefficients — behind one trait, [`PairStyle`].
 //!
 //! The standalone engine (`System::pair`), the interpreter (`pair_style`, `pair_coeff`,
 //! `write_restart`) and the C ABI's one handle for every LAMMPS style (`capi/src/pair.rs`) hold
-//! a `Box<dyn PairStyle>` made by [`new_pair_style`] and never name a style: a new style is one
-//! file implementing the trait, one line in [`new_pair_style`], and its grammar.
+//! a `Box<dyn PairStyle>` made by [`crate::forces::new_pair_style`] and never name a style: a
+//! new style is one folder under `src/forces/` (grammar, kernel, the trait's implementation)
+//! and one line in [`crate::forces::PAIR_STYLES`].
 //!
 //! A force evaluation through a style, in either engine:
 //! 1. if [`PairStyle::prepass`] is `Some`, the driver sums `weight(k, r²)` over the pairs in
@@ -14,11 +15,11 @@
 //!    owners), completes each owned atom with [`PrePass::complete`] (its self term), adds
 //!    [`PrePass::energy_of`] to the energy, communicates the values to the ghosts, and hands
 //!    every atom's value to [`PairStyle::set_atom_values`];
-//! 2. the pairs in range go through [`PairStyle::kernel`] in batches (`engine::pair`), whose
+//! 2. the pairs in range go through [`PairStyle::kernel`] in batches (`forces::batcher`), whose
 //!    central forces are applied ±, so momentum is conserved exactly for every style.
 //!
 //! Bonded terms (bonds, angles) are a second kind of force term beside this one
-//! (`engine::bonded`, `engine::topology`): styles with their own coefficients, evaluated over a
+//! (`forces::bonded`, `engine::topology`): styles with their own coefficients, evaluated over a
 //! topology instead of a neighbour list; they share the tallies, not this trait. The pair
 //! style sees the topology only through `SetupContext::special_lj` and the special pairs the
 //! pair loop applies ([`PairStyle::scales_special`]).
@@ -26,9 +27,17 @@
 use std::any::Any;
 use std::fmt::Debug;
 
-use super::SetupNote;
-use super::pair::PairKernel;
-use crate::kernel::Isa;
+use crate::forces::Isa;
+use crate::forces::batcher::PairKernel;
+
+/// A line for the log from `System::setup` and the C ABI's set-up.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SetupNote {
+    /// Information (e.g. the γ and s resolved from `pair_coeff … eta … sc …`).
+    Info(String),
+    /// A warning (e.g. Euler finite-step heating, `crate::init::euler_warning`).
+    Warning(String),
+}
 
 /// What a run's set-up knows that a pair style may need (the same in both engines: the C ABI
 /// fills it from LAMMPS's state).
@@ -112,9 +121,9 @@ pub enum StylePlan {
     /// coefficients) for i ≤ j, (η, Sc) targets resolved.
     Dpd {
         /// The model.
-        model: crate::kernel::PairModel,
+        model: crate::forces::dpd::kernel::PairModel,
         /// The pairs' coefficients.
-        coeffs: Vec<(usize, usize, crate::kernel::PairCoeff)>,
+        coeffs: Vec<(usize, usize, crate::forces::dpd::kernel::PairCoeff)>,
     },
     /// Smoothed DPD: kT (boltz T), the kernel (the designed one when targets were given) and
     /// (i, j, values) for i ≤ j.
@@ -127,9 +136,9 @@ pub struct PlannedSdpd {
     /// kT of the random force (boltz T, an energy).
     pub kt: f64,
     /// The kernel (the designed one when targets were given).
-    pub kernel: crate::kernel::sdpd::Smoothing,
+    pub kernel: crate::forces::sdpd::kernel::Smoothing,
     /// (i, j, values) for i ≤ j.
-    pub pairs: Vec<(usize, usize, crate::engine::sdpd::SdpdPair)>,
+    pub pairs: Vec<(usize, usize, crate::forces::sdpd::SdpdPair)>,
 }
 
 /// One pair style (see the module documentation).
@@ -241,32 +250,6 @@ impl Clone for Box<dyn PairStyle> {
     }
 }
 
-/// The pair styles this project provides: name and a one-line description (what LAMMPS prints
-/// when the plugin registers them). [`new_pair_style`] makes each of them.
-pub const STYLES: [(&str, &str); 2] = [
-    ("dpd/nonlinear", "DPD with non-linear friction"),
-    ("sdpd", "smoothed DPD, Lucy/quintic/proposed kernels"),
-];
-
-/// A new pair style `name` from the words after the name, for `ntypes` atom types and time
-/// step `dt`; an error names the style or the word at fault.
-pub fn new_pair_style(
-    name: &str,
-    args: &[String],
-    ntypes: usize,
-    dt: f64,
-) -> Result<Box<dyn PairStyle>, String> {
-    match name {
-        "dpd/nonlinear" => Ok(Box::new(super::forcefield::DpdPair::new(args, ntypes, dt)?)),
-        "sdpd" => Ok(Box::new(super::sdpd::SdpdField::from_words(args, ntypes)?)),
-        other => Err(format!(
-            "pair style '{}' not supported: only {}",
-            crate::grammar::shown(other),
-            STYLES.map(|(name, _)| name).join(" and ")
-        )),
-    }
-}
-
 /// `special_bonds lj` factors a style can honour: any factor in [0, 1] for a style that scales
 /// its coefficients ([`PairStyle::scales_special`]); only 0 (the pair excluded) or 1 for the
 /// others (a many-body density sum has no pair factor).
@@ -291,52 +274,7 @@ pub fn check_special(style: &dyn PairStyle, special: [f64; 4]) -> Result<(), Str
     Ok(())
 }
 
-/// Rebuild a style from its [`PairStyle::restart_lines`] for `ntypes` types.
-pub fn from_restart_lines(
-    lines: &[Vec<String>],
-    ntypes: usize,
-    dt: f64,
-) -> Result<Box<dyn PairStyle>, String> {
-    let head = lines
-        .first()
-        .filter(|l| l.len() >= 2 && l[0] == "pair_style")
-        .ok_or("restart: the pair style's lines do not start with pair_style")?;
-    let mut style = new_pair_style(&head[1], &head[2..], ntypes, dt)?;
-    for line in &lines[1..] {
-        match line.split_first() {
-            Some((cmd, args)) if cmd == "pair_coeff" => style.coeff(args)?,
-            _ => {
-                return Err(format!(
-                    "restart: unexpected pair line '{}'",
-                    line.join(" ")
-                ));
-            }
-        }
-    }
-    Ok(style)
-}
-
 /// A number as a restart word: 17 significant digits, read back exactly.
 pub(crate) fn word(x: f64) -> String {
     format!("{x:.17e}")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Every listed style is made by [`new_pair_style`] (its own grammar answers, not the
-    /// unknown-style error), and an unknown name lists them.
-    #[test]
-    fn every_listed_style_is_made() {
-        for (name, _) in STYLES {
-            let e = new_pair_style(name, &[], 1, 1.0).expect_err("no arguments");
-            assert!(!e.contains("not supported"), "{name}: {e}");
-        }
-        let e = new_pair_style("lj/cut", &[], 1, 1.0).expect_err("unknown");
-        assert_eq!(
-            e,
-            "pair style 'lj/cut' not supported: only dpd/nonlinear and sdpd"
-        );
-    }
 }

@@ -11,7 +11,6 @@ mod angle_cosine;
 mod angle_harmonic;
 mod bond_fene;
 mod bond_harmonic;
-mod terms;
 
 /// What every bonded form has: its words (the grammar of its `*_coeff` lines).
 pub trait Form: Sync + std::fmt::Debug {
@@ -189,7 +188,7 @@ impl<F: ?Sized + Form> Styled<F> {
         for (t, c) in self.coeff.iter().enumerate() {
             if let Some(c) = c {
                 let mut l = vec![format!("{}_coeff", self.what), t.to_string()];
-                l.extend(c.iter().map(|&x| super::style::word(x)));
+                l.extend(c.iter().map(|&x| crate::forces::style::word(x)));
                 out.push(l);
             }
         }

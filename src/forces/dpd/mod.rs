@@ -4,11 +4,33 @@
 
 use std::any::Any;
 
-use super::SetupNote;
-use super::pair::{DpdKernel, PairKernel};
-use super::style::{PairStyle, SetupContext, word};
-use crate::grammar::pair::DpdStyle;
-use crate::kernel::{Friction, Isa, PairCoeff, PairModel, PairTable};
+pub mod grammar;
+pub mod kernel;
+
+use crate::forces::batcher::PairKernel;
+use crate::forces::lanes::{Isa, PairBatch};
+use crate::forces::style::{PairStyle, SetupContext, SetupNote, word};
+use grammar::DpdStyle;
+use kernel::{Friction, PairCoeff, PairModel, PairTable, pair_forces_batch_isa};
+
+/// `pair_style dpd/nonlinear`: [`crate::forces::dpd::kernel::pair_forces_batch`] (docs/models.md §1.1–1.4).
+pub struct DpdKernel<'a> {
+    /// The global model (friction, noise, weight, δt).
+    pub model: &'a PairModel,
+    /// The per-type-pair coefficients.
+    pub table: &'a PairTable,
+    /// The noise seed.
+    pub seed: u32,
+    /// The instruction set of the lane loops (same bits with every one).
+    pub isa: Isa,
+}
+
+impl PairKernel for DpdKernel<'_> {
+    #[inline]
+    fn evaluate(&self, step: u64, b: &mut PairBatch, _i: &[u32], _j: &[u32]) {
+        pair_forces_batch_isa(self.isa, self.model, self.table, self.seed, step, b);
+    }
+}
 
 /// `pair_style dpd/nonlinear` + `pair_coeff`, validated.
 #[derive(Clone, Debug)]
@@ -106,7 +128,7 @@ impl ForceField {
         if let Some((s, note)) =
             crate::init::common_exponent("dpd/nonlinear", "weight", &exponents, current)?
         {
-            self.model.weight = crate::kernel::Weight::new(s)
+            self.model.weight = crate::forces::dpd::kernel::Weight::new(s)
                 .ok_or_else(|| format!("designed weight exponent s = {s} is not > 0"))?;
             lines.extend(note);
         }
@@ -202,7 +224,7 @@ impl DpdPair {
     /// The style from the words after `pair_style dpd/nonlinear`, for `ntypes` types and time
     /// step `dt` (replaced at every set-up).
     pub fn new(args: &[String], ntypes: usize, dt: f64) -> Result<DpdPair, String> {
-        let settings = crate::grammar::pair::pair_style(args)?;
+        let settings = grammar::pair_style(args)?;
         let ff = ForceField::new(settings.model(dt), settings.seed, settings.rc, ntypes);
         Ok(DpdPair::from_field_with(settings, ff))
     }
@@ -299,13 +321,13 @@ impl PairStyle for DpdPair {
         "dpd/nonlinear"
     }
 
-    fn plan(&self, _units: &crate::units::Units, _dt: f64) -> super::style::StylePlan {
+    fn plan(&self, _units: &crate::units::Units, _dt: f64) -> crate::forces::style::StylePlan {
         let n = self.ff.ntypes();
         let coeffs = (1..=n)
             .flat_map(|i| (i..=n).map(move |j| (i, j)))
             .filter_map(|(i, j)| self.ff.get(i, j).map(|c| (i, j, *c)))
             .collect();
-        super::style::StylePlan::Dpd {
+        crate::forces::style::StylePlan::Dpd {
             model: self.ff.model,
             coeffs,
         }
@@ -318,7 +340,7 @@ impl PairStyle for DpdPair {
     /// As LAMMPS's `pair dpd`: the coefficients are kept and every cut-off is reset to the new
     /// global one. Friction `none` with a kept γ1 ≠ 0 is refused (the grammar's rule).
     fn restyle(&mut self, args: &[String]) -> Result<(), String> {
-        let settings = crate::grammar::pair::pair_style(args)?;
+        let settings = grammar::pair_style(args)?;
         if settings.friction == Friction::None
             && let Some((i, j, g)) = self.ff.nonzero_gamma1()
         {
@@ -356,8 +378,7 @@ impl PairStyle for DpdPair {
 
     fn coeff(&mut self, args: &[String]) -> Result<(), String> {
         let ff = &mut self.ff;
-        let line =
-            crate::grammar::pair::pair_coeff(args, ff.ntypes(), ff.model.friction, ff.rc_global)?;
+        let line = grammar::pair_coeff(args, ff.ntypes(), ff.model.friction, ff.rc_global)?;
         for (i, j) in line.pairs() {
             match line.targets {
                 Some((eta, sc)) => ff.set_targets(i, j, line.coeff, eta, sc),
@@ -375,7 +396,7 @@ impl PairStyle for DpdPair {
     /// targets resolved (one mass), the Euler warning, the dense tables.
     fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String> {
         let mut notes = Vec::new();
-        let subset = super::style::coverage(self, ctx)?;
+        let subset = crate::forces::style::coverage(self, ctx)?;
         if subset && self.ff.has_targets() {
             return Err(targets_on_subset("dpd/nonlinear", "gamma0"));
         }

@@ -17,8 +17,7 @@
 //! paper's (Naseri, Salueña Perez & Bonet Avalos, PCCP 2025), labelled NL-32 … there, unless
 //! stated.
 
-/// Pairs closer than this are skipped (their direction e_ij is undefined), as LAMMPS's DPD does.
-pub(crate) const MIN_PAIR_DISTANCE: f64 = 1.0e-10;
+use crate::forces::lanes::{BATCH, Isa, NoiseDist, PairBatch, cross, dot, in_range};
 
 /// The dissipative weight w_D(r) = (1 − r/r_c)^s and w_R = sqrt(w_D) (§1.1; non-linear
 /// paper eq. 10 for s = 2; weighting-function paper eq. 43/58 for general s > 0).
@@ -169,45 +168,6 @@ impl Noise {
             "corrected" => Some(Noise::Corrected),
             "twostep" => Some(Noise::TwoStep),
             _ => None,
-        }
-    }
-}
-
-/// The distribution of the pair variate ξ_ij (`pair_style … noise_dist gaussian|uniform`;
-/// docs/models.md §4.2, P-4a). Both have zero mean and unit variance.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum NoiseDist {
-    /// Standard Gaussian (Box–Muller on the keyed bits): the papers' choice, the default.
-    #[default]
-    Gaussian,
-    /// Uniform on [−√3, √3] from the same keyed bits (Groot & Warren 1997): no ln or cos.
-    Uniform,
-}
-
-impl NoiseDist {
-    /// The keyword used by `pair_style … noise_dist KEYWORD`.
-    pub fn keyword(self) -> &'static str {
-        match self {
-            NoiseDist::Gaussian => "gaussian",
-            NoiseDist::Uniform => "uniform",
-        }
-    }
-
-    /// Parse a `noise_dist` keyword value.
-    pub fn from_keyword(s: &str) -> Option<NoiseDist> {
-        match s {
-            "gaussian" => Some(NoiseDist::Gaussian),
-            "uniform" => Some(NoiseDist::Uniform),
-            _ => None,
-        }
-    }
-
-    /// ξ_ij of the pair (tags in either order) at `step`.
-    #[inline(always)]
-    pub fn pair_xi(self, seed: u32, step: u64, tag_i: u32, tag_j: u32) -> f64 {
-        match self {
-            NoiseDist::Gaussian => crate::rng::pair_gaussian(seed, step, tag_i, tag_j),
-            NoiseDist::Uniform => crate::rng::pair_uniform_noise(seed, step, tag_i, tag_j),
         }
     }
 }
@@ -368,26 +328,6 @@ impl PairForce {
         let s = self.total() * self.inv_r;
         [s * dr[0], s * dr[1], s * dr[2]]
     }
-}
-
-#[inline(always)]
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-#[inline(always)]
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-/// True when a pair at squared distance `rsq` interacts: `MIN_PAIR_DISTANCE² ≤ rsq < rc²`.
-#[inline(always)]
-pub fn in_range(rsq: f64, rc: f64) -> bool {
-    rsq < rc * rc && rsq >= MIN_PAIR_DISTANCE * MIN_PAIR_DISTANCE
 }
 
 /// All force parts of one pair (§1.1–1.4). Zero for r ≥ r_c or r < [`MIN_PAIR_DISTANCE`].
@@ -667,7 +607,6 @@ pub fn exp(x: f64) -> f64 {
 
 mod batch;
 pub use batch::*;
-pub mod sdpd;
 
 #[cfg(test)]
 mod tests {

@@ -3,9 +3,9 @@
 //! and their forces after the pair forces. `impl System` kept apart from `engine/mod.rs`, the
 //! step's sequence, as `Verlet::run` calls `force->bond` and `force->angle` apart from the pair.
 
-use crate::engine::bonded;
 use crate::engine::topology;
 use crate::engine::{PairTally, SetupNote, System};
+use crate::forces::bonded;
 
 impl System {
     /// The set-up of the bonded terms: styles and coefficients present (LAMMPS's checks and

@@ -13,7 +13,7 @@
 //! list); the standalone slab loop appends lanes from its SIMD distance pass directly and
 //! evaluates through the same kernel.
 
-use crate::kernel::{BATCH, Isa, PairBatch, PairModel, PairTable, pair_forces_batch_isa};
+use crate::forces::{BATCH, PairBatch};
 
 /// A pair style's evaluation of a batch of in-range pairs: from the lanes `0..b.len` of `b`
 /// (and the atoms `i[l]`, `j[l]` of each lane) into `b.fpair` (force on i along r_ij, divided
@@ -21,25 +21,6 @@ use crate::kernel::{BATCH, Isa, PairBatch, PairModel, PairTable, pair_forces_bat
 pub trait PairKernel: Sync {
     /// Evaluate the batch of noise key `step`.
     fn evaluate(&self, step: u64, b: &mut PairBatch, i: &[u32], j: &[u32]);
-}
-
-/// `pair_style dpd/nonlinear`: [`crate::kernel::pair_forces_batch`] (docs/models.md §1.1–1.4).
-pub struct DpdKernel<'a> {
-    /// The global model (friction, noise, weight, δt).
-    pub model: &'a PairModel,
-    /// The per-type-pair coefficients.
-    pub table: &'a PairTable,
-    /// The noise seed.
-    pub seed: u32,
-    /// The instruction set of the lane loops (same bits with every one).
-    pub isa: Isa,
-}
-
-impl PairKernel for DpdKernel<'_> {
-    #[inline]
-    fn evaluate(&self, step: u64, b: &mut PairBatch, _i: &[u32], _j: &[u32]) {
-        pair_forces_batch_isa(self.isa, self.model, self.table, self.seed, step, b);
-    }
 }
 
 /// Pairs gathered into a batch with the atoms they belong to (the driver of the C ABI loop).

@@ -1,10 +1,11 @@
 //! `pair_style dpd/nonlinear` and its `pair_coeff` lines (docs/input.md), for both engines.
 
-use super::{
+use crate::forces::NoiseDist;
+use crate::forces::dpd::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
+use crate::grammar::{
     INT_MAX, StyleSpec, at_most, coeff_types, keywords, need, parse_f64, parse_int_in,
     sets_some_pair, shown, type_pairs,
 };
-use crate::kernel::{Friction, Noise, NoiseDist, PairCoeff, PairModel, Weight};
 
 /// `pair_style dpd/nonlinear …` (the words after the style name).
 pub(crate) const PAIR_STYLE: StyleSpec = StyleSpec {

@@ -1,0 +1,274 @@
+//! What every pair kernel of the forces layer shares: the lane batch ([`PairBatch`], up to
+//! [`BATCH`] pairs in structure-of-arrays form), the instruction sets of the lane loops
+//! ([`Isa`]), the keyed pair noise of a batch's lanes (`docs/models.md` P-4, P-4a, P-4b) and the
+//! pair geometry's small helpers. The styles' batch kernels (DPD's `pair_forces_batch`, sDPD's
+//! `sdpd_forces_batch`) read the lanes the pair loops fill and write `fpair` and `energy`.
+
+use crate::forces::dpd::kernel::{LaneCoeff, StageArrays};
+
+/// Pairs closer than this are skipped (their direction e_ij is undefined), as LAMMPS's DPD does.
+pub(crate) const MIN_PAIR_DISTANCE: f64 = 1.0e-10;
+
+/// The distribution of the pair variate ξ_ij (`pair_style … noise_dist gaussian|uniform`;
+/// docs/models.md §4.2, P-4a). Both have zero mean and unit variance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum NoiseDist {
+    /// Standard Gaussian (Box–Muller on the keyed bits): the papers' choice, the default.
+    #[default]
+    Gaussian,
+    /// Uniform on [−√3, √3] from the same keyed bits (Groot & Warren 1997): no ln or cos.
+    Uniform,
+}
+
+impl NoiseDist {
+    /// The keyword used by `pair_style … noise_dist KEYWORD`.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            NoiseDist::Gaussian => "gaussian",
+            NoiseDist::Uniform => "uniform",
+        }
+    }
+
+    /// Parse a `noise_dist` keyword value.
+    pub fn from_keyword(s: &str) -> Option<NoiseDist> {
+        match s {
+            "gaussian" => Some(NoiseDist::Gaussian),
+            "uniform" => Some(NoiseDist::Uniform),
+            _ => None,
+        }
+    }
+
+    /// ξ_ij of the pair (tags in either order) at `step`.
+    #[inline(always)]
+    pub fn pair_xi(self, seed: u32, step: u64, tag_i: u32, tag_j: u32) -> f64 {
+        match self {
+            NoiseDist::Gaussian => crate::rng::pair_gaussian(seed, step, tag_i, tag_j),
+            NoiseDist::Uniform => crate::rng::pair_uniform_noise(seed, step, tag_i, tag_j),
+        }
+    }
+}
+
+#[inline(always)]
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[inline(always)]
+pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// True when a pair at squared distance `rsq` interacts: `MIN_PAIR_DISTANCE² ≤ rsq < rc²`.
+#[inline(always)]
+pub fn in_range(rsq: f64, rc: f64) -> bool {
+    rsq < rc * rc && rsq >= MIN_PAIR_DISTANCE * MIN_PAIR_DISTANCE
+}
+
+/// Pairs per [`PairBatch`].
+pub const BATCH: usize = 64;
+
+/// Up to [`BATCH`] pairs in structure-of-arrays form, for [`pair_forces_batch`]: the inputs of
+/// [`pair_force`] for each pair, with the pair's tags in place of its Gaussian (the batch draws
+/// ξ_ij itself, [`crate::rng::pair_gaussian`]) and an index into the caller's coefficient table.
+#[derive(Clone, Debug)]
+pub struct PairBatch {
+    /// Number of pairs filled (≤ [`BATCH`]).
+    pub len: usize,
+    /// r_ij by component: `dr[k][l]` is component k of pair l.
+    pub dr: [[f64; BATCH]; 3],
+    /// v_ij by component (with any Lees–Edwards velocity offset already added).
+    pub dv: [[f64; BATCH]; 3],
+    /// 1/m_i + 1/m_j.
+    pub inv_mass_sum: [f64; BATCH],
+    /// Index of the pair's coefficients in the table passed to [`pair_forces_batch`].
+    pub coeff: [u32; BATCH],
+    /// Tag of i.
+    pub tag_i: [u32; BATCH],
+    /// Tag of j.
+    pub tag_j: [u32; BATCH],
+    /// Result: the total pair force divided by r, so the force on i is `fpair · r_ij`
+    /// (0 for a pair out of range). Entries from `len` on are unspecified.
+    pub fpair: [f64; BATCH],
+    /// Result: the conservative pair energy (0 for a pair out of range). Entries from `len` on
+    /// are unspecified.
+    pub energy: [f64; BATCH],
+    /// Working arrays of [`pair_forces_batch`] (kept here so that no call zeroes them).
+    pub(crate) scratch: BatchScratch,
+    /// (Last, after the lane arrays, so that their alignment is that of the struct.) The box's lattice when it is shorter than 2 r_c along a periodic axis: each lane's
+    /// noise is then keyed by the periodic image of its pair too
+    /// ([`crate::rng::ImageFrame::pair_stream`], `docs/models.md` P-4b). None: the plain key
+    /// (every image code would be 0).
+    pub images: Option<crate::rng::ImageFrame>,
+}
+
+/// The per-lane coefficients, random bits and Gaussians of one batch evaluation.
+#[derive(Clone, Debug)]
+pub(crate) struct BatchScratch {
+    pub(crate) co: LaneCoeff,
+    pub(crate) bits: [[u32; BATCH]; 4],
+    pub(crate) xi: [f64; BATCH],
+    pub(crate) st: StageArrays,
+}
+
+impl Default for PairBatch {
+    fn default() -> Self {
+        PairBatch {
+            len: 0,
+            dr: [[0.0; BATCH]; 3],
+            dv: [[0.0; BATCH]; 3],
+            inv_mass_sum: [0.0; BATCH],
+            coeff: [0; BATCH],
+            tag_i: [0; BATCH],
+            tag_j: [0; BATCH],
+            images: None,
+            fpair: [0.0; BATCH],
+            energy: [0.0; BATCH],
+            scratch: BatchScratch {
+                co: LaneCoeff::default(),
+                bits: [[0; BATCH]; 4],
+                xi: [0.0; BATCH],
+                st: StageArrays::default(),
+            },
+        }
+    }
+}
+
+/// Instruction sets [`pair_forces_batch`] can use (chosen at run time; the results are the same
+/// bits with each, since the arithmetic is IEEE and never fused).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Isa {
+    /// Baseline x86-64 / any target: SSE2 vectors (2 lanes) or scalar code.
+    Baseline,
+    /// AVX2 + FMA (4 lanes; FMA instructions are available but never used for a·b + c).
+    Avx2,
+    /// AVX-512 F/DQ/VL/BW (8 lanes).
+    Avx512,
+}
+
+impl Isa {
+    /// The best instruction set this CPU has, capped by the environment variable `DPDNL_SIMD`
+    /// (`baseline`, `avx2` or `avx512`; for benchmarks and tests), read once.
+    pub fn detect() -> Isa {
+        static ISA: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *ISA.get_or_init(|| {
+            let best = Isa::best_supported();
+            let cap = match std::env::var("DPDNL_SIMD").as_deref() {
+                Ok("baseline") => Isa::Baseline,
+                Ok("avx2") => Isa::Avx2,
+                _ => Isa::Avx512,
+            };
+            if (cap as u8) < (best as u8) {
+                cap
+            } else {
+                best
+            }
+        })
+    }
+
+    /// The best instruction set the CPU supports, probed once (the hot loops ask per batch
+    /// and per list row; ten feature tests each time were 1 % of the LAMMPS path's profile).
+    pub fn best_supported() -> Isa {
+        static BEST: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *BEST.get_or_init(Isa::probe)
+    }
+
+    /// The CPU's feature tests behind [`Isa::best_supported`].
+    fn probe() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512dq")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+                && std::arch::is_x86_feature_detected!("avx512bw")
+                && std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+                && std::arch::is_x86_feature_detected!("popcnt")
+                && std::arch::is_x86_feature_detected!("bmi1")
+                && std::arch::is_x86_feature_detected!("bmi2")
+                && std::arch::is_x86_feature_detected!("lzcnt")
+            {
+                return Isa::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+                && std::arch::is_x86_feature_detected!("popcnt")
+                && std::arch::is_x86_feature_detected!("bmi1")
+                && std::arch::is_x86_feature_detected!("bmi2")
+                && std::arch::is_x86_feature_detected!("lzcnt")
+            {
+                return Isa::Avx2;
+            }
+        }
+        Isa::Baseline
+    }
+}
+
+/// ξ_ij of every lane into `b.scratch.xi` (all [`BATCH`] lanes: those past `b.len` get
+/// garbage from stale tags that nobody reads): [`crate::rng::pair_gaussian`] of the lane's tags,
+/// in two loops (random bits, then Gaussians) that run in SIMD lanes.
+#[inline(always)]
+pub(crate) fn pair_gaussians(b: &mut PairBatch, seed: u32, step: u64) {
+    lane_bits(b, seed, step);
+    let bits = &b.scratch.bits;
+    let xi = &mut b.scratch.xi;
+    for l in 0..BATCH {
+        xi[l] = crate::rng::gaussian_from_bits([bits[0][l], bits[1][l], bits[2][l], bits[3][l]]);
+    }
+}
+
+/// The keyed bits of every lane into `b.scratch.bits` (P-4; with [`PairBatch::images`], each
+/// lane's stream names its pair's periodic image, P-4b).
+#[inline(always)]
+fn lane_bits(b: &mut PairBatch, seed: u32, step: u64) {
+    let bits = &mut b.scratch.bits;
+    match &b.images {
+        None => {
+            for l in 0..BATCH {
+                let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
+                let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
+                bits[0][l] = o[0];
+                bits[1][l] = o[1];
+                bits[2][l] = o[2];
+                bits[3][l] = o[3];
+            }
+        }
+        Some(frame) => {
+            for l in 0..BATCH {
+                let (ti, tj) = (b.tag_i[l], b.tag_j[l]);
+                let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
+                let stream = frame.pair_stream(ti, tj, dr);
+                let (lo, hi) = crate::rng::ordered_tags(ti, tj);
+                let o = crate::rng::keyed_bits(seed, stream, step, lo, hi);
+                bits[0][l] = o[0];
+                bits[1][l] = o[1];
+                bits[2][l] = o[2];
+                bits[3][l] = o[3];
+            }
+        }
+    }
+}
+
+/// ξ_ij of every lane from `dist` (as [`pair_gaussians`]; the uniform variate needs only the
+/// first two words of the keyed bits and no ln or cos, [`crate::rng::uniform_noise_from_bits`]).
+#[inline(always)]
+pub(crate) fn pair_noise(b: &mut PairBatch, seed: u32, step: u64, dist: NoiseDist) {
+    if dist == NoiseDist::Gaussian {
+        return pair_gaussians(b, seed, step);
+    }
+    lane_bits(b, seed, step);
+    let bits = &b.scratch.bits;
+    let xi = &mut b.scratch.xi;
+    for l in 0..BATCH {
+        xi[l] = crate::rng::uniform_noise_from_bits([bits[0][l], bits[1][l], 0, 0]);
+    }
+}
+
+/// The lane Gaussians left by the last [`pair_gaussians`].
+#[inline(always)]
+pub(crate) fn lane_gaussians(b: &PairBatch) -> &[f64; BATCH] {
+    &b.scratch.xi
+}

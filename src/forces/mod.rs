@@ -1,0 +1,122 @@
+//! The forces layer: every force term of both engines, one registry per kind.
+//!
+//! - **Pair styles** ([`PAIR_STYLES`]): each style is one folder holding its grammar, set-up,
+//!   kernel and [`PairStyle`] implementation: [`dpd`] (`pair_style dpd/nonlinear`) and [`sdpd`]
+//!   (`pair_style sdpd`). The seam they share is [`style`] (the trait, the set-up context, the
+//!   pre-pass of a many-body style, the typed plan) and [`batcher`] (the batch kernel the pair
+//!   loops call), and [`lanes`] (the lane batch [`PairBatch`] every kernel reads, the instruction
+//!   sets [`Isa`], the keyed noise of a batch's lanes).
+//! - **Bond and angle styles** ([`BOND_STYLES`], [`ANGLE_STYLES`]): one file each in
+//!   [`bonded`].
+//!
+//! The registries are the only places that name a style; the engines, the interpreter and the
+//! C ABI reach every style through its trait. The standalone engine's pair loops and the C
+//! ABI's walk of a LAMMPS list (the drivers) live outside this layer, in `engine` and `capi`.
+
+pub mod batcher;
+pub mod bonded;
+pub mod dpd;
+pub mod lanes;
+pub mod sdpd;
+pub mod style;
+
+pub use bonded::{ANGLE_STYLES, BOND_STYLES};
+pub use lanes::{BATCH, Isa, NoiseDist, PairBatch, in_range};
+pub use style::{PairStyle, PrePass, SetupContext, SetupNote, StylePlan};
+
+/// How the registry makes a pair style: from the words after its name, for `ntypes` atom types
+/// and time step `dt`.
+pub type MakePairStyle = fn(&[String], usize, f64) -> Result<Box<dyn PairStyle>, String>;
+
+/// One pair style of the registry.
+pub struct PairStyleEntry {
+    /// The name after `pair_style`.
+    pub name: &'static str,
+    /// One line on what it is (what LAMMPS prints when the plugin registers it).
+    pub about: &'static str,
+    /// A new style from the words after its name, for `ntypes` atom types and time step `dt`.
+    pub make: MakePairStyle,
+}
+
+/// The pair styles this project provides, the one place that names them: a new pair style is
+/// its folder here and one line in this table.
+pub const PAIR_STYLES: &[PairStyleEntry] = &[
+    PairStyleEntry {
+        name: "dpd/nonlinear",
+        about: "DPD with non-linear friction",
+        make: |args, ntypes, dt| Ok(Box::new(dpd::DpdPair::new(args, ntypes, dt)?)),
+    },
+    PairStyleEntry {
+        name: "sdpd",
+        about: "smoothed DPD, Lucy/quintic/proposed kernels",
+        make: |args, ntypes, _dt| Ok(Box::new(sdpd::SdpdField::from_words(args, ntypes)?)),
+    },
+];
+
+/// A new pair style `name` from the words after the name, for `ntypes` atom types and time
+/// step `dt`; an error names the style or the word at fault.
+pub fn new_pair_style(
+    name: &str,
+    args: &[String],
+    ntypes: usize,
+    dt: f64,
+) -> Result<Box<dyn PairStyle>, String> {
+    match PAIR_STYLES.iter().find(|s| s.name == name) {
+        Some(s) => (s.make)(args, ntypes, dt),
+        None => Err(format!(
+            "pair style '{}' not supported: only {}",
+            crate::grammar::shown(name),
+            PAIR_STYLES
+                .iter()
+                .map(|s| s.name)
+                .collect::<Vec<_>>()
+                .join(" and ")
+        )),
+    }
+}
+
+/// Rebuild a style from its [`PairStyle::restart_lines`] for `ntypes` types.
+pub fn from_restart_lines(
+    lines: &[Vec<String>],
+    ntypes: usize,
+    dt: f64,
+) -> Result<Box<dyn PairStyle>, String> {
+    let head = lines
+        .first()
+        .filter(|l| l.len() >= 2 && l[0] == "pair_style")
+        .ok_or("restart: the pair style's lines do not start with pair_style")?;
+    let mut style = new_pair_style(&head[1], &head[2..], ntypes, dt)?;
+    for line in &lines[1..] {
+        match line.split_first() {
+            Some((cmd, args)) if cmd == "pair_coeff" => style.coeff(args)?,
+            _ => {
+                return Err(format!(
+                    "restart: unexpected pair line '{}'",
+                    line.join(" ")
+                ));
+            }
+        }
+    }
+    Ok(style)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every listed style is made by [`new_pair_style`] (its own grammar answers, not the
+    /// unknown-style error), and an unknown name lists them.
+    #[test]
+    fn every_listed_style_is_made() {
+        for s in PAIR_STYLES {
+            let name = s.name;
+            let e = new_pair_style(name, &[], 1, 1.0).expect_err("no arguments");
+            assert!(!e.contains("not supported"), "{name}: {e}");
+        }
+        let e = new_pair_style("lj/cut", &[], 1, 1.0).expect_err("unknown");
+        assert_eq!(
+            e,
+            "pair style 'lj/cut' not supported: only dpd/nonlinear and sdpd"
+        );
+    }
+}
