@@ -3,11 +3,43 @@
 //! and their forces after the pair forces. `impl System` kept apart from `engine/mod.rs`, the
 //! step's sequence, as `Verlet::run` calls `force->bond` and `force->angle` apart from the pair.
 
+use std::collections::HashMap;
+
 use crate::engine::topology;
 use crate::engine::{PairTally, SetupNote, System};
 use crate::forces::bonded;
 
+/// The bonded terms' working state: what the set-up derives from the topology and what each
+/// neighbour-list build re-derives for the new atom order.
+#[derive(Debug, Default)]
+pub(super) struct BondedState {
+    /// The special partners of every atom id, from the last set-up.
+    pub(super) partners: HashMap<u32, Vec<(u32, u8)>>,
+    /// The index form of the topology for the current atom order (rebuilt after each sort).
+    pub(super) index: topology::BondedIndex,
+}
+
 impl System {
+    /// The index form of the topology for the current atom order, after a neighbour-list build
+    /// sorted the atoms (a missing atom becomes the step's fault).
+    pub(super) fn reindex_bonded(&mut self) {
+        if self.topo.is_none() || self.bonded.index.build == self.neighbor.builds {
+            return;
+        }
+        let rule = self.bonded.index.special.rule;
+        if let Some(t) = &self.topo
+            && let Err(e) = t.index(
+                &self.atoms.tag,
+                &self.bonded.partners,
+                rule,
+                &mut self.bonded.index,
+            )
+        {
+            self.pair_fault.get_or_insert(e);
+        }
+        self.bonded.index.build = self.neighbor.builds;
+    }
+
     /// The set-up of the bonded terms: styles and coefficients present (LAMMPS's checks and
     /// warnings), the special partners, the index form of the topology, and LAMMPS's checks of
     /// the bonded atoms' images ([`System::check_bonded_images`]; `rc_max`: the largest pair
@@ -56,9 +88,14 @@ impl System {
                 }
             }
         }
-        self.partners = t.special_partners();
-        t.index(&self.atoms.tag, &self.partners, rule, &mut self.bonded)?;
-        self.bonded.build = self.neighbor.builds;
+        self.bonded.partners = t.special_partners();
+        t.index(
+            &self.atoms.tag,
+            &self.bonded.partners,
+            rule,
+            &mut self.bonded.index,
+        )?;
+        self.bonded.index.build = self.neighbor.builds;
         if self.check_bonded_images(rc_max)? {
             self.setup_notes
                 .push(SetupNote::Warning("Inconsistent image flags".into()));
@@ -68,6 +105,7 @@ impl System {
         // periodic box length (its `box_too_small_check`): longest bond × 1.1, × 2 with angles.
         let longest = self
             .bonded
+            .index
             .bonds
             .iter()
             .map(|&[i, j, _]| {
@@ -113,7 +151,7 @@ impl System {
             None => (0.0, 0.0),
         };
         let unwrap = |i: usize| self.bx.unwrap_tilted(a.x[i], a.image[i], xy_flags);
-        let inconsistent = self.bonded.bonds.iter().any(|&[i, j, _]| {
+        let inconsistent = self.bonded.index.bonds.iter().any(|&[i, j, _]| {
             let (ui, uj) = (unwrap(i as usize), unwrap(j as usize));
             (0..dim).any(|k| (ui[k] - uj[k]).abs() > 0.5 * len[k])
         });
@@ -161,7 +199,7 @@ impl System {
                 eight_digits(cut)
             )
         };
-        for &[i, j, _] in &self.bonded.bonds {
+        for &[i, j, _] in &self.bonded.index.bonds {
             let (i, j) = (i as usize, j as usize);
             if let (false, r) = held(i, j) {
                 let (ti, tj) = (a.tag[i], a.tag[j]);
@@ -172,7 +210,7 @@ impl System {
                 ));
             }
         }
-        for &[i, j, k, _] in &self.bonded.angles {
+        for &[i, j, k, _] in &self.bonded.index.angles {
             let (i, j, k) = (i as usize, j as usize, k as usize);
             for p in [i, k] {
                 if let (false, r) = held(j, p) {
@@ -205,7 +243,7 @@ impl System {
         };
         let a = &mut self.atoms;
         if let Some(style) = &t.bond_style {
-            for &[i, j, typ] in &self.bonded.bonds {
+            for &[i, j, typ] in &self.bonded.index.bonds {
                 let (i, j) = (i as usize, j as usize);
                 let (xi, xj) = (a.x[i], a.x[j]);
                 let d = image([xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]]);
@@ -238,7 +276,7 @@ impl System {
             }
         }
         if let Some(style) = &t.angle_style {
-            for &[i, j, k, typ] in &self.bonded.angles {
+            for &[i, j, k, typ] in &self.bonded.index.angles {
                 let (i, j, k) = (i as usize, j as usize, k as usize);
                 let (x1, x2, x3) = (a.x[i], a.x[j], a.x[k]);
                 let d1 = image([x1[0] - x2[0], x1[1] - x2[1], x1[2] - x2[2]]);

@@ -112,10 +112,8 @@ pub struct System {
     /// Warnings of the force evaluations since the caller last took them (LAMMPS's "FENE bond
     /// too long"), for the caller to print.
     pub warnings: Vec<String>,
-    /// The special partners of every atom id, from the last set-up.
-    partners: std::collections::HashMap<u32, Vec<(u32, u8)>>,
-    /// The topology as indices of the current order (rebuilt after every sort).
-    bonded: topology::BondedIndex,
+    /// The bonded terms' working state (their special partners and index form).
+    bonded: bonded::BondedState,
     /// LAMMPS's user ghost cut-off (`comm_modify cutoff`; 0: none), for the check of the
     /// bonded atoms' images at a run's set-up.
     pub comm_cutoff: f64,
@@ -180,7 +178,6 @@ impl System {
             topo: None,
             energies: Energies::default(),
             warnings: Vec::new(),
-            partners: Default::default(),
             bonded: Default::default(),
             comm_cutoff: 0.0,
         }

@@ -132,22 +132,18 @@ impl System {
             }
             self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
         }
+        if self.pair.is_none() {
+            return;
+        }
+        self.pair_fault = None;
+        self.reindex_bonded();
         let Some(style) = self.pair.as_deref_mut() else {
             return;
         };
         let ntypes = style.ntypes();
         let mut extra_energy = 0.0;
-        self.pair_fault = None;
-        if self.topo.is_some() && self.bonded.build != self.neighbor.builds {
-            let rule = self.bonded.special.rule;
-            if let Some(t) = &self.topo
-                && let Err(e) = t.index(&self.atoms.tag, &self.partners, rule, &mut self.bonded)
-            {
-                self.pair_fault.get_or_insert(e);
-            }
-            self.bonded.build = self.neighbor.builds;
-        }
-        let special = (!self.bonded.special.tag.is_empty()).then_some(&self.bonded.special);
+        let special =
+            (!self.bonded.index.special.tag.is_empty()).then_some(&self.bonded.index.special);
         if let Some(pp) = style.prepass() {
             let mut sums = std::mem::take(&mut self.prepass);
             self.neighbor.pair_sum(

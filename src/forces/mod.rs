@@ -36,20 +36,33 @@ pub struct PairStyleEntry {
     pub about: &'static str,
     /// A new style from the words after its name, for `ntypes` atom types and time step `dt`.
     pub make: MakePairStyle,
+    /// The usage strings and keywords of its `pair_style` and `pair_coeff` lines (quoted in
+    /// error messages and the bad-input table).
+    pub specs: &'static [crate::grammar::StyleSpec],
 }
 
 /// The pair styles this project provides, the one place that names them: a new pair style is
-/// its folder here and one line in this table.
+/// its folder here, its `pub mod` line and one entry in this table.
 pub const PAIR_STYLES: &[PairStyleEntry] = &[
     PairStyleEntry {
         name: "dpd/nonlinear",
         about: "DPD with non-linear friction",
         make: |args, ntypes, dt| Ok(Box::new(dpd::DpdPair::new(args, ntypes, dt)?)),
+        specs: &[
+            dpd::grammar::PAIR_STYLE,
+            dpd::grammar::PAIR_COEFF,
+            dpd::grammar::PAIR_COEFF_TARGETS,
+        ],
     },
     PairStyleEntry {
         name: "sdpd",
         about: "smoothed DPD, Lucy/quintic/proposed kernels",
         make: |args, ntypes, _dt| Ok(Box::new(sdpd::SdpdField::from_words(args, ntypes)?)),
+        specs: &[
+            sdpd::grammar::PAIR_STYLE,
+            sdpd::grammar::PAIR_COEFF,
+            sdpd::grammar::PAIR_COEFF_TARGETS,
+        ],
     },
 ];
 

@@ -4,7 +4,7 @@
 //! coefficients — behind one trait, [`PairStyle`].
 //!
 //! The standalone engine (`System::pair`), the interpreter (`pair_style`, `pair_coeff`,
-//! `write_restart`) and the C ABI's one handle for every LAMMPS style (`capi/src/pair.rs`) hold
+//! `write_restart`) and the C ABI's one handle for every LAMMPS style (`capi/src/pair/`) hold
 //! a `Box<dyn PairStyle>` made by [`crate::forces::new_pair_style`] and never name a style: a
 //! new style is one folder under `src/forces/` (grammar, kernel, the trait's implementation)
 //! and one line in [`crate::forces::PAIR_STYLES`].

@@ -6,7 +6,8 @@
 //! LAMMPS gives them. The same line therefore gets the same verdict and the same message in
 //! both engines.
 //!
-//! Usage strings and keyword lists come from one table, [`SPECS`].
+//! Usage strings and keyword lists come from each style's own table: the pair styles' in their
+//! registry entry ([`crate::forces::PairStyleEntry::specs`]), the fixes' in [`SPECS`].
 //!
 //! Rules that used to differ between the engines, now one rule each (docs/input.md):
 //! - seeds are integers in 1..=2147483647 (LAMMPS's `int` seeds, and the range the
@@ -31,25 +32,24 @@ pub struct StyleSpec {
     pub keywords: &'static [&'static str],
 }
 
-/// Every style of this project, the single source of usage strings and keyword lists.
-pub(crate) const SPECS: &[StyleSpec] = &[
-    crate::forces::dpd::grammar::PAIR_STYLE,
-    crate::forces::dpd::grammar::PAIR_COEFF,
-    crate::forces::dpd::grammar::PAIR_COEFF_TARGETS,
-    crate::forces::sdpd::grammar::PAIR_STYLE,
-    crate::forces::sdpd::grammar::PAIR_COEFF,
-    crate::forces::sdpd::grammar::PAIR_COEFF_TARGETS,
-    fix::NVE,
-    fix::NVE_EULER,
-    fix::PEX_PUSH,
-    fix::FLIP_MOMENTUM,
-];
+/// The fixes of this project: with the pair styles' own specs (each [`PAIR_STYLES`] entry's
+/// `specs`), the single source of usage strings and keyword lists.
+///
+/// [`PAIR_STYLES`]: crate::forces::PAIR_STYLES
+pub(crate) const SPECS: &[StyleSpec] =
+    &[fix::NVE, fix::NVE_EULER, fix::PEX_PUSH, fix::FLIP_MOMENTUM];
+
+/// Every spec: the pair styles' (from the registry), then the fixes'.
+pub(crate) fn all_specs() -> impl Iterator<Item = &'static StyleSpec> {
+    crate::forces::PAIR_STYLES
+        .iter()
+        .flat_map(|p| p.specs.iter())
+        .chain(SPECS.iter())
+}
 
 /// The spec of `command style` (e.g. `("fix", "pex/push")`).
 pub fn spec(command: &str, style: &str) -> Option<&'static StyleSpec> {
-    SPECS
-        .iter()
-        .find(|s| s.command == command && s.style == style)
+    all_specs().find(|s| s.command == command && s.style == style)
 }
 
 /// The largest seed or step interval a style accepts (LAMMPS `int`).
@@ -216,9 +216,10 @@ mod tests {
 
     #[test]
     fn every_spec_is_unique_and_lists_its_keywords_in_the_usage() {
-        for (k, s) in SPECS.iter().enumerate() {
+        let specs: Vec<_> = all_specs().collect();
+        for (k, s) in specs.iter().enumerate() {
             assert!(
-                SPECS[..k]
+                specs[..k]
                     .iter()
                     .all(|o| (o.command, o.style, o.usage) != (s.command, s.style, s.usage)),
                 "{s:?}"
