@@ -20,26 +20,6 @@ pub(super) struct BondedState {
 }
 
 impl System {
-    /// The index form of the topology for the current atom order, after a neighbour-list build
-    /// sorted the atoms (a missing atom becomes the step's fault).
-    pub(super) fn reindex_bonded(&mut self) {
-        if self.topo.is_none() || self.bonded.index.build == self.neighbor.builds {
-            return;
-        }
-        let rule = self.bonded.index.special.rule;
-        if let Some(t) = &self.topo
-            && let Err(e) = t.index(
-                &self.atoms.tag,
-                &self.bonded.partners,
-                rule,
-                &mut self.bonded.index,
-            )
-        {
-            self.pair_fault.get_or_insert(e);
-        }
-        self.bonded.index.build = self.neighbor.builds;
-    }
-
     /// The set-up of the bonded terms: styles and coefficients present (LAMMPS's checks and
     /// warnings), the special partners, the index form of the topology, and LAMMPS's checks of
     /// the bonded atoms' images ([`System::check_bonded_images`]; `rc_max`: the largest pair

@@ -132,16 +132,23 @@ impl System {
             }
             self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
         }
-        if self.pair.is_none() {
-            return;
-        }
-        self.pair_fault = None;
-        self.reindex_bonded();
         let Some(style) = self.pair.as_deref_mut() else {
             return;
         };
         let ntypes = style.ntypes();
         let mut extra_energy = 0.0;
+        self.pair_fault = None;
+        // The topology's index form for the current atom order, after a build sorted the atoms.
+        let bonded = &mut self.bonded;
+        if self.topo.is_some() && bonded.index.build != self.neighbor.builds {
+            let rule = bonded.index.special.rule;
+            if let Some(t) = &self.topo
+                && let Err(e) = t.index(&self.atoms.tag, &bonded.partners, rule, &mut bonded.index)
+            {
+                self.pair_fault.get_or_insert(e);
+            }
+            bonded.index.build = self.neighbor.builds;
+        }
         let special =
             (!self.bonded.index.special.tag.is_empty()).then_some(&self.bonded.index.special);
         if let Some(pp) = style.prepass() {
