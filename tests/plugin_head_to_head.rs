@@ -64,28 +64,8 @@ fn script(pair: &str) -> String {
 
 /// Runs one script with the plugin loaded; returns the production thermo block.
 fn run(lammps: &plugin_support::PluginLammps, dir: &Path, name: &str, pair: &str) -> ThermoBlock {
-    std::fs::create_dir_all(dir).expect("work directory");
-    let input = dir.join(format!("in.{name}"));
+    let text = lammps.run_in(dir, &format!("in.{name}"), &script(pair), &[]);
     let log = dir.join(format!("log.{name}"));
-    std::fs::write(&input, script(pair)).expect("write the input");
-    let out = lammps
-        .command()
-        .arg("-in")
-        .arg(&input)
-        .arg("-log")
-        .arg(&log)
-        .args(["-screen", "none", "-nocite"])
-        .current_dir(dir)
-        .output()
-        .expect("start lmp");
-    let text = std::fs::read_to_string(&log).unwrap_or_default();
-    assert!(
-        out.status.success(),
-        "{name}: lmp failed ({}):\n{}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr),
-        text.lines().rev().take(10).collect::<Vec<_>>().join("\n")
-    );
     let blocks = parse_log(&text).unwrap_or_else(|e| panic!("{}: {e}", log.display()));
     let b = blocks.last().expect("a thermo block").clone();
     assert_eq!(b.rows.len(), PRODUCTION + 1, "{name}: production rows");
@@ -138,11 +118,7 @@ fn observe(b: &ThermoBlock) -> Observed {
 }
 
 fn work_dir(label: &str) -> PathBuf {
-    let slug: String = label
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect();
-    std::env::temp_dir().join(format!("dpdnl-h2h-{slug}-{}", std::process::id()))
+    plugin_support::work_dir("h2h", label)
 }
 
 /// Runs the plugin and the reference style at the same time; prints and checks the z-scores.

