@@ -4,13 +4,16 @@
 //!
 //! The main types are re-exported at the crate root:
 //!
-//! - **Pair kernels** ([`kernel`]): [`pair_force`] on one pair ([`PairModel`], [`PairCoeff`],
+//! - **Pair kernels** ([`forces::dpd::kernel`]): [`pair_force`] on one pair ([`PairModel`], [`PairCoeff`],
 //!   [`PairInput`] → [`PairForce`]; [`Weight`], [`Friction`], [`Noise`]) and
 //!   [`pair_forces_batch`], the same bits on a [`PairBatch`] of SIMD lanes ([`PairTable`]).
 //! - **The pair random number** ([`rng`]): [`pair_gaussian`], keyed by (seed, step, tags).
 //! - **The standalone engine** ([`engine`]): [`System`] over a [`SimBox`] and [`Atoms`], its
-//!   [`Integrator`] and [`Thermo`]; the pair-style seam [`PairStyle`] ([`new_pair_style`],
-//!   [`SetupContext`]) and the batch seam [`PairKernel`] ([`DpdKernel`]).
+//!   [`Integrator`] and [`Thermo`].
+//! - **The forces layer** ([`forces`]): every pair, bond and angle style, one registry per kind;
+//!   the pair-style seam [`PairStyle`] (what a style is and computes; [`new_pair_style`],
+//!   [`SetupContext`]), [`StyleRecord`] (what it writes and reports) and [`StyleDerived`] (what
+//!   follows from its answers), and the batch seam [`PairKernel`] ([`DpdKernel`]).
 //! - **The interpreter** ([`input`]): [`Interpreter`] runs a LAMMPS-style script under
 //!   [`Options`], talking to a [`Console`] ([`Collect`] keeps the lines); errors are
 //!   [`ScriptError`].
@@ -71,7 +74,7 @@ pub use forces::dpd::kernel::{
     pair_forces_batch,
 };
 pub use forces::{NoiseDist, PairBatch};
-pub use forces::{PairStyle, SetupContext, new_pair_style};
+pub use forces::{PairStyle, SetupContext, StyleDerived, StyleRecord, new_pair_style};
 pub use input::{Collect, Console, Interpreter, Options, ScriptError};
 pub use io::data::parse_data;
 pub use io::dump_read::parse_dump;

@@ -6,7 +6,7 @@
 //! [`System`] (this file) holds the state; its code is split by concern: `step.rs` sequences
 //! the set-up and the step as LAMMPS's `Verlet::setup`/`Verlet::run` do, `shear.rs` drives the
 //! sheared box (its state is [`lees_edwards::Triclinic`]), `bonded.rs` the bonds and angles
-//! (styles in [`crate::forces::bonded`], topology in [`topology`]), `thermo.rs` the thermo sums.
+//! (styles in [`crate::forces::bonded`], topology in `topology.rs`), `thermo.rs` the thermo sums.
 //! The force terms themselves are the forces layer's ([`crate::forces`]).
 
 pub mod atoms;

@@ -4,6 +4,7 @@
 //! bonded, the second half kick, the PeX push).
 
 use super::*;
+use crate::forces::style::StyleDerived;
 
 impl System {
     /// [`System::setup`] for a run that ends at step `last` (LAMMPS's `endstep`): `fix deform`

@@ -71,8 +71,8 @@ pub fn in_range(rsq: f64, rc: f64) -> bool {
 /// Pairs per [`PairBatch`].
 pub const BATCH: usize = 64;
 
-/// Up to [`BATCH`] pairs in structure-of-arrays form, for [`pair_forces_batch`]: the inputs of
-/// [`pair_force`] for each pair, with the pair's tags in place of its Gaussian (the batch draws
+/// Up to [`BATCH`] pairs in structure-of-arrays form, for [`pair_forces_batch`](crate::forces::dpd::kernel::pair_forces_batch): the inputs of
+/// [`pair_force`](crate::forces::dpd::kernel::pair_force) for each pair, with the pair's tags in place of its Gaussian (the batch draws
 /// ξ_ij itself, [`crate::rng::pair_gaussian`]) and an index into the caller's coefficient table.
 #[derive(Clone, Debug)]
 pub struct PairBatch {
@@ -84,7 +84,7 @@ pub struct PairBatch {
     pub dv: [[f64; BATCH]; 3],
     /// 1/m_i + 1/m_j.
     pub inv_mass_sum: [f64; BATCH],
-    /// Index of the pair's coefficients in the table passed to [`pair_forces_batch`].
+    /// Index of the pair's coefficients in the table passed to [`pair_forces_batch`](crate::forces::dpd::kernel::pair_forces_batch).
     pub coeff: [u32; BATCH],
     /// Tag of i.
     pub tag_i: [u32; BATCH],
@@ -96,7 +96,7 @@ pub struct PairBatch {
     /// Result: the conservative pair energy (0 for a pair out of range). Entries from `len` on
     /// are unspecified.
     pub energy: [f64; BATCH],
-    /// Working arrays of [`pair_forces_batch`] (kept here so that no call zeroes them).
+    /// Working arrays of [`pair_forces_batch`](crate::forces::dpd::kernel::pair_forces_batch) (kept here so that no call zeroes them).
     pub(crate) scratch: BatchScratch,
     /// (Last, after the lane arrays, so that their alignment is that of the struct.) The box's lattice when it is shorter than 2 r_c along a periodic axis: each lane's
     /// noise is then keyed by the periodic image of its pair too
@@ -137,7 +137,7 @@ impl Default for PairBatch {
     }
 }
 
-/// Instruction sets [`pair_forces_batch`] can use (chosen at run time; the results are the same
+/// Instruction sets [`pair_forces_batch`](crate::forces::dpd::kernel::pair_forces_batch) can use (chosen at run time; the results are the same
 /// bits with each, since the arithmetic is IEEE and never fused).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Isa {

@@ -22,7 +22,9 @@ pub mod style;
 
 pub use bonded::{ANGLE_STYLES, BOND_STYLES};
 pub use lanes::{BATCH, Isa, NoiseDist, PairBatch, in_range};
-pub use style::{PairStyle, PrePass, SetupContext, SetupNote, StylePlan};
+pub use style::{
+    PairStyle, PrePass, SetupContext, SetupNote, StyleDerived, StylePlan, StyleRecord,
+};
 
 /// How the registry makes a pair style: from the words after its name, for `ntypes` atom types
 /// and time step `dt`.
@@ -88,7 +90,7 @@ pub fn new_pair_style(
     }
 }
 
-/// Rebuild a style from its [`PairStyle::restart_lines`] for `ntypes` types.
+/// Rebuild a style from its [`StyleRecord::restart_lines`] for `ntypes` types.
 pub fn from_restart_lines(
     lines: &[Vec<String>],
     ntypes: usize,

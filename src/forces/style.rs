@@ -113,7 +113,7 @@ pub trait PrePass: Sync {
 }
 
 /// What a run of a pair style would use, as its set-up resolved it: the typed report that
-/// `dpdnl theory SCRIPT`, `dpdnl design` and dry runs read ([`PairStyle::plan`]), so that no
+/// `dpdnl theory SCRIPT`, `dpdnl design` and dry runs read ([`StyleRecord::plan`]), so that no
 /// caller needs to know the style's type.
 #[derive(Clone, Debug)]
 pub enum StylePlan {
@@ -142,7 +142,7 @@ pub struct PlannedSdpd {
 }
 
 /// One pair style (see the module documentation).
-pub trait PairStyle: Send + Sync + Debug {
+pub trait PairStyle: StyleRecord + Send + Sync + Debug {
     /// The style's name (`dpd/nonlinear`, `sdpd`).
     fn name(&self) -> &'static str;
     /// Number of atom types the coefficient tables hold.
@@ -184,26 +184,33 @@ pub trait PairStyle: Send + Sync + Debug {
     fn set_atom_values(&mut self, _values: &[f64], _typ: &[u32]) {}
     /// The batched pair kernel (after [`PairStyle::setup`]), its lanes in instruction set `isa`.
     fn kernel(&self, isa: Isa) -> Box<dyn PairKernel + '_>;
+    /// The conservative force F(r)/r and energy of one pair of types (i, j) at distance² `rsq`
+    /// (LAMMPS's `Pair::single`, as `pair dpd` returns it), or `None` when the style has no
+    /// pair-wise answer (a many-body style).
+    fn single(&self, _i: usize, _j: usize, _rsq: f64) -> Option<(f64, f64)> {
+        None
+    }
+    /// The style as `Any`: for tests that read one style's own fields (no code path of the
+    /// engines downcasts; they use the trait).
+    fn as_any(&self) -> &dyn Any;
+    /// A copy of the style.
+    fn clone_box(&self) -> Box<dyn PairStyle>;
+}
+
+/// What a style writes and reports about itself: its restart and `write_data` lines, the typed
+/// plan that dry runs and `dpdnl theory` print, the per-atom values a compute reads. The
+/// supertrait of [`PairStyle`]: the writers and reporters of both engines need only this.
+pub trait StyleRecord {
     /// The lines (words, command first) that rebuild this style's settings and coefficients
     /// exactly: what a restart file stores, in both engines.
     fn restart_lines(&self) -> Vec<Vec<String>>;
-    /// True when the style writes `write_data` coefficients ([`PairStyle::data_coeffs`]).
+    /// True when the style writes `write_data` coefficients ([`StyleRecord::data_coeffs`]).
     fn writes_data(&self) -> bool {
         false
     }
     /// The numbers of a `write_data` coefficient line of type pair (i, j) (after the types), or
     /// `None` when the style writes no data coefficients.
     fn data_coeffs(&self, _i: usize, _j: usize) -> Option<Vec<f64>> {
-        None
-    }
-    /// True when every pair's force depends on that pair alone ([`PairStyle::single`] answers).
-    fn pairwise(&self) -> bool {
-        self.prepass().is_none()
-    }
-    /// The conservative force F(r)/r and energy of one pair of types (i, j) at distance² `rsq`
-    /// (LAMMPS's `Pair::single`, as `pair dpd` returns it), or `None` when the style has no
-    /// pair-wise answer (a many-body style).
-    fn single(&self, _i: usize, _j: usize, _rsq: f64) -> Option<(f64, f64)> {
         None
     }
     /// The per-atom values of the last pre-pass (sDPD's densities, in the engine's atom
@@ -213,28 +220,40 @@ pub trait PairStyle: Send + Sync + Debug {
     }
     /// What a run would use, after [`PairStyle::setup`] (`units` for kT, `dt` the time step).
     fn plan(&self, units: &crate::units::Units, dt: f64) -> StylePlan;
-    /// The style as `Any`: for tests that read one style's own fields (no code path of the
-    /// engines downcasts; they use the trait).
-    fn as_any(&self) -> &dyn Any;
-    /// A copy of the style.
-    fn clone_box(&self) -> Box<dyn PairStyle>;
+}
 
+/// What follows from a style's answers by one rule for every style (which type pairs it
+/// covers, its largest cut-off, whether it is pair-wise): implemented for every [`PairStyle`],
+/// never by a style itself.
+pub trait StyleDerived {
+    /// True when every pair's force depends on that pair alone ([`PairStyle::single`] answers).
+    fn pairwise(&self) -> bool;
     /// The first type pair without coefficients, if any.
+    fn missing(&self) -> Option<(usize, usize)>;
+    /// True when type `t` is in at least one type pair with coefficients.
+    fn covers_type(&self, t: usize) -> bool;
+    /// True when at least one type pair has coefficients.
+    fn covers_any(&self) -> bool;
+    /// The largest cut-off over the set type pairs.
+    fn rc_max(&self) -> f64;
+}
+
+impl<T: PairStyle + ?Sized> StyleDerived for T {
+    fn pairwise(&self) -> bool {
+        self.prepass().is_none()
+    }
     fn missing(&self) -> Option<(usize, usize)> {
         let n = self.ntypes();
         (1..=n)
             .flat_map(|i| (i..=n).map(move |j| (i, j)))
             .find(|&(i, j)| self.cutoff(i, j).is_none())
     }
-    /// True when type `t` is in at least one type pair with coefficients.
     fn covers_type(&self, t: usize) -> bool {
         (1..=self.ntypes()).any(|u| self.cutoff(t, u).is_some())
     }
-    /// True when at least one type pair has coefficients.
     fn covers_any(&self) -> bool {
         (1..=self.ntypes()).any(|t| self.covers_type(t))
     }
-    /// The largest cut-off over the set type pairs.
     fn rc_max(&self) -> f64 {
         let n = self.ntypes();
         (1..=n)

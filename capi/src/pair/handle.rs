@@ -6,6 +6,7 @@ use crate::compute::Workers;
 use crate::styles::{put, words};
 use crate::team::DpdnlLaunch;
 use crate::{DpdnlStatus, Error, c_str, guard};
+use dpdnl::StyleDerived;
 use dpdnl::host::from_restart_lines;
 use dpdnl::new_pair_style;
 use std::ffi::c_char;

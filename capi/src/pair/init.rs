@@ -7,6 +7,7 @@ use crate::init::set_last_message;
 use crate::styles::put;
 use crate::{DpdnlStatus, Error, guard, slice};
 use dpdnl::SetupContext;
+use dpdnl::StyleDerived;
 use dpdnl::host::SetupNote;
 use dpdnl::host::check_special;
 

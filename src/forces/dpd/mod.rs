@@ -9,7 +9,7 @@ pub mod kernel;
 
 use crate::forces::batcher::PairKernel;
 use crate::forces::lanes::{Isa, PairBatch};
-use crate::forces::style::{PairStyle, SetupContext, SetupNote, word};
+use crate::forces::style::{PairStyle, SetupContext, SetupNote, StyleDerived, StyleRecord, word};
 use grammar::DpdStyle;
 use kernel::{Friction, PairCoeff, PairModel, PairTable, pair_forces_batch_isa};
 
@@ -321,18 +321,6 @@ impl PairStyle for DpdPair {
         "dpd/nonlinear"
     }
 
-    fn plan(&self, _units: &crate::units::Units, _dt: f64) -> crate::forces::style::StylePlan {
-        let n = self.ff.ntypes();
-        let coeffs = (1..=n)
-            .flat_map(|i| (i..=n).map(move |j| (i, j)))
-            .filter_map(|(i, j)| self.ff.get(i, j).map(|c| (i, j, *c)))
-            .collect();
-        crate::forces::style::StylePlan::Dpd {
-            model: self.ff.model,
-            coeffs,
-        }
-    }
-
     fn ntypes(&self) -> usize {
         self.ff.ntypes()
     }
@@ -473,6 +461,40 @@ impl PairStyle for DpdPair {
         })
     }
 
+    /// The conservative part, as LAMMPS's `pair dpd` `single()` returns it:
+    /// F/r = a (1 − r/r_c) / r and E = a r_c (1 − r/r_c)² / 2 (docs/models.md §1.1).
+    fn single(&self, i: usize, j: usize, rsq: f64) -> Option<(f64, f64)> {
+        let c = self.ff.get(i, j)?;
+        if rsq >= c.rc * c.rc {
+            return Some((0.0, 0.0));
+        }
+        let r = rsq.sqrt();
+        let wr = 1.0 - r / c.rc;
+        let fpair = if r > 0.0 { c.a * wr / r } else { 0.0 };
+        Some((fpair, 0.5 * c.a * c.rc * wr * wr))
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn clone_box(&self) -> Box<dyn PairStyle> {
+        Box::new(self.clone())
+    }
+}
+
+impl StyleRecord for DpdPair {
+    fn plan(&self, _units: &crate::units::Units, _dt: f64) -> crate::forces::style::StylePlan {
+        let n = self.ff.ntypes();
+        let coeffs = (1..=n)
+            .flat_map(|i| (i..=n).map(move |j| (i, j)))
+            .filter_map(|(i, j)| self.ff.get(i, j).map(|c| (i, j, *c)))
+            .collect();
+        crate::forces::style::StylePlan::Dpd {
+            model: self.ff.model,
+            coeffs,
+        }
+    }
     fn restart_lines(&self) -> Vec<Vec<String>> {
         let settings = DpdStyle {
             weight: self.ff.model.weight,
@@ -504,36 +526,13 @@ impl PairStyle for DpdPair {
         }
         lines
     }
-
     /// `a gamma0 gamma1 rc` (LAMMPS's "Pair Coeffs" / "PairIJ Coeffs" sections).
     fn writes_data(&self) -> bool {
         true
     }
-
     fn data_coeffs(&self, i: usize, j: usize) -> Option<Vec<f64>> {
         self.ff
             .get(i, j)
             .map(|c| vec![c.a, c.gamma0, c.gamma1, c.rc])
-    }
-
-    /// The conservative part, as LAMMPS's `pair dpd` `single()` returns it:
-    /// F/r = a (1 − r/r_c) / r and E = a r_c (1 − r/r_c)² / 2 (docs/models.md §1.1).
-    fn single(&self, i: usize, j: usize, rsq: f64) -> Option<(f64, f64)> {
-        let c = self.ff.get(i, j)?;
-        if rsq >= c.rc * c.rc {
-            return Some((0.0, 0.0));
-        }
-        let r = rsq.sqrt();
-        let wr = 1.0 - r / c.rc;
-        let fpair = if r > 0.0 { c.a * wr / r } else { 0.0 };
-        Some((fpair, 0.5 * c.a * c.rc * wr * wr))
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-
-    fn clone_box(&self) -> Box<dyn PairStyle> {
-        Box::new(self.clone())
     }
 }

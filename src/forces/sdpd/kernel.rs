@@ -371,7 +371,7 @@ impl SdpdForce {
 
 /// The sDPD force on i due to j (WF-12/19; `docs/models.md` §3.7) for separation `dr` = r_ij,
 /// relative velocity `dv` = v_ij and the pair's standard Gaussian `xi`. Zero beyond the cut-off
-/// or below [`MIN_PAIR_DISTANCE`].
+/// or below `MIN_PAIR_DISTANCE`.
 #[inline]
 pub fn sdpd_pair_force(
     c: &SdpdCoeff,

@@ -14,7 +14,9 @@ pub mod grammar;
 pub mod kernel;
 
 use crate::forces::batcher::PairKernel;
-use crate::forces::style::{PairStyle, PrePass, SetupContext, SetupNote};
+use crate::forces::style::{
+    PairStyle, PrePass, SetupContext, SetupNote, StyleDerived, StyleRecord,
+};
 use crate::forces::{Isa, PairBatch};
 use grammar::{SdpdCoeffLine, SdpdStyle};
 use kernel::{KernelShape, SdpdAtom, SdpdCoeff, Smoothing, Tait, sdpd_forces_batch};
@@ -337,23 +339,6 @@ impl PairStyle for SdpdField {
         "sdpd"
     }
 
-    fn plan(&self, units: &crate::units::Units, _dt: f64) -> crate::forces::style::StylePlan {
-        let n = self.ntypes;
-        let pairs = (1..=n)
-            .flat_map(|i| (i..=n).map(move |j| (i, j)))
-            .filter_map(|(i, j)| self.get(i, j).map(|p| (i, j, *p)))
-            .collect();
-        crate::forces::style::StylePlan::Sdpd(crate::forces::style::PlannedSdpd {
-            kt: units.kt(self.style.temp),
-            kernel: self.style.kernel,
-            pairs,
-        })
-    }
-
-    fn atom_values(&self) -> Option<&[f64]> {
-        Some(&self.density)
-    }
-
     fn ntypes(&self) -> usize {
         self.ntypes
     }
@@ -436,31 +421,6 @@ impl PairStyle for SdpdField {
         })
     }
 
-    /// The `pair_style` line of the current settings (the kernel a design chose) and the
-    /// `pair_coeff` lines as given.
-    fn restart_lines(&self) -> Vec<Vec<String>> {
-        let mut head = vec!["pair_style".to_string(), "sdpd".to_string()];
-        head.extend(self.style.to_words());
-        let mut lines = vec![head];
-        for w in &self.coeff_words {
-            lines.push(
-                std::iter::once("pair_coeff".to_string())
-                    .chain(w.iter().cloned())
-                    .collect(),
-            );
-        }
-        lines
-    }
-
-    /// `rho0 c0 eta0 rc` (η0 as resolved at the last set-up).
-    fn writes_data(&self) -> bool {
-        true
-    }
-
-    fn data_coeffs(&self, i: usize, j: usize) -> Option<Vec<f64>> {
-        self.get(i, j).map(|p| vec![p.rho0, p.c0, p.eta0, p.rc])
-    }
-
     fn as_any(&self) -> &dyn Any {
         self
     }
@@ -484,5 +444,45 @@ impl PairKernel for SdpdKernel<'_> {
     #[inline]
     fn evaluate(&self, step: u64, b: &mut PairBatch, i: &[u32], j: &[u32]) {
         sdpd_forces_batch(self.isa, self.coeff, self.atoms, self.seed, step, b, i, j);
+    }
+}
+
+impl StyleRecord for SdpdField {
+    fn plan(&self, units: &crate::units::Units, _dt: f64) -> crate::forces::style::StylePlan {
+        let n = self.ntypes;
+        let pairs = (1..=n)
+            .flat_map(|i| (i..=n).map(move |j| (i, j)))
+            .filter_map(|(i, j)| self.get(i, j).map(|p| (i, j, *p)))
+            .collect();
+        crate::forces::style::StylePlan::Sdpd(crate::forces::style::PlannedSdpd {
+            kt: units.kt(self.style.temp),
+            kernel: self.style.kernel,
+            pairs,
+        })
+    }
+    fn atom_values(&self) -> Option<&[f64]> {
+        Some(&self.density)
+    }
+    /// The `pair_style` line of the current settings (the kernel a design chose) and the
+    /// `pair_coeff` lines as given.
+    fn restart_lines(&self) -> Vec<Vec<String>> {
+        let mut head = vec!["pair_style".to_string(), "sdpd".to_string()];
+        head.extend(self.style.to_words());
+        let mut lines = vec![head];
+        for w in &self.coeff_words {
+            lines.push(
+                std::iter::once("pair_coeff".to_string())
+                    .chain(w.iter().cloned())
+                    .collect(),
+            );
+        }
+        lines
+    }
+    /// `rho0 c0 eta0 rc` (η0 as resolved at the last set-up).
+    fn writes_data(&self) -> bool {
+        true
+    }
+    fn data_coeffs(&self, i: usize, j: usize) -> Option<Vec<f64>> {
+        self.get(i, j).map(|p| vec![p.rho0, p.c0, p.eta0, p.rc])
     }
 }

@@ -330,7 +330,7 @@ impl PairForce {
     }
 }
 
-/// All force parts of one pair (§1.1–1.4). Zero for r ≥ r_c or r < [`MIN_PAIR_DISTANCE`].
+/// All force parts of one pair (§1.1–1.4). Zero for r ≥ r_c or r < `MIN_PAIR_DISTANCE`.
 ///
 /// - conservative F^C = a (1 − r/r_c) e (§1.1);
 /// - dissipative F^D = −γ(S) w_D (e · v) e, S at t (§1.1, eq. 30, and eq. 38 for two-step);
