@@ -14,7 +14,8 @@
 #   --only GROUP ...  (full) only these groups, in this order: nonlinear (MB/EH, the n = 16 NEMD
 #          points, the two engines), seeds (independent repeats), nemd32 (Tables 5-7, all 27
 #          points), size (box sizes at n = 16 and n = 32), timestep (Table 8 / Appendix B),
-#          finite_step, weighting, sdpd, repulsion[:STEP,...] (validation/weighting/repulsion.sh
+#          finite_step, weighting, sdpd[:STEP,...] (cs couette diffusion schmidt peer analyse,
+#          all by default), repulsion[:STEP,...] (validation/weighting/repulsion.sh
 #          steps, all by default); the summaries of the touched cases run after them.
 #
 # Before running it builds the release binary and the LAMMPS shim from the working tree and
@@ -169,14 +170,19 @@ if want weighting; then
 fi
 if want sdpd; then
     w=$v/weighting/run.sh
-    run $w sdpd-cs
-    run SET=all $w sdpd-couette
-    run ENGINE=standalone CASES="t2prop50:2.5:p0.5:50:3000" RATES=0.2 $w sdpd-couette
-    run ENGINE=standalone CASES="t3lucy:1.0:lucy:10:12000:1000:300" RATES=0.2 $w sdpd-couette
-    run $w sdpd-diffusion
-    run DPD_COUETTE=0 SC0S="10 100 1000" $w sdpd-schmidt
-    run $w sdpd-peer
-    run $w sdpd-analyse
+    # sdpd[:STEP,...]: only these steps (cs couette diffusion schmidt peer analyse; all by default).
+    ssteps=" $(steps_of sdpd) "; [ "$ssteps" = "  " ] && ssteps=" cs couette diffusion schmidt peer analyse "
+    sstep() { [[ "$ssteps" == *" $1 "* ]]; }
+    if sstep cs; then run $w sdpd-cs; fi
+    if sstep couette; then
+        run SET=all $w sdpd-couette
+        run ENGINE=standalone CASES="t2prop50:2.5:p0.5:50:3000" RATES=0.2 $w sdpd-couette
+        run ENGINE=standalone CASES="t3lucy:1.0:lucy:10:12000:1000:300" RATES=0.2 $w sdpd-couette
+    fi
+    if sstep diffusion; then run $w sdpd-diffusion; fi
+    if sstep schmidt; then run DPD_COUETTE=0 SC0S="10 100 1000" $w sdpd-schmidt; fi
+    if sstep peer; then run $w sdpd-peer; fi
+    if sstep analyse; then run $w sdpd-analyse; fi
 fi
 if want repulsion; then
     # Named steps get the summary after them (once, also when it is named).
