@@ -47,7 +47,7 @@ pub struct PairStyleEntry {
 /// its folder here, its `pub mod` line and one entry in this table.
 pub const PAIR_STYLES: &[PairStyleEntry] = &[
     PairStyleEntry {
-        name: "dpd/nonlinear",
+        name: dpd::grammar::NAME,
         about: "DPD with non-linear friction",
         make: |args, ntypes, dt| Ok(Box::new(dpd::DpdPair::new(args, ntypes, dt)?)),
         specs: &[
@@ -57,7 +57,7 @@ pub const PAIR_STYLES: &[PairStyleEntry] = &[
         ],
     },
     PairStyleEntry {
-        name: "sdpd",
+        name: sdpd::grammar::NAME,
         about: "smoothed DPD, Lucy/quintic/proposed kernels",
         make: |args, ntypes, _dt| Ok(Box::new(sdpd::SdpdField::from_words(args, ntypes)?)),
         specs: &[

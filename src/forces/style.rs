@@ -1,13 +1,14 @@
 //! The style object: everything one pair style is — its settings and `pair_coeff` lines (parsed
-//! by its own `grammar` module, e.g. [`crate::forces::dpd::grammar`]), its set-up at each run, an optional per-atom pre-pass (a many-body
-//! style's density), its batched kernel, its cut-offs, its restart lines and its `write_data`
-//! coefficients — behind one trait, [`PairStyle`].
+//! by its own `grammar` module, e.g. [`crate::forces::dpd::grammar`]), its set-up at each run,
+//! an optional per-atom pre-pass (a many-body style's density), its batched kernel, its
+//! cut-offs ([`PairStyle`]), and its restart lines, `write_data` coefficients and typed plan
+//! ([`StyleRecord`]); what follows from those answers by one rule is [`StyleDerived`].
 //!
 //! The standalone engine (`System::pair`), the interpreter (`pair_style`, `pair_coeff`,
 //! `write_restart`) and the C ABI's one handle for every LAMMPS style (`capi/src/pair/`) hold
 //! a `Box<dyn PairStyle>` made by [`crate::forces::new_pair_style`] and never name a style: a
 //! new style is one folder under `src/forces/` (grammar, kernel, the trait's implementation)
-//! and one line in [`crate::forces::PAIR_STYLES`].
+//! and one entry in [`crate::forces::PAIR_STYLES`].
 //!
 //! A force evaluation through a style, in either engine:
 //! 1. if [`PairStyle::prepass`] is `Some`, the driver sums `weight(k, r²)` over the pairs in
@@ -92,6 +93,18 @@ pub fn coverage(style: &dyn PairStyle, ctx: &SetupContext) -> Result<bool, Strin
         ));
     }
     Ok(true)
+}
+
+/// The refusal of (η, Sc) targets on a subset of the type pairs (`pair_style hybrid`): the
+/// kinetic theory behind the design is for one fluid whose every pair interacts through the
+/// style, at the number density of all atoms. `coeff` names the style's own friction
+/// coefficient, to give instead.
+pub(crate) fn targets_on_subset(style: &str, coeff: &str) -> String {
+    format!(
+        "pair_coeff … eta … sc …: the design is for one fluid whose every type pair interacts \
+         through pair_style {style} (at the number density of all atoms), but as a sub-style of \
+         pair_style hybrid it covers only some type pairs; give {coeff} instead of eta and sc"
+    )
 }
 
 /// A many-body style's pre-pass: one value per atom, d_i = complete(Σ_j w_k(r_ij²)) over the

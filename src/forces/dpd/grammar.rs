@@ -7,10 +7,14 @@ use crate::grammar::{
     sets_some_pair, shown, type_pairs,
 };
 
+/// The style's name, the one place it is written (the registry, the style object and its
+/// usage strings read it).
+pub(crate) const NAME: &str = "dpd/nonlinear";
+
 /// `pair_style dpd/nonlinear …` (the words after the style name).
 pub(crate) const PAIR_STYLE: StyleSpec = StyleSpec {
     command: "pair_style",
-    style: "dpd/nonlinear",
+    style: NAME,
     usage: "pair_style dpd/nonlinear T rc seed [friction none|cross|dot] [noise plain|corrected|twostep] [weight s] [noise_dist gaussian|uniform]",
     keywords: &["friction", "noise", "weight", "noise_dist"],
 };
@@ -18,7 +22,7 @@ pub(crate) const PAIR_STYLE: StyleSpec = StyleSpec {
 /// `pair_coeff I J a gamma0 gamma1 [rc]`.
 pub(crate) const PAIR_COEFF: StyleSpec = StyleSpec {
     command: "pair_coeff",
-    style: "dpd/nonlinear",
+    style: NAME,
     usage: "pair_coeff I J a gamma0 gamma1 [rc] | I J a eta E sc S [gamma1 G] [rc R]",
     keywords: &[],
 };
@@ -26,7 +30,7 @@ pub(crate) const PAIR_COEFF: StyleSpec = StyleSpec {
 /// `pair_coeff I J a eta E sc S [gamma1 G] [rc R]`: γ0 and s from target η and Sc.
 pub(crate) const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
     command: "pair_coeff",
-    style: "dpd/nonlinear",
+    style: NAME,
     usage: "pair_coeff I J a eta E sc S [gamma1 G] [rc R]",
     keywords: &["gamma1", "rc"],
 };

@@ -13,7 +13,8 @@ use crate::forces::style::{PairStyle, SetupContext, SetupNote, StyleDerived, Sty
 use grammar::DpdStyle;
 use kernel::{Friction, PairCoeff, PairModel, PairTable, pair_forces_batch_isa};
 
-/// `pair_style dpd/nonlinear`: [`crate::forces::dpd::kernel::pair_forces_batch`] (docs/models.md §1.1–1.4).
+/// `pair_style dpd/nonlinear`'s batch kernel: [`kernel::pair_forces_batch`] (docs/models.md
+/// §1.1–1.4).
 pub struct DpdKernel<'a> {
     /// The global model (friction, noise, weight, δt).
     pub model: &'a PairModel,
@@ -126,9 +127,9 @@ impl ForceField {
         }
         let current = self.model.weight.exponent();
         if let Some((s, note)) =
-            crate::init::common_exponent("dpd/nonlinear", "weight", &exponents, current)?
+            crate::init::common_exponent(grammar::NAME, "weight", &exponents, current)?
         {
-            self.model.weight = crate::forces::dpd::kernel::Weight::new(s)
+            self.model.weight = kernel::Weight::new(s)
                 .ok_or_else(|| format!("designed weight exponent s = {s} is not > 0"))?;
             lines.extend(note);
         }
@@ -191,18 +192,6 @@ impl ForceField {
             .map(|c| c.rc)
             .fold(0.0, f64::max)
     }
-}
-
-/// The refusal of (η, Sc) targets on a subset of the type pairs (`pair_style hybrid`): the
-/// kinetic theory behind the design is for one fluid whose every pair interacts through the
-/// style, at the number density of all atoms. `coeff` names the style's own friction
-/// coefficient, to give instead.
-pub(crate) fn targets_on_subset(style: &str, coeff: &str) -> String {
-    format!(
-        "pair_coeff … eta … sc …: the design is for one fluid whose every type pair interacts \
-         through pair_style {style} (at the number density of all atoms), but as a sub-style of \
-         pair_style hybrid it covers only some type pairs; give {coeff} instead of eta and sc"
-    )
 }
 
 /// `pair_style dpd/nonlinear` + `pair_coeff`: the style object of both engines.
@@ -318,7 +307,7 @@ impl DpdPair {
 
 impl PairStyle for DpdPair {
     fn name(&self) -> &'static str {
-        "dpd/nonlinear"
+        grammar::NAME
     }
 
     fn ntypes(&self) -> usize {
@@ -386,13 +375,16 @@ impl PairStyle for DpdPair {
         let mut notes = Vec::new();
         let subset = crate::forces::style::coverage(self, ctx)?;
         if subset && self.ff.has_targets() {
-            return Err(targets_on_subset("dpd/nonlinear", "gamma0"));
+            return Err(crate::forces::style::targets_on_subset(
+                grammar::NAME,
+                "gamma0",
+            ));
         }
         let u = ctx.units;
         self.ff.model.kt = u.kt(self.settings.temp);
         self.ff.model.set_ftm2v(u.ftm2v);
         notes.extend(
-            u.temperature_note("dpd/nonlinear", self.settings.temp)
+            u.temperature_note(grammar::NAME, self.settings.temp)
                 .map(SetupNote::Info),
         );
         // The masses of the types in the style's own pairs (every type as the top-level style).
@@ -500,7 +492,7 @@ impl StyleRecord for DpdPair {
             weight: self.ff.model.weight,
             ..self.settings
         };
-        let mut head = vec!["pair_style".to_string(), "dpd/nonlinear".to_string()];
+        let mut head = vec!["pair_style".to_string(), grammar::NAME.to_string()];
         head.extend(settings.to_words());
         let mut lines = vec![head];
         let n = self.ff.ntypes();

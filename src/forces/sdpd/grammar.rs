@@ -6,10 +6,14 @@ use crate::grammar::{
     sets_some_pair, shown, type_pairs,
 };
 
+/// The style's name, the one place it is written (the registry, the style object and its
+/// usage strings read it).
+pub(crate) const NAME: &str = "sdpd";
+
 /// `pair_style sdpd …` (the words after the style name).
 pub(crate) const PAIR_STYLE: StyleSpec = StyleSpec {
     command: "pair_style",
-    style: "sdpd",
+    style: NAME,
     usage: "pair_style sdpd T rc seed [kernel lucy|quintic|proposed S]",
     keywords: &["kernel"],
 };
@@ -17,7 +21,7 @@ pub(crate) const PAIR_STYLE: StyleSpec = StyleSpec {
 /// `pair_coeff I J rho0 c0 eta0 [rc]`.
 pub(crate) const PAIR_COEFF: StyleSpec = StyleSpec {
     command: "pair_coeff",
-    style: "sdpd",
+    style: NAME,
     usage: "pair_coeff I J rho0 c0 eta0 [rc] | I J rho0 c0 eta E sc S [rc R]",
     keywords: &[],
 };
@@ -25,7 +29,7 @@ pub(crate) const PAIR_COEFF: StyleSpec = StyleSpec {
 /// `pair_coeff I J rho0 c0 eta E sc S [rc R]`: η0 and the kernel's s from target η and Sc.
 pub(crate) const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
     command: "pair_coeff",
-    style: "sdpd",
+    style: NAME,
     usage: "pair_coeff I J rho0 c0 eta E sc S [rc R]",
     keywords: &["rc"],
 };

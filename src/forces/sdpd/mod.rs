@@ -144,7 +144,7 @@ impl SdpdField {
         let n = self.ntypes + 1;
         let kt = units.kt(self.style.temp);
         let mut notes: Vec<String> = units
-            .temperature_note("sdpd", self.style.temp)
+            .temperature_note(grammar::NAME, self.style.temp)
             .into_iter()
             .collect();
         let mut exponents: Vec<(String, f64)> = Vec::new();
@@ -336,7 +336,7 @@ impl PrePass for SdpdField {
 
 impl PairStyle for SdpdField {
     fn name(&self) -> &'static str {
-        "sdpd"
+        grammar::NAME
     }
 
     fn ntypes(&self) -> usize {
@@ -368,7 +368,10 @@ impl PairStyle for SdpdField {
     fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String> {
         let subset = crate::forces::style::coverage(self, ctx)?;
         if subset && self.pairs.iter().flatten().any(|p| p.targets.is_some()) {
-            return Err(crate::forces::dpd::targets_on_subset("sdpd", "eta0"));
+            return Err(crate::forces::style::targets_on_subset(
+                grammar::NAME,
+                "eta0",
+            ));
         }
         // Per-type masses of the types in the style's own pairs (every type as the top-level
         // style).
@@ -466,7 +469,7 @@ impl StyleRecord for SdpdField {
     /// The `pair_style` line of the current settings (the kernel a design chose) and the
     /// `pair_coeff` lines as given.
     fn restart_lines(&self) -> Vec<Vec<String>> {
-        let mut head = vec!["pair_style".to_string(), "sdpd".to_string()];
+        let mut head = vec!["pair_style".to_string(), grammar::NAME.to_string()];
         head.extend(self.style.to_words());
         let mut lines = vec![head];
         for w in &self.coeff_words {
