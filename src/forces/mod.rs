@@ -17,6 +17,7 @@ pub mod batcher;
 pub mod bonded;
 pub mod dpd;
 pub mod lanes;
+pub mod mdpd;
 pub mod sdpd;
 pub mod style;
 
@@ -66,6 +67,12 @@ pub const PAIR_STYLES: &[PairStyleEntry] = &[
             sdpd::grammar::PAIR_COEFF_TARGETS,
         ],
     },
+    PairStyleEntry {
+        name: mdpd::grammar::NAME,
+        about: "many-body DPD (free surfaces) with non-linear friction",
+        make: |args, ntypes, dt| Ok(Box::new(mdpd::MdpdPair::new(args, ntypes, dt)?)),
+        specs: &[mdpd::grammar::PAIR_STYLE, mdpd::grammar::PAIR_COEFF],
+    },
 ];
 
 /// A new pair style `name` from the words after the name, for `ntypes` atom types and time
@@ -85,7 +92,7 @@ pub fn new_pair_style(
                 .iter()
                 .map(|s| s.name)
                 .collect::<Vec<_>>()
-                .join(" and ")
+                .join(", ")
         )),
     }
 }
@@ -131,7 +138,7 @@ mod tests {
         let e = new_pair_style("lj/cut", &[], 1, 1.0).expect_err("unknown");
         assert_eq!(
             e,
-            "pair style 'lj/cut' not supported: only dpd/nonlinear and sdpd"
+            "pair style 'lj/cut' not supported: only dpd/nonlinear, sdpd, mdpd/nonlinear"
         );
     }
 }

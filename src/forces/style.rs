@@ -141,6 +141,14 @@ pub enum StylePlan {
     /// Smoothed DPD: kT (boltz T), the kernel (the designed one when targets were given) and
     /// (i, j, values) for i ≤ j.
     Sdpd(PlannedSdpd),
+    /// A many-body style with a DPD-form friction and noise (`mdpd/nonlinear`): its model; no
+    /// pair-wise kinetic theory applies.
+    ManyBody {
+        /// The style's name.
+        name: &'static str,
+        /// The model of its DPD part.
+        model: crate::forces::dpd::kernel::PairModel,
+    },
 }
 
 /// What a planned run of `pair_style sdpd` holds (targets resolved).

@@ -88,7 +88,13 @@ impl DpdStyle {
 /// Parse `pair_style dpd/nonlinear T rc seed [friction F] [noise N] [weight s] [noise_dist D]` (`args` are
 /// the words after the style name).
 pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<DpdStyle, String> {
-    let usage = PAIR_STYLE.usage;
+    settings(args, &PAIR_STYLE)
+}
+
+/// The settings `T rc seed [friction F] [noise N] [weight s] [noise_dist D]` of a DPD-form
+/// style (`dpd/nonlinear`, `mdpd/nonlinear`), with `spec`'s usage and keywords in its messages.
+pub(crate) fn settings<S: AsRef<str>>(args: &[S], spec: &StyleSpec) -> Result<DpdStyle, String> {
+    let usage = spec.usage;
     need(args, 3, usage)?;
     let temp = parse_f64(args[0].as_ref(), "T")?;
     if temp <= 0.0 {
@@ -108,7 +114,7 @@ pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<DpdStyle, String> {
         weight: Weight::STANDARD,
         dist: NoiseDist::Gaussian,
     };
-    keywords(&args[3..], &PAIR_STYLE, |key, val| {
+    keywords(&args[3..], spec, |key, val| {
         match key {
             "friction" => {
                 style.friction = Friction::from_keyword(val).ok_or_else(|| {

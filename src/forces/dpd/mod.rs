@@ -207,6 +207,9 @@ pub struct DpdPair {
     cut: Vec<f64>,
     dt: f64,
     special: [f64; 4],
+    /// The style name its set-up messages give (`dpd/nonlinear`, or the many-body style that
+    /// holds this one for its DPD part, `crate::forces::mdpd`).
+    label: &'static str,
 }
 
 impl DpdPair {
@@ -214,8 +217,22 @@ impl DpdPair {
     /// step `dt` (replaced at every set-up).
     pub fn new(args: &[String], ntypes: usize, dt: f64) -> Result<DpdPair, String> {
         let settings = grammar::pair_style(args)?;
+        Ok(DpdPair::with_settings(settings, ntypes, dt, grammar::NAME))
+    }
+
+    /// The style of parsed `settings` with no coefficients yet, whose set-up messages name
+    /// `label` (a style that holds a `DpdPair` for its DPD part).
+    pub(crate) fn with_settings(
+        settings: DpdStyle,
+        ntypes: usize,
+        dt: f64,
+        label: &'static str,
+    ) -> DpdPair {
         let ff = ForceField::new(settings.model(dt), settings.seed, settings.rc, ntypes);
-        Ok(DpdPair::from_field_with(settings, ff))
+        DpdPair {
+            label,
+            ..DpdPair::from_field_with(settings, ff)
+        }
     }
 
     /// The style over a force field built by hand (tests, benchmarks).
@@ -242,6 +259,7 @@ impl DpdPair {
             cut: Vec::new(),
             dt: 0.0,
             special: [1.0; 4],
+            label: grammar::NAME,
         }
     }
 
@@ -384,7 +402,7 @@ impl PairStyle for DpdPair {
         self.ff.model.kt = u.kt(self.settings.temp);
         self.ff.model.set_ftm2v(u.ftm2v);
         notes.extend(
-            u.temperature_note(grammar::NAME, self.settings.temp)
+            u.temperature_note(self.label, self.settings.temp)
                 .map(SetupNote::Info),
         );
         // The masses of the types in the style's own pairs (every type as the top-level style).

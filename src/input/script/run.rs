@@ -46,10 +46,17 @@ pub struct PlannedRun {
 }
 
 impl PlannedRun {
-    fn of(sys: &mut System, steps: u64, notes: Vec<SetupNote>) -> Result<PlannedRun, String> {
+    fn of(sys: &mut System, steps: u64, mut notes: Vec<SetupNote>) -> Result<PlannedRun, String> {
         let style = sys.pair.as_deref().ok_or("no pair style")?;
         let (model, coeffs, sdpd) = match style.plan(&sys.units, sys.dt) {
             StylePlan::Dpd { model, coeffs } => (model, coeffs, None),
+            StylePlan::ManyBody { name, model } => {
+                notes.push(SetupNote::Info(format!(
+                    "pair_style {name} is many-body: the ideal-fluid kinetic theory does not \
+                     apply to it, so no pair has a prediction"
+                )));
+                (model, Vec::new(), None)
+            }
             StylePlan::Sdpd(sd) => {
                 // Placeholder: a `sdpd` run has no DPD model (see `sdpd`).
                 let model = PairModel::new(
