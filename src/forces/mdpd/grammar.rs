@@ -64,6 +64,13 @@ pub fn pair_coeff<S: AsRef<str>>(
     friction: Friction,
 ) -> Result<MdpdCoeffLine, String> {
     let usage = PAIR_COEFF.usage;
+    if args.get(3).map(AsRef::as_ref) == Some("eta") {
+        return Err(format!(
+            "pair_style {NAME} takes no 'eta … sc …' targets: the kinetic theory that designs \
+             gamma0 from a viscosity is that of a fluid without many-body forces; give B and \
+             gamma0; usage: {usage}"
+        ));
+    }
     need(args, 7, usage)?;
     at_most(args, 8, usage)?;
     let word = |k: usize| args[k].as_ref();
