@@ -57,6 +57,8 @@ echo "== plugin vs LAMMPS's pair dpd and dpd/ext, head to head (about 3 minutes)
 DPDNL_REQUIRE_PLUGIN=1 cargo test --test plugin_head_to_head -- --ignored --nocapture
 echo "== bonded peer test: plugin (friction none) vs LAMMPS's pair dpd, polymer solution and melt (about 2 minutes)"
 DPDNL_REQUIRE_PLUGIN=1 cargo test --test plugin_peer_bonded -- --ignored --nocapture
+echo "== many-body DPD: a liquid slab in coexistence, pair_style mdpd/nonlinear (plugin) vs LAMMPS's mdpd (about 2 minutes)"
+DPDNL_REQUIRE_PLUGIN=1 cargo test --test plugin_peer_mdpd -- --ignored --nocapture
 echo "== Python package (pip install ./python into .venv-python, pytest, the example)"
 bash python/test.sh
 echo "== all tests passed"

@@ -283,7 +283,7 @@ fn liquid_slab_coexistence_matches_lammps_mdpd() {
     let rows: Vec<_> = oa
         .iter()
         .zip(&ob)
-        .map(|((name, x), (_, y))| (*name, x.clone(), y.clone()))
+        .map(|((name, x), (_, y))| (*name, *x, *y))
         .collect();
     let mut report = format!(
         "liquid slab, A = -40, B = 25 (and a second type), kT = 1, dt = 0.01, {PRODUCTION} \

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Write the start of examples/droplet: a spherical drop of liquid 1 (type 1) of radius R in
 liquid 2 (type 2), both at number density RHO, in an L x L x L box centred on 0, atoms at
-random positions (a fixed seed: the same file every time), velocities 0 (the script draws them).
+random positions and Gaussian velocities of kT = 1 (mass 1) with zero total momentum (a fixed
+seed: the same file every time; the engines' `velocity create` generators differ, so the start
+comes from the file and both engines begin from the same state).
 
 usage: gen_drop.py [OUT] [L] [R] [RHO] [SEED] [drop|layer]
 (defaults: drop.data 10 2.5 6.5 2024 drop). `layer`: instead of the drop, a flat layer of
@@ -44,6 +46,11 @@ def main():
         f.write("\nMasses\n\n1 1.0\n2 1.0\n\nAtoms # atomic\n\n")
         for i, t, x in atoms:
             f.write(f"{i} {t} {x[0]:.12f} {x[1]:.12f} {x[2]:.12f}\n")
+        vel = [[rng.gauss(0.0, 1.0) for _ in range(3)] for _ in atoms]
+        mean = [sum(v[k] for v in vel) / n for k in range(3)]
+        f.write("\nVelocities\n\n")
+        for (i, _, _), v in zip(atoms, vel):
+            f.write(f"{i} {v[0] - mean[0]:.12f} {v[1] - mean[1]:.12f} {v[2] - mean[2]:.12f}\n")
     ndrop = sum(1 for a in atoms if a[1] == 1)
     print(f"{out}: {n} atoms, {ndrop} in the drop (R = {radius}), box {box}")
 

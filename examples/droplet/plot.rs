@@ -172,7 +172,7 @@ fn run() -> Result<(), String> {
         .map(|r| r.parse().map_err(|_| format!("rate '{r}'")))
         .collect::<Result<_, _>>()?;
     let (gamma, gamma_err, lz) = tension(dir)?;
-    if !(gamma > 0.0) {
+    if gamma.is_nan() || gamma <= 0.0 {
         return Err(format!(
             "interfacial tension {gamma} ± {gamma_err} is not positive: the liquids mix"
         ));

@@ -8,7 +8,8 @@
 
 Checks, for every input in inputs/ (3-D vv, 2-D vv + enforce2d, 3-D Euler, 3-D PeX, a 3-D
 polymer solution with harmonic bonds and fractional special_bonds lj factors, pair_style hybrid
-with dpd/nonlinear, and with sdpd and dpd/nonlinear, on some type pairs each):
+with dpd/nonlinear, and with sdpd and dpd/nonlinear, on some type pairs each; a sheared
+mdpd/nonlinear liquid with its density pre-pass):
 newton on vs off and 1 vs 2, 4 (1x2x2) and 3 (uneven 3x1x1) MPI ranks give the same thermo and
 dumps (<= 1e-12 relative); a sheared box that flips (fix deform) gives the same thermo on 1,
 2 and 4 ranks and the tilt of fix deform;
@@ -64,11 +65,12 @@ MASSES = {
     "hybrid3d": {1: 1.0, 2: 2.0},
     "sdpd_hybrid3d": {1: 1.0, 2: 2.0},
     "small3d": {1: 1.0, 2: 1.5},
+    "mdpd_le3d": {1: 1.0, 2: 1.0},
 }
 DATAFILE = {"dpd3d": "dpd3d", "dpd2d": "dpd2d", "euler3d": "dpd3d", "pex3d": "pex3d",
             "lees_edwards3d": "dpd3d", "sdpd2d": "dpd2d", "sdpd_le3d": "dpd3d",
             "polymer3d": "polymer3d", "hybrid3d": "dpd3d", "sdpd_hybrid3d": "dpd3d",
-            "small3d": "../crosscheck/small3d"}
+            "small3d": "../crosscheck/small3d", "mdpd_le3d": "dpd3d"}
 
 failures = []
 
@@ -205,7 +207,7 @@ def consistency(tmp):
     print("newton on/off and MPI ranks (relative differences of thermo | dumps at steps 0/50/100)")
     results = {}
     for name in ["dpd3d", "dpd2d", "euler3d", "pex3d", "lees_edwards3d", "sdpd2d", "sdpd_le3d",
-                 "polymer3d", "hybrid3d", "sdpd_hybrid3d", "small3d"]:
+                 "polymer3d", "hybrid3d", "sdpd_hybrid3d", "small3d", "mdpd_le3d"]:
         if INPUT_FILTER and name not in INPUT_FILTER:
             continue
         script = os.path.join(INPUTS, name + ".in")
@@ -258,7 +260,7 @@ def consistency(tmp):
             check(rt <= TOL and rd <= TOL,
                   f"{name}: np1 newton on vs {label}: thermo {rt:.2e} (per value {rv:.2e}), "
                   f"dump {rd:.2e}")
-        if name in ("lees_edwards3d", "sdpd_le3d"):
+        if name in ("lees_edwards3d", "sdpd_le3d", "mdpd_le3d"):
             # The boundary velocity jump changes total momentum: nothing more to check here
             # (100 steps are too short for the shear profile to develop).
             continue
@@ -285,7 +287,8 @@ def threads(tmp):
     set-up says the pass runs on LAMMPS's OpenMP threads (the styles link its runtime)."""
     print("threads inside a rank (thermo and dumps at %.17g: identical to 1 thread)")
     for name, newton in [("dpd3d", True), ("dpd3d", False), ("sdpd2d", True),
-                         ("polymer3d", True), ("hybrid3d", True), ("sdpd_hybrid3d", False)]:
+                         ("polymer3d", True), ("hybrid3d", True), ("sdpd_hybrid3d", False),
+                         ("mdpd_le3d", False)]:
         if INPUT_FILTER and name not in INPUT_FILTER:
             continue
         src = open(os.path.join(INPUTS, name + ".in")).read().replace("%20.15g", "%.17g")
