@@ -194,7 +194,10 @@ fn droplet_example_agrees_between_engines() {
     for f in ["in.droplet", "small.data"] {
         std::fs::copy(root.join("examples/droplet").join(f), dir.join(f)).expect("copy");
     }
-    let mut args: Vec<String> = vec!["crosscheck".into(), dir.join("in.droplet").display().to_string()];
+    let mut args: Vec<String> = vec![
+        "crosscheck".into(),
+        dir.join("in.droplet").display().to_string(),
+    ];
     for (k, v) in [
         ("data", "small.data"),
         ("eq", "20"),
