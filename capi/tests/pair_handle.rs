@@ -779,7 +779,7 @@ fn style_registry_names_every_style() {
                 .into_owned()
         })
         .collect();
-    assert_eq!(names, ["dpd/nonlinear", "sdpd"]);
+    assert_eq!(names, ["dpd/nonlinear", "sdpd", "mdpd/nonlinear"]);
     // SAFETY: a static string.
     let info = unsafe { CStr::from_ptr(dpdnl_pair_style_info(1)) }
         .to_string_lossy()
