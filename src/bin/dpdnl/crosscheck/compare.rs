@@ -28,7 +28,7 @@ pub(super) fn compare(
     // 3. Compare.
     let tol = Tolerance {
         rtol: a.rtol,
-        atol: 0.0,
+        atol: a.atol,
     };
     let read = |p: &Path| {
         std::fs::read_to_string(p)
@@ -103,7 +103,15 @@ pub(super) fn compare(
         )
     };
     if pass {
-        println!("CROSSCHECK AGREE: {what} within rtol {}", c("%g", a.rtol));
+        let atol = if a.atol > 0.0 {
+            format!(", atol {}", c("%g", a.atol))
+        } else {
+            String::new()
+        };
+        println!(
+            "CROSSCHECK AGREE: {what} within rtol {}{atol}",
+            c("%g", a.rtol)
+        );
     } else {
         let points = timeline(&r.steps, &dump_steps);
         let res = digits.iter().min().map_or(0.0, |&d| resolution(d));

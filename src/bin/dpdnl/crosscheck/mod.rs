@@ -37,6 +37,11 @@ pub struct CrosscheckArgs {
     /// Relative tolerance: |A−B| / max(|A|, |B|).
     #[arg(long, default_value_t = 1e-9)]
     pub rtol: f64,
+    /// Absolute tolerance: a value differs only if both tolerances are exceeded (an atom's net
+    /// force can be a near-cancellation of O(10) pair forces, which two summation orders leave
+    /// ~1e-13 apart in absolute terms).
+    #[arg(long, default_value_t = 0.0)]
+    pub atol: f64,
     /// Define an index-style variable NAME with VALUE in both engines; repeatable.
     #[arg(long = "var", short = 'v', num_args = 2, value_names = ["NAME", "VALUE"], action = clap::ArgAction::Append, allow_hyphen_values = true)]
     pub var: Vec<String>,
@@ -82,6 +87,12 @@ fn default_workdir(script: &Path) -> PathBuf {
 }
 
 fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
+    if a.atol.is_nan() || a.atol < 0.0 {
+        return Err(CannotRun(format!(
+            "--atol must be a non-negative number, got {}",
+            a.atol
+        )));
+    }
     if a.rtol.is_nan() || a.rtol < 0.0 {
         return Err(CannotRun(format!(
             "--rtol must be a non-negative number, got {}",
