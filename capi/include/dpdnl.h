@@ -178,6 +178,18 @@ typedef struct DpdnlStep {
   int32_t periodic[3];
 } DpdnlStep;
 
+// The bonded neighbours of one rank's owned atoms, as LAMMPS keeps them (`atom->nspecial`,
+// `atom->special`): for owned atom i, `nspecial[3i..3i+3]` are the cumulative counts of its
+// 1-2, 1-3 and 1-4 neighbours and `special[i maxspecial..]` their tags.
+typedef struct DpdnlSpecial {
+  // `3 nlocal` ints (LAMMPS `&nspecial[0][0]`), or null when the atom style has no bonds.
+  const int32_t *nspecial;
+  // `nlocal * maxspecial` tags (LAMMPS `&special[0][0]`), or null.
+  const int32_t *special;
+  // Entries per atom of `special` (LAMMPS `atom->maxspecial`).
+  int32_t maxspecial;
+} DpdnlSpecial;
+
 // The arguments of `fix pex/push` (from [`dpdnl_parse_fix_pex_push`]); `width` 0 means the
 // default Lx/20 of each run's box.
 typedef struct DpdnlPexArgs {
@@ -365,6 +377,19 @@ enum DpdnlStatus dpdnl_pair_init(struct DpdnlPair *h,
 // `h` is a live handle; `special_lj` is null (no change) or holds 4 doubles.
 enum DpdnlStatus dpdnl_pair_special(struct DpdnlPair *h, const double *special_lj);
 
+// Whether the style builds its own pair list ([`crate::dpdnl_pair_own_list`]) or walks the
+// half list it asks LAMMPS for: `*own` gets 1 for its own list, 0 for LAMMPS's. LAMMPS's list
+// is kept where it does something the own list does not: under `pair_style hybrid` or
+// `hybrid/overlay` (`substyle` non-zero; PairHybrid turns the request into a list of this
+// style's type pairs) and with `neigh_modify exclude` (`exclude` non-zero). The environment
+// variable `DPDNL_PAIR_LIST` chooses otherwise: `lammps` walks LAMMPS's list always (the
+// former path, kept for one release as the A/B switch), `own` (or unset) as above; any other
+// value is an error.
+//
+// # Safety
+// `own` is valid for writing.
+enum DpdnlStatus dpdnl_pair_list_choice(int32_t substyle, int32_t exclude, int32_t *own);
+
 // The pre-pass, pass 1: `values[0..nall]` is overwritten with Σ_j w(r_ij) over the half list
 // `list`, added to i and to j (j owned, or any j when `newton_pair` is non-zero), without the
 // self term. A style without a pre-pass is an error.
@@ -413,6 +438,27 @@ enum DpdnlStatus dpdnl_pair_compute(struct DpdnlPair *h,
                                     const double *values,
                                     double *f,
                                     struct DpdnlTally *tally);
+
+// The pair list the style builds for itself (issue 44, `crate::ownlist`): a half list over
+// the owned and ghost atoms of `atoms`, newton on or off as `st->newton_pair`, with pairs
+// within each type row's largest cut-off plus a margin (LAMMPS's `skin`, at most half the
+// largest cut-off) and
+// bonded neighbours flagged from `special` (null, or its pointers null, when the atom style
+// has no bonds). `*out` gets it in the layout of a LAMMPS list, for [`dpdnl_pair_prepass`] and
+// [`dpdnl_pair_compute`]: its arrays belong to the handle and stay valid until the next call
+// on it. It is built again when `build` (LAMMPS's `neighbor->ncalls`) or the atom counts
+// change, and when an atom has moved more than half the margin since it was built.
+//
+// # Safety
+// `h` is a live handle; `atoms` as for [`dpdnl_pair_compute`] (x, tag and type of all `nall`
+// atoms are read); `special` null or as documented on [`DpdnlSpecial`]; `st` and `out` valid.
+enum DpdnlStatus dpdnl_pair_own_list(struct DpdnlPair *h,
+                                     const struct DpdnlAtoms *atoms,
+                                     const struct DpdnlSpecial *special,
+                                     const struct DpdnlStep *st,
+                                     int64_t build,
+                                     double skin,
+                                     struct DpdnlNeighList *out);
 
 // The style as restart text (its `restart_lines`: the `pair_style` line and, unless
 // `settings_only`, its `pair_coeff` lines): `*data` and `*len` get bytes valid until the next

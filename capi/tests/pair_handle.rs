@@ -1778,3 +1778,75 @@ fn bad_compute_arguments_give_codes_and_text() {
     };
     assert_eq!(st, DpdnlStatus::NullPointer);
 }
+
+/// The style's own pair list (`dpdnl_pair_own_list`, issue 44) gives the forces, energy and
+/// virial of LAMMPS's half list to round-off (the same pairs, summed in another order), for
+/// every friction/noise pair; it needs the handle's set-up; `dpdnl_pair_list_choice` keeps
+/// LAMMPS's list under hybrid and with `neigh_modify exclude`.
+#[test]
+fn the_own_list_gives_the_forces_of_the_lammps_list() {
+    let a = Atoms::new(60, 3.0, 1.2);
+    for (fr, no) in MODELS {
+        let h = dpd_handle(fr, no);
+        let mut nl = DpdnlNeighList {
+            inum: 0,
+            ilist: null(),
+            numneigh: null(),
+            firstneigh: null(),
+            neighmask: 0,
+            full: 0,
+            build: 0,
+            skin: 0.0,
+        };
+        // Before the set-up there are no cut-offs to build it for.
+        let atoms = a.c_atoms();
+        let st0 = DpdnlStep {
+            step: 7,
+            dt: DT,
+            newton_pair: 1,
+            dimension: 3,
+            boxlen: [0.0; 3],
+            tilt: [0.0; 3],
+            periodic: [0; 3],
+        };
+        // SAFETY: arrays sized as documented, alive across the call.
+        let code = unsafe { dpdnl_pair_own_list(h.0, &atoms, null(), &st0, 1, 0.3, &mut nl) };
+        assert_eq!(code, DpdnlStatus::InvalidArgument);
+        assert!(last_error().contains("dpdnl_pair_init"), "{}", last_error());
+        assert_eq!(init(&h, 60, 27.0).expect("init"), 1.2);
+        let theirs = evaluate(&a, 1.2, |at, l, st, f, t| {
+            // SAFETY: arrays sized as documented, alive across the call.
+            unsafe { dpdnl_pair_compute(h.0, at, l, st, null(), f, t) }
+        });
+        let mine = evaluate(&a, 1.2, |at, _, st, f, t| {
+            // SAFETY: arrays sized as documented, alive across the calls; the list's arrays
+            // belong to the handle until its next call.
+            unsafe {
+                let code = dpdnl_pair_own_list(h.0, at, null(), st, 1, 0.3, &mut nl);
+                if code != DpdnlStatus::Ok {
+                    return code;
+                }
+                dpdnl_pair_compute(h.0, at, &nl, st, null(), f, t)
+            }
+        });
+        assert_eq!(nl.inum as usize, a.nlocal);
+        assert_close(&mine.f, &theirs.f, &format!("{fr}/{no} forces"));
+        assert_close(&mine.virial, &theirs.virial, &format!("{fr}/{no} virial"));
+        assert!((mine.energy - theirs.energy).abs() <= 1e-12 * theirs.energy.abs());
+        assert!(mine.f.iter().any(|&x| x != 0.0));
+    }
+    // The choice: the own list unless hybrid or exclusions need LAMMPS's (or the environment
+    // asks for LAMMPS's, DPDNL_PAIR_LIST=lammps).
+    let env_lammps = std::env::var("DPDNL_PAIR_LIST").is_ok_and(|v| v == "lammps");
+    for (substyle, exclude, want) in [(0, 0, !env_lammps), (1, 0, false), (0, 1, false)] {
+        let mut own = -1;
+        // SAFETY: `own` is valid for writing.
+        let code = unsafe { dpdnl_pair_list_choice(substyle, exclude, &mut own) };
+        assert_eq!(code, DpdnlStatus::Ok, "{}", last_error());
+        assert_eq!(
+            own,
+            i32::from(want),
+            "substyle {substyle} exclude {exclude}"
+        );
+    }
+}

@@ -25,23 +25,33 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 
 SYSTEMS = {"ideal": "ideal DPD, n = 16, N = 20000, δt = 1e-3",
-           "gw": "Groot–Warren, n = 3, a = 25, N = 20000, δt = 0.04"}
+           "gw": "Groot–Warren, n = 3, a = 25, N = 20000, δt = 0.04",
+           "gw03": "Groot–Warren as gw, LAMMPS's default `neighbor 0.3 bin`"}
+# The input of each system and its extra variables.
+INPUT = {"ideal": ("in.ideal", {}), "gw": ("in.gw", {}), "gw03": ("in.gw", {"skin": "0.3"})}
 LABELS = {"plugin": "dpd/nonlinear (plugin)", "plugin2": "dpd/nonlinear (--plugin2-dir build)",
           "plugin-omp": "dpd/nonlinear (plugin), --threads threads",
           "plugin2-omp": "dpd/nonlinear (--plugin2-dir build), --threads threads", "dpd": "dpd",
-          "omp": "dpd/omp"}
+          "omp": "dpd/omp",
+          "plugin-lammps": "dpd/nonlinear (plugin) walking LAMMPS's list (DPDNL_PAIR_LIST=lammps)",
+          "plugin-lammps-omp": "dpd/nonlinear (plugin) walking LAMMPS's list, --threads threads"}
 # Styles that run on --threads OpenMP threads per rank (-pk omp N): dpd/omp, and the plugin,
 # which takes LAMMPS's thread count.
-THREADED = ("omp", "plugin-omp", "plugin2-omp")
+THREADED = ("omp", "plugin-omp", "plugin2-omp", "plugin-lammps-omp")
 
 
 def run(lmp, plugin_dirs, system, style, steps, threads, workdir, ranks=1, mpirun=None):
     log = os.path.join(workdir, f"log.{system}.{style}.{ranks}")
     env = dict(os.environ, OMP_NUM_THREADS=str(threads if style in THREADED else 1),
                LAMMPS_PLUGIN_PATH=plugin_dirs[style.startswith("plugin2")])
+    # The plugin's former path (issue 44's A/B switch): it walks the list LAMMPS builds.
+    env["DPDNL_PAIR_LIST"] = "lammps" if style.startswith("plugin-lammps") else "own"
     input_style = "plugin" if style.startswith("plugin") else style
-    cmd = [lmp, "-in", f"in.{system}", "-var", "style", input_style, "-var", "steps", str(steps),
+    script, extra = INPUT[system]
+    cmd = [lmp, "-in", script, "-var", "style", input_style, "-var", "steps", str(steps),
            "-log", log, "-screen", "none", "-nocite"]
+    for k, v in extra.items():
+        cmd += ["-var", k, v]
     if style in THREADED:
         cmd += ["-pk", "omp", str(threads)]
     if ranks > 1:
@@ -53,13 +63,17 @@ def run(lmp, plugin_dirs, system, style, steps, threads, workdir, ranks=1, mpiru
     loops = re.findall(r"Loop time of ([\d.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms",
                        text)
     pairs = re.findall(r"^Pair\s+\|\s+([\d.eE+-]+)", text, re.M)
+    neighs = re.findall(r"^Neigh\s+\|\s+([\d.eE+-]+)", text, re.M)
+    builds = re.findall(r"^Neighbor list builds = (\d+)", text, re.M)
     cpu = re.findall(r"([\d.]+)% CPU use with", text)
     loop, _, nsteps, natoms = loops[-1]
     work = int(natoms) * int(nsteps)
     return {"atom_steps": work / float(loop),
             # per CPU-second of the loop (LAMMPS's "% CPU use"): less sensitive to other load
             "atom_steps_cpu": work / (float(loop) * float(cpu[-1]) / 100.0),
-            "pair_per_step": float(pairs[-1]) / int(nsteps)}
+            "pair_per_step": float(pairs[-1]) / int(nsteps),
+            "neigh_per_step": float(neighs[-1]) / int(nsteps) if neighs else 0.0,
+            "builds": int(builds[-1]) if builds else 0}
 
 
 def main():
@@ -74,8 +88,9 @@ def main():
     ap.add_argument("--steps-gw", type=int, default=500)
     ap.add_argument("--styles", default="plugin,dpd,omp",
                     help="comma-separated: plugin, plugin-omp (the plugin on --threads threads), "
-                    "plugin2, plugin2-omp, dpd, omp")
-    ap.add_argument("--systems", default="ideal,gw")
+                    "plugin2, plugin2-omp, plugin-lammps, plugin-lammps-omp (the plugin walking "
+                    "LAMMPS's list), dpd, omp")
+    ap.add_argument("--systems", default="ideal,gw", help="comma-separated: ideal, gw, gw03")
     ap.add_argument("--threads", type=int, default=1,
                     help="OpenMP threads per rank of dpd/omp and plugin-omp")
     ap.add_argument("--ranks", default="1",
@@ -96,7 +111,7 @@ def main():
     if max(rank_counts) > 1 and not os.path.exists(mpirun):
         sys.exit(f"--ranks {args.ranks}: no MPI launcher at {mpirun} (give --mpirun)")
     configs = [(st, r) for r in rank_counts for st in styles]
-    steps = {"ideal": args.steps_ideal, "gw": args.steps_gw}
+    steps = {"ideal": args.steps_ideal, "gw": args.steps_gw, "gw03": args.steps_gw}
     results = {(s, c): [] for s in systems for c in configs}
     loads = []
     with tempfile.TemporaryDirectory(prefix="dpdnl-bench-") as tmp:
@@ -111,7 +126,9 @@ def main():
                     print(f"# rep {rep} {system:5} {style:6} x{ranks} "
                           f"{r['atom_steps'] / 1e6:8.3f} "
                           f"M atom-steps/s ({r['atom_steps_cpu'] / 1e6:.3f} per CPU-s)  "
-                          f"pair {r['pair_per_step'] * 1e3:8.3f} ms/step",
+                          f"pair {r['pair_per_step'] * 1e3:8.3f} ms/step "
+                          f"neigh {r['neigh_per_step'] * 1e3:8.3f} ms/step "
+                          f"({r['builds']} LAMMPS builds)",
                           file=sys.stderr, flush=True)
         loads.append(os.getloadavg()[0])
 
@@ -123,7 +140,7 @@ def main():
     print(f"{args.reps} interleaved repetitions; medians (min–max); one core per rank "
           f"(dpd/omp and plugin-omp: {args.threads} OpenMP thread(s)); MPI ranks: {args.ranks}\n")
     print("| system | pair style | ranks | M atom-steps/s (wall) | M atom-steps per CPU-s | "
-          "pair ms/step (wall) | plugin ÷ this, same ranks (wall) | plugin ÷ this (per CPU-s) "
+          "Pair + Neigh ms/step (wall) | plugin ÷ this, same ranks (wall) | plugin ÷ this (per CPU-s) "
           f"| plugin on {args.threads} threads ÷ this (wall) | speed-up over 1 rank (wall) |")
     print("|---|---|---:|---|---|---|---|---|---|---|")
 
@@ -140,6 +157,7 @@ def main():
             wall = [r["atom_steps"] / 1e6 for r in rs]
             cpu = [r["atom_steps_cpu"] / 1e6 for r in rs]
             pair = [r["pair_per_step"] * 1e3 for r in rs]
+            neigh = statistics.median(r["neigh_per_step"] * 1e3 for r in rs)
             ratios = []
             for base_style, key in (("plugin", "atom_steps"), ("plugin", "atom_steps_cpu"),
                                     ("plugin-omp", "atom_steps")):
@@ -151,7 +169,7 @@ def main():
                 if one and ranks > 1 else "—"
             label = LABELS[style].replace("--threads", str(args.threads))
             print(f"| {SYSTEMS[system]} | {label} | {ranks} | {span(wall, '.3f')} | "
-                  f"{span(cpu, '.3f')} | {span(pair, '.1f')} | {ratios[0]} | {ratios[1]} | "
+                  f"{span(cpu, '.3f')} | {statistics.median(pair):.2f} + {neigh:.2f} | {ratios[0]} | {ratios[1]} | "
                   f"{ratios[2]} | {speedup} |")
 
 

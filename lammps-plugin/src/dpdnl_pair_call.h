@@ -52,10 +52,11 @@ inline PairCall fill(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::NeighList *list, bool rm
   c.atoms.nlocal = nlocal;
   c.atoms.nall = nall;
 
-  c.nl.inum = list->inum;
-  c.nl.ilist = list->ilist;
-  c.nl.numneigh = list->numneigh;
-  c.nl.firstneigh = list->firstneigh;
+  // No list: the style builds its own (dpdnl_pair_own_list fills c.nl).
+  c.nl.inum = list ? list->inum : 0;
+  c.nl.ilist = list ? list->ilist : nullptr;
+  c.nl.numneigh = list ? list->numneigh : nullptr;
+  c.nl.firstneigh = list ? list->firstneigh : nullptr;
   c.nl.neighmask = NEIGHMASK;
   c.nl.full = 0;
   // Which build of the list this is, and the skin: Rust keeps a working copy of the list

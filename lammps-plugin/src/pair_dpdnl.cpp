@@ -59,7 +59,8 @@ static_assert(sizeof(tagint) == sizeof(int32_t), "dpdnl pair styles need 32-bit 
 static_assert(SBBITS == 30, "the C ABI reads a neighbour's special-bond class from bits 30-31");
 
 PairDpdnl::PairDpdnl(LAMMPS *lmp, const char *style_name) :
-    Pair(lmp), name(style_name), handle(nullptr), info(), values(nullptr), nmax(0), rc_max(0.0)
+    Pair(lmp), name(style_name), handle(nullptr), info(), values(nullptr), nmax(0), rc_max(0.0),
+    own_list(0)
 {
   restartinfo = 1;
   writedata = 1;
@@ -196,8 +197,13 @@ void PairDpdnl::init_style()
   }
   box_check();
   add_flip_check();
-  // The default request: a half list (newton on or off as set by the 'newton' command).
-  dpdnl_compat::request_half_list(neighbor, this, instance_me);
+  // The pair list: the style builds its own from the owned and ghost atoms (issue 44), or
+  // asks LAMMPS for a half list (newton on or off as set by the 'newton' command) where it
+  // needs LAMMPS's (hybrid, neigh_modify exclude) or DPDNL_PAIR_LIST=lammps says so; decided in
+  // Rust.
+  if (dpdnl_pair_list_choice(s.substyle, neighbor->exclude, &own_list) != DPDNL_STATUS_OK)
+    rust_error("Pair " + name);
+  if (!own_list) dpdnl_compat::request_half_list(neighbor, this, instance_me);
 }
 
 // The momentum that fix deform's flips leak is reported in LAMMPS as in the standalone engine
@@ -243,9 +249,23 @@ void PairDpdnl::compute(int eflag, int vflag)
   const bool prepass = info.values_per_atom > 0;
   // A many-body style reads per-type masses only (its set-up refuses per-atom masses).
   dpdnl_pair_call::PairCall c =
-      dpdnl_pair_call::fill(lmp, list, !prepass, eflag_global, vflag_global, eflag_atom,
-                            vflag_atom, &eng_vdwl, virial, eatom, vatom);
+      dpdnl_pair_call::fill(lmp, own_list ? nullptr : list, !prepass, eflag_global,
+                            vflag_global, eflag_atom, vflag_atom, &eng_vdwl, virial, eatom, vatom);
   const std::string where = "Pair " + name + ": ";
+  if (own_list) {
+    // The style's own list, built in Rust when LAMMPS has re-neighboured (ncalls) or an atom
+    // has moved half the skin since; its bonded neighbours from atom->special.
+    DpdnlSpecial sp = {nullptr, nullptr, 0};
+    if (atom->molecular && atom->maxspecial > 0 && atom->nlocal > 0 && atom->special &&
+        atom->nspecial) {
+      sp.nspecial = &atom->nspecial[0][0];
+      sp.special = &atom->special[0][0];
+      sp.maxspecial = atom->maxspecial;
+    }
+    if (dpdnl_pair_own_list(handle, &c.atoms, &sp, &c.st, neighbor->ncalls, neighbor->skin,
+                            &c.nl) != DPDNL_STATUS_OK)
+      error->one(FLERR, where + dpdnl_last_error());
+  }
   // The factors in force now: under pair_style hybrid, pair_modify pair NAME special lj sets
   // this sub-style's own around its compute (after init_style).
   if (dpdnl_pair_special(handle, force->special_lj) != DPDNL_STATUS_OK)

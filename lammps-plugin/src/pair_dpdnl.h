@@ -55,6 +55,7 @@ class PairDpdnl : public Pair {
   double *values;        // the pre-pass's value per owned and ghost atom (e.g. sdpd's density)
   int nmax;
   double rc_max;         // the largest cut-off, from the last init (dpdnl_pair_init)
+  int own_list;          // 1: the style builds its pair list (dpdnl_pair_own_list); 0: LAMMPS's
 
   void allocate();
   void adopt(DpdnlPair *h);

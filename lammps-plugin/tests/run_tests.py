@@ -11,7 +11,9 @@ polymer solution with harmonic bonds and fractional special_bonds lj factors, pa
 with dpd/nonlinear, and with sdpd and dpd/nonlinear, on some type pairs each; a sheared
 mdpd/nonlinear liquid with its density pre-pass):
 newton on vs off and 1 vs 2, 4 (1x2x2) and 3 (uneven 3x1x1) MPI ranks give the same thermo and
-dumps (<= 1e-12 relative); a sheared box that flips (fix deform) gives the same thermo on 1,
+dumps (<= 1e-12 relative), and so does the former path that walks LAMMPS's half list
+(DPDNL_PAIR_LIST=lammps, 1 rank newton on and 2 ranks newton off; step 0 <= 1e-14) instead of
+the style's own list; a sheared box that flips (fix deform) gives the same thermo on 1,
 2 and 4 ranks and the tilt of fix deform;
 1, 2 and 3 threads per rank give identical thermo and dumps (threads());
 total momentum is conserved; the restart continues the run; bad arguments give LAMMPS ERROR
@@ -222,11 +224,16 @@ def consistency(tmp):
             # 4 ranks on a 1x2x2 grid (2x2x1 in 2-D) and 3 on an uneven 3x1x1 grid.
             ("np4_on", 4, True, "2 2 1" if two_d else "1 2 2"),
             ("np3_uneven", 3, True, "3 1 1"),
+            # The former path, LAMMPS's own half list walked (issue 44's A/B switch): the
+            # style's own list holds the same pairs in another order.
+            ("np1_on_lammps_list", 1, True, None),
+            ("np2_off_lammps_list", 2, False, None),
         ]:
             wd = os.path.join(tmp, name, label)
             dump = os.path.join(wd, "dump")
+            env = dict(ENV, DPDNL_PAIR_LIST="lammps") if label.endswith("lammps_list") else None
             rc, log, out = run_lammps(wd, name, script, np, newton, {"data": data, "dump": dump},
-                                      grid=grid)
+                                      grid=grid, env=env)
             check(rc == 0, f"{name} {label} runs" + ("" if rc == 0 else ": " + out[-2000:]))
             if rc != 0:
                 continue
@@ -236,10 +243,16 @@ def consistency(tmp):
         if "np1_on" not in runs:
             continue
         ref_thermo, ref_dump = runs["np1_on"]
-        for label in ["np1_off", "np2_on", "np2_off", "np4_on", "np3_uneven"]:
+        for label in ["np1_off", "np2_on", "np2_off", "np4_on", "np3_uneven",
+                      "np1_on_lammps_list", "np2_off_lammps_list"]:
             if label not in runs:
                 continue
             t, d = runs[label]
+            if label.endswith("lammps_list") and 0 in d and 0 in ref_dump:
+                # Step 0: the same pairs, summed in another order (issue 44: <= 1e-14).
+                r0 = rel_diff_dumps({0: ref_dump[0]}, {0: d[0]})
+                check(r0 <= 1e-14, f"{name}: own pair list vs LAMMPS's ({label}) at step 0: "
+                      f"{r0:.2e} (positions, velocities, forces)")
             rt, rv = rel_diff_rows(ref_thermo[-1][1], t[-1][1])
             rd = rel_diff_dumps(ref_dump, d)
             results[(name, label)] = (rt, rd)

@@ -153,3 +153,39 @@ pub unsafe extern "C" fn dpdnl_pair_special(
         Ok(())
     })
 }
+
+/// Whether the style builds its own pair list ([`crate::dpdnl_pair_own_list`]) or walks the
+/// half list it asks LAMMPS for: `*own` gets 1 for its own list, 0 for LAMMPS's. LAMMPS's list
+/// is kept where it does something the own list does not: under `pair_style hybrid` or
+/// `hybrid/overlay` (`substyle` non-zero; PairHybrid turns the request into a list of this
+/// style's type pairs) and with `neigh_modify exclude` (`exclude` non-zero). The environment
+/// variable `DPDNL_PAIR_LIST` chooses otherwise: `lammps` walks LAMMPS's list always (the
+/// former path, kept for one release as the A/B switch), `own` (or unset) as above; any other
+/// value is an error.
+///
+/// # Safety
+/// `own` is valid for writing.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn dpdnl_pair_list_choice(
+    substyle: i32,
+    exclude: i32,
+    own: *mut i32,
+) -> DpdnlStatus {
+    guard(|| {
+        let wanted = match std::env::var("DPDNL_PAIR_LIST") {
+            Err(std::env::VarError::NotPresent) => true,
+            Ok(v) if v == "own" => true,
+            Ok(v) if v == "lammps" => false,
+            Ok(v) => {
+                return Err(Error::invalid(format!(
+                    "DPDNL_PAIR_LIST = '{v}': expected 'own' (the style builds its pair list, \
+                     the default) or 'lammps' (it walks LAMMPS's list)"
+                )));
+            }
+            Err(e) => return Err(Error::invalid(format!("DPDNL_PAIR_LIST: {e}"))),
+        };
+        let choice = wanted && substyle == 0 && exclude == 0;
+        // SAFETY: forwarded caller's contract.
+        unsafe { put(own, i32::from(choice)) }
+    })
+}

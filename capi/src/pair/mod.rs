@@ -26,12 +26,14 @@ mod compute;
 
 mod restart;
 
-pub use compute::{dpdnl_pair_compute, dpdnl_pair_prepass, dpdnl_pair_prepass_finish};
+pub use compute::{
+    dpdnl_pair_compute, dpdnl_pair_own_list, dpdnl_pair_prepass, dpdnl_pair_prepass_finish,
+};
 pub use handle::{
     dpdnl_pair_coeff, dpdnl_pair_cutoff, dpdnl_pair_free, dpdnl_pair_info, dpdnl_pair_launcher,
     dpdnl_pair_new, dpdnl_pair_settings, dpdnl_pair_threads,
 };
-pub use init::{dpdnl_pair_init, dpdnl_pair_special};
+pub use init::{dpdnl_pair_init, dpdnl_pair_list_choice, dpdnl_pair_special};
 pub use registry::{dpdnl_pair_style_count, dpdnl_pair_style_info, dpdnl_pair_style_name};
 pub use restart::{
     dpdnl_pair_data, dpdnl_pair_from_restart, dpdnl_pair_restart, dpdnl_pair_single,
@@ -40,6 +42,7 @@ pub use types::{DpdnlPairInfo, DpdnlSetup, DpdnlUnits};
 
 use crate::Error;
 use crate::compute::Workers;
+use crate::ownlist::OwnList;
 use crate::styles::put;
 use crate::team::DpdnlLaunch;
 use crate::working::WorkingList;
@@ -60,6 +63,8 @@ pub struct DpdnlPair {
     launch: DpdnlLaunch,
     /// The working copy of the LAMMPS list of [`dpdnl_pair_compute`].
     working: WorkingList,
+    /// The pair list the style builds for itself ([`dpdnl_pair_own_list`]).
+    own: OwnList,
 }
 
 /// The handle behind `h`.
@@ -94,6 +99,7 @@ unsafe fn emit(out: *mut *mut DpdnlPair, style: Box<dyn PairStyle>) -> Result<()
         workers: None,
         launch: None,
         working: WorkingList::default(),
+        own: OwnList::default(),
     });
     // SAFETY: forwarded caller's contract.
     unsafe { put(out, Box::into_raw(h)) }

@@ -1,0 +1,773 @@
+//! The pair list that a LAMMPS pair style builds for itself (issue 44): a half list over the
+//! owned and ghost atoms of one rank, in the layout of a LAMMPS list ([`DpdnlNeighList`]), so
+//! every pass that reads a LAMMPS list (the force walk, its threads, the pre-pass) reads it
+//! unchanged.
+//!
+//! **Which pairs.** Row i (every owned atom, in index order) holds atoms j within the row's
+//! largest cut-off plus the list's margin m:
+//! - j owned: each owned pair once, as in LAMMPS's half lists, in the row of the atom whose bin
+//!   comes first (z, then y, then x), or of the earlier one in their common bin;
+//! - j a ghost, newton off: always (each rank computes the force on its own atom);
+//! - j a ghost, newton on: when tag(i) < tag(j), or for an image of i itself (equal tags) when
+//!   the displacement x_j − x_i is positive in z, then y, then x. The pair seen from the other
+//!   side (j owned on another rank, or another image on this one) has the opposite tag order or
+//!   the opposite displacement, so each pair is listed on exactly one rank, once. LAMMPS's own
+//!   lists decide by the coordinates alone; tags decide the same thing without comparing two
+//!   rounded coordinates that should be equal.
+//!
+//! A bonded neighbour of i (its `atom->special` tags) is flagged with its class (1-2, 1-3, 1-4)
+//! in bits 30–31 of the entry, as LAMMPS flags it; the walk leaves it out or scales it by the
+//! factor in force (`SpecialRule`), so a factor-0 pair that LAMMPS would drop from its list
+//! contributes nothing here either.
+//!
+//! **When it is built.** The ghost atoms and the atoms' order change only when LAMMPS
+//! re-neighbours (`neighbor->ncalls`, passed as `build`), so the list is built again then; and,
+//! between those, as soon as any atom (owned or ghost) has moved more than m/2 since the list
+//! was built: a pair within the cut-off now was within cut-off + m then. LAMMPS's ghosts stay
+//! sufficient between its builds (its own skin rule), so m may be below LAMMPS's skin: a
+//! shorter list costs a build more often but a cheaper walk at every step.
+//!
+//! **How.** The owned atoms and the ghosts are sorted, apart, into bins of side ≥ (r_c + m)/2
+//! over the box that holds them all; a row visits the upper half of the stencil (the bins
+//! whose nearest point is within r_c + m) among the owned atoms and the whole stencil among
+//! the ghosts, whose positions are contiguous in bin order, and keeps the candidates without
+//! a branch. Rows are built in blocks, on the pair style's threads when it has them; a row's
+//! entries do not depend on the block, so the list is the same for any thread count.
+
+use crate::Error;
+use crate::list::DpdnlNeighList;
+use crate::team::Team;
+
+/// The mask of an entry's atom index: bits 30–31 carry the special-bond class.
+const INDEX_MASK: i32 = (1 << 30) - 1;
+
+/// The bonded neighbours of one rank's owned atoms, as LAMMPS keeps them (`atom->nspecial`,
+/// `atom->special`): for owned atom i, `nspecial[3i..3i+3]` are the cumulative counts of its
+/// 1-2, 1-3 and 1-4 neighbours and `special[i maxspecial..]` their tags.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct DpdnlSpecial {
+    /// `3 nlocal` ints (LAMMPS `&nspecial[0][0]`), or null when the atom style has no bonds.
+    pub nspecial: *const i32,
+    /// `nlocal * maxspecial` tags (LAMMPS `&special[0][0]`), or null.
+    pub special: *const i32,
+    /// Entries per atom of `special` (LAMMPS `atom->maxspecial`).
+    pub maxspecial: i32,
+}
+
+/// The atoms one build reads.
+pub(crate) struct Cloud<'a> {
+    /// Positions, 3 per atom, owned first.
+    pub(crate) x: &'a [f64],
+    /// Types (1-based), indices of `row_cut`.
+    pub(crate) ty: &'a [i32],
+    /// Global ids.
+    pub(crate) tag: &'a [i32],
+    /// Owned atoms.
+    pub(crate) nlocal: usize,
+    /// Bonded neighbours: (cumulative counts, 3 per owned atom; tags, `stride` per owned atom).
+    pub(crate) special: Option<(&'a [i32], &'a [i32], usize)>,
+    /// LAMMPS's newton_pair.
+    pub(crate) newton: bool,
+    /// 2 or 3.
+    pub(crate) dim: usize,
+}
+
+/// What identifies the atoms a list was built for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Key {
+    build: i64,
+    nlocal: usize,
+    nall: usize,
+    x: usize,
+    newton: bool,
+    margin: u64,
+}
+
+/// Atoms sorted by bin: where each bin starts, and each atom's index, position and tag in bin
+/// order (structure of arrays: the distance loop reads them contiguously).
+#[derive(Debug, Default)]
+struct Sorted {
+    start: Vec<u32>,
+    order: Vec<u32>,
+    sx: Vec<f64>,
+    sy: Vec<f64>,
+    sz: Vec<f64>,
+    stag: Vec<i32>,
+}
+
+impl Sorted {
+    /// Counting sort of the atoms `atoms` by their bin `bins[a]` (of `nbins`).
+    fn sort(&mut self, atoms: std::ops::Range<usize>, bins: &[u32], nbins: usize, c: &Cloud) {
+        self.start.clear();
+        self.start.resize(nbins + 1, 0);
+        for a in atoms.clone() {
+            self.start[bins[a] as usize + 1] += 1;
+        }
+        for b in 0..nbins {
+            self.start[b + 1] += self.start[b];
+        }
+        let n = atoms.len();
+        self.order.clear();
+        self.order.resize(n, 0);
+        let mut fill = self.start.clone();
+        for a in atoms {
+            let b = bins[a] as usize;
+            self.order[fill[b] as usize] = a as u32;
+            fill[b] += 1;
+        }
+        for v in [&mut self.sx, &mut self.sy, &mut self.sz] {
+            v.clear();
+        }
+        self.stag.clear();
+        for &a in &self.order {
+            let a = a as usize;
+            self.sx.push(c.x[3 * a]);
+            self.sy.push(c.x[3 * a + 1]);
+            self.sz.push(c.x[3 * a + 2]);
+            self.stag.push(c.tag[a]);
+        }
+    }
+}
+
+/// The bins of one build: the owned atoms and the ghosts, each in bin order.
+#[derive(Debug, Default)]
+struct Grid {
+    /// Bins per axis.
+    nb: [usize; 3],
+    own: Sorted,
+    ghost: Sorted,
+    /// Each atom's bin.
+    bins: Vec<u32>,
+    /// Each owned atom's place in `own`'s bin order.
+    pos: Vec<u32>,
+    /// (y offset, z offset, largest x offset) of the bins a row visits.
+    stencil: Vec<(i64, i64, i64)>,
+    /// (cut-off + margin)² of each type's row.
+    row_sq: Vec<f64>,
+}
+
+/// The rows `rows` of the list: their entries one after another, and where each row starts.
+#[derive(Debug, Default)]
+struct Block {
+    rows: std::ops::Range<usize>,
+    nbr: Vec<i32>,
+    offsets: Vec<usize>,
+}
+
+/// Rows per block of a threaded build (blocks are handed out to the threads dynamically).
+const BLOCK_ROWS: usize = 512;
+
+/// A rank's own half list (module docs).
+#[derive(Debug, Default)]
+pub(crate) struct OwnList {
+    key: Option<Key>,
+    /// The largest cut-off of each type's row the list was built for.
+    row_cut: Vec<f64>,
+    /// Positions and tags at the build (3 nall, nall).
+    x0: Vec<f64>,
+    tag0: Vec<i32>,
+    ilist: Vec<i32>,
+    numneigh: Vec<i32>,
+    first: Vec<*const i32>,
+    /// The rows' entries, in blocks of consecutive rows (built in parallel with a team).
+    blocks: Vec<Block>,
+    grid: Grid,
+    /// Builds so far.
+    builds: u64,
+}
+
+impl OwnList {
+    /// The list for `cloud` (built again if needed, module docs), as a LAMMPS list whose
+    /// pointers stay valid until the next call: `build` is LAMMPS's build count,
+    /// `row_cut[t]` the largest cut-off of type t's row, `margin` ≥ 0 the list's skin.
+    pub(crate) fn prepare(
+        &mut self,
+        cloud: &Cloud,
+        build: i64,
+        row_cut: &[f64],
+        margin: f64,
+        team: Option<&Team>,
+    ) -> Result<DpdnlNeighList, Error> {
+        if !(margin.is_finite() && margin >= 0.0) {
+            return Err(Error::invalid(format!(
+                "the pair list's margin {margin} must be a finite number >= 0"
+            )));
+        }
+        let nall = cloud.ty.len();
+        let key = Key {
+            build,
+            nlocal: cloud.nlocal,
+            nall,
+            x: cloud.x.as_ptr() as usize,
+            newton: cloud.newton,
+            margin: margin.to_bits(),
+        };
+        let fresh =
+            self.key == Some(key) && self.row_cut == row_cut && !self.moved(cloud.x, margin);
+        if !fresh {
+            self.build(cloud, row_cut, margin, team)?;
+            self.key = Some(key);
+            self.row_cut.clear();
+            self.row_cut.extend_from_slice(row_cut);
+        }
+        Ok(DpdnlNeighList {
+            inum: cloud.nlocal as i32,
+            ilist: self.ilist.as_ptr(),
+            numneigh: self.numneigh.as_ptr(),
+            firstneigh: self.first.as_ptr(),
+            neighmask: INDEX_MASK,
+            full: 0,
+            // Walked as it is: it already holds only the pairs within the cut-off plus m.
+            build: 0,
+            skin: 0.0,
+        })
+    }
+
+    /// Whether an atom has moved more than `margin`/2 since the build.
+    fn moved(&self, x: &[f64], margin: f64) -> bool {
+        if self.x0.len() != x.len() {
+            return true;
+        }
+        let limit = 0.25 * margin * margin;
+        x.chunks_exact(3)
+            .zip(self.x0.chunks_exact(3))
+            .any(|(a, b)| {
+                let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+                d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > limit
+            })
+    }
+
+    /// Builds so far.
+    #[cfg(test)]
+    pub(crate) fn builds(&self) -> u64 {
+        self.builds
+    }
+
+    fn build(
+        &mut self,
+        c: &Cloud,
+        row_cut: &[f64],
+        margin: f64,
+        team: Option<&Team>,
+    ) -> Result<(), Error> {
+        let nall = c.ty.len();
+        if c.x.len() != 3 * nall || c.tag.len() != nall || c.nlocal > nall {
+            return Err(Error::invalid(
+                "the pair list's atom arrays disagree in length",
+            ));
+        }
+        if nall >= INDEX_MASK as usize {
+            return Err(Error::invalid(format!(
+                "{nall} owned and ghost atoms: the pair list holds at most 2^30 - 1"
+            )));
+        }
+        let reach = row_cut.iter().copied().fold(0.0, f64::max) + margin;
+        let row_sq: Vec<f64> = row_cut
+            .iter()
+            .map(|&r| {
+                let r = r + margin;
+                r * r
+            })
+            .collect();
+        // The bins: side >= reach / 2 along each axis of the atoms' bounding box.
+        let mut lo = [0.0f64; 3];
+        let mut hi = [0.0f64; 3];
+        for d in 0..c.dim {
+            lo[d] = f64::INFINITY;
+            hi[d] = f64::NEG_INFINITY;
+        }
+        for p in c.x.chunks_exact(3) {
+            for d in 0..c.dim {
+                lo[d] = lo[d].min(p[d]);
+                hi[d] = hi[d].max(p[d]);
+            }
+        }
+        if nall > 0 && (0..c.dim).any(|d| !(lo[d].is_finite() && hi[d].is_finite())) {
+            return Err(Error::invalid(
+                "an atom's position is not finite: the pair list cannot be built",
+            ));
+        }
+        let mut side = if reach > 0.0 { 0.5 * reach } else { 1.0 };
+        let count = |s: f64| -> [usize; 3] {
+            let mut n = [1usize; 3];
+            for d in 0..c.dim {
+                n[d] = (((hi[d] - lo[d]) / s).floor() as usize).clamp(1, 1 << 20);
+            }
+            n
+        };
+        // A sparse cloud (a huge box, a tiny cut-off) is given wider bins: at most
+        // max(4 nall, 4096) of them, so a build stays linear in the atoms.
+        let cap = (4 * nall).max(4096) as f64;
+        let mut nb = count(side);
+        while nb.iter().map(|&k| k as f64).product::<f64>() > cap {
+            side *= 1.5;
+            nb = count(side);
+        }
+        let mut width = [1.0f64; 3];
+        let mut reachb = [0i64; 3];
+        for d in 0..c.dim {
+            width[d] = ((hi[d] - lo[d]) / nb[d] as f64).max(side);
+            reachb[d] = (reach / width[d]).ceil() as i64;
+        }
+        let bin_of = |p: &[f64]| -> usize {
+            let mut b = 0usize;
+            for d in (0..c.dim).rev() {
+                let k = (((p[d] - lo[d]) / width[d]) as usize).min(nb[d] - 1);
+                b = b * nb[d] + k;
+            }
+            b
+        };
+        // Counting sorts by bin: the owned atoms, and the ghosts.
+        let nbins = nb[0] * nb[1] * nb[2];
+        let g = &mut self.grid;
+        g.bins.clear();
+        g.bins.extend(c.x.chunks_exact(3).map(|p| bin_of(p) as u32));
+        g.own.sort(0..c.nlocal, &g.bins, nbins, c);
+        g.ghost.sort(c.nlocal..nall, &g.bins, nbins, c);
+        g.pos.clear();
+        g.pos.resize(c.nlocal, 0);
+        for (k, &a) in g.own.order.iter().enumerate() {
+            g.pos[a as usize] = k as u32;
+        }
+        // The stencil: for each (y, z) bin offset whose nearest points can be within `reach`,
+        // the x offsets that can (a run of bins contiguous in bin order, x fastest).
+        let mut stencil: Vec<(i64, i64, i64)> = Vec::new();
+        let r = |d: usize| if d < c.dim { reachb[d] } else { 0 };
+        let gap = |o: i64, d: usize| {
+            let g = (o.abs() - 1).max(0) as f64 * width[d];
+            g * g
+        };
+        for oz in -r(2)..=r(2) {
+            for oy in -r(1)..=r(1) {
+                let g = gap(oy, 1) + if c.dim == 3 { gap(oz, 2) } else { 0.0 };
+                if g >= reach * reach {
+                    continue;
+                }
+                let ox = (0..=r(0))
+                    .take_while(|&o| g + gap(o, 0) < reach * reach)
+                    .last()
+                    .unwrap_or(0);
+                stencil.push((oy, oz, ox));
+            }
+        }
+        self.grid.nb = nb;
+        self.grid.stencil = stencil;
+        self.grid.row_sq = row_sq;
+        // The rows, in blocks of consecutive rows: on the team's threads when there is one
+        // (each block is built by one thread, alone, so the list is the same for any count).
+        self.ilist.clear();
+        self.ilist.extend(0..c.nlocal as i32);
+        let nblocks = match team {
+            Some(t) if t.threads() > 1 => c.nlocal.div_ceil(BLOCK_ROWS),
+            _ => 1,
+        }
+        .max(1);
+        self.blocks.resize_with(nblocks, Block::default);
+        let per = c.nlocal.div_ceil(nblocks);
+        for (k, blk) in self.blocks.iter_mut().enumerate() {
+            blk.rows = (k * per).min(c.nlocal)..((k + 1) * per).min(c.nlocal);
+        }
+        let grid = &self.grid;
+        match team {
+            Some(t) if nblocks > 1 => {
+                let blocks = &mut self.blocks;
+                t.scope(|| t.for_each(blocks, &|_, blk| fill_rows(grid, c, blk)));
+            }
+            _ => self
+                .blocks
+                .iter_mut()
+                .for_each(|blk| fill_rows(grid, c, blk)),
+        }
+        self.numneigh.clear();
+        self.first.clear();
+        for blk in &self.blocks {
+            let base = blk.nbr.as_ptr();
+            for (r, &o) in blk.offsets.iter().enumerate() {
+                let end = blk.offsets.get(r + 1).copied().unwrap_or(blk.nbr.len());
+                self.numneigh.push(
+                    i32::try_from(end - o).map_err(|_| {
+                        Error::invalid("a row of the pair list exceeds 2^31 entries")
+                    })?,
+                );
+                // SAFETY: o <= blk.nbr.len(): within (or one past) the block's allocation.
+                self.first.push(unsafe { base.add(o) });
+            }
+        }
+        self.x0.clear();
+        self.x0.extend_from_slice(c.x);
+        self.tag0.clear();
+        self.tag0.extend_from_slice(c.tag);
+        self.builds += 1;
+        Ok(())
+    }
+}
+
+/// The bins of a stencil entry from bin `bc`: (first bin of the row of bins, first x, last x),
+/// or None when the row is outside the grid.
+#[inline(always)]
+fn bin_run(
+    nb: [usize; 3],
+    bc: [usize; 3],
+    oy: i64,
+    oz: i64,
+    ox: i64,
+) -> Option<(usize, usize, usize)> {
+    let (ky, kz) = (bc[1] as i64 + oy, bc[2] as i64 + oz);
+    if ky < 0 || ky >= nb[1] as i64 || kz < 0 || kz >= nb[2] as i64 {
+        return None;
+    }
+    let x0 = (bc[0] as i64 - ox).max(0) as usize;
+    let x1 = (bc[0] as i64 + ox).min(nb[0] as i64 - 1) as usize;
+    Some(((kz as usize * nb[1] + ky as usize) * nb[0], x0, x1))
+}
+
+/// Appends to `nbr` the atoms `run` of `sorted` within `csq` of `xi` that `keep(tag, x_j − x_i)`
+/// accepts. Branch-free: every candidate is written, the count advances when it is kept (about
+/// a quarter are in range: a branch would be mispredicted).
+#[inline(always)]
+fn push_run(
+    nbr: &mut Vec<i32>,
+    sorted: &Sorted,
+    run: std::ops::Range<usize>,
+    xi: [f64; 3],
+    csq: f64,
+    keep: impl Fn(i32, [f64; 3]) -> bool,
+) {
+    if run.is_empty() {
+        return;
+    }
+    let at = nbr.len();
+    nbr.resize(at + run.len(), 0);
+    let out = &mut nbr[at..];
+    let mut n = 0usize;
+    for k in run {
+        let d = [
+            sorted.sx[k] - xi[0],
+            sorted.sy[k] - xi[1],
+            sorted.sz[k] - xi[2],
+        ];
+        let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        out[n] = sorted.order[k] as i32;
+        n += ((rsq < csq) & keep(sorted.stag[k], d)) as usize;
+    }
+    nbr.truncate(at + n);
+}
+
+/// The rows `blk.rows` of the list (module docs) into `blk`.
+fn fill_rows(g: &Grid, c: &Cloud, blk: &mut Block) {
+    let nb = g.nb;
+    let newton = c.newton;
+    blk.nbr.clear();
+    blk.offsets.clear();
+    for i in blk.rows.clone() {
+        let first = blk.nbr.len();
+        blk.offsets.push(first);
+        let (xi, yi, zi) = (c.x[3 * i], c.x[3 * i + 1], c.x[3 * i + 2]);
+        let csq = g.row_sq[c.ty[i] as usize];
+        let ti = c.tag[i];
+        let b = g.bins[i] as usize;
+        let bc = [b % nb[0], (b / nb[0]) % nb[1], b / (nb[0] * nb[1])];
+        // Owned partners: each pair once, from the atom whose bin comes first (z, then y,
+        // then x), or from the earlier of two in one bin.
+        for &(oy, oz, ox) in &g.stencil {
+            if (oz, oy) < (0, 0) {
+                continue;
+            }
+            let Some((row, x0, x1)) = bin_run(nb, bc, oy, oz, ox) else {
+                continue;
+            };
+            let s = if (oz, oy) == (0, 0) {
+                g.pos[i] as usize + 1
+            } else {
+                g.own.start[row + x0] as usize
+            };
+            let e = g.own.start[row + x1 + 1] as usize;
+            push_run(&mut blk.nbr, &g.own, s..e, [xi, yi, zi], csq, |_, _| true);
+        }
+        // Ghost partners: with newton on, a pair is kept on the rank (or from the image) whose
+        // atom has the smaller ID (module docs).
+        for &(oy, oz, ox) in &g.stencil {
+            let Some((row, x0, x1)) = bin_run(nb, bc, oy, oz, ox) else {
+                continue;
+            };
+            let (s, e) = (
+                g.ghost.start[row + x0] as usize,
+                g.ghost.start[row + x1 + 1] as usize,
+            );
+            push_run(&mut blk.nbr, &g.ghost, s..e, [xi, yi, zi], csq, |tj, d| {
+                let up = (d[2] > 0.0)
+                    | ((d[2] == 0.0) & ((d[1] > 0.0) | ((d[1] == 0.0) & (d[0] > 0.0))));
+                !newton | (ti < tj) | ((ti == tj) & up)
+            });
+        }
+        // Bonded neighbours: their class in bits 30-31.
+        if let Some((ns, sp, stride)) = c.special {
+            let n = [ns[3 * i], ns[3 * i + 1], ns[3 * i + 2]];
+            if n[2] > 0 {
+                let tags = &sp[stride * i..stride * i + n[2] as usize];
+                for e in &mut blk.nbr[first..] {
+                    let class = match tags.iter().position(|&t| t == c.tag[*e as usize]) {
+                        Some(p) if (p as i32) < n[0] => 1,
+                        Some(p) if (p as i32) < n[1] => 2,
+                        Some(_) => 3,
+                        None => 0,
+                    };
+                    *e |= class << 30;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::list::for_each_row;
+
+    /// A small periodic box of random atoms, its ghosts the images within `ghost` of the box
+    /// (as LAMMPS's borders make them on one rank).
+    fn cloud(n: usize, len: f64, ghost: f64, seed: u64) -> (Vec<f64>, Vec<i32>, usize) {
+        let mut s = seed;
+        let mut rnd = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let own: Vec<[f64; 3]> = (0..n)
+            .map(|_| [rnd() * len, rnd() * len, rnd() * len])
+            .collect();
+        let mut x = Vec::new();
+        let mut tag = Vec::new();
+        for (k, p) in own.iter().enumerate() {
+            x.extend_from_slice(p);
+            tag.push(k as i32 + 1);
+        }
+        let range = |v: f64| -> Vec<i32> {
+            let mut s = vec![];
+            for m in -2i32..=2 {
+                let w = v + m as f64 * len;
+                if m != 0 && w > -ghost && w < len + ghost {
+                    s.push(m);
+                }
+            }
+            s.push(0);
+            s
+        };
+        for (k, p) in own.iter().enumerate() {
+            for mx in range(p[0]) {
+                for my in range(p[1]) {
+                    for mz in range(p[2]) {
+                        if mx == 0 && my == 0 && mz == 0 {
+                            continue;
+                        }
+                        x.extend_from_slice(&[
+                            p[0] + mx as f64 * len,
+                            p[1] + my as f64 * len,
+                            p[2] + mz as f64 * len,
+                        ]);
+                        tag.push(k as i32 + 1);
+                    }
+                }
+            }
+        }
+        (x, tag, n)
+    }
+
+    /// Every pair of atoms (with its image) within the cut-off is listed exactly once with
+    /// newton on, and once per owned atom with newton off, for boxes longer and shorter than
+    /// twice the cut-off (an atom then meets images of its partner, and its own).
+    #[test]
+    fn every_pair_in_range_is_listed_once() {
+        for (len, n, rc, margin) in [
+            (5.0, 300, 1.0, 0.3),
+            (1.7, 12, 1.0, 0.3),
+            (3.0, 80, 1.2, 0.0),
+        ] {
+            let ghost = rc + margin;
+            let (x, tag, nlocal) = cloud(n, len, ghost, 7);
+            let nall = tag.len();
+            let ty = vec![1; nall];
+            for newton in [true, false] {
+                let c = Cloud {
+                    x: &x,
+                    ty: &ty,
+                    tag: &tag,
+                    nlocal,
+                    special: None,
+                    newton,
+                    dim: 3,
+                };
+                let mut own = OwnList::default();
+                let list = own
+                    .prepare(&c, 1, &[0.0, rc], margin, None)
+                    .unwrap_or_else(|e| panic!("{}", e.message));
+                // Count, per (tag, tag, image displacement), the listed pairs in range rc.
+                let mut seen = std::collections::BTreeMap::new();
+                // SAFETY: the list's arrays live in `own`, sized for nlocal rows.
+                unsafe {
+                    for_each_row(&list, nall, |i, row, mask| {
+                        for &jr in row {
+                            let j = jr as usize & mask;
+                            let d: Vec<f64> = (0..3).map(|k| x[3 * j + k] - x[3 * i + k]).collect();
+                            let r2: f64 = d.iter().map(|v| v * v).sum();
+                            assert!(r2 < (rc + margin) * (rc + margin));
+                            if r2 < rc * rc {
+                                let (a, b, s) = if tag[i] <= tag[j] {
+                                    (tag[i], tag[j], 1.0)
+                                } else {
+                                    (tag[j], tag[i], -1.0)
+                                };
+                                let key: Vec<i64> =
+                                    d.iter().map(|v| (s * v * 1e6).round() as i64).collect();
+                                *seen.entry((a, b, key)).or_insert(0) += 1;
+                            }
+                        }
+                        Ok(())
+                    })
+                    .unwrap_or_else(|e| panic!("{}", e.message));
+                }
+                // Brute force over the owned atoms and every image.
+                let mut want = std::collections::BTreeMap::new();
+                for i in 0..nlocal {
+                    for j in 0..nall {
+                        let d: Vec<f64> = (0..3).map(|k| x[3 * j + k] - x[3 * i + k]).collect();
+                        let r2: f64 = d.iter().map(|v| v * v).sum();
+                        if j == i || r2 >= rc * rc {
+                            continue;
+                        }
+                        let (a, b, s) = if tag[i] <= tag[j] {
+                            (tag[i], tag[j], 1.0)
+                        } else {
+                            (tag[j], tag[i], -1.0)
+                        };
+                        let key: Vec<i64> =
+                            d.iter().map(|v| (s * v * 1e6).round() as i64).collect();
+                        // With newton off an owned-owned pair is listed once, a pair with a
+                        // ghost once per owned atom (the physical pair, from each side).
+                        let times = if newton || j < nlocal { 1 } else { 2 };
+                        want.insert((a, b, key), times);
+                    }
+                }
+                assert!(!want.is_empty());
+                assert_eq!(seen, want, "len {len} newton {newton}");
+                assert_eq!(own.builds(), 1);
+            }
+        }
+    }
+
+    /// Rows of a list as (atom, entries).
+    fn rows_of(list: &DpdnlNeighList, nall: usize) -> Vec<(usize, Vec<i32>)> {
+        let mut rows = Vec::new();
+        // SAFETY: the caller's list lives in its OwnList, sized for its rows.
+        unsafe {
+            for_each_row(list, nall, |i, row, _| {
+                rows.push((i, row.to_vec()));
+                Ok(())
+            })
+            .unwrap_or_else(|e| panic!("{}", e.message));
+        }
+        rows
+    }
+
+    /// A team of threads builds the same list, row for row and entry for entry.
+    #[test]
+    fn threads_build_the_same_list() {
+        let (x, tag, nlocal) = cloud(3000, 10.0, 1.3, 11);
+        let nall = tag.len();
+        let ty = vec![1; nall];
+        let team = Team::new(2, None).unwrap_or_else(|e| panic!("{e}"));
+        for newton in [true, false] {
+            let c = Cloud {
+                x: &x,
+                ty: &ty,
+                tag: &tag,
+                nlocal,
+                special: None,
+                newton,
+                dim: 3,
+            };
+            let (mut one, mut two) = (OwnList::default(), OwnList::default());
+            let a = one
+                .prepare(&c, 1, &[0.0, 1.0], 0.3, None)
+                .unwrap_or_else(|e| panic!("{}", e.message));
+            let b = two
+                .prepare(&c, 1, &[0.0, 1.0], 0.3, Some(&team))
+                .unwrap_or_else(|e| panic!("{}", e.message));
+            assert!(two.blocks.len() > 1);
+            let ra = rows_of(&a, nall);
+            assert_eq!(ra.len(), nlocal);
+            assert!(ra.iter().map(|r| r.1.len()).sum::<usize>() > 10 * nlocal);
+            assert_eq!(ra, rows_of(&b, nall));
+        }
+    }
+
+    /// Built again when LAMMPS builds, or when an atom has moved more than half the margin.
+    #[test]
+    fn built_again_when_an_atom_moves_half_the_margin() {
+        let (mut x, tag, nlocal) = cloud(50, 4.0, 1.3, 3);
+        let ty = vec![1; tag.len()];
+        let mut own = OwnList::default();
+        let mut run = |x: &[f64], build| {
+            let c = Cloud {
+                x,
+                ty: &ty,
+                tag: &tag,
+                nlocal,
+                special: None,
+                newton: true,
+                dim: 3,
+            };
+            own.prepare(&c, build, &[0.0, 1.0], 0.3, None)
+                .map(|_| own.builds())
+                .unwrap_or_else(|e| panic!("{}", e.message))
+        };
+        assert_eq!(run(&x, 1), 1);
+        x[0] += 0.14;
+        assert_eq!(run(&x, 1), 1);
+        x[0] += 0.02;
+        assert_eq!(run(&x, 1), 2);
+        assert_eq!(run(&x, 2), 3);
+    }
+
+    /// Bonded neighbours carry their class in bits 30-31.
+    #[test]
+    fn special_neighbours_are_flagged() {
+        // Atoms 1-2-3-4 on a line 0.5 apart, one owned rank, no ghosts (non-periodic).
+        let x: Vec<f64> = (0..4).flat_map(|k| [0.5 * k as f64, 0.0, 0.0]).collect();
+        let tag = vec![1, 2, 3, 4];
+        let ty = vec![1; 4];
+        // Atom 1: 1-2 neighbour 2, 1-3 neighbour 3, 1-4 neighbour 4.
+        let nspecial = vec![1, 2, 3, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+        let special = vec![2, 3, 4, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+        let c = Cloud {
+            x: &x,
+            ty: &ty,
+            tag: &tag,
+            nlocal: 4,
+            special: Some((&nspecial, &special, 3)),
+            newton: true,
+            dim: 3,
+        };
+        let mut own = OwnList::default();
+        let list = own
+            .prepare(&c, 1, &[0.0, 2.0], 0.0, None)
+            .unwrap_or_else(|e| panic!("{}", e.message));
+        let mut row0 = Vec::new();
+        // SAFETY: the list's arrays live in `own`.
+        unsafe {
+            for_each_row(&list, 4, |i, row, _| {
+                if i == 0 {
+                    row0 = row.to_vec();
+                }
+                Ok(())
+            })
+            .unwrap_or_else(|e| panic!("{}", e.message));
+        }
+        let mut want = vec![1 | 1 << 30, 2 | 2 << 30, 3 | 3 << 30];
+        row0.sort();
+        want.sort();
+        assert_eq!(row0, want);
+    }
+}
