@@ -126,3 +126,18 @@ pub(crate) fn check_row(i: usize, jlist: &[i32], mask: usize, nall: usize) -> Re
     }
     Ok(special_class(bits as i32) != 0)
 }
+
+/// Whether any atom of `x` (3 doubles each) has moved more than `margin`/2 from its place in
+/// `x0`: the lifetime rule of a list holding the pairs within the cut-off plus `margin` (the
+/// style's own list, `ownlist.rs`, and the working copy of a list, `working.rs`). Positions of
+/// another length count as moved.
+pub(crate) fn moved_half_margin(x: &[f64], x0: &[f64], margin: f64) -> bool {
+    if x0.len() != x.len() {
+        return true;
+    }
+    let limit = 0.25 * margin * margin;
+    x.chunks_exact(3).zip(x0.chunks_exact(3)).any(|(a, b)| {
+        let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+        d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > limit
+    })
+}

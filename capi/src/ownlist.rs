@@ -38,7 +38,7 @@
 //! on the block, so the list is the same for any thread count.
 
 use crate::Error;
-use crate::list::DpdnlNeighList;
+use crate::list::{DpdnlNeighList, moved_half_margin};
 use crate::team::Team;
 
 /// The mask of an entry's atom index: bits 30–31 carry the special-bond class.
@@ -99,7 +99,21 @@ struct Sorted {
     stag: Vec<i32>,
 }
 
+/// One run of a [`Sorted`]: positions, atom indices and tags.
+type RunView<'a> = (&'a [f64], &'a [f64], &'a [f64], &'a [u32], &'a [i32]);
+
 impl Sorted {
+    /// The atoms `run` (in bin order).
+    fn run(&self, run: std::ops::Range<usize>) -> RunView<'_> {
+        (
+            &self.sx[run.clone()],
+            &self.sy[run.clone()],
+            &self.sz[run.clone()],
+            &self.order[run.clone()],
+            &self.stag[run],
+        )
+    }
+
     /// Counting sort of the atoms `atoms` by their bin `bins[a]` (of `nbins`).
     fn sort(&mut self, atoms: std::ops::Range<usize>, bins: &[u32], nbins: usize, c: &Cloud) {
         self.start.clear();
@@ -172,9 +186,8 @@ pub(crate) struct OwnList {
     key: Option<Key>,
     /// The largest cut-off of each type's row the list was built for.
     row_cut: Vec<f64>,
-    /// Positions and tags at the build (3 nall, nall).
+    /// Positions at the build (3 nall).
     x0: Vec<f64>,
-    tag0: Vec<i32>,
     ilist: Vec<i32>,
     numneigh: Vec<i32>,
     first: Vec<*const i32>,
@@ -188,7 +201,8 @@ pub(crate) struct OwnList {
 impl OwnList {
     /// The list for `cloud` (built again if needed, module docs), as a LAMMPS list whose
     /// pointers stay valid until the next call: `build` is LAMMPS's build count,
-    /// `row_cut[t]` the largest cut-off of type t's row, `margin` ≥ 0 the list's skin.
+    /// `row_cut[t]` the largest cut-off of type t's row, `margin` ≥ 0 the list's skin (checked
+    /// by the caller, `dpdnl_pair_own_list`).
     pub(crate) fn prepare(
         &mut self,
         cloud: &Cloud,
@@ -197,11 +211,6 @@ impl OwnList {
         margin: f64,
         team: Option<&Team>,
     ) -> Result<DpdnlNeighList, Error> {
-        if !(margin.is_finite() && margin >= 0.0) {
-            return Err(Error::invalid(format!(
-                "the pair list's margin {margin} must be a finite number >= 0"
-            )));
-        }
         let nall = cloud.ty.len();
         let key = Key {
             build,
@@ -211,8 +220,9 @@ impl OwnList {
             newton: cloud.newton,
             margin: margin.to_bits(),
         };
-        let fresh =
-            self.key == Some(key) && self.row_cut == row_cut && !self.moved(cloud.x, margin);
+        let fresh = self.key == Some(key)
+            && self.row_cut == row_cut
+            && !moved_half_margin(cloud.x, &self.x0, margin);
         if !fresh {
             self.build(cloud, row_cut, margin, team)?;
             self.key = Some(key);
@@ -232,20 +242,6 @@ impl OwnList {
             build: self.builds as i64,
             skin: margin,
         })
-    }
-
-    /// Whether an atom has moved more than `margin`/2 since the build.
-    fn moved(&self, x: &[f64], margin: f64) -> bool {
-        if self.x0.len() != x.len() {
-            return true;
-        }
-        let limit = 0.25 * margin * margin;
-        x.chunks_exact(3)
-            .zip(self.x0.chunks_exact(3))
-            .any(|(a, b)| {
-                let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-                d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > limit
-            })
     }
 
     /// Builds so far.
@@ -455,8 +451,6 @@ impl OwnList {
         }
         self.x0.clear();
         self.x0.extend_from_slice(c.x);
-        self.tag0.clear();
-        self.tag0.extend_from_slice(c.tag);
         self.builds += 1;
         Ok(())
     }
@@ -555,12 +549,7 @@ fn run_scalar(
     keep: Keep,
 ) -> usize {
     let mut n = 0usize;
-    let (xs, ys, zs) = (
-        &sorted.sx[run.clone()],
-        &sorted.sy[run.clone()],
-        &sorted.sz[run.clone()],
-    );
-    let (order, tags) = (&sorted.order[run.clone()], &sorted.stag[run]);
+    let (xs, ys, zs, order, tags) = sorted.run(run);
     for ((((&x, &y), &z), &j), &tj) in xs.iter().zip(ys).zip(zs).zip(order).zip(tags) {
         let d = [x - xi[0], y - xi[1], z - xi[2]];
         let rsq = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
@@ -602,12 +591,7 @@ unsafe fn run_avx512(
     keep: Keep,
 ) -> usize {
     use std::arch::x86_64::*;
-    let (xs, ys, zs) = (
-        &sorted.sx[run.clone()],
-        &sorted.sy[run.clone()],
-        &sorted.sz[run.clone()],
-    );
-    let (order, tags) = (&sorted.order[run.clone()], &sorted.stag[run]);
+    let (xs, ys, zs, order, tags) = sorted.run(run);
     let len = xs.len();
     let (x0, y0, z0) = (
         _mm512_set1_pd(xi[0]),
@@ -739,6 +723,25 @@ mod tests {
         pub(super) static SCALAR: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
     }
 
+    /// The atoms of a 3-D one-type cloud without bonds.
+    fn atomic<'a>(
+        x: &'a [f64],
+        ty: &'a [i32],
+        tag: &'a [i32],
+        nlocal: usize,
+        newton: bool,
+    ) -> Cloud<'a> {
+        Cloud {
+            x,
+            ty,
+            tag,
+            nlocal,
+            special: None,
+            newton,
+            dim: 3,
+        }
+    }
+
     /// A small periodic box of random atoms, its ghosts the images within `ghost` of the box
     /// (as LAMMPS's borders make them on one rank).
     fn cloud(n: usize, len: f64, ghost: f64, seed: u64) -> (Vec<f64>, Vec<i32>, usize) {
@@ -805,15 +808,7 @@ mod tests {
             let nall = tag.len();
             let ty = vec![1; nall];
             for newton in [true, false] {
-                let c = Cloud {
-                    x: &x,
-                    ty: &ty,
-                    tag: &tag,
-                    nlocal,
-                    special: None,
-                    newton,
-                    dim: 3,
-                };
+                let c = atomic(&x, &ty, &tag, nlocal, newton);
                 let mut own = OwnList::default();
                 let list = own
                     .prepare(&c, 1, &[0.0, rc], margin, None)
@@ -894,15 +889,7 @@ mod tests {
         let ty = vec![1; nall];
         let team = Team::new(2, None).unwrap_or_else(|e| panic!("{e}"));
         for newton in [true, false] {
-            let c = Cloud {
-                x: &x,
-                ty: &ty,
-                tag: &tag,
-                nlocal,
-                special: None,
-                newton,
-                dim: 3,
-            };
+            let c = atomic(&x, &ty, &tag, nlocal, newton);
             let (mut one, mut two) = (OwnList::default(), OwnList::default());
             let a = one
                 .prepare(&c, 1, &[0.0, 1.0], 0.3, None)
@@ -927,15 +914,7 @@ mod tests {
             let nall = tag.len();
             let ty = vec![1; nall];
             for newton in [true, false] {
-                let c = Cloud {
-                    x: &x,
-                    ty: &ty,
-                    tag: &tag,
-                    nlocal,
-                    special: None,
-                    newton,
-                    dim: 3,
-                };
+                let c = atomic(&x, &ty, &tag, nlocal, newton);
                 let mut rows = Vec::new();
                 for scalar in [false, true] {
                     SCALAR.with(|s| s.set(scalar));
@@ -959,15 +938,7 @@ mod tests {
         let ty = vec![1; tag.len()];
         let mut own = OwnList::default();
         let mut run = |x: &[f64], build| {
-            let c = Cloud {
-                x,
-                ty: &ty,
-                tag: &tag,
-                nlocal,
-                special: None,
-                newton: true,
-                dim: 3,
-            };
+            let c = atomic(x, &ty, &tag, nlocal, true);
             own.prepare(&c, build, &[0.0, 1.0], 0.3, None)
                 .map(|_| own.builds())
                 .unwrap_or_else(|e| panic!("{}", e.message))

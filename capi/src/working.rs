@@ -17,7 +17,7 @@
 use dpdnl::host::{INNER_MARGIN, INNER_MIN_LIFE};
 
 use crate::Error;
-use crate::list::{DpdnlNeighList, check_row, list_row};
+use crate::list::{DpdnlNeighList, check_row, list_row, moved_half_margin};
 
 /// What identifies the LAMMPS list a copy was taken from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -114,15 +114,8 @@ impl WorkingList {
             return Ok(false);
         }
         let margin = INNER_MARGIN * list.skin;
-        if !self.stale && self.x0.len() == x.len() {
-            let limit = 0.25 * margin * margin;
-            let moved = x
-                .chunks_exact(3)
-                .zip(self.x0.chunks_exact(3))
-                .any(|(a, b)| {
-                    let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-                    d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > limit
-                });
+        if !self.stale {
+            let moved = moved_half_margin(x, &self.x0, margin);
             if !moved {
                 return Ok(true);
             }

@@ -191,6 +191,19 @@ struct Out {
     virial: [f64; 6],
 }
 
+/// The step of [`evaluate`] and `special_step`: step 7, newton on, 3-D, no image key.
+fn step_seven() -> DpdnlStep {
+    DpdnlStep {
+        step: 7,
+        dt: DT,
+        newton_pair: 1,
+        dimension: 3,
+        boxlen: [0.0; 3],
+        tilt: [0.0; 3],
+        periodic: [0; 3],
+    }
+}
+
 /// One force evaluation of `a` over its newton-on half list: `call(atoms, list, step, f,
 /// tally)` is the entry point under test.
 fn evaluate(
@@ -208,15 +221,7 @@ fn evaluate(
     let rows = CList::first(a.nlocal, &lists);
     let atoms = a.c_atoms();
     let list = rows.view(0x3FFF_FFFF, false);
-    let st = DpdnlStep {
-        step: 7,
-        dt: DT,
-        newton_pair: 1,
-        dimension: 3,
-        boxlen: [0.0; 3],
-        tilt: [0.0; 3],
-        periodic: [0; 3],
-    };
+    let st = step_seven();
     let mut out = Out {
         f: vec![0.0; 3 * a.nall()],
         energy: 0.0,
@@ -807,15 +812,7 @@ fn special_step(h: &Handle, a: &Atoms, lists: &[Vec<i32>]) -> (Vec<f64>, f64) {
     let rows = CList::first(a.nlocal, lists);
     let atoms = a.c_atoms();
     let list = rows.view(0x1FFF_FFFF, false);
-    let st = DpdnlStep {
-        step: 7,
-        dt: DT,
-        newton_pair: 1,
-        dimension: 3,
-        boxlen: [0.0; 3],
-        tilt: [0.0; 3],
-        periodic: [0; 3],
-    };
+    let st = step_seven();
     let mut f = vec![0.0; 3 * a.nall()];
     let mut energy = 0.0;
     let mut tally = DpdnlTally {
@@ -1800,15 +1797,7 @@ fn the_own_list_gives_the_forces_of_the_lammps_list() {
         };
         // Before the set-up there are no cut-offs to build it for.
         let atoms = a.c_atoms();
-        let st0 = DpdnlStep {
-            step: 7,
-            dt: DT,
-            newton_pair: 1,
-            dimension: 3,
-            boxlen: [0.0; 3],
-            tilt: [0.0; 3],
-            periodic: [0; 3],
-        };
+        let st0 = step_seven();
         // SAFETY: arrays sized as documented, alive across the call.
         let code = unsafe { dpdnl_pair_own_list(h.0, &atoms, null(), &st0, 1, 0.3, &mut nl) };
         assert_eq!(code, DpdnlStatus::InvalidArgument);

@@ -339,7 +339,7 @@ pub unsafe extern "C" fn dpdnl_pair_own_list(
         };
         // Each type's row reaches its largest cut-off (and the pre-pass's, when it has one).
         let cut = h.style.cut_table();
-        let pre = h.style.prepass().map(|pp| pp.rcsq().to_vec());
+        let pre = h.style.prepass().map(|pp| pp.rcsq());
         let row_cut: Vec<f64> = (0..=nt)
             .map(|t| {
                 let row = t * (nt + 1)..(t + 1) * (nt + 1);
