@@ -22,7 +22,8 @@ force (in.ideal) the same schemes keep kT, to an error that shrinks with the tim
 
 Each run starts from the same liquid equilibrated for 20 time units with friction none and
 gamma0 = 18 (T within 1 % of kT), so that no run starts hot: with a friction that thins as the
-liquid heats, a hot start could itself decide where the run ends up.
+liquid heats, a hot start can itself decide where the run ends up, which the last group (no
+equilibration: the random start heats the liquid far above kT in its first steps) shows.
 
 Statistics: thermo every 0.05 time units over 100 time units; the first 10 are discarded; the
 mean's error is that of 20 block means (blocks of 4.5 time units, much longer than the kinetic
@@ -48,7 +49,7 @@ DPDNL = os.environ.get("DPDNL", os.path.join(ROOT, "target", "release", "dpdnl")
 
 EQ, TIME, SKIP, SAMPLE, NBLOCKS = 20.0, 100.0, 10.0, 0.05, 20
 
-# (group, script, friction, noise, gamma0, gamma1, dt)
+# (group, script, friction, noise, gamma0, gamma1, dt[, equilibration time])
 CASES = []
 for g0 in (2.25, 4.5, 9.0, 18.0):
     CASES.append(("heat balance", "liquid", "none", "plain", g0, 0.0, 0.005))
@@ -63,12 +64,18 @@ CASES.append(("no many-body force", "ideal", "none", "plain", 4.5, 0.0, 0.004))
 for dt in (0.004, 0.002, 0.001):
     for fr, no in (("cross", "plain"), ("dot", "corrected"), ("dot", "twostep")):
         CASES.append(("no many-body force", "ideal", fr, no, 4.5, 2.0, dt))
+# No equilibration: the measured run starts from the random positions, whose first steps heat
+# the liquid far above kT.
+for fr, no, g0 in (("none", "plain", 4.5), ("cross", "plain", 2.25), ("cross", "plain", 4.5),
+                   ("dot", "corrected", 4.5), ("dot", "twostep", 4.5)):
+    CASES.append(("hot start", "liquid", fr, no, g0, 0.0 if fr == "none" else 2.0, 0.005, 0.0))
 
 
 def run(case):
-    group, script, fr, no, g0, g1, dt = case
+    group, script, fr, no, g0, g1, dt = case[:7]
+    eq_time = case[7] if len(case) > 7 else EQ
     steps = int(round(TIME / dt))
-    eq = int(round(EQ / dt))
+    eq = int(round(eq_time / dt))
     every = int(round(SAMPLE / dt))
     cmd = [DPDNL, "run", os.path.join(HERE, f"in.{script}"), "--threads", "1",
            "-var", "friction", fr, "-var", "noise", no, "-var", "gamma0", str(g0),
@@ -80,7 +87,7 @@ def run(case):
     temps = []
     for line in p.stdout.splitlines():
         m = re.match(r"\s*(\d+)\s+(\S+)\s*$", line)
-        if m and int(m.group(1)) * dt > EQ + SKIP + 1e-9:
+        if m and int(m.group(1)) * dt > eq_time + SKIP + 1e-9:
             temps.append(float(m.group(2)))
     if len(temps) < NBLOCKS:
         sys.exit(f"thinning.py: {len(temps)} samples from {' '.join(cmd)}")
