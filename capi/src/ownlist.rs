@@ -114,8 +114,18 @@ impl Sorted {
         )
     }
 
-    /// Counting sort of the atoms `atoms` by their bin `bins[a]` (of `nbins`).
-    fn sort(&mut self, atoms: std::ops::Range<usize>, bins: &[u32], nbins: usize, c: &Cloud) {
+    /// Counting sort of the atoms `atoms` by their bin `bins[a]` (of `nbins`), stable (atoms
+    /// of one bin in index order). With a team, the placing and the gathering run on its
+    /// threads: each thread places the atoms of one range of bins (a range of the output, so
+    /// the threads write apart) and gathers one range of the output; the result is the same.
+    fn sort(
+        &mut self,
+        atoms: std::ops::Range<usize>,
+        bins: &[u32],
+        nbins: usize,
+        c: &Cloud,
+        team: Option<&Team>,
+    ) {
         self.start.clear();
         self.start.resize(nbins + 1, 0);
         for a in atoms.clone() {
@@ -127,23 +137,86 @@ impl Sorted {
         let n = atoms.len();
         self.order.clear();
         self.order.resize(n, 0);
-        let mut fill = self.start.clone();
-        for a in atoms {
-            let b = bins[a] as usize;
-            self.order[fill[b] as usize] = a as u32;
-            fill[b] += 1;
+        // The bin ranges: about n / parts atoms each.
+        let parts = match team {
+            Some(t) if n >= 2 * CHUNK_ATOMS => t.threads(),
+            _ => 1,
+        };
+        let mut cuts = vec![0usize];
+        for k in 1..parts {
+            let want = (n * k / parts) as u32;
+            let b = self.start.partition_point(|&s| s < want).min(nbins);
+            if b > *cuts.last().unwrap_or(&0) {
+                cuts.push(b);
+            }
         }
+        cuts.push(nbins);
+        struct Place<'o> {
+            bins: std::ops::Range<usize>,
+            out: &'o mut [u32],
+        }
+        let mut places = Vec::with_capacity(cuts.len() - 1);
+        let mut rest: &mut [u32] = &mut self.order;
+        for w in cuts.windows(2) {
+            let len = (self.start[w[1]] - self.start[w[0]]) as usize;
+            let (head, tail) = rest.split_at_mut(len);
+            places.push(Place {
+                bins: w[0]..w[1],
+                out: head,
+            });
+            rest = tail;
+        }
+        let start = &self.start;
+        let (a0, a1) = (atoms.start, atoms.end);
+        par_items(team, &mut places, &|_, p| {
+            let (lo, hi) = (p.bins.start as u32, p.bins.end as u32);
+            let base = start[p.bins.start];
+            let mut fill: Vec<u32> = start[p.bins.clone()].iter().map(|&s| s - base).collect();
+            for (a, &b) in bins[a0..a1].iter().enumerate() {
+                if b >= lo && b < hi {
+                    let f = &mut fill[(b - lo) as usize];
+                    p.out[*f as usize] = (a0 + a) as u32;
+                    *f += 1;
+                }
+            }
+        });
         for v in [&mut self.sx, &mut self.sy, &mut self.sz] {
             v.clear();
+            v.resize(n, 0.0);
         }
         self.stag.clear();
-        for &a in &self.order {
-            let a = a as usize;
-            self.sx.push(c.x[3 * a]);
-            self.sy.push(c.x[3 * a + 1]);
-            self.sz.push(c.x[3 * a + 2]);
-            self.stag.push(c.tag[a]);
+        self.stag.resize(n, 0);
+        struct Gather<'o> {
+            order: &'o [u32],
+            sx: &'o mut [f64],
+            sy: &'o mut [f64],
+            sz: &'o mut [f64],
+            stag: &'o mut [i32],
         }
+        let mut gathers: Vec<Gather> = self
+            .order
+            .chunks(CHUNK_ATOMS)
+            .zip(self.sx.chunks_mut(CHUNK_ATOMS))
+            .zip(self.sy.chunks_mut(CHUNK_ATOMS))
+            .zip(self.sz.chunks_mut(CHUNK_ATOMS))
+            .zip(self.stag.chunks_mut(CHUNK_ATOMS))
+            .map(|((((order, sx), sy), sz), stag)| Gather {
+                order,
+                sx,
+                sy,
+                sz,
+                stag,
+            })
+            .collect();
+        par_items(team, &mut gathers, &|_, g| {
+            for (k, &a) in g.order.iter().enumerate() {
+                let a = a as usize;
+                g.sx[k] = c.x[3 * a];
+                g.sy[k] = c.x[3 * a + 1];
+                g.sz[k] = c.x[3 * a + 2];
+                g.stag[k] = c.tag[a];
+            }
+        });
     }
 }
 
@@ -179,6 +252,38 @@ const BIN_FRACTION: f64 = 1.0;
 
 /// Rows per block of a threaded build (blocks are handed out to the threads dynamically).
 const BLOCK_ROWS: usize = 512;
+
+/// Atoms per item of the threaded passes over all atoms (bins, bounding box, moved check,
+/// gathers).
+const CHUNK_ATOMS: usize = 4096;
+
+/// `f(k, &mut items[k])` for every item: on the team's threads when there is a team of more
+/// than one and more than one item, else in order on this thread. Every item is processed
+/// once, by one thread, so results do not depend on the team.
+fn par_items<T: Send>(team: Option<&Team>, items: &mut [T], f: &(dyn Fn(usize, &mut T) + Sync)) {
+    match team {
+        Some(t) if t.threads() > 1 && items.len() > 1 => t.scope(|| t.for_each(items, f)),
+        _ => items.iter_mut().enumerate().for_each(|(k, it)| f(k, it)),
+    }
+}
+
+/// Whether any atom has moved more than half the margin since `x0` ([`moved_half_margin`]),
+/// in chunks on the team's threads.
+fn moved_half_margin_par(x: &[f64], x0: &[f64], margin: f64, team: Option<&Team>) -> bool {
+    if x0.len() != x.len() {
+        return true;
+    }
+    let n = 3 * CHUNK_ATOMS;
+    let mut parts: Vec<(&[f64], &[f64], bool)> = x
+        .chunks(n)
+        .zip(x0.chunks(n))
+        .map(|(a, b)| (a, b, false))
+        .collect();
+    par_items(team, &mut parts, &|_, p| {
+        p.2 = moved_half_margin(p.0, p.1, margin);
+    });
+    parts.iter().any(|p| p.2)
+}
 
 /// A rank's own half list (module docs).
 #[derive(Debug, Default)]
@@ -222,7 +327,7 @@ impl OwnList {
         };
         let fresh = self.key == Some(key)
             && self.row_cut == row_cut
-            && !moved_half_margin(cloud.x, &self.x0, margin);
+            && !moved_half_margin_par(cloud.x, &self.x0, margin, team);
         if !fresh {
             self.build(cloud, row_cut, margin, team)?;
             self.key = Some(key);
@@ -283,10 +388,20 @@ impl OwnList {
             lo[d] = f64::INFINITY;
             hi[d] = f64::NEG_INFINITY;
         }
-        for p in c.x.chunks_exact(3) {
+        let mut boxes: Vec<(&[f64], [f64; 3], [f64; 3])> =
+            c.x.chunks(3 * CHUNK_ATOMS).map(|x| (x, lo, hi)).collect();
+        par_items(team, &mut boxes, &|_, (x, lo, hi)| {
+            for p in x.chunks_exact(3) {
+                for d in 0..c.dim {
+                    lo[d] = lo[d].min(p[d]);
+                    hi[d] = hi[d].max(p[d]);
+                }
+            }
+        });
+        for (_, l, h) in &boxes {
             for d in 0..c.dim {
-                lo[d] = lo[d].min(p[d]);
-                hi[d] = hi[d].max(p[d]);
+                lo[d] = lo[d].min(l[d]);
+                hi[d] = hi[d].max(h[d]);
             }
         }
         if nall > 0 && (0..c.dim).any(|d| !(lo[d].is_finite() && hi[d].is_finite())) {
@@ -332,9 +447,18 @@ impl OwnList {
         let nbins = nb[0] * nb[1] * nb[2];
         let g = &mut self.grid;
         g.bins.clear();
-        g.bins.extend(c.x.chunks_exact(3).map(|p| bin_of(p) as u32));
-        g.own.sort(0..c.nlocal, &g.bins, nbins, c);
-        g.ghost.sort(c.nlocal..nall, &g.bins, nbins, c);
+        g.bins.resize(nall, 0);
+        let mut chunks: Vec<(&[f64], &mut [u32])> =
+            c.x.chunks(3 * CHUNK_ATOMS)
+                .zip(g.bins.chunks_mut(CHUNK_ATOMS))
+                .collect();
+        par_items(team, &mut chunks, &|_, (x, out)| {
+            for (p, b) in x.chunks_exact(3).zip(out.iter_mut()) {
+                *b = bin_of(p) as u32;
+            }
+        });
+        g.own.sort(0..c.nlocal, &g.bins, nbins, c, team);
+        g.ghost.sort(c.nlocal..nall, &g.bins, nbins, c, team);
         g.ghost_near.clear();
         g.ghost_near.resize(nbins, false);
         g.pos.clear();
@@ -884,24 +1008,40 @@ mod tests {
     /// A team of threads builds the same list, row for row and entry for entry.
     #[test]
     fn threads_build_the_same_list() {
-        let (x, tag, nlocal) = cloud(3000, 10.0, 1.3, 11);
+        // Enough atoms (owned and ghosts, each over 2 CHUNK_ATOMS) that the sorts, the bins
+        // and the moved check run threaded too.
+        let (x, tag, nlocal) = cloud(12000, 16.0, 2.0, 11);
         let nall = tag.len();
+        assert!(nlocal > 2 * CHUNK_ATOMS && nall - nlocal > 2 * CHUNK_ATOMS);
         let ty = vec![1; nall];
-        let team = Team::new(2, None).unwrap_or_else(|e| panic!("{e}"));
-        for newton in [true, false] {
-            let c = atomic(&x, &ty, &tag, nlocal, newton);
-            let (mut one, mut two) = (OwnList::default(), OwnList::default());
-            let a = one
-                .prepare(&c, 1, &[0.0, 1.0], 0.3, None)
-                .unwrap_or_else(|e| panic!("{}", e.message));
-            let b = two
-                .prepare(&c, 1, &[0.0, 1.0], 0.3, Some(&team))
-                .unwrap_or_else(|e| panic!("{}", e.message));
-            assert!(two.blocks.len() > 1);
-            let ra = rows_of(&a, nall);
-            assert_eq!(ra.len(), nlocal);
-            assert!(ra.iter().map(|r| r.1.len()).sum::<usize>() > 10 * nlocal);
-            assert_eq!(ra, rows_of(&b, nall));
+        for threads in [2, 3] {
+            let team = Team::new(threads, None).unwrap_or_else(|e| panic!("{e}"));
+            for newton in [true, false] {
+                let c = atomic(&x, &ty, &tag, nlocal, newton);
+                let (mut one, mut two) = (OwnList::default(), OwnList::default());
+                let a = one
+                    .prepare(&c, 1, &[0.0, 1.0], 0.3, None)
+                    .unwrap_or_else(|e| panic!("{}", e.message));
+                let b = two
+                    .prepare(&c, 1, &[0.0, 1.0], 0.3, Some(&team))
+                    .unwrap_or_else(|e| panic!("{}", e.message));
+                assert!(two.blocks.len() > 1);
+                let ra = rows_of(&a, nall);
+                assert_eq!(ra.len(), nlocal);
+                assert!(ra.iter().map(|r| r.1.len()).sum::<usize>() > 10 * nlocal);
+                assert_eq!(ra, rows_of(&b, nall));
+                for (s1, s2) in [
+                    (&one.grid.own, &two.grid.own),
+                    (&one.grid.ghost, &two.grid.ghost),
+                ] {
+                    assert_eq!(
+                        (&s1.start, &s1.order, &s1.stag),
+                        (&s2.start, &s2.order, &s2.stag)
+                    );
+                    assert_eq!((&s1.sx, &s1.sy, &s1.sz), (&s2.sx, &s2.sy, &s2.sz));
+                }
+                assert_eq!(one.grid.bins, two.grid.bins);
+            }
         }
     }
 
