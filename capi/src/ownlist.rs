@@ -35,7 +35,9 @@
 //! reach, most of a large rank's bins), each row of bins along x one contiguous run in bin
 //! order, and keeps the candidates without a branch (eight at a time with AVX-512). Rows are
 //! built in blocks, on the pair style's threads when it has them; a row's entries do not depend
-//! on the block, so the list is the same for any thread count.
+//! on the block, so the list is the same for any thread count. The passes over all atoms before
+//! the rows (bounding box, bins, the moved-half-margin check, the two counting sorts) run on the
+//! same threads, in pieces whose outputs do not overlap, with the same result.
 
 use crate::Error;
 use crate::list::{DpdnlNeighList, moved_half_margin};
