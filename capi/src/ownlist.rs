@@ -550,16 +550,7 @@ impl OwnList {
             blk.rows = (k * per).min(c.nlocal)..((k + 1) * per).min(c.nlocal);
         }
         let grid = &self.grid;
-        match team {
-            Some(t) if nblocks > 1 => {
-                let blocks = &mut self.blocks;
-                t.scope(|| t.for_each(blocks, &|_, blk| fill_rows(grid, c, blk)));
-            }
-            _ => self
-                .blocks
-                .iter_mut()
-                .for_each(|blk| fill_rows(grid, c, blk)),
-        }
+        par_items(team, &mut self.blocks, &|_, blk| fill_rows(grid, c, blk));
         self.numneigh.clear();
         self.first.clear();
         for blk in &self.blocks {
