@@ -313,17 +313,20 @@ def check(args, exe):
 
 
 def record(patterns, exe):
-    """The results.txt entries whose glob is one of `patterns` (fnmatch) get the current
-    fingerprint of each of their families: run it after regenerating exactly those results."""
+    """The results.txt entries named by `patterns` get the current fingerprint of each of their
+    families: run it after regenerating exactly those results. A pattern that is an entry's glob
+    names that entry only (recording `couette_*` must not also record `couette_*ext*`, which its
+    glob happens to match); any other pattern names every entry whose glob it matches (fnmatch)."""
     now = compute(None, exe)
     path = os.path.join(FP, "results.txt")
     lines = open(path).read().splitlines(keepends=True)
+    globs = {ln.split(None, 1)[0] for ln in (x.strip() for x in lines) if ln and not ln.startswith("#")}
     out, done = [], set()
     for line in lines:
         s = line.strip()
         if s and not s.startswith("#"):
             w = s.split(None, 2)
-            hit = [p for p in patterns if fnmatch.fnmatch(w[0], p) or w[0] == p]
+            hit = [p for p in patterns if w[0] == p or (p not in globs and fnmatch.fnmatch(w[0], p))]
             if hit:
                 done.update(hit)
                 items = []
