@@ -320,7 +320,7 @@ def record(patterns, exe):
     now = compute(None, exe)
     path = os.path.join(FP, "results.txt")
     lines = open(path).read().splitlines(keepends=True)
-    globs = {ln.split(None, 1)[0] for ln in (x.strip() for x in lines) if ln and not ln.startswith("#")}
+    globs = {g for _, g, _, _ in results()}
     out, done = [], set()
     for line in lines:
         s = line.strip()

@@ -79,11 +79,18 @@ for f in "$res"/couette_*_dpdext.couette.json; do
     echo "| $tag | $rate | $(eta_of "$name") | $(eta_of "$base") | $(eta_of "${base}_lmp") | $(rt "$name") |"
 done
 # Independent pair seeds of one run in both engines (run.sh couette SEEDS=...: names _s<seed>).
-python3 - "$res" <<'PY'
-import glob, json, math, os, re, statistics, sys
-res = sys.argv[1]
+python3 - "$here" <<'PY'
+import math, os, re, statistics, sys
+sys.path.insert(0, sys.argv[1])
+from summary_sdpd import RES, jload, temp
 base = "couette_t5a_N1600_r1"
-if glob.glob(os.path.join(res, base + "_s*.couette.json")):
+script = os.path.join(sys.argv[1], "..", "..", "examples", "couette", "in.couette2d")
+seed0 = re.search(r"^variable\s+seed\s+index\s+(\d+)", open(script).read(), re.M).group(1)
+# The repeats of each engine, by pair seed (run.sh couette SEEDS=...: BASE_s<seed>[_lmp]).
+seeds = {sfx: sorted(int(m.group(1)) for f in os.listdir(RES)
+                     if (m := re.fullmatch(re.escape(base) + r"_s(\d+)" + sfx + r"\.couette\.json", f)))
+         for sfx in ("", "_lmp")}
+if any(seeds.values()):
     print()
     print("### Seeds: the Table 5 fluid (r_c = 2.5, η0 = 49, s = 0.0700, a = 0) at γ̇ = 1 in both engines")
     print()
@@ -92,15 +99,13 @@ if glob.glob(os.path.join(res, base + "_s*.couette.json")):
     summ = []
     for eng, sfx in (("standalone", ""), ("LAMMPS + shim", "_lmp")):
         etas, errs, temps = [], [], []
-        names = [(base + sfx, "34387 (the script's)")]
-        seeds = sorted(int(m.group(1)) for f in glob.glob(os.path.join(res, base + "_s*" + sfx + ".couette.json"))
-                       if (m := re.search(r"_s(\d+)" + sfx + r"\.couette\.json$", f)) and (sfx or not f.endswith("_lmp.couette.json")))
-        names += [(f"{base}_s{k}{sfx}", str(k)) for k in seeds]
+        names = [(base + sfx, f"{seed0} (the script's)")] + [(f"{base}_s{k}{sfx}", str(k)) for k in seeds[sfx]]
         for n, label in names:
-            d = json.load(open(os.path.join(res, n + ".couette.json")))
-            t = re.search(r"temperature ([0-9.]+) \+- ([0-9.]+)", open(os.path.join(res, n + ".temp.txt")).read())
-            etas.append(d["viscosity"]); errs.append(d["viscosity_err"]); temps.append(float(t.group(1)))
-            print(f"| {eng} | {label} | {d['viscosity']:.3f} ± {d['viscosity_err']:.3f} | {t.group(1)} ± {t.group(2)} |")
+            d = jload(n + ".couette.json")
+            t, t_err = temp(n)
+            etas.append(d["viscosity"]); errs.append(d["viscosity_err"]); temps.append(t)
+            # the temperature as temp.txt prints it (%.5f)
+            print(f"| {eng} | {label} | {d['viscosity']:.3f} ± {d['viscosity_err']:.3f} | {t:.5f} ± {t_err:.5f} |")
         k = len(etas)
         summ.append(f"| {eng}: mean over the {k} seeds | | {statistics.mean(etas):.3f} ± {statistics.stdev(etas) / math.sqrt(k):.3f} "
                     f"(std {statistics.stdev(etas):.3f}; median quoted error {statistics.median(errs):.3f}) | "

@@ -14,7 +14,7 @@ import math
 import os
 import re
 
-from summary_sdpd import eta as couette_eta, jload
+from summary_sdpd import eta as couette_eta, jload, temp
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 RES = os.path.join(HERE, "results")
@@ -28,12 +28,7 @@ def eta(name):
     if v is None:
         return None
     e, err = v
-    t = (math.nan, math.nan)
-    tp = os.path.join(RES, name + ".temp.txt")
-    if os.path.exists(tp):
-        m = re.search(r"temperature ([0-9.]+) \+- ([0-9.]+)", open(tp).read())
-        if m:
-            t = (float(m.group(1)), float(m.group(2)))
+    t = temp(name) or (math.nan, math.nan)
     return e, err, t[0], t[1]
 
 

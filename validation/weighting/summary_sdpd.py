@@ -40,6 +40,16 @@ def obs(name):
     return out
 
 
+def temp(name):
+    """(T, its error) of results/NAME.temp.txt (run.sh couette: the mean temp/deform temperature
+    with the standard error of 20 block means), or None."""
+    p = os.path.join(RES, name + ".temp.txt")
+    if not os.path.exists(p):
+        return None
+    m = re.search(r"temperature ([0-9.]+) \+- ([0-9.]+)", open(p).read())
+    return (float(m.group(1)), float(m.group(2))) if m else None
+
+
 def eta(name):
     """(eta*, error) of a Couette run: the analysis's eta*, with the larger of its error and the
     standard error of 10 block means of P_xy (results/NAME.obs.txt, pxy10) over the rate."""
