@@ -234,7 +234,7 @@ impl Units {
     /// The line a set-up logs outside `lj`: what T means and the kT it gives (`style`: the pair
     /// style's name). None in `lj`, where kT = T.
     pub fn temperature_note(&self, style: &str, t: f64) -> Option<String> {
-        use crate::report::short as n;
+        use crate::fmtnum::short as n;
         (!self.is_lj()).then(|| {
             format!(
                 "pair_style {style}: units {}: T = {} is a temperature (as for pair_style dpd): \

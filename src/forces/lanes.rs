@@ -4,8 +4,6 @@
 //! pair geometry's small helpers. The styles' batch kernels (DPD's `pair_forces_batch`, sDPD's
 //! `sdpd_forces_batch`) read the lanes the pair loops fill and write `fpair` and `energy`.
 
-use crate::forces::dpd::kernel::{LaneCoeff, StageArrays};
-
 /// Pairs closer than this are skipped (their direction e_ij is undefined), as LAMMPS's DPD does.
 pub(crate) const MIN_PAIR_DISTANCE: f64 = 1.0e-10;
 
@@ -105,10 +103,27 @@ pub struct PairBatch {
     pub images: Option<crate::rng::ImageFrame>,
 }
 
-/// The per-lane coefficients, random bits and Gaussians of one batch evaluation.
+/// Lane arrays of per-pair coefficients a batch kernel gathers from its table (a kernel names
+/// its own rows; DPD's are listed in its `batch.rs`).
+pub(crate) type CoeffLanes = [[f64; BATCH]; COEFF_LANES];
+
+/// Rows of [`CoeffLanes`].
+pub(crate) const COEFF_LANES: usize = 7;
+
+/// The results of a batch kernel's stages for each lane, between its loops: `g` seven values
+/// of the pair's geometry, `gs` three of its friction (what each row holds is the kernel's).
+#[derive(Clone, Debug)]
+pub(crate) struct StageArrays {
+    pub(crate) g: [[f64; BATCH]; 7],
+    pub(crate) gs: [[f64; BATCH]; 3],
+}
+
+/// The per-lane coefficients, random bits, Gaussians and stage results of one batch
+/// evaluation: plain lane arrays that any style's batch kernel may use, so that none of them
+/// is allocated or zeroed per call.
 #[derive(Clone, Debug)]
 pub(crate) struct BatchScratch {
-    pub(crate) co: LaneCoeff,
+    pub(crate) co: CoeffLanes,
     pub(crate) bits: [[u32; BATCH]; 4],
     pub(crate) xi: [f64; BATCH],
     pub(crate) st: StageArrays,
@@ -128,10 +143,13 @@ impl Default for PairBatch {
             fpair: [0.0; BATCH],
             energy: [0.0; BATCH],
             scratch: BatchScratch {
-                co: LaneCoeff::default(),
+                co: [[0.0; BATCH]; COEFF_LANES],
                 bits: [[0; BATCH]; 4],
                 xi: [0.0; BATCH],
-                st: StageArrays::default(),
+                st: StageArrays {
+                    g: [[0.0; BATCH]; 7],
+                    gs: [[0.0; BATCH]; 3],
+                },
             },
         }
     }

@@ -1,11 +1,14 @@
 //! Axes in drawing coordinates (log10 on a log axis): tick positions, tick labels, and the
-//! plotters coordinate type built from a panel's ranges.
+//! plotters coordinate type built from a panel's ranges, and the chart built on them.
 
 use plotters::coord::ranged1d::{
     KeyPointHint, KeyPointWeight, NoDefaultFormatting, Ranged, ValueFormatter,
 };
 
-use super::Panel;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::{Panel, err};
 
 /// `x > 0`, false for NaN.
 fn is_pos(x: f64) -> bool {
@@ -227,4 +230,20 @@ mod tests {
         assert!(v.len() >= 3, "{v:?}");
         assert!(v.iter().all(|x| (2.0..=4.6).contains(x)));
     }
+}
+
+/// The chart a panel is drawn on.
+pub(super) type PanelChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
+
+/// The chart of a panel on `area` (already inside its margin and title), nothing drawn yet.
+pub(super) fn panel_chart<'a, DB: DrawingBackend>(
+    panel: &Panel,
+    area: &'a DrawingArea<DB, Shift>,
+) -> Result<PanelChart<'a, DB>, String> {
+    let (x_coord, y_coord) = panel_axes(panel)?;
+    ChartBuilder::on(area)
+        .x_label_area_size(48)
+        .y_label_area_size(78)
+        .build_cartesian_2d(x_coord, y_coord)
+        .map_err(err)
 }

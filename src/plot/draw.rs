@@ -3,7 +3,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::axes::{Axis, axis_value, panel_axes};
+use super::axes::{PanelChart, axis_value, panel_axes, panel_chart};
 use super::legend::{LEGEND_FONT, LEGEND_MARGIN, LEGEND_MARK, place_legend};
 use super::{Legend, Mark, Panel, Series, err};
 
@@ -17,9 +17,6 @@ const PALETTE: [RGBColor; 7] = [
     RGBColor(86, 180, 233),  // sky blue
     RGBColor(0, 0, 0),       // black
 ];
-
-/// The chart a panel is drawn on.
-pub(super) type PanelChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
 
 /// Shade the panel's x-intervals over the full height `[ylo, yhi]`.
 fn draw_bands<'a, DB: DrawingBackend + 'a>(
@@ -146,19 +143,6 @@ fn draw_legend<'a, DB: DrawingBackend + 'a>(
             .map_err(err)?;
     }
     Ok(())
-}
-
-/// The chart of a panel on `area` (already inside its margin and title), nothing drawn yet.
-pub(super) fn panel_chart<'a, DB: DrawingBackend>(
-    panel: &Panel,
-    area: &'a DrawingArea<DB, Shift>,
-) -> Result<PanelChart<'a, DB>, String> {
-    let (x_coord, y_coord) = panel_axes(panel)?;
-    ChartBuilder::on(area)
-        .x_label_area_size(48)
-        .y_label_area_size(78)
-        .build_cartesian_2d(x_coord, y_coord)
-        .map_err(err)
 }
 
 /// Draw `panel` on `area`: margin, title, mesh, bands, series and legend.

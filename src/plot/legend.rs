@@ -4,8 +4,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::axes::axis_value;
-use super::draw::{PanelChart, panel_chart};
+use super::axes::{PanelChart, axis_value, panel_chart};
 use super::{Legend, Panel, err};
 
 /// The corners [`Legend::Auto`] tries, in order.

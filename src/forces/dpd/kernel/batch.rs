@@ -3,49 +3,18 @@
 //! for the engines' hot loops, with a choice of instruction set ([`Isa`]).
 
 use super::*;
-use crate::forces::lanes::{BatchScratch, pair_noise};
-/// The results of the kernel's stages for each lane: `g` = the fields of [`Geom`] (r, 1/r, q,
-/// w_D, w_R, r·v, S), `gs` = γ(S), σ(S), σ(S'').
-#[derive(Clone, Debug)]
-pub(crate) struct StageArrays {
-    pub(super) g: [[f64; BATCH]; 7],
-    pub(super) gs: [[f64; BATCH]; 3],
-}
-
-impl Default for StageArrays {
-    fn default() -> Self {
-        StageArrays {
-            g: [[0.0; BATCH]; 7],
-            gs: [[0.0; BATCH]; 3],
-        }
-    }
-}
-
-/// The coefficients of each pair of a batch, gathered from the table.
-#[derive(Clone, Debug)]
-pub(crate) struct LaneCoeff {
-    a: [f64; BATCH],
-    gamma0: [f64; BATCH],
-    gamma1: [f64; BATCH],
-    rc: [f64; BATCH],
-    inv_rc: [f64; BATCH],
-    sigma0: [f64; BATCH],
-    half_a_rc: [f64; BATCH],
-}
-
-impl Default for LaneCoeff {
-    fn default() -> Self {
-        LaneCoeff {
-            a: [0.0; BATCH],
-            gamma0: [0.0; BATCH],
-            gamma1: [0.0; BATCH],
-            rc: [0.0; BATCH],
-            inv_rc: [0.0; BATCH],
-            sigma0: [0.0; BATCH],
-            half_a_rc: [0.0; BATCH],
-        }
-    }
-}
+use crate::forces::lanes::{BatchScratch, COEFF_LANES, CoeffLanes, StageArrays, pair_noise};
+// DPD's rows of the batch's coefficient lanes ([`CoeffLanes`]): a, γ0, γ1, r_c (the pair's
+// coefficients) and 1/r_c, σ0, a r_c / 2 (derived). The stage arrays ([`StageArrays`]) hold
+// `g` = the fields of [`Geom`] (r, 1/r, q, w_D, w_R, r·v, S) and `gs` = γ(S), σ(S), σ(S'').
+const A: usize = 0;
+const GAMMA0: usize = 1;
+const GAMMA1: usize = 2;
+const RC: usize = 3;
+const INV_RC: usize = 4;
+const SIGMA0: usize = 5;
+const HALF_A_RC: usize = 6;
+const _: () = assert!(HALF_A_RC < COEFF_LANES);
 
 /// Evaluate every pair of `b` at `step`: `b.fpair[l]` and `b.energy[l]` become exactly
 /// `pair_force(model, &coeff[b.coeff[l]], input_l)` (`table` = `PairTable::new(model, coeff)`) with `input_l.xi = model.dist.pair_xi(seed, step,
@@ -185,24 +154,24 @@ pub(super) fn fill_coeff(table: &PairTable, b: &mut PairBatch, n: usize) {
     let co = &mut b.scratch.co;
     if b.coeff[..n].iter().all(|&k| k == first) {
         let (c, d) = (&table.coeff[first as usize], &table.derived[first as usize]);
-        co.a.fill(c.a);
-        co.gamma0.fill(c.gamma0);
-        co.gamma1.fill(c.gamma1);
-        co.rc.fill(c.rc);
-        co.inv_rc.fill(d.inv_rc);
-        co.sigma0.fill(d.sigma0);
-        co.half_a_rc.fill(d.half_a_rc);
+        co[A].fill(c.a);
+        co[GAMMA0].fill(c.gamma0);
+        co[GAMMA1].fill(c.gamma1);
+        co[RC].fill(c.rc);
+        co[INV_RC].fill(d.inv_rc);
+        co[SIGMA0].fill(d.sigma0);
+        co[HALF_A_RC].fill(d.half_a_rc);
     } else {
         for l in 0..n {
             let k = b.coeff[l] as usize;
             let (c, d) = (&table.coeff[k], &table.derived[k]);
-            co.a[l] = c.a;
-            co.gamma0[l] = c.gamma0;
-            co.gamma1[l] = c.gamma1;
-            co.rc[l] = c.rc;
-            co.inv_rc[l] = d.inv_rc;
-            co.sigma0[l] = d.sigma0;
-            co.half_a_rc[l] = d.half_a_rc;
+            co[A][l] = c.a;
+            co[GAMMA0][l] = c.gamma0;
+            co[GAMMA1][l] = c.gamma1;
+            co[RC][l] = c.rc;
+            co[INV_RC][l] = d.inv_rc;
+            co[SIGMA0][l] = d.sigma0;
+            co[HALF_A_RC][l] = d.half_a_rc;
         }
     }
 }
@@ -232,18 +201,18 @@ pub(super) fn lanes<const F: u8, const N: u8, const STD: bool>(
     // Philox, ln and the divisions. The arithmetic of each pair is unchanged.
     pair_noise(b, seed, step, model.dist);
     // The stages of `pair_parts`, one loop each (see there); lane arrays in between.
-    let coeff_at = |co: &LaneCoeff, l: usize| {
+    let coeff_at = |co: &CoeffLanes, l: usize| {
         (
             PairCoeff {
-                a: co.a[l],
-                gamma0: co.gamma0[l],
-                gamma1: co.gamma1[l],
-                rc: co.rc[l],
+                a: co[A][l],
+                gamma0: co[GAMMA0][l],
+                gamma1: co[GAMMA1][l],
+                rc: co[RC][l],
             },
             Derived {
-                inv_rc: co.inv_rc[l],
-                sigma0: co.sigma0[l],
-                half_a_rc: co.half_a_rc[l],
+                inv_rc: co[INV_RC][l],
+                sigma0: co[SIGMA0][l],
+                half_a_rc: co[HALF_A_RC][l],
             },
         )
     };
