@@ -29,13 +29,15 @@ if [ ! -x "$VENV/bin/python" ]; then
   echo "== python3 -m venv .venv-python"
   python3 -m venv "$VENV"
 fi
-echo "== pip install ./python pytest numpy"
-"$VENV/bin/pip" install --quiet --disable-pip-version-check ./python pytest numpy
+echo "== pip install ./python pytest pytest-timeout numpy"
+"$VENV/bin/pip" install --quiet --disable-pip-version-check ./python pytest pytest-timeout numpy
 
 echo "== pytest python/tests"
 # From python/, so that 'import dpdnl' is the installed package (python/python/dpdnl is the
 # source of its pure-Python part, not importable from here).
-(cd python && "$VENV/bin/python" -m pytest -q -p no:cacheprovider tests)
+# Every test has a time limit (pytest-timeout, 300 s; the whole suite takes about 15 s): a test
+# that hangs fails with its stack instead of holding the run.
+(cd python && "$VENV/bin/python" -m pytest -q -p no:cacheprovider --timeout=300 tests)
 
 echo "== python/examples/paper_figures.py (short run)"
 OUT="$(mktemp -d)"

