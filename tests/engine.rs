@@ -334,3 +334,60 @@ fn an_interpreter_owning_its_console_is_send() {
     });
     assert_eq!(handle.join().expect("thread").expect("runs"), Some(1));
 }
+
+/// `dump ID all atom N FILE` is LAMMPS's default atom dump: the columns id type xs ys zs,
+/// scaled positions (x − lo)/L of the positions `dump custom … x y z` writes, in an orthogonal
+/// box and in a sheared one (LAMMPS's lamda coordinates: the tilt taken out of x).
+#[test]
+fn dump_atom_writes_scaled_positions() {
+    for (k, region) in [
+        "region box block 0 5 0 5 0 5",
+        "region box prism 0 5 0 5 0 5 1.5 0 0",
+    ]
+    .iter()
+    .enumerate()
+    {
+        let (atom, custom) = (tmp(&format!("atom{k}.dump")), tmp(&format!("custom{k}.dump")));
+        let script = fluid(3, "dot", "plain", 20)
+            .replace("region box block 0 5 0 5 0 5", region)
+            .replace(
+                "run 20\n",
+                &format!(
+                    "dump a all atom 10 {atom}\ndump c all custom 10 {custom} id type x y z \
+                     xs ys zs\ndump_modify c format float %.17g\nrun 20\n"
+                ),
+            );
+        let (_, sys) = common::run(&script).expect("runs");
+        let sys = sys.expect("system");
+        let (lo, hi) = (sys.bx.lo, sys.bx.hi);
+        let xy = if k == 1 { 1.5 } else { 0.0 };
+        let atom = std::fs::read_to_string(&atom).expect("atom dump");
+        let custom = std::fs::read_to_string(&custom).expect("custom dump");
+        assert!(atom.contains("ITEM: ATOMS id type xs ys zs\n"), "{atom}");
+        let rows = |t: &str| -> Vec<Vec<f64>> {
+            t.lines()
+                .filter(|l| l.split_whitespace().count() >= 5 && !l.starts_with("ITEM"))
+                .map(|l| l.split_whitespace().map(|w| w.parse().expect("number")).collect())
+                .collect()
+        };
+        let (a, c) = (rows(&atom), rows(&custom));
+        assert_eq!(a.len(), 3 * 1000, "three frames of 1000 atoms");
+        assert_eq!(a.len(), c.len());
+        for (ra, rc) in a.iter().zip(&c) {
+            assert_eq!(ra[..2], rc[..2], "id and type");
+            let sy = (rc[3] - lo[1]) / (hi[1] - lo[1]);
+            let want = [
+                (rc[2] - lo[0] - xy * sy) / (hi[0] - lo[0]),
+                sy,
+                (rc[4] - lo[2]) / (hi[2] - lo[2]),
+            ];
+            for d in 0..3 {
+                // The custom dump's xs ys zs at full precision are the same numbers.
+                assert_eq!(rc[5 + d], want[d], "custom xs/ys/zs column {d}");
+                // The atom dump prints them with %g (six digits).
+                assert!((ra[2 + d] - want[d]).abs() <= 5e-6 * want[d].abs().max(1e-3), "{ra:?} {want:?}");
+                assert!((-0.5..1.5).contains(&want[d]), "scaled coordinate {}", want[d]);
+            }
+        }
+    }
+}

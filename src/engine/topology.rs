@@ -35,8 +35,30 @@ impl AtomStyle {
             "molecular" => AtomStyle::Molecular,
             "full" => AtomStyle::Full,
             other => {
+                const ONLY: &str = "only atomic, bond, angle, molecular and full";
+                let why = match other {
+                    "mdpd" => {
+                        ": pair_style mdpd/nonlinear computes the many-body density itself and \
+                         needs no atom style of its own (LAMMPS's rho, drho and vest columns \
+                         are not used); use atom_style atomic, or bond, molecular or full for \
+                         molecules"
+                    }
+                    "charge" => {
+                        ": the DPD styles here have no Coulomb force, so charges would not \
+                         be used; use atom_style atomic"
+                    }
+                    "sphere" | "dipole" | "ellipsoid" => {
+                        ": this engine has per-type masses only (the DPD styles use no radius, \
+                         dipole or shape); use atom_style atomic with `mass`"
+                    }
+                    "hybrid" => {
+                        ": use the one of atomic, bond, angle, molecular or full that holds the \
+                         columns the pair and bond styles use"
+                    }
+                    _ => "",
+                };
                 return Err(format!(
-                    "atom_style '{}' not supported: only atomic, bond, angle, molecular and full",
+                    "atom_style '{}' not supported: {ONLY}{why}",
                     shown(other)
                 ));
             }

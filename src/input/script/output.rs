@@ -2,7 +2,7 @@
 //! `dump_modify`, `undump` and the dump files, `print`, `log`.
 
 use super::{CmdResult, Interpreter};
-use crate::grammar::{need, parse_int};
+use crate::grammar::{at_most, need, parse_int};
 use crate::input::format::{FmtArg, sprintf};
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -21,16 +21,29 @@ pub(super) struct Dump {
 
 impl Interpreter<'_> {
     pub(super) fn cmd_dump(&mut self, args: &[String]) -> CmdResult {
-        let usage = "dump ID all custom N FILE COLUMNS…";
-        need(args, 6, usage)?;
+        let usage = "dump ID all custom N FILE COLUMNS… | dump ID all atom N FILE";
+        // The style word first, so that a style this engine lacks is named as such, whatever
+        // its arguments.
+        need(args, 3, usage)?;
         if args[1] != "all" {
             return Err(format!("group '{}' not supported: only 'all'", args[1]));
         }
-        if args[2] != "custom" {
-            return Err(format!(
-                "dump style '{}' not supported: only custom",
-                args[2]
-            ));
+        // `atom` is LAMMPS's default atom dump: id, type and scaled positions.
+        let atom_style = match args[2].as_str() {
+            "custom" => false,
+            "atom" => true,
+            other => {
+                return Err(format!(
+                    "dump style '{other}' not supported: only custom and atom (for a movie, \
+                     dump custom with the columns you need: id type x y z, or xs ys zs)"
+                ));
+            }
+        };
+        if atom_style {
+            need(args, 5, "dump ID all atom N FILE")?;
+            at_most(args, 5, "dump ID all atom N FILE")?;
+        } else {
+            need(args, 6, usage)?;
         }
         if self.dumps.iter().any(|d| d.id == args[0]) {
             return Err(format!("dump ID '{}' already exists", args[0]));
@@ -39,7 +52,11 @@ impl Interpreter<'_> {
         if every == 0 {
             return Err("dump interval must be >= 1".into());
         }
-        let columns = args[5..].to_vec();
+        let columns = if atom_style {
+            ["id", "type", "xs", "ys", "zs"].map(String::from).to_vec()
+        } else {
+            args[5..].to_vec()
+        };
         for c in &columns {
             if let Some(id) = c.strip_prefix("c_") {
                 if !self.obs.has_per_atom(id) {
@@ -68,6 +85,9 @@ impl Interpreter<'_> {
                     | "xu"
                     | "yu"
                     | "zu"
+                    | "xs"
+                    | "ys"
+                    | "zs"
                     | "ix"
                     | "iy"
                     | "iz"
@@ -78,7 +98,11 @@ impl Interpreter<'_> {
                     | "fy"
                     | "fz"
             ) {
-                return Err(format!("unknown dump column '{c}'"));
+                return Err(format!(
+                    "unknown dump column '{c}': this engine writes id, mol, type, mass, x y z, \
+                     xs ys zs, xu yu zu, ix iy iz, vx vy vz, fx fy fz and c_ID of a per-atom \
+                     compute"
+                ));
             }
         }
         let f = File::create(&args[4])
@@ -197,6 +221,17 @@ impl Interpreter<'_> {
                         sys.bx.unwrap(x, im)
                     }
                 };
+                // Scaled (LAMMPS's lamda) coordinates of the position as written in x y z.
+                let xs = {
+                    let l = |a: usize| sys.bx.hi[a] - sys.bx.lo[a];
+                    let sy = (x[1] - sys.bx.lo[1]) / l(1);
+                    let xy = sys.tri.as_ref().map_or(0.0, |t| t.reported_xy(&sys.bx));
+                    [
+                        (x[0] - sys.bx.lo[0] - xy * sy) / l(0),
+                        sy,
+                        (x[2] - sys.bx.lo[2]) / l(2),
+                    ]
+                };
                 for (k, c) in d.columns.iter().enumerate() {
                     let (int, val) = match c.as_str() {
                         _ if per_atom[k].is_some() => {
@@ -215,6 +250,9 @@ impl Interpreter<'_> {
                         "xu" => (false, xu[0]),
                         "yu" => (false, xu[1]),
                         "zu" => (false, xu[2]),
+                        "xs" => (false, xs[0]),
+                        "ys" => (false, xs[1]),
+                        "zs" => (false, xs[2]),
                         "vx" => (false, sys.atoms.v[i][0]),
                         "vy" => (false, sys.atoms.v[i][1]),
                         "vz" => (false, sys.atoms.v[i][2]),

@@ -52,8 +52,10 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_atom_style(&mut self, args: &[String]) -> CmdResult {
-        exact(args, 1, "atom_style atomic|bond|angle|molecular|full")?;
+        need(args, 1, "atom_style atomic|bond|angle|molecular|full")?;
+        // The style word first (`hybrid` takes sub-styles), then the count.
         let style = AtomStyle::from_word(&args[0])?;
+        exact(args, 1, "atom_style atomic|bond|angle|molecular|full")?;
         if self.sys.is_some() {
             return Err("atom_style command after simulation box is defined".into());
         }
@@ -63,6 +65,17 @@ impl Interpreter<'_> {
 
     pub(super) fn cmd_region(&mut self, args: &[String]) -> CmdResult {
         let usage = "region ID block xlo xhi ylo yhi zlo zhi [units box|lattice] | region ID prism xlo xhi ylo yhi zlo zhi xy xz yz [units box|lattice]";
+        // The style word first: a style this engine lacks is named as such, whatever its
+        // arguments.
+        need(args, 2, usage)?;
+        if !matches!(args[1].as_str(), "block" | "prism") {
+            return Err(format!(
+                "region style '{}' not supported: only 'block' and 'prism' (a script that \
+                 builds its system with other shapes runs in LAMMPS; its `write_data` after the \
+                 set-up gives a data file this engine reads)",
+                args[1]
+            ));
+        }
         need(args, 8, usage)?;
         let prism = match args[1].as_str() {
             "block" => None,

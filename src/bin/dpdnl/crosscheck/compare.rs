@@ -2,7 +2,9 @@
 //! dumps' periodic images matched first.
 
 use super::engines::moved;
-use super::verdict::{differ_verdict, flip_leak_notes, growth_table, neighbor_line, shear_notes};
+use super::verdict::{
+    differ_verdict, engine_random_setup, flip_leak_notes, growth_table, neighbor_line, shear_notes,
+};
 use super::{CannotRun, CrosscheckArgs};
 use crate::report::{TableStyle, c, write_exact_table};
 use dpdnl::io::dump_read::{DumpFrame, parse_dump};
@@ -117,7 +119,10 @@ pub(super) fn compare(
         let res = digits.iter().min().map_or(0.0, |&d| resolution(d));
         let growth = classify(&points, a.rtol, res);
         print!("{}", growth_table(&merged(&points), a.rtol));
-        let mut v = differ_verdict(&what, a.rtol, &neigh, &growth);
+        let random_setup = std::fs::read_to_string(script)
+            .ok()
+            .and_then(|t| engine_random_setup(&t));
+        let mut v = differ_verdict(&what, a.rtol, &neigh, &growth, random_setup.as_ref());
         for n in &notes {
             let _ = write!(v, "; {n}");
         }

@@ -144,10 +144,23 @@ pub(super) fn differ_verdict(
     rtol: f64,
     n: &NeighborSummary,
     growth: &Growth,
+    random_setup: Option<&(usize, String)>,
 ) -> String {
+    let reason = match (growth, random_setup) {
+        (Growth::AtStart { start, .. }, Some((line, cmd))) => format!(
+            " (the engines start from different states: already {} at step {} ({}), because \
+             line {line}, `{cmd}`, draws LAMMPS's random numbers in LAMMPS and keyed ones in \
+             the standalone engine; this is not a model difference: let LAMMPS write_data \
+             after the set-up and read_data that file in both, or set the velocities with \
+             `velocity … set` or `ramp`)",
+            c("%.1e", start.diff),
+            start.step,
+            start.what,
+        ),
+        _ => growth_reason(growth),
+    };
     let mut v = format!(
-        "CROSSCHECK DIFFER{}: {what} not within rtol {} (see the table(s) above)",
-        growth_reason(growth),
+        "CROSSCHECK DIFFER{reason}: {what} not within rtol {} (see the table(s) above)",
         c("%g", rtol)
     );
     if let Growth::Chaotic {
@@ -199,6 +212,23 @@ pub(super) fn differ_verdict(
         );
     }
     v
+}
+
+/// The first set-up command of `script` whose random numbers are the engine's own (LAMMPS's
+/// generators in LAMMPS, keyed ones in the standalone engine), so that the two engines start
+/// from different states: `velocity … create` and `create_atoms … random`. Its line (1-based)
+/// and text.
+pub(super) fn engine_random_setup(script: &str) -> Option<(usize, String)> {
+    script.lines().enumerate().find_map(|(k, line)| {
+        let code = line.split('#').next().unwrap_or("");
+        let w: Vec<&str> = code.split_whitespace().collect();
+        let random = match w.as_slice() {
+            ["velocity", _, "create", ..] => true,
+            ["create_atoms", _, "random", ..] => true,
+            _ => false,
+        };
+        random.then(|| (k + 1, w.join(" ")))
+    })
 }
 
 /// `3.1e-13`, or `0 (identical to the printed digits)`.
@@ -332,11 +362,45 @@ mod tests {
     /// step LAMMPS's count only means consecutive rebuilds, and the verdict must not blame it.
     #[test]
     fn dangerous_builds_blamed_only_when_lists_were_not_checked_every_step() {
-        let late = differ_verdict("thermo", 1e-9, &summary(1, 10, 2), &Growth::Agree);
+        let late = differ_verdict("thermo", 1e-9, &summary(1, 10, 2), &Growth::Agree, None);
         assert!(late.contains("so it missed pairs"), "{late}");
-        let checked = differ_verdict("thermo", 1e-9, &summary(1, 0, 290), &Growth::Agree);
+        let checked = differ_verdict("thermo", 1e-9, &summary(1, 0, 290), &Growth::Agree, None);
         assert!(checked.contains("not missed pairs"), "{checked}");
         assert!(!checked.contains("so it missed pairs"), "{checked}");
+    }
+
+    /// A script whose set-up draws the engine's own random numbers (`velocity create`) and
+    /// differs at the start is told so, not called a model difference; without such a
+    /// command, a difference at the start still is one.
+    #[test]
+    fn a_random_setup_is_named_not_called_a_model_difference() {
+        let script = "units lj\n# velocity all create 9.0 1\nvelocity   all create 1.0 4928 \
+                      loop geom # LAMMPS's\nrun 10\n";
+        let found = engine_random_setup(script);
+        assert_eq!(
+            found,
+            Some((3, "velocity all create 1.0 4928 loop geom".to_string()))
+        );
+        assert_eq!(
+            engine_random_setup("create_atoms 1 random 100 5 NULL\n").map(|f| f.0),
+            Some(1)
+        );
+        assert_eq!(engine_random_setup("velocity all set 0 0 0\n"), None);
+        let start = Point {
+            elapsed: 0,
+            step: 0,
+            block: 0,
+            diff: 0.3,
+            what: "Temp".into(),
+            source: 0,
+        };
+        let g = Growth::AtStart { start, floor: 1e-12 };
+        let v = differ_verdict("thermo", 1e-9, &summary(1, 0, 0), &g, found.as_ref());
+        assert!(v.contains("start from different states"), "{v}");
+        assert!(v.contains("line 3, `velocity all create 1.0 4928 loop geom`"), "{v}");
+        assert!(!v.contains("(model difference"), "{v}");
+        let plain = differ_verdict("thermo", 1e-9, &summary(1, 0, 0), &g, None);
+        assert!(plain.contains("(model difference: already 3.0e-1 at step 0"), "{plain}");
     }
 
     /// The leak notes come from the engines' own end-of-run warnings (the words of
