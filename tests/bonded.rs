@@ -538,7 +538,7 @@ fn dump_writes_molecule_ids() {
         .lines()
         .skip_while(|l| !l.starts_with("ITEM: ATOMS"))
         .skip(1)
-        .map(|l| numbers(l))
+        .map(numbers)
         .collect();
     assert_eq!(rows.len(), 1536);
     // The data file: chain k (1..24) holds atoms 10(k-1)+1 … 10k, all of type 2; then solvent.
