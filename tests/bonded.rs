@@ -33,6 +33,29 @@ fn polymer(special: &str, friction: &str, a: f64, gamma0: f64, extra: &str) -> S
     )
 }
 
+/// [`polymer`] as most tests here run it: `special_bonds lj 0 1 1`, friction cross, a = 25,
+/// γ0 = 4.5, then `extra`.
+fn plain_polymer(extra: &str) -> String {
+    polymer("lj 0 1 1", "cross", 25.0, 4.5, extra)
+}
+
+/// The path of `name` in this test process's work directory `label` (created).
+fn work_file(label: &str, name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("dpdnl-bonded-{label}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// The numbers of a whitespace-separated line.
+fn numbers<T: std::str::FromStr>(line: &str) -> Vec<T>
+where
+    T::Err: std::fmt::Debug,
+{
+    line.split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect()
+}
+
 fn run_on(threads: usize, text: &str) -> (Vec<String>, System) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -259,16 +282,8 @@ fn bit_identical_on_one_and_two_threads() {
 /// velocities, molecule ids, bonds, angles and the coefficients of the data file's sections.
 #[test]
 fn write_data_round_trips_the_topology() {
-    let dir = std::env::temp_dir().join(format!("dpdnl-bonded-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("round.data");
-    let text = polymer(
-        "lj 0 1 1",
-        "cross",
-        25.0,
-        4.5,
-        &format!("run 20\nwrite_data {}\n", file.display()),
-    );
+    let file = work_file("round", "round.data");
+    let text = plain_polymer(&format!("run 20\nwrite_data {}\n", file.display()));
     let (_, a) = run_on(2, &text);
     let again = format!(
         "units lj\natom_style angle\nbond_style harmonic\nangle_style harmonic\nread_data {}\n",
@@ -307,7 +322,7 @@ fn write_data_round_trips_the_topology() {
     assert_eq!(ta.angle_style, tb.angle_style);
     // Debian's LAMMPS reads the file: same bond and angle energies at step 0 (1e-12).
     let Ok(out) = std::process::Command::new("lmp")
-        .current_dir(&dir)
+        .current_dir(file.parent().expect("the work directory"))
         .args(["-log", "none"])
         .stdin(std::process::Stdio::piped())
         .stdout(std::process::Stdio::piped())
@@ -331,7 +346,7 @@ fn write_data_round_trips_the_topology() {
         .skip_while(|l| !l.trim_start().starts_with("Step"))
         .nth(1)
         .unwrap_or_else(|| panic!("no thermo row from lmp:\n{stdout}"));
-    let v: Vec<f64> = row.split_whitespace().map(|t| t.parse().unwrap()).collect();
+    let v: Vec<f64> = numbers(row);
     let n = a.atoms.len() as f64;
     let check = format!(
         "units lj\natom_style angle\nbond_style harmonic\nangle_style harmonic\nread_data {}\n\
@@ -358,29 +373,21 @@ fn write_data_round_trips_the_topology() {
 /// unwrapped positions.
 #[test]
 fn chunks_by_molecule_and_gyration() {
-    let dir = std::env::temp_dir().join(format!("dpdnl-bonded-chunk-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("chunk.out");
-    let text = polymer(
-        "lj 0 1 1",
-        "cross",
-        25.0,
-        4.5,
-        &format!(
-            "compute mol all chunk/atom molecule\ncompute rg all gyration\n\
+    let file = work_file("chunk", "chunk.out");
+    let text = plain_polymer(&format!(
+        "compute mol all chunk/atom molecule\ncompute rg all gyration\n\
              fix c all ave/chunk 5 2 10 mol density/number mass file {}\n\
              thermo 10\nthermo_style custom step c_rg c_rg[1] c_rg[2] c_rg[3]\n\
              thermo_modify format float %.17g\nrun 10\n",
-            file.display()
-        ),
-    );
+        file.display()
+    ));
     let (lines, sys) = run_on(2, &text);
     let out = std::fs::read_to_string(&file).unwrap();
     let body: Vec<&str> = out.lines().filter(|l| !l.starts_with('#')).collect();
     assert_eq!(body[0].split_whitespace().nth(1), Some("24"), "{out}");
     let vol = 8.0f64.powi(3);
     for (k, row) in body[1..25].iter().enumerate() {
-        let v: Vec<f64> = row.split_whitespace().map(|t| t.parse().unwrap()).collect();
+        let v: Vec<f64> = numbers(row);
         assert_eq!(v[0], (k + 1) as f64);
         assert_eq!(v[1], 10.0, "{row}");
         // Printed with %g: 6 significant digits.
@@ -475,30 +482,19 @@ fn bonds_through_the_sheared_boundary() {
 /// (a single sample, so the file holds the instantaneous values, printed with %g).
 #[test]
 fn gyration_per_molecule() {
-    let dir = std::env::temp_dir().join(format!("dpdnl-bonded-rgc-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("rg.out");
-    let text = polymer(
-        "lj 0 1 1",
-        "cross",
-        25.0,
-        4.5,
-        &format!(
-            "compute mol all chunk/atom molecule\ncompute rgc all gyration/chunk mol\n\
+    let file = work_file("rgc", "rg.out");
+    let text = plain_polymer(&format!(
+        "compute mol all chunk/atom molecule\ncompute rgc all gyration/chunk mol\n\
              fix r all ave/time 20 1 20 c_rgc mode vector file {}\nrun 20\n",
-            file.display()
-        ),
-    );
+        file.display()
+    ));
     let (_, sys) = run_on(2, &text);
     let out = std::fs::read_to_string(&file).unwrap();
     // Blocks at steps 0 and 20 ("STEP 24", then 24 rows): the last one is the final state.
     let lines: Vec<&str> = out.lines().filter(|l| !l.starts_with('#')).collect();
     assert_eq!(lines.len(), 50, "{out}");
     assert_eq!(lines[25], "20 24");
-    let rows: Vec<Vec<f64>> = lines[26..]
-        .iter()
-        .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
-        .collect();
+    let rows: Vec<Vec<f64>> = lines[26..].iter().map(|l| numbers(l)).collect();
     let a = &sys.atoms;
     for (c, row) in rows.iter().enumerate() {
         let members: Vec<usize> = (0..a.len())
@@ -531,26 +527,18 @@ fn gyration_per_molecule() {
 /// system refuses the column.
 #[test]
 fn dump_writes_molecule_ids() {
-    let dir = std::env::temp_dir().join(format!("dpdnl-bonded-dump-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("mol.dump");
-    let text = polymer(
-        "lj 0 1 1",
-        "cross",
-        25.0,
-        4.5,
-        &format!(
-            "dump d all custom 1 {} id mol type\ndump_modify d sort id\nrun 0\n",
-            file.display()
-        ),
-    );
+    let file = work_file("dump", "mol.dump");
+    let text = plain_polymer(&format!(
+        "dump d all custom 1 {} id mol type\ndump_modify d sort id\nrun 0\n",
+        file.display()
+    ));
     run_on(1, &text);
     let out = std::fs::read_to_string(&file).unwrap();
     let rows: Vec<Vec<u32>> = out
         .lines()
         .skip_while(|l| !l.starts_with("ITEM: ATOMS"))
         .skip(1)
-        .map(|l| l.split_whitespace().map(|t| t.parse().unwrap()).collect())
+        .map(numbers)
         .collect();
     assert_eq!(rows.len(), 1536);
     // The data file: chain k (1..24) holds atoms 10(k-1)+1 … 10k, all of type 2; then solvent.

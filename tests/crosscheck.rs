@@ -10,38 +10,15 @@
 
 mod plugin_support;
 
-use dpdnl::io::dump_read::{DumpFrame, parse_dump};
+use dpdnl::io::dump_read::parse_dump;
 use dpdnl::io::lammps_log::{Tolerance, compare_dumps_exact, compare_exact_logs, parse_log};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use plugin_support::root;
+use plugin_support::{frames_at, golden_cases as cases, read, root, step0_forces};
 
 fn lmp() -> Option<PathBuf> {
     plugin_support::lmp_dpdnl("cross-engine tests")
-}
-
-fn cases() -> Vec<PathBuf> {
-    let dir = root().join("tests/data/crosscheck");
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("tests/data/crosscheck")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| n.starts_with("in."))
-        })
-        .collect();
-    v.sort();
-    v
-}
-
-fn frames_at(frames: &[DumpFrame], step: u64) -> Vec<DumpFrame> {
-    frames.iter().filter(|f| f.step == step).cloned().collect()
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("cannot read {}: {e}", p.display()))
 }
 
 /// All cases in one test: they share the script directory, where the engines write their
@@ -60,22 +37,7 @@ fn golden_cases_agree_between_engines() {
     for script in &cases {
         let name = script.file_name().unwrap().to_string_lossy().into_owned();
         let work = tmp.join(&name);
-        let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
-            .arg("crosscheck")
-            .arg(script)
-            .arg("--lmp")
-            .arg(&lmp)
-            .arg("--workdir")
-            .arg(&work)
-            .arg("--threads")
-            .arg("2")
-            // Near-cancelling net forces (an O(1e-3) force from pair forces of O(10)) move by
-            // ~1e-12 absolutely when the pairs are summed in another order: over the run that
-            // is a per-value relative difference of 1e-9 without any model difference (seen:
-            // polymer_frac_2d, fy = -0.0028 at step 100, 9e-12 apart). 1e-9 absolute is far
-            // above that and far below a model difference.
-            .arg("--atol")
-            .arg("1e-9")
+        let out = plugin_support::golden_crosscheck(script, &lmp, &work)
             .output()
             .expect("run dpdnl crosscheck");
         let stdout = String::from_utf8_lossy(&out.stdout);
@@ -91,31 +53,12 @@ fn golden_cases_agree_between_engines() {
         let case = name.trim_start_matches("in.");
         let ds = parse_dump(&read(&work.join(format!("dump.{case}.standalone")))).unwrap();
         let dl = parse_dump(&read(&work.join(format!("dump.{case}.lammps")))).unwrap();
-        let cols: Vec<String> = ["fx", "fy", "fz"].iter().map(|s| s.to_string()).collect();
-        let tol = Tolerance {
-            rtol: 1e-12,
-            atol: 0.0,
-        };
         // Per-value relative differences |Δf| / max(|f_A|, |f_B|) are reported; the check is
         // against the force scale of the frame, max |Δf| / max_i |f_i| <= 1e-12, because an
         // atom's net force can be a near-cancellation of pair forces of O(10-30), and the two
         // engines sum the pairs in different orders (round-off ~1e-13 absolute).
-        let r0 =
-            compare_dumps_exact(&frames_at(&ds, 0), &frames_at(&dl, 0), Some(&cols), tol).unwrap();
-        assert!(r0.n_matched > 0, "{name}: no step-0 frame in the dumps");
-        let f0 = r0.columns.iter().map(|c| c.max_rel).fold(0.0, f64::max);
-        let d0 = r0.columns.iter().map(|c| c.max_abs).fold(0.0, f64::max);
-        let frame0 = &frames_at(&ds, 0)[0];
-        let ks: Vec<usize> = cols
-            .iter()
-            .map(|c| frame0.columns.iter().position(|d| d == c).unwrap())
-            .collect();
-        let scale = frame0
-            .rows
-            .iter()
-            .flat_map(|r| ks.iter().map(|&k| r[k].abs()))
-            .fold(0.0, f64::max);
-        let s0 = d0 / scale;
+        let step0 = step0_forces(&ds, &dl);
+        let (f0, d0, scale, s0) = (step0.max_rel, step0.max_abs, step0.scale, step0.relative());
         if s0 > 1e-12 {
             failures.push(format!(
                 "{name}: step-0 forces differ: max |Δf| {d0:.3e} / max |f| {scale:.3e} = {s0:.3e} > 1e-12"
@@ -180,6 +123,11 @@ fn golden_cases_agree_between_engines() {
             .iter()
             .map(|c| (c.column.clone(), c.max_rel))
             .fold((String::new(), 0.0), |a, b| if b.1 > a.1 { b } else { a });
+        let cols: Vec<String> = ["fx", "fy", "fz"].iter().map(|s| s.to_string()).collect();
+        let tol = Tolerance {
+            rtol: 1e-12,
+            atol: 0.0,
+        };
         let r100 =
             compare_dumps_exact(&frames_at(&ds, end), &frames_at(&dl, end), Some(&cols), tol)
                 .unwrap();
@@ -213,7 +161,6 @@ fn missing_lammps_is_exit_2_with_a_hint() {
 /// LAMMPS that differs from the standalone engine and logged `dangerous` would.
 #[cfg(unix)]
 fn fake_lammps(dir: &Path, name: &str, dangerous: &str) -> PathBuf {
-    use std::os::unix::fs::PermissionsExt;
     let log = dir.join(format!("{name}.log"));
     std::fs::write(
         &log,
@@ -229,16 +176,23 @@ fn fake_lammps(dir: &Path, name: &str, dangerous: &str) -> PathBuf {
         ),
     )
     .expect("write the fake log");
-    let exe = dir.join(name);
-    std::fs::write(
-        &exe,
-        format!(
+    stand_in(
+        dir,
+        name,
+        &format!(
             "#!/bin/sh\nwhile [ $# -gt 0 ]; do\n  if [ \"$1\" = \"-log\" ]; then cp '{}' \"$2\"; fi\n  \
              shift\ndone\n",
             log.display()
         ),
     )
-    .expect("write the fake LAMMPS");
+}
+
+/// The executable shell script `dir/name` with the text `script`: a stand-in for LAMMPS.
+#[cfg(unix)]
+fn stand_in(dir: &Path, name: &str, script: &str) -> PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let exe = dir.join(name);
+    std::fs::write(&exe, script).expect("write the fake LAMMPS");
     std::fs::set_permissions(&exe, std::fs::Permissions::from_mode(0o755)).expect("chmod");
     exe
 }
@@ -317,11 +271,10 @@ fn differ_verdict_names_dangerous_builds_and_the_fix() {
 /// a synthetic log whose difference from the standalone one is known.
 #[cfg(unix)]
 fn perturbing_lammps(dir: &Path, name: &str, f: &str) -> PathBuf {
-    use std::os::unix::fs::PermissionsExt;
-    let exe = dir.join(name);
-    std::fs::write(
-        &exe,
-        format!(
+    stand_in(
+        dir,
+        name,
+        &format!(
             "#!/bin/sh
 while [ $# -gt 0 ]; do
   if [ \"$1\" = \"-log\" ]; then out=\"$2\"; fi
@@ -341,9 +294,6 @@ done
 "
         ),
     )
-    .expect("write the fake LAMMPS");
-    std::fs::set_permissions(&exe, std::fs::Permissions::from_mode(0o755)).expect("chmod");
-    exe
 }
 
 /// The DIFFER verdict tells chaotic growth of round-off from a model difference (issue 41):

@@ -1,45 +1,21 @@
 //! `dpdnl design --method sdpd` and `dpdnl theory --kernel …` / `dpdnl theory SCRIPT` for
 //! `pair_style sdpd`: the printed design, run through a script, gives back the paper's η̄.
 
-use std::process::Command;
-
 mod common;
-use common::value;
-
-fn dpdnl(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
-        .args(args)
-        .output()
-        .expect("run dpdnl");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::{TABLE4_DESIGN, dpdnl_cli as dpdnl, value};
 
 /// Table 4's first row (Sc0 = 400, η0 = 49 → s = 0.0700, η̄ = 49.0613, exactly 49.06125 = η0 (1 + 1/(2 Sc0))): the design's two lines,
 /// put in a script, give the same kinetic theory through `dpdnl theory SCRIPT`.
 #[test]
 fn sdpd_design_round_trip() {
-    let (code, out, err) = dpdnl(&[
-        "design",
-        "--method",
-        "sdpd",
-        "--paper-approx",
-        "--eta",
-        "49",
-        "--sc",
-        "400",
-        "--density",
-        "4",
-        "--rc",
-        "2.5",
-        "--dim",
-        "2",
-        "--c0",
-        "20",
-    ]);
+    let (code, out, err) = dpdnl(
+        &[
+            &["design", "--method", "sdpd", "--paper-approx"][..],
+            &TABLE4_DESIGN,
+            &["--c0", "20"],
+        ]
+        .concat(),
+    );
     assert_eq!(code, 0, "{err}");
     assert!((value(&out, "s") - 0.0700).abs() < 5e-5, "{out}");
     assert!((value(&out, "eta") - 49.06125).abs() < 1e-9, "{out}");

@@ -10,62 +10,8 @@
 
 mod plugin_support;
 
-use dpdnl::io::dump_read::{DumpFrame, parse_dump};
-use dpdnl::io::lammps_log::{Tolerance, compare_dumps_exact};
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn cases() -> Vec<PathBuf> {
-    let dir = plugin_support::root().join("tests/data/crosscheck");
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .expect("tests/data/crosscheck")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| n.starts_with("in."))
-        })
-        .collect();
-    v.sort();
-    v
-}
-
-fn frames_at(frames: &[DumpFrame], step: u64) -> Vec<DumpFrame> {
-    frames.iter().filter(|f| f.step == step).cloned().collect()
-}
-
-fn read(p: &Path) -> String {
-    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("cannot read {}: {e}", p.display()))
-}
-
-/// max |Δf| / max |f| over the step-0 frame (per-value ratios are misleading where an atom's
-/// net force is a near-cancellation of O(10) pair forces summed in a different order).
-fn step0_force_difference(standalone: &[DumpFrame], lammps: &[DumpFrame]) -> f64 {
-    let cols: Vec<String> = ["fx", "fy", "fz"].iter().map(|s| s.to_string()).collect();
-    let tol = Tolerance {
-        rtol: 1e-12,
-        atol: 0.0,
-    };
-    let (a, b) = (frames_at(standalone, 0), frames_at(lammps, 0));
-    let r = compare_dumps_exact(&a, &b, Some(&cols), tol).expect("comparable step-0 frames");
-    assert!(r.n_matched > 0, "no step-0 frame in the dumps");
-    let d = r.columns.iter().map(|c| c.max_abs).fold(0.0, f64::max);
-    let ks: Vec<usize> = cols
-        .iter()
-        .map(|c| {
-            a[0].columns
-                .iter()
-                .position(|d| d == c)
-                .expect("force column")
-        })
-        .collect();
-    let scale = a[0]
-        .rows
-        .iter()
-        .flat_map(|r| ks.iter().map(|&k| r[k].abs()))
-        .fold(0.0, f64::max);
-    d / scale
-}
+use dpdnl::io::dump_read::parse_dump;
+use plugin_support::{golden_cases as cases, read, step0_forces};
 
 /// All cases in one test: they share the script directory, where the engines write their
 /// dumps before crosscheck moves them away. (tests/crosscheck.rs uses that directory too;
@@ -87,18 +33,7 @@ fn golden_cases_agree_between_standalone_and_plugin() {
         let name = script.file_name().unwrap().to_string_lossy().into_owned();
         let case = name.trim_start_matches("in.").to_string();
         let work = tmp.join(&name);
-        let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
-            .arg("crosscheck")
-            .arg(script)
-            .arg("--lmp")
-            .arg(&lammps.lmp)
-            .arg("--workdir")
-            .arg(&work)
-            .arg("--threads")
-            .arg("2")
-            // As tests/crosscheck.rs: near-cancelling net forces (see there).
-            .arg("--atol")
-            .arg("1e-9")
+        let out = plugin_support::golden_crosscheck(script, &lammps.lmp, &work)
             .env(
                 "LAMMPS_PLUGIN_PATH",
                 lammps.plugin.parent().expect("plugin directory"),
@@ -124,7 +59,7 @@ fn golden_cases_agree_between_standalone_and_plugin() {
         }
         let ds = parse_dump(&read(&work.join(format!("dump.{case}.standalone")))).unwrap();
         let dl = parse_dump(&read(&work.join(format!("dump.{case}.lammps")))).unwrap();
-        let s0 = step0_force_difference(&ds, &dl);
+        let s0 = step0_forces(&ds, &dl).relative();
         if s0 > 1e-12 {
             failures.push(format!(
                 "{name}: step-0 forces differ: max |Δf| / max |f| = {s0:.3e} > 1e-12"

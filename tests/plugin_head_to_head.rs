@@ -32,8 +32,9 @@
 
 mod plugin_support;
 
-use dpdnl::io::lammps_log::{ThermoBlock, parse_log};
+use dpdnl::io::lammps_log::ThermoBlock;
 use dpdnl::stats::{BlockEstimate, block_average};
+use plugin_support::column;
 use std::path::{Path, PathBuf};
 
 const N: usize = 3000;
@@ -65,16 +66,7 @@ fn script(pair: &str) -> String {
 /// Runs one script with the plugin loaded; returns the production thermo block.
 fn run(lammps: &plugin_support::PluginLammps, dir: &Path, name: &str, pair: &str) -> ThermoBlock {
     let text = lammps.run_in(dir, &format!("in.{name}"), &script(pair), &[]);
-    let log = dir.join(format!("log.{name}"));
-    let blocks = parse_log(&text).unwrap_or_else(|e| panic!("{}: {e}", log.display()));
-    let b = blocks.last().expect("a thermo block").clone();
-    assert_eq!(b.rows.len(), PRODUCTION + 1, "{name}: production rows");
-    b
-}
-
-fn column(b: &ThermoBlock, name: &str) -> Vec<f64> {
-    b.column(name)
-        .unwrap_or_else(|| panic!("no column {name} in {:?}", b.columns))
+    plugin_support::production_block(&text, &dir.join(format!("log.{name}")), PRODUCTION + 1)
 }
 
 /// One Green–Kubo integral per block of GK_BLOCK samples: (V/kT) δt Σ_k w_k C(k), k = 0..LAGS,
@@ -127,33 +119,22 @@ fn head_to_head(label: &str, plugin_pair: &str, reference: &str, reference_pair:
         return;
     };
     let dir = work_dir(label);
-    let (ours, theirs) = std::thread::scope(|s| {
-        let a = s.spawn(|| run(&lammps, &dir, "plugin", plugin_pair));
-        let b = s.spawn(|| run(&lammps, &dir, "reference", reference_pair));
-        (
-            a.join().expect("plugin run"),
-            b.join().expect("reference run"),
-        )
-    });
+    let (ours, theirs) = plugin_support::side_by_side(
+        || run(&lammps, &dir, "plugin", plugin_pair),
+        || run(&lammps, &dir, "reference", reference_pair),
+    );
     let (a, b) = (observe(&ours), observe(&theirs));
     let rows = [
         ("<T>", a.temp, b.temp),
         ("<P>", a.press, b.press),
         ("GK integral", a.gk, b.gk),
     ];
-    let mut report = format!(
+    let report = format!(
         "{label}: dpd/nonlinear (plugin) vs {reference}, N = {N}, {PRODUCTION} steps, δt = {DT}\n\
          {:<12} {:>24} {:>24} {:>7}\n",
         "", "plugin", reference, "z"
     );
-    let failed = plugin_support::z_rows(&mut report, &rows, ZMAX);
-    eprintln!("{report}");
-    assert!(
-        failed.is_empty(),
-        "|z| >= {ZMAX} for {failed:?}:\n{report}(logs in {})",
-        dir.display()
-    );
-    let _ = std::fs::remove_dir_all(&dir);
+    plugin_support::assert_z_rows(report, &rows, ZMAX, &dir);
 }
 
 #[test]

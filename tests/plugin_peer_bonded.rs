@@ -35,8 +35,9 @@
 
 mod plugin_support;
 
-use dpdnl::io::lammps_log::{ThermoBlock, parse_log};
+use dpdnl::io::lammps_log::ThermoBlock;
 use dpdnl::stats::{BlockEstimate, block_average};
+use plugin_support::SplitMix;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -46,19 +47,6 @@ const EQUILIBRATION: usize = 2000;
 const PRODUCTION: usize = 20000;
 const EVERY: usize = 10;
 const ZMAX: f64 = 3.0;
-
-/// SplitMix64: a fixed, documented generator for the start configuration.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// A data file (atom_style bond): `nchains` random-walk chains of `len` beads (type 2, molecule
 /// 1…nchains) and `nsolvent` solvent beads (type 1, molecule 0), wrapped with image flags.
@@ -146,23 +134,11 @@ fn run(
         &script(pair, special),
         &[("system.data", data)],
     );
-    let log = dir.join("log.peer");
-    let blocks = parse_log(&text).unwrap_or_else(|e| panic!("{}: {e}", log.display()));
-    let b = blocks.last().expect("a thermo block").clone();
-    assert_eq!(
-        b.rows.len(),
-        PRODUCTION / EVERY + 1,
-        "{}: production rows",
-        dir.display()
-    );
-    b
+    plugin_support::production_block(&text, &dir.join("log.peer"), PRODUCTION / EVERY + 1)
 }
 
 fn estimate(b: &ThermoBlock, name: &str) -> BlockEstimate {
-    let column = b
-        .column(name)
-        .unwrap_or_else(|| panic!("no column {name} in {:?}", b.columns));
-    block_average(&column)
+    block_average(&plugin_support::column(b, name))
 }
 
 fn work_dir(label: &str) -> PathBuf {
@@ -184,15 +160,11 @@ fn peer(label: &str, data: &str, special: &str, a12: f64) {
          pair_coeff 1 1 25.0 4.5\npair_coeff 2 2 25.0 4.5\npair_coeff 1 2 {a12} 4.5"
     );
     let dir = work_dir(label);
-    let (a, b) = std::thread::scope(|s| {
-        let a = s.spawn(|| run(&lammps, &dir.join("plugin"), data, &ours, special));
-        let b = s.spawn(|| run(&lammps, &dir.join("reference"), data, &theirs, special));
-        (
-            a.join().expect("plugin run"),
-            b.join().expect("reference run"),
-        )
-    });
-    let mut report = format!(
+    let (a, b) = plugin_support::side_by_side(
+        || run(&lammps, &dir.join("plugin"), data, &ours, special),
+        || run(&lammps, &dir.join("reference"), data, &theirs, special),
+    );
+    let report = format!(
         "{label} (special_bonds lj {special}): dpd/nonlinear friction none (plugin) vs pair dpd, \
          {PRODUCTION} steps every {EVERY}\n{:<12} {:>24} {:>24} {:>7}\n",
         "", "plugin", "pair dpd", "z"
@@ -206,14 +178,7 @@ fn peer(label: &str, data: &str, special: &str, a12: f64) {
     .into_iter()
     .map(|(name, column)| (name, estimate(&a, column), estimate(&b, column)))
     .collect();
-    let failed = plugin_support::z_rows(&mut report, &rows, ZMAX);
-    eprintln!("{report}");
-    assert!(
-        failed.is_empty(),
-        "|z| >= {ZMAX} for {failed:?}:\n{report}(logs in {})",
-        dir.display()
-    );
-    let _ = std::fs::remove_dir_all(&dir);
+    plugin_support::assert_z_rows(report, &rows, ZMAX, &dir);
 }
 
 #[test]

@@ -21,6 +21,7 @@ mod plugin_support;
 
 use dpdnl::io::lammps_log::{ThermoBlock, parse_log};
 use dpdnl::stats::{BlockEstimate, block_average};
+use plugin_support::{SplitMix, column};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -46,19 +47,6 @@ fn pair_lines(t: f64, seed: u32) -> (String, String) {
         let _ = writeln!(ours, "pair_coeff {types} {c}");
     }
     (theirs, ours)
-}
-
-/// SplitMix64: a fixed, documented generator for the start configuration.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
 }
 
 /// The start as a data file: atom style `mdpd` (LAMMPS's, with a ρ column) or `atomic`.
@@ -235,11 +223,6 @@ fn coexistence_script(atom_style: &str, pair: &str) -> String {
     )
 }
 
-fn column(b: &ThermoBlock, name: &str) -> Vec<f64> {
-    b.column(name)
-        .unwrap_or_else(|| panic!("no column {name} in {:?}", b.columns))
-}
-
 #[test]
 #[ignore = "slow (about 2 minutes on 2 cores); CI runs it with --ignored"]
 fn liquid_slab_coexistence_matches_lammps_mdpd() {
@@ -249,22 +232,19 @@ fn liquid_slab_coexistence_matches_lammps_mdpd() {
     let dir = plugin_support::work_dir("mdpd", "slab");
     let (theirs, ours) = pair_lines(1.0, 34387);
     let run = |sub: &str, style: &str, pair: &str, mdpd: bool| {
-        let log = lammps.run_in(
+        let text = lammps.run_in(
             &dir.join(sub),
             "in.slab",
             &coexistence_script(style, pair),
             &[("data.start", &data_file(mdpd))],
         );
-        let blocks = parse_log(&log).expect("thermo");
-        let b = blocks.last().expect("production").clone();
-        assert_eq!(b.rows.len(), PRODUCTION / EVERY + 1, "{sub}: rows");
-        b
+        let log = dir.join(sub).join("log.slab");
+        plugin_support::production_block(&text, &log, PRODUCTION / EVERY + 1)
     };
-    let (a, b) = std::thread::scope(|s| {
-        let a = s.spawn(|| run("plugin", "atomic", &ours, false));
-        let b = s.spawn(|| run("reference", "mdpd", &theirs, true));
-        (a.join().expect("plugin"), b.join().expect("reference"))
-    });
+    let (a, b) = plugin_support::side_by_side(
+        || run("plugin", "atomic", &ours, false),
+        || run("reference", "mdpd", &theirs, true),
+    );
     let observables = |t: &ThermoBlock| -> [(&'static str, BlockEstimate); 3] {
         let temp = column(t, "Temp");
         let (pxx, pyy, pzz) = (column(t, "Pxx"), column(t, "Pyy"), column(t, "Pzz"));
@@ -285,17 +265,10 @@ fn liquid_slab_coexistence_matches_lammps_mdpd() {
         .zip(&ob)
         .map(|((name, x), (_, y))| (*name, *x, *y))
         .collect();
-    let mut report = format!(
+    let report = format!(
         "liquid slab, A = -40, B = 25 (and a second type), kT = 1, dt = 0.01, {PRODUCTION} \
          steps every {EVERY}\n{:<12} {:>24} {:>24} {:>7}\n",
         "", "mdpd/nonlinear (plugin)", "LAMMPS mdpd", "z"
     );
-    let failed = plugin_support::z_rows(&mut report, &rows, ZMAX);
-    eprintln!("{report}");
-    assert!(
-        failed.is_empty(),
-        "|z| >= {ZMAX} for {failed:?}:\n{report}(logs in {})",
-        dir.display()
-    );
-    let _ = std::fs::remove_dir_all(&dir);
+    plugin_support::assert_z_rows(report, &rows, ZMAX, &dir);
 }

@@ -13,10 +13,9 @@ use dpdnl::theory::{
     radial_moment,
 };
 use std::f64::consts::PI;
-use std::process::Command;
 
 mod common;
-use common::{agrees, paper_fluid, value};
+use common::{TABLE4_DESIGN, agrees, paper_fluid, value};
 
 /// Words of a message longer than this many digits in a row: a number not printed %g-style.
 fn long_digit_runs(text: &str) -> Vec<&str> {
@@ -561,16 +560,10 @@ fn euler_critical_values() {
 // ---------------------------------------------------------------------------------------------
 // The commands.
 
+/// `dpdnl ARGS`: whether it succeeded, its stdout and stderr.
 fn dpdnl(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
-        .args(args)
-        .output()
-        .expect("run dpdnl");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let (code, out, err) = common::dpdnl_cli(args);
+    (code == 0, out, err)
 }
 
 #[test]
@@ -645,37 +638,11 @@ fn cli_design_then_theory_reproduces_targets() {
 
 #[test]
 fn cli_paper_mode_and_json() {
-    let (ok, out, err) = dpdnl(&[
-        "design",
-        "--eta",
-        "49",
-        "--sc",
-        "400",
-        "--density",
-        "4",
-        "--rc",
-        "2.5",
-        "--dim",
-        "2",
-        "--paper-approx",
-    ]);
+    let (ok, out, err) = dpdnl(&[&["design"][..], &TABLE4_DESIGN, &["--paper-approx"]].concat());
     assert!(ok, "{err}");
     assert!(out.contains("APPROXIMATION"));
     assert!(agrees(value(&out, "s"), "0.0700") && agrees(value(&out, "eta"), "49.0613"));
-    let (ok, out, err) = dpdnl(&[
-        "design",
-        "--eta",
-        "49",
-        "--sc",
-        "400",
-        "--density",
-        "4",
-        "--rc",
-        "2.5",
-        "--dim",
-        "2",
-        "--json",
-    ]);
+    let (ok, out, err) = dpdnl(&[&["design"][..], &TABLE4_DESIGN, &["--json"]].concat());
     assert!(ok, "{err}");
     let line = out.trim();
     assert!(line.starts_with('{') && line.ends_with('}') && line.lines().count() == 1);

@@ -245,26 +245,30 @@ impl SimBox {
     /// re-enters with the velocity of the image it becomes; then x and z wrap periodically.
     /// `image` counts the crossings as LAMMPS does for a tilted box: the unwrapped position
     /// x + ix L_x + iy xy (LAMMPS's `Domain::unmap`) is kept, so a y crossing also changes ix
-    /// by [`LeesEdwards::tilt_cells`].
+    /// by [`LeesEdwards::tilt_cells`]. Returns the y crossings, as
+    /// [`crate::engine::lees_edwards::y_crossings`] counts them.
     pub fn wrap_le(
         &self,
         x: &mut [f64; 3],
         v: &mut [f64; 3],
         image: &mut [i32; 3],
         le: &LeesEdwards,
-    ) {
+    ) -> i32 {
         let ny = ((x[1] - self.lo[1]) * self.inv_len[1]).floor();
+        let mut crossings = 0;
         if ny != 0.0 {
             x[1] -= ny * self.len[1];
             x[0] -= ny * le.offset;
             v[0] -= ny * le.jump(self);
-            image[1] = image[1].saturating_add(ny as i32); // saturating: as in `wrap`
+            crossings = ny as i32;
+            image[1] = image[1].saturating_add(crossings); // saturating: as in `wrap`
             image[0] = image[0].saturating_add((ny * le.tilt_cells) as i32);
             // Round-off can leave y == hi: that point is the image of lo, one more crossing.
             if x[1] >= self.hi[1] {
                 x[1] = self.lo[1];
                 x[0] -= le.offset;
                 v[0] -= le.jump(self);
+                crossings = crossings.saturating_add(1);
                 image[1] = image[1].saturating_add(1);
                 image[0] = image[0].saturating_add(le.tilt_cells as i32);
             }
@@ -278,6 +282,7 @@ impl SimBox {
             x[2] = y[2];
             image[2] = image[2].saturating_add(im[2]);
         }
+        crossings
     }
 }
 
@@ -400,5 +405,33 @@ mod tests {
             assert!((d0[k] - d1[k]).abs() < 1e-12, "{d0:?} vs {d1:?}");
         }
         assert!((w0 - w1).abs() < 1e-12, "{w0} vs {w1}");
+    }
+
+    #[test]
+    fn wrap_le_returns_the_crossings_of_y_crossings() {
+        // The flip's leak count reads wrap_le's answer: the same n as LAMMPS's count, also at
+        // the round-off point just below lo, which lands on hi.
+        let b = bx();
+        let le = LeesEdwards::new(0.5);
+        let below = -2.0 - f64::EPSILON;
+        for y in [
+            0.3,
+            2.0,
+            2.1,
+            5.9,
+            6.0,
+            -2.0,
+            -2.1,
+            -6.5,
+            13.7,
+            below,
+            1e300,
+            f64::NAN,
+        ] {
+            let (mut x, mut v, mut im) = ([1.0, y, 1.0], [0.0; 3], [0; 3]);
+            let n = b.wrap_le(&mut x, &mut v, &mut im, &le);
+            let want = crate::engine::lees_edwards::y_crossings(y, -2.0, 2.0, 4.0);
+            assert_eq!(n, want, "y = {y}");
+        }
     }
 }

@@ -179,14 +179,36 @@ pub fn flip_wrap_y(
     n
 }
 
-/// The end-of-run log line of a run whose flips put atoms through y with the velocity jump
-/// (`fix flip/momentum`, mode jump); None when none was.
+/// The word that starts the machine-readable line following each end-of-run text of the flips
+/// ([`flip_jump_note`], [`flip_leak_warning`]): `flip_leak: atoms=N jump=1` with the velocity
+/// jump, `flip_leak: atoms=N jump=0 momentum=P V=V` without it (P and V as the warning prints
+/// them). `crate::io::lammps_log::flip_records` reads it back; LAMMPS may append
+/// ` (file:line)` to it.
+pub const FLIP_RECORD: &str = "flip_leak:";
+
+/// The machine-readable line of [`FLIP_RECORD`]: `momentum_v` the warning's P and V, as printed.
+fn flip_record(leak: &FlipLeak, momentum_v: Option<(&str, &str)>) -> String {
+    let mut line = format!(
+        "{FLIP_RECORD} atoms={} jump={}",
+        leak.atoms,
+        u8::from(momentum_v.is_none())
+    );
+    if let Some((p, v)) = momentum_v {
+        line += &format!(" momentum={p} V={v}");
+    }
+    line
+}
+
+/// The end-of-run log lines of a run whose flips put atoms through y with the velocity jump
+/// (`fix flip/momentum`, mode jump): the note, then its [`FLIP_RECORD`] line; None when none
+/// was.
 pub fn flip_jump_note(leak: &FlipLeak) -> Option<String> {
     (leak.conserved && leak.atoms > 0).then(|| {
         format!(
             "fix flip/momentum: box flips put {} atom(s) through the y boundary, each with remap v's \
-             velocity jump",
-            leak.atoms
+             velocity jump\n{}",
+            leak.atoms,
+            flip_record(leak, None)
         )
     })
 }
@@ -194,7 +216,7 @@ pub fn flip_jump_note(leak: &FlipLeak) -> Option<String> {
 /// The end-of-run warning of a run whose flips put atoms through y without the velocity jump
 /// (plain `fix deform … remap v`, in LAMMPS and in the standalone engine alike); None when no
 /// atom was or the jump was applied. `total_mass` turns the momentum into the mean velocity V
-/// relative to the profile.
+/// relative to the profile. The warning is followed by its [`FLIP_RECORD`] line.
 pub fn flip_leak_warning(leak: &FlipLeak, total_mass: f64) -> Option<String> {
     if leak.atoms == 0 || leak.conserved {
         return None;
@@ -204,15 +226,18 @@ pub fn flip_leak_warning(leak: &FlipLeak, total_mass: f64) -> Option<String> {
     } else {
         0.0
     };
+    let (p, v) = (
+        crate::fmtnum::fmt_g(leak.momentum),
+        crate::fmtnum::fmt_g(dv),
+    );
     Some(format!(
         "fix deform … remap v: box flips put {} atom(s) through the y boundary without remap v's \
          velocity jump (LAMMPS's fix deform does the same), so the total x momentum relative to \
-         the shear profile changed by {} (mean velocity V = {}); temp/deform counts V²/2 as heat. \
+         the shear profile changed by {p} (mean velocity V = {v}); temp/deform counts V²/2 as heat. \
          Add 'fix ID all flip/momentum' to apply the jump at flips too \
-         (docs/manual/styles/fix_flip_momentum.md)",
+         (docs/manual/styles/fix_flip_momentum.md)\n{}",
         leak.atoms,
-        crate::fmtnum::fmt_g(leak.momentum),
-        crate::fmtnum::fmt_g(dv),
+        flip_record(leak, Some((&p, &v))),
     ))
 }
 

@@ -75,12 +75,25 @@ impl System {
             return;
         };
         let bx = &self.bx;
-        let (lo, hi, ly) = (bx.lo[1], bx.hi[1], bx.len()[1]);
         let jump = t.le.jump(bx);
-        // Counted before the wrap, in storage order (a serial sum: the same bits on any number
-        // of threads).
-        for (x, &typ) in self.atoms.x.iter().zip(&self.atoms.typ) {
-            let n = lees_edwards::y_crossings(x[1], lo, hi, ly);
+        // With fix flip/momentum the atoms put through y get remap v's velocity jump; without
+        // it (LAMMPS's remap) the same wrap with a jump of 0 (rate 0: v_x − n·0 is v_x).
+        let mut le = t.le;
+        if t.flip_fix == Some(true) {
+            t.leak.conserved = true;
+        } else {
+            le.rate = 0.0;
+        }
+        let a = &mut self.atoms;
+        let crossings: Vec<i32> =
+            a.x.par_iter_mut()
+                .zip(a.v.par_iter_mut())
+                .zip(a.image.par_iter_mut())
+                .map(|((x, v), im)| bx.wrap_le(x, v, im, &le))
+                .collect();
+        // Counted in storage order (a serial sum: the same bits on any number of threads), at
+        // the jump the atom got or would have got.
+        for (&n, &typ) in crossings.iter().zip(&a.typ) {
             if n != 0 {
                 let m = self
                     .mass
@@ -92,19 +105,6 @@ impl System {
                 t.leak.momentum += m * f64::from(n) * jump;
             }
         }
-        // With fix flip/momentum the atoms put through y get remap v's velocity jump; without
-        // it (LAMMPS's remap) the same wrap with a jump of 0 (rate 0: v_x − n·0 is v_x).
-        let mut le = t.le;
-        if t.flip_fix == Some(true) {
-            t.leak.conserved = true;
-        } else {
-            le.rate = 0.0;
-        }
-        let a = &mut self.atoms;
-        a.x.par_iter_mut()
-            .zip(a.v.par_iter_mut())
-            .zip(a.image.par_iter_mut())
-            .for_each(|((x, v), im)| bx.wrap_le(x, v, im, &le));
     }
 
     /// The end-of-run warning of the flips' momentum leak (`lees_edwards::flip_leak_warning`),

@@ -95,6 +95,62 @@ pub(crate) fn parse_int_in(tok: &str, what: &str, lo: u64, hi: u64) -> Result<u6
     Ok(v as u64)
 }
 
+/// The three words every pair style of this project starts with, `T rc seed`: T and rc finite
+/// and > 0, the seed in 1..=2147483647 (`args` has at least three words: `need` first).
+pub(crate) fn temp_rc_seed<S: AsRef<str>>(args: &[S]) -> Result<(f64, f64, u32), String> {
+    let temp = parse_f64(args[0].as_ref(), "T")?;
+    if temp <= 0.0 {
+        return Err(format!("T = {temp} must be > 0"));
+    }
+    let rc = parse_f64(args[1].as_ref(), "rc")?;
+    if rc <= 0.0 {
+        return Err(format!("rc = {rc} must be > 0"));
+    }
+    let seed = parse_int_in(args[2].as_ref(), "seed", 1, INT_MAX)? as u32;
+    Ok((temp, rc, seed))
+}
+
+/// How a pair style words its target form `eta E sc S` (the one rule is [`eta_sc_targets`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TargetRules {
+    /// η ≤ 0 is refused as soon as η is read (`eta = E must be > 0`), before S is read;
+    /// otherwise after S is read, as `eta = E must be finite and > 0`.
+    pub eta_checked_first: bool,
+    /// Why Sc ≤ 1/2 is unreachable, after `sc = S is unreachable: `.
+    pub sc_bound: &'static str,
+}
+
+/// The targets (η, Sc) of a `pair_coeff` line's words `eta E sc S` at `args[at..at + 4]`
+/// (`args[at]` is `eta`; the caller has checked that the four words are there): the word `sc`
+/// in its place (else `usage`), η > 0, Sc > 1/2, as `rules` words them.
+pub(crate) fn eta_sc_targets<S: AsRef<str>>(
+    args: &[S],
+    at: usize,
+    usage: &str,
+    rules: TargetRules,
+) -> Result<(f64, f64), String> {
+    let word = |k: usize| args[at + k].as_ref();
+    if word(2) != "sc" {
+        return Err(format!(
+            "expected 'sc' after 'eta {}', got '{}'; usage: {usage}",
+            shown(word(1)),
+            shown(word(2))
+        ));
+    }
+    let eta = parse_f64(word(1), "eta")?;
+    if rules.eta_checked_first && eta <= 0.0 {
+        return Err(format!("eta = {eta} must be > 0"));
+    }
+    let sc = parse_f64(word(3), "sc")?;
+    if eta <= 0.0 {
+        return Err(format!("eta = {eta} must be finite and > 0"));
+    }
+    if sc <= 0.5 {
+        return Err(format!("sc = {sc} is unreachable: {}", rules.sc_bound));
+    }
+    Ok((eta, sc))
+}
+
 /// At least `n` words, else the usage.
 pub fn need<S: AsRef<str>>(args: &[S], n: usize, usage: &str) -> Result<(), String> {
     if args.len() < n {

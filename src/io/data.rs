@@ -474,9 +474,50 @@ pub fn parse_data_styled(text: &str, name: &str, style: AtomStyle) -> Result<Dat
         ..DataFile::default()
     };
     let mut counts = Counts::default();
-    let mut k = 1; // the first line is a title, always skipped
-    let err_at = |k: usize, m: String| format!("{name}:{}: {m}", k + 1);
-    // Header.
+    let mut k = read_header(&lines, name, &mut d, &mut counts)?;
+    let natoms = check_header(&d, &counts, name)?;
+    d.masses = vec![None; d.ntypes + 1];
+    let mut topo = TopoLines::default();
+    let mut seen = Vec::new();
+    while k < lines.len() {
+        if strip_comment(lines[k]).trim().is_empty() {
+            k += 1;
+            continue;
+        }
+        let head = section_head(&lines, k, name, &mut d, &counts, natoms, &mut seen)?;
+        k = read_section(&lines, &head, name, &mut d, &mut topo)?;
+    }
+    check_atoms(&d, natoms, name)?;
+    for (n, got, what) in [
+        (counts.bonds, d.bonds.len(), "Bonds"),
+        (counts.angles, d.angles.len(), "Angles"),
+    ] {
+        if n != got {
+            return Err(format!(
+                "{name}: header says {n} {}, the file has no {what} section",
+                what.to_lowercase()
+            ));
+        }
+    }
+    topo.bonds.extend(topo.angles);
+    check_topology(&d, &topo.bonds, name)?;
+    Ok(d)
+}
+
+/// `m` at line `k` (0-based) of the file `name`.
+fn at_line(name: &str, k: usize, m: String) -> String {
+    format!("{name}:{}: {m}", k + 1)
+}
+
+/// The header's lines, from the second (the first is a title, always skipped) up to the first
+/// section title: the index of that title.
+fn read_header(
+    lines: &[&str],
+    name: &str,
+    d: &mut DataFile,
+    counts: &mut Counts,
+) -> Result<usize, String> {
+    let mut k = 1;
     while k < lines.len() {
         let line = strip_comment(lines[k]).trim();
         if line.is_empty() {
@@ -484,12 +525,17 @@ pub fn parse_data_styled(text: &str, name: &str, style: AtomStyle) -> Result<Dat
             continue;
         }
         let toks: Vec<&str> = line.split_whitespace().collect();
-        let ctx = |m: String| err_at(k, m);
-        if !header_line(&mut d, &mut counts, &toks, &ctx)? {
+        let ctx = |m: String| at_line(name, k, m);
+        if !header_line(d, counts, &toks, &ctx)? {
             break;
         }
         k += 1;
     }
+    Ok(k)
+}
+
+/// The header's counts are complete and in range: the number of atoms.
+fn check_header(d: &DataFile, counts: &Counts, name: &str) -> Result<usize, String> {
     let natoms = counts
         .atoms
         .ok_or_else(|| format!("{name}: header has no 'atoms' line"))?;
@@ -510,122 +556,151 @@ pub fn parse_data_styled(text: &str, name: &str, style: AtomStyle) -> Result<Dat
         }
         crate::engine::check_ntypes(nt.max(1)).map_err(|m| format!("{name}: {what} types: {m}"))?;
     }
-    d.masses = vec![None; d.ntypes + 1];
-    let mut topo_lines = Vec::new();
-    let mut angle_lines = Vec::new();
-    let mut seen = Vec::new();
-    // Sections.
-    while k < lines.len() {
-        let line = strip_comment(lines[k]).trim();
-        if line.is_empty() {
-            k += 1;
-            continue;
-        }
-        let section = line.to_string();
-        // The style named after `#` (write_data's hint). As LAMMPS: not for the first section,
-        // whose title line ends the header, where LAMMPS has already cut the comment off.
-        let hint = if seen.is_empty() {
-            None
-        } else {
-            lines[k].split_once('#').map(|(_, s)| s.trim().to_string())
-        };
-        let title = k;
-        k += 1;
-        // A blank line follows the section title.
-        while k < lines.len() && strip_comment(lines[k]).trim().is_empty() {
-            k += 1;
-        }
-        let coeff_kind = match section.as_str() {
-            "Pair Coeffs" => Some(CoeffKind::Pair),
-            "PairIJ Coeffs" => Some(CoeffKind::PairIJ),
-            "Bond Coeffs" => Some(CoeffKind::Bond),
-            "Angle Coeffs" => Some(CoeffKind::Angle),
-            _ => None,
-        };
-        let count = match section.as_str() {
-            "Masses" | "Pair Coeffs" => d.ntypes,
-            "PairIJ Coeffs" => d.ntypes * (d.ntypes + 1) / 2,
-            "Atoms" | "Velocities" => natoms,
-            "Bonds" => counts.bonds,
-            "Angles" => counts.angles,
-            "Bond Coeffs" => d.nbondtypes,
-            "Angle Coeffs" => d.nangletypes,
-            other => return Err(err_at(title, format!("unsupported section '{other}'"))),
-        };
-        if count == 0 && section != "Atoms" && section != "Velocities" {
-            return Err(err_at(
+    Ok(natoms)
+}
+
+/// The file lines (1-based) of the bonds and of the angles, in order, for
+/// [`check_topology`]'s messages.
+#[derive(Default)]
+struct TopoLines {
+    bonds: Vec<usize>,
+    angles: Vec<usize>,
+}
+
+/// A section's title line, read: its name, where its first line is and how many it has.
+struct SectionHead {
+    section: String,
+    /// The index of its first line (after the blank line(s) below the title).
+    first: usize,
+    count: usize,
+}
+
+/// The section whose title is line `title`: its name checked (known, counted by the header,
+/// not seen before: `seen` gets it), its coefficient section opened in `d`, its line count.
+fn section_head(
+    lines: &[&str],
+    title: usize,
+    name: &str,
+    d: &mut DataFile,
+    counts: &Counts,
+    natoms: usize,
+    seen: &mut Vec<String>,
+) -> Result<SectionHead, String> {
+    let section = strip_comment(lines[title]).trim().to_string();
+    // The style named after `#` (write_data's hint). As LAMMPS: not for the first section,
+    // whose title line ends the header, where LAMMPS has already cut the comment off.
+    let hint = if seen.is_empty() {
+        None
+    } else {
+        lines[title]
+            .split_once('#')
+            .map(|(_, s)| s.trim().to_string())
+    };
+    let mut first = title + 1;
+    // A blank line follows the section title.
+    while first < lines.len() && strip_comment(lines[first]).trim().is_empty() {
+        first += 1;
+    }
+    let coeff_kind = match section.as_str() {
+        "Pair Coeffs" => Some(CoeffKind::Pair),
+        "PairIJ Coeffs" => Some(CoeffKind::PairIJ),
+        "Bond Coeffs" => Some(CoeffKind::Bond),
+        "Angle Coeffs" => Some(CoeffKind::Angle),
+        _ => None,
+    };
+    let count = match section.as_str() {
+        "Masses" | "Pair Coeffs" => d.ntypes,
+        "PairIJ Coeffs" => d.ntypes * (d.ntypes + 1) / 2,
+        "Atoms" | "Velocities" => natoms,
+        "Bonds" => counts.bonds,
+        "Angles" => counts.angles,
+        "Bond Coeffs" => d.nbondtypes,
+        "Angle Coeffs" => d.nangletypes,
+        other => {
+            return Err(at_line(
+                name,
                 title,
-                format!("section {section}, but the header counts none (or no types)"),
+                format!("unsupported section '{other}'"),
             ));
         }
-        if seen.contains(&section) {
-            return Err(err_at(title, format!("second {section} section")));
-        }
-        seen.push(section.clone());
-        if section == "Atoms" {
-            d.atoms_hint = hint.clone();
-        }
-        if let Some(kind) = coeff_kind {
-            d.coeffs.push(CoeffSection {
-                kind,
-                line: title + 1,
-                style: hint.clone(),
-                lines: Vec::with_capacity(count),
-            });
-        }
-        for _ in 0..count {
-            let Some(raw) = lines.get(k) else {
-                return Err(format!(
-                    "{name}: unexpected end of file in section {section}"
-                ));
-            };
-            let toks: Vec<&str> = strip_comment(raw).split_whitespace().collect();
-            let ctx = |m: String| err_at(k, m);
-            match section.as_str() {
-                "Masses" => masses_line(&mut d, &toks, &ctx)?,
-                "Atoms" => atoms_line(&mut d, &toks, &ctx)?,
-                "Bonds" => {
-                    let (typ, a) = topo_line(&toks, 2, d.nbondtypes, "Bonds", &ctx)?;
-                    d.bonds.push(Bond {
-                        typ,
-                        atoms: [a[0], a[1]],
-                    });
-                    topo_lines.push(k + 1);
+    };
+    if count == 0 && section != "Atoms" && section != "Velocities" {
+        return Err(at_line(
+            name,
+            title,
+            format!("section {section}, but the header counts none (or no types)"),
+        ));
+    }
+    if seen.contains(&section) {
+        return Err(at_line(name, title, format!("second {section} section")));
+    }
+    seen.push(section.clone());
+    if section == "Atoms" {
+        d.atoms_hint = hint.clone();
+    }
+    if let Some(kind) = coeff_kind {
+        d.coeffs.push(CoeffSection {
+            kind,
+            line: title + 1,
+            style: hint,
+            lines: Vec::with_capacity(count),
+        });
+    }
+    Ok(SectionHead {
+        section,
+        first,
+        count,
+    })
+}
+
+/// The lines of the section `head` into `d`: the index of the line after them.
+fn read_section(
+    lines: &[&str],
+    head: &SectionHead,
+    name: &str,
+    d: &mut DataFile,
+    topo: &mut TopoLines,
+) -> Result<usize, String> {
+    let section = head.section.as_str();
+    // Saturating: a header's count beyond the file ends at its last line, an error.
+    let end = head.first.saturating_add(head.count);
+    for k in head.first..end {
+        let Some(raw) = lines.get(k) else {
+            return Err(format!(
+                "{name}: unexpected end of file in section {section}"
+            ));
+        };
+        let toks: Vec<&str> = strip_comment(raw).split_whitespace().collect();
+        let ctx = |m: String| at_line(name, k, m);
+        match section {
+            "Masses" => masses_line(d, &toks, &ctx)?,
+            "Atoms" => atoms_line(d, &toks, &ctx)?,
+            "Bonds" => {
+                let (typ, a) = topo_line(&toks, 2, d.nbondtypes, "Bonds", &ctx)?;
+                d.bonds.push(Bond {
+                    typ,
+                    atoms: [a[0], a[1]],
+                });
+                topo.bonds.push(k + 1);
+            }
+            "Angles" => {
+                let (typ, atoms) = topo_line(&toks, 3, d.nangletypes, "Angles", &ctx)?;
+                d.angles.push(Angle { typ, atoms });
+                topo.angles.push(k + 1);
+            }
+            "Velocities" => velocities_line(d, &toks, &ctx)?,
+            _ => {
+                if toks.is_empty() {
+                    return Err(ctx(format!("Unexpected empty line in {section} section")));
                 }
-                "Angles" => {
-                    let (typ, atoms) = topo_line(&toks, 3, d.nangletypes, "Angles", &ctx)?;
-                    d.angles.push(Angle { typ, atoms });
-                    angle_lines.push(k + 1);
-                }
-                "Velocities" => velocities_line(&mut d, &toks, &ctx)?,
-                _ => {
-                    if toks.is_empty() {
-                        return Err(ctx(format!("Unexpected empty line in {section} section")));
-                    }
-                    if let Some(c) = d.coeffs.last_mut() {
-                        c.lines
-                            .push((k + 1, toks.iter().map(|t| t.to_string()).collect()));
-                    }
+                if let Some(c) = d.coeffs.last_mut() {
+                    c.lines
+                        .push((k + 1, toks.iter().map(|t| t.to_string()).collect()));
                 }
             }
-            k += 1;
         }
     }
-    check_atoms(&d, natoms, name)?;
-    for (n, got, what) in [
-        (counts.bonds, d.bonds.len(), "Bonds"),
-        (counts.angles, d.angles.len(), "Angles"),
-    ] {
-        if n != got {
-            return Err(format!(
-                "{name}: header says {n} {}, the file has no {what} section",
-                what.to_lowercase()
-            ));
-        }
-    }
-    topo_lines.extend(angle_lines);
-    check_topology(&d, &topo_lines, name)?;
-    Ok(d)
+    Ok(end)
 }
 
 /// Write a data file (LAMMPS `write_data` layout, 17 significant digits so it reads back

@@ -98,3 +98,33 @@ pub fn mean_temperature(script: &str, name: &str, after_step: f64) -> (f64, f64,
     let est = dpdnl::stats::block_average(&series);
     (est.mean, est.stderr, series.len())
 }
+
+/// Runs the `dpdnl` command with `args`: its exit code (-1 when killed), stdout and stderr.
+#[allow(dead_code)] // not every test crate that includes this module calls it
+pub fn dpdnl_cli(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+        .args(args)
+        .output()
+        .expect("run dpdnl");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The design flags of the weighting paper's Table 4, first row: targets η = 49, Sc = 400 for
+/// the 2-D fluid of density 4 and cut-off 2.5.
+#[allow(dead_code)] // not every test crate that includes this module calls it
+pub const TABLE4_DESIGN: [&str; 10] = [
+    "--eta",
+    "49",
+    "--sc",
+    "400",
+    "--density",
+    "4",
+    "--rc",
+    "2.5",
+    "--dim",
+    "2",
+];

@@ -154,3 +154,182 @@ pub fn z_rows<'a>(
     }
     failed
 }
+
+/// The last thermo block of a LAMMPS log's `text` (read from `log`), which must have `rows`
+/// rows (the production run's).
+#[allow(dead_code)] // used by the peer tests, not by every test that includes this module
+pub fn production_block(text: &str, log: &Path, rows: usize) -> dpdnl::io::lammps_log::ThermoBlock {
+    let blocks =
+        dpdnl::io::lammps_log::parse_log(text).unwrap_or_else(|e| panic!("{}: {e}", log.display()));
+    let b = blocks.last().expect("a thermo block").clone();
+    assert_eq!(b.rows.len(), rows, "{}: production rows", log.display());
+    b
+}
+
+/// The column `name` of a thermo block (a panic naming the columns there are).
+#[allow(dead_code)] // used by the peer tests, not by every test that includes this module
+pub fn column(b: &dpdnl::io::lammps_log::ThermoBlock, name: &str) -> Vec<f64> {
+    b.column(name)
+        .unwrap_or_else(|| panic!("no column {name} in {:?}", b.columns))
+}
+
+/// The plugin's run and the reference's, at the same time.
+#[allow(dead_code)] // used by the peer tests, not by every test that includes this module
+pub fn side_by_side<A: Send, B: Send>(
+    plugin: impl FnOnce() -> A + Send,
+    reference: impl FnOnce() -> B + Send,
+) -> (A, B) {
+    std::thread::scope(|s| {
+        let a = s.spawn(plugin);
+        let b = s.spawn(reference);
+        (
+            a.join().expect("plugin run"),
+            b.join().expect("reference run"),
+        )
+    })
+}
+
+/// The peer tests' verdict: the [`z_rows`] table appended to `report` and printed; a failure
+/// names the observables with |z| ≥ `zmax` and the logs in `dir`, which a pass removes.
+#[allow(dead_code)] // used by the peer tests, not by every test that includes this module
+pub fn assert_z_rows(
+    mut report: String,
+    rows: &[(
+        &str,
+        dpdnl::stats::BlockEstimate,
+        dpdnl::stats::BlockEstimate,
+    )],
+    zmax: f64,
+    dir: &Path,
+) {
+    let failed = z_rows(&mut report, rows, zmax);
+    eprintln!("{report}");
+    assert!(
+        failed.is_empty(),
+        "|z| >= {zmax} for {failed:?}:\n{report}(logs in {})",
+        dir.display()
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// SplitMix64: a fixed, documented generator for the peer tests' start configurations.
+#[allow(dead_code)] // used by the peer tests, not by every test that includes this module
+pub struct SplitMix(pub u64);
+
+#[allow(dead_code)]
+impl SplitMix {
+    /// A uniform number in [0, 1) from the top 53 bits of the next output.
+    pub fn uniform(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// The cross-engine golden cases, `tests/data/crosscheck/in.*`, sorted.
+#[allow(dead_code)] // used by the crosscheck tests, not by every test that includes this module
+pub fn golden_cases() -> Vec<PathBuf> {
+    let dir = root().join("tests/data/crosscheck");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("tests/data/crosscheck")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("in."))
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// The frames of a dump at `step`.
+#[allow(dead_code)] // used by the crosscheck tests, not by every test that includes this module
+pub fn frames_at(
+    frames: &[dpdnl::io::dump_read::DumpFrame],
+    step: u64,
+) -> Vec<dpdnl::io::dump_read::DumpFrame> {
+    frames.iter().filter(|f| f.step == step).cloned().collect()
+}
+
+/// A file's text (a panic naming it).
+#[allow(dead_code)] // used by the crosscheck tests, not by every test that includes this module
+pub fn read(p: &Path) -> String {
+    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("cannot read {}: {e}", p.display()))
+}
+
+/// The step-0 forces of the two engines' dumps, compared.
+#[allow(dead_code)] // used by the crosscheck tests, not by every test that includes this module
+pub struct Step0Forces {
+    /// max |Δf| over the atoms and components.
+    pub max_abs: f64,
+    /// The largest per-value |Δf| / max(|f_A|, |f_B|).
+    pub max_rel: f64,
+    /// max |f| of the standalone frame: the force scale.
+    pub scale: f64,
+}
+
+#[allow(dead_code)]
+impl Step0Forces {
+    /// max |Δf| / max |f|: per-value ratios mislead where an atom's net force is a
+    /// near-cancellation of O(10) pair forces summed in another order.
+    pub fn relative(&self) -> f64 {
+        self.max_abs / self.scale
+    }
+}
+
+/// fx fy fz of the step-0 frames of the standalone engine's and LAMMPS's dumps, compared.
+#[allow(dead_code)] // used by the crosscheck tests, not by every test that includes this module
+pub fn step0_forces(
+    standalone: &[dpdnl::io::dump_read::DumpFrame],
+    lammps: &[dpdnl::io::dump_read::DumpFrame],
+) -> Step0Forces {
+    use dpdnl::io::lammps_log::{Tolerance, compare_dumps_exact};
+    let cols: Vec<String> = ["fx", "fy", "fz"].iter().map(|s| s.to_string()).collect();
+    let tol = Tolerance {
+        rtol: 1e-12,
+        atol: 0.0,
+    };
+    let (a, b) = (frames_at(standalone, 0), frames_at(lammps, 0));
+    let r = compare_dumps_exact(&a, &b, Some(&cols), tol).expect("comparable step-0 frames");
+    assert!(r.n_matched > 0, "no step-0 frame in the dumps");
+    let ks: Vec<usize> = cols
+        .iter()
+        .map(|c| {
+            a[0].columns
+                .iter()
+                .position(|d| d == c)
+                .expect("force column")
+        })
+        .collect();
+    Step0Forces {
+        max_abs: r.columns.iter().map(|c| c.max_abs).fold(0.0, f64::max),
+        max_rel: r.columns.iter().map(|c| c.max_rel).fold(0.0, f64::max),
+        scale: a[0]
+            .rows
+            .iter()
+            .flat_map(|r| ks.iter().map(|&k| r[k].abs()))
+            .fold(0.0, f64::max),
+    }
+}
+
+/// `dpdnl crosscheck SCRIPT --lmp LMP --workdir WORK --threads 2 --atol 1e-9`, a golden case's
+/// command. Near-cancelling net forces (an O(1e-3) force from pair forces of O(10)) move by
+/// ~1e-12 absolutely when the pairs are summed in another order: over the run that is a
+/// per-value relative difference of 1e-9 without any model difference (seen: polymer_frac_2d,
+/// fy = -0.0028 at step 100, 9e-12 apart). 1e-9 absolute is far above that and far below a
+/// model difference.
+#[allow(dead_code)] // used by the crosscheck tests, not by every test that includes this module
+pub fn golden_crosscheck(script: &Path, lmp: &Path, work: &Path) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_dpdnl"));
+    c.arg("crosscheck")
+        .arg(script)
+        .arg("--lmp")
+        .arg(lmp)
+        .arg("--workdir")
+        .arg(work)
+        .args(["--threads", "2", "--atol", "1e-9"]);
+    c
+}

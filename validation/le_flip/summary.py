@@ -11,6 +11,9 @@ import re
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+from flip_record import flip_records  # noqa: E402
+
 work, res, dpdnl = sys.argv[1:4]
 nprod = int(sys.argv[4]) if len(sys.argv) > 4 else 20000
 N = 1600
@@ -22,10 +25,9 @@ for f in sorted(os.listdir(work)):
     mode, seed = m.group(1), int(m.group(2))
     tag = f"{mode}_s{seed}"
     log = open(os.path.join(work, f)).read()
-    mo = re.search(r"box flips put (\d+) atom\(s\)", log)
-    atoms = int(mo.group(1)) if mo else 0
-    mp = re.search(r"changed by (\S+) \(mean velocity V = (\S+)\)", log)
-    leak = float(mp.group(1)) if mp else 0.0
+    first = (flip_records(log) or [{}])[0]
+    atoms = first.get("atoms", 0)
+    leak = first.get("momentum", 0.0)
     out = {}
     for what, fname, extra in (("eta", f"pxy.{tag}.ave", ["--rate", "3"]),
                                ("kT", f"temp.{tag}.ave", ["--rate=-1", "--col", "c_tdef",

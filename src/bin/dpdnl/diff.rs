@@ -201,6 +201,23 @@ fn run(args: &DiffArgs) -> Result<bool, String> {
     }
 }
 
+/// The report's first lines: the two inputs and what they are.
+fn inputs_header(args: &DiffArgs, ia: &Input, ib: &Input) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "A: {} ({})", args.a.display(), ia.describe());
+    let _ = writeln!(out, "B: {} ({})", args.b.display(), ib.describe());
+    out
+}
+
+/// The JSON report's last fields (the columns, the verdict), printed as one line: `pass`.
+fn print_json(mut o: JsonObject, cols: &[String], pass: bool, verdict: &str) -> bool {
+    o.raw("columns", &format!("[{}]", cols.join(",")));
+    o.bool("pass", pass);
+    o.str("verdict", verdict);
+    println!("{}", o.finish());
+    pass
+}
+
 fn tol_text(t: Tolerance) -> String {
     format!("rtol {}, atol {}", c("%g", t.rtol), c("%g", t.atol))
 }
@@ -276,15 +293,9 @@ fn print_exact(args: &DiffArgs, ia: &Input, ib: &Input, r: &ExactReport) -> bool
                 c.finish()
             })
             .collect();
-        o.raw("columns", &format!("[{}]", cols.join(",")));
-        o.bool("pass", pass);
-        o.str("verdict", &verdict);
-        println!("{}", o.finish());
-        return pass;
+        return print_json(o, &cols, pass, &verdict);
     }
-    let mut out = String::new();
-    let _ = writeln!(out, "A: {} ({})", args.a.display(), ia.describe());
-    let _ = writeln!(out, "B: {} ({})", args.b.display(), ib.describe());
+    let mut out = inputs_header(args, ia, ib);
     let _ = writeln!(
         out,
         "mode exact: {} row(s) matched by {}; {}",
@@ -362,15 +373,9 @@ fn print_stats(
                 c.finish()
             })
             .collect();
-        o.raw("columns", &format!("[{}]", cols.join(",")));
-        o.bool("pass", pass);
-        o.str("verdict", &verdict);
-        println!("{}", o.finish());
-        return pass;
+        return print_json(o, &cols, pass, &verdict);
     }
-    let mut out = String::new();
-    let _ = writeln!(out, "A: {} ({})", args.a.display(), ia.describe());
-    let _ = writeln!(out, "B: {} ({})", args.b.display(), ib.describe());
+    let mut out = inputs_header(args, ia, ib);
     let _ = writeln!(
         out,
         "mode stats: block {ka} of A ({} rows after skipping {}), block {kb} of B ({} rows); \

@@ -70,7 +70,9 @@ impl NeighborList {
                 .par_iter_mut()
                 .zip(atoms.v.par_iter_mut())
                 .zip(atoms.image.par_iter_mut())
-                .for_each(|((x, v), im)| bx.wrap_le(x, v, im, &le)),
+                .for_each(|((x, v), im)| {
+                    bx.wrap_le(x, v, im, &le);
+                }),
         }
     }
 

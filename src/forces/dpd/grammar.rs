@@ -3,8 +3,8 @@
 use crate::forces::NoiseDist;
 use crate::forces::dpd::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
 use crate::grammar::{
-    INT_MAX, StyleSpec, at_most, coeff_types, keywords, need, parse_f64, parse_int_in,
-    sets_some_pair, shown, type_pairs,
+    StyleSpec, TargetRules, at_most, coeff_types, eta_sc_targets, keywords, need, parse_f64,
+    sets_some_pair, shown, temp_rc_seed, type_pairs,
 };
 
 /// The style's name, the one place it is written (the registry, the style object and its
@@ -33,6 +33,12 @@ pub(crate) const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
     style: NAME,
     usage: "pair_coeff I J a eta E sc S [gamma1 G] [rc R]",
     keywords: &["gamma1", "rc"],
+};
+
+/// How the target form words its rules: Sc > 1/2 is the ideal DPD fluid's bound.
+const TARGETS: TargetRules = TargetRules {
+    eta_checked_first: false,
+    sc_bound: "an ideal DPD fluid has Sc > 1/2",
 };
 
 /// The settings of `pair_style dpd/nonlinear`.
@@ -96,15 +102,7 @@ pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<DpdStyle, String> {
 pub(crate) fn settings<S: AsRef<str>>(args: &[S], spec: &StyleSpec) -> Result<DpdStyle, String> {
     let usage = spec.usage;
     need(args, 3, usage)?;
-    let temp = parse_f64(args[0].as_ref(), "T")?;
-    if temp <= 0.0 {
-        return Err(format!("T = {temp} must be > 0"));
-    }
-    let rc = parse_f64(args[1].as_ref(), "rc")?;
-    if rc <= 0.0 {
-        return Err(format!("rc = {rc} must be > 0"));
-    }
-    let seed = parse_int_in(args[2].as_ref(), "seed", 1, INT_MAX)? as u32;
+    let (temp, rc, seed) = temp_rc_seed(args)?;
     let mut style = DpdStyle {
         temp,
         rc,
@@ -182,23 +180,7 @@ pub fn pair_coeff<S: AsRef<str>>(
     let (i, j) = coeff_types(word(0), word(1), ntypes)?;
     let a = parse_f64(word(2), "a")?;
     let (coeff, targets) = if targets {
-        if word(5) != "sc" {
-            return Err(format!(
-                "expected 'sc' after 'eta {}', got '{}'; usage: {usage}",
-                shown(word(4)),
-                shown(word(5))
-            ));
-        }
-        let eta = parse_f64(word(4), "eta")?;
-        let sc = parse_f64(word(6), "sc")?;
-        if eta <= 0.0 {
-            return Err(format!("eta = {eta} must be finite and > 0"));
-        }
-        if sc <= 0.5 {
-            return Err(format!(
-                "sc = {sc} is unreachable: an ideal DPD fluid has Sc > 1/2"
-            ));
-        }
+        let (eta, sc) = eta_sc_targets(args, 3, usage, TARGETS)?;
         let (mut gamma1, mut rc) = (0.0, rc_global);
         keywords(&args[7..], &PAIR_COEFF_TARGETS, |key, val| {
             match key {

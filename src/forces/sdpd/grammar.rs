@@ -2,8 +2,8 @@
 
 use crate::forces::sdpd::kernel::Smoothing;
 use crate::grammar::{
-    INT_MAX, StyleSpec, at_most, coeff_types, keywords, need, parse_f64, parse_int_in,
-    sets_some_pair, shown, type_pairs,
+    StyleSpec, TargetRules, at_most, coeff_types, eta_sc_targets, keywords, need, parse_f64,
+    sets_some_pair, shown, temp_rc_seed, type_pairs,
 };
 
 /// The style's name, the one place it is written (the registry, the style object and its
@@ -32,6 +32,13 @@ pub(crate) const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
     style: NAME,
     usage: "pair_coeff I J rho0 c0 eta E sc S [rc R]",
     keywords: &["rc"],
+};
+
+/// How the target form words its rules: η is checked as it is read, Sc > 1/2 is the kinetic
+/// theory's bound.
+const TARGETS: TargetRules = TargetRules {
+    eta_checked_first: true,
+    sc_bound: "the kinetic theory gives Sc > 1/2",
 };
 
 /// The settings of `pair_style sdpd`.
@@ -71,15 +78,7 @@ impl SdpdStyle {
 pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<SdpdStyle, String> {
     let usage = PAIR_STYLE.usage;
     need(args, 3, usage)?;
-    let temp = parse_f64(args[0].as_ref(), "T")?;
-    if temp <= 0.0 {
-        return Err(format!("T = {temp} must be > 0"));
-    }
-    let rc = parse_f64(args[1].as_ref(), "rc")?;
-    if rc <= 0.0 {
-        return Err(format!("rc = {rc} must be > 0"));
-    }
-    let seed = parse_int_in(args[2].as_ref(), "seed", 1, INT_MAX)? as u32;
+    let (temp, rc, seed) = temp_rc_seed(args)?;
     let mut kernel = Smoothing::Lucy;
     let rest = &args[3..];
     if let Some(key) = rest.first() {
@@ -183,20 +182,7 @@ pub fn pair_coeff<S: AsRef<str>>(
     let rho0 = positive(word(2), "rho0")?;
     let c0 = positive(word(3), "c0")?;
     let (eta0, rc, targets) = if targets {
-        if word(6) != "sc" {
-            return Err(format!(
-                "expected 'sc' after 'eta {}', got '{}'; usage: {usage}",
-                shown(word(5)),
-                shown(word(6))
-            ));
-        }
-        let eta = positive(word(5), "eta")?;
-        let sc = parse_f64(word(7), "sc")?;
-        if sc <= 0.5 {
-            return Err(format!(
-                "sc = {sc} is unreachable: the kinetic theory gives Sc > 1/2"
-            ));
-        }
+        let (eta, sc) = eta_sc_targets(args, 4, usage, TARGETS)?;
         if !matches!(style.kernel, Smoothing::Proposed(_)) {
             return Err(format!(
                 "pair_coeff … eta … sc … designs the proposed kernel's exponent: pair_style sdpd \

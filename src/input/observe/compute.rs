@@ -107,6 +107,9 @@ impl ComputeKind {
     }
 }
 
+/// The usage of `compute`, quoted in its errors.
+const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | gyration | sdpd/density | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+
 /// A compute: its ID and what it computes.
 #[derive(Debug)]
 pub struct ComputeDef {
@@ -119,9 +122,8 @@ impl Observe {
 
     /// Parse `compute ID all STYLE ARGS…` (checked against `env`, not yet added).
     pub fn parse_compute(args: &[String], env: &dyn Env) -> Result<ComputeDef, String> {
-        let usage = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | gyration | sdpd/density | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
         if args.len() < 3 {
-            return Err(format!("missing arguments; usage: {usage}"));
+            return Err(format!("missing arguments; usage: {COMPUTE_USAGE}"));
         }
         let id = &args[0];
         if !id
@@ -141,6 +143,15 @@ impl Observe {
         let sys = env
             .system()
             .ok_or("compute needs a simulation box (create_box or read_data) first")?;
+        Ok(ComputeDef {
+            id: id.clone(),
+            kind: Self::compute_kind(args, env, sys)?,
+        })
+    }
+
+    /// What `compute ID all STYLE ARGS…` computes, from its style and arguments.
+    fn compute_kind(args: &[String], env: &dyn Env, sys: &System) -> Result<ComputeKind, String> {
+        let usage = COMPUTE_USAGE;
         let extra = |n: usize| -> Result<(), String> {
             if args.len() > n {
                 Err(format!(
@@ -175,26 +186,7 @@ impl Observe {
             "gyration/chunk" => {
                 let chunk = arg(args, 3, "compute ID all gyration/chunk CHUNK-ID")?;
                 extra(4)?;
-                match env.observe().compute(chunk).map(|c| &c.kind) {
-                    Some(ComputeKind::ChunkMolecule) => {}
-                    Some(_) => {
-                        return Err(format!(
-                            "compute gyration/chunk: compute '{chunk}' is not a chunk/atom \
-                             molecule compute (the only chunk style supported here)"
-                        ));
-                    }
-                    None => {
-                        return Err(format!(
-                            "compute gyration/chunk: chunk/atom compute '{chunk}' does not exist"
-                        ));
-                    }
-                }
-                let a = &sys.atoms;
-                let nchunk = (0..a.len()).map(|i| a.mol_of(i)).max().unwrap_or(0) as usize;
-                ComputeKind::GyrationChunk {
-                    chunk: chunk.to_string(),
-                    nchunk,
-                }
+                Self::gyration_chunk(chunk, env, sys)?
             }
             "sdpd/density" => {
                 extra(3)?;
@@ -205,55 +197,8 @@ impl Observe {
                 }
                 ComputeKind::SdpdDensity
             }
-            "pressure" => {
-                let t = arg(args, 3, usage)?;
-                match env.observe().compute(t) {
-                    Some(c) if c.kind.is_temperature() => {}
-                    Some(c) => {
-                        return Err(format!(
-                            "compute pressure: compute '{t}' is a {} compute, not a temperature",
-                            c.kind.style()
-                        ));
-                    }
-                    None => {
-                        return Err(format!(
-                            "compute pressure: temperature compute '{t}' does not exist"
-                        ));
-                    }
-                }
-                if args.len() > 4 {
-                    return Err(format!(
-                        "compute pressure keyword '{}' not supported: the pressure always \
-                         includes the kinetic part and the virial of all pair forces",
-                        args[4]
-                    ));
-                }
-                ComputeKind::Pressure(t.to_string())
-            }
-            "msd" => {
-                let mut com = false;
-                let mut k = 3;
-                while k < args.len() {
-                    let v = arg(args, k + 1, usage)?;
-                    let yes = match v {
-                        "yes" => true,
-                        "no" => false,
-                        o => {
-                            return Err(format!("compute msd {} '{o}' must be yes or no", args[k]));
-                        }
-                    };
-                    match args[k].as_str() {
-                        "com" => com = yes,
-                        "average" if !yes => {}
-                        "average" => {
-                            return Err("compute msd average yes is not supported".into());
-                        }
-                        o => return Err(format!("unknown compute msd keyword '{o}'")),
-                    }
-                    k += 2;
-                }
-                ComputeKind::Msd(Msd::new(sys, com))
-            }
+            "pressure" => Self::pressure(args, env)?,
+            "msd" => ComputeKind::Msd(Msd::new(sys, Self::msd_com(args)?)),
             "chunk/atom" if args.get(3).map(String::as_str) == Some("molecule") => {
                 extra(4)?;
                 if sys.topo.is_none() {
@@ -270,10 +215,85 @@ impl Observe {
                 return Err(format!("compute style '{o}' not supported; usage: {usage}"));
             }
         };
-        Ok(ComputeDef {
-            id: id.clone(),
-            kind,
+        Ok(kind)
+    }
+
+    /// `compute ID all gyration/chunk CHUNK`: CHUNK must be a `chunk/atom molecule` compute;
+    /// one chunk per molecule id of the system.
+    fn gyration_chunk(chunk: &str, env: &dyn Env, sys: &System) -> Result<ComputeKind, String> {
+        match env.observe().compute(chunk).map(|c| &c.kind) {
+            Some(ComputeKind::ChunkMolecule) => {}
+            Some(_) => {
+                return Err(format!(
+                    "compute gyration/chunk: compute '{chunk}' is not a chunk/atom \
+                     molecule compute (the only chunk style supported here)"
+                ));
+            }
+            None => {
+                return Err(format!(
+                    "compute gyration/chunk: chunk/atom compute '{chunk}' does not exist"
+                ));
+            }
+        }
+        let a = &sys.atoms;
+        let nchunk = (0..a.len()).map(|i| a.mol_of(i)).max().unwrap_or(0) as usize;
+        Ok(ComputeKind::GyrationChunk {
+            chunk: chunk.to_string(),
+            nchunk,
         })
+    }
+
+    /// `compute ID all pressure TEMP`: TEMP must be a temperature compute; no keywords.
+    fn pressure(args: &[String], env: &dyn Env) -> Result<ComputeKind, String> {
+        let t = arg(args, 3, COMPUTE_USAGE)?;
+        match env.observe().compute(t) {
+            Some(c) if c.kind.is_temperature() => {}
+            Some(c) => {
+                return Err(format!(
+                    "compute pressure: compute '{t}' is a {} compute, not a temperature",
+                    c.kind.style()
+                ));
+            }
+            None => {
+                return Err(format!(
+                    "compute pressure: temperature compute '{t}' does not exist"
+                ));
+            }
+        }
+        if args.len() > 4 {
+            return Err(format!(
+                "compute pressure keyword '{}' not supported: the pressure always \
+                 includes the kinetic part and the virial of all pair forces",
+                args[4]
+            ));
+        }
+        Ok(ComputeKind::Pressure(t.to_string()))
+    }
+
+    /// The keywords of `compute ID all msd [com yes|no] [average no]`: whether `com` is on.
+    fn msd_com(args: &[String]) -> Result<bool, String> {
+        let mut com = false;
+        let mut k = 3;
+        while k < args.len() {
+            let v = arg(args, k + 1, COMPUTE_USAGE)?;
+            let yes = match v {
+                "yes" => true,
+                "no" => false,
+                o => {
+                    return Err(format!("compute msd {} '{o}' must be yes or no", args[k]));
+                }
+            };
+            match args[k].as_str() {
+                "com" => com = yes,
+                "average" if !yes => {}
+                "average" => {
+                    return Err("compute msd average yes is not supported".into());
+                }
+                o => return Err(format!("unknown compute msd keyword '{o}'")),
+            }
+            k += 2;
+        }
+        Ok(com)
     }
 
     fn parse_chunk(args: &[String], sys: &System) -> Result<Bin1d, String> {

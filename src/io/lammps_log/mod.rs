@@ -7,19 +7,22 @@
 //! block are skipped. A header followed by no rows is not a block. `thermo_style multi` and
 //! `thermo_modify line yaml` output are not recognised.
 //!
-//! [`neighbor_summary`] reads LAMMPS's neighbour-list settings and "Dangerous builds" counts.
+//! [`neighbor_summary`] reads LAMMPS's neighbour-list settings and "Dangerous builds" counts;
+//! [`flip_records`] the machine-readable line of each run's box flips.
 //!
 //! The comparison functions ([`compare_exact`], [`compare_exact_logs`], [`compare_dumps_exact`],
 //! [`compare_stats`]) return reports; the `dpdnl diff` command prints them, and other commands
 //! (`crosscheck`) can use them directly.
 
 mod exact;
+mod flips;
 mod neighbor;
 mod report;
 mod stats;
 mod thermo;
 
 pub use exact::{compare_dumps_exact, compare_exact, compare_exact_logs};
+pub use flips::{FlipRecord, flip_records};
 pub use neighbor::{NeighborSettings, NeighborSummary, neighbor_summary};
 pub use report::{ColumnDiff, ExactReport, StepMax, Tolerance, differences};
 pub use stats::{ColumnStats, StatsReport, compare_stats, z_score};

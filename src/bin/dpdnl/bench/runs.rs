@@ -19,6 +19,26 @@ pub(super) struct MemoryUse {
 
 pub(super) type Memory = Option<MemoryUse>;
 
+/// Writes the LAMMPS input of `case` into `dir` (`in.SYSTEM[.native].VARIANT`; `native`:
+/// LAMMPS's own styles): its file name.
+fn write_lammps_input(dir: &Path, case: &Case, native: bool) -> Result<String, String> {
+    let name = format!(
+        "in.{}.{}{}",
+        case.sys.key,
+        if native { "native." } else { "" },
+        case.variant.label().replace(['/', ',', ' '], "_")
+    );
+    let text = script(
+        &case.sys,
+        &data_name(&case.sys),
+        case.variant,
+        native,
+        case.steps,
+    );
+    std::fs::write(dir.join(&name), text).map_err(|e| format!("{name}: {e}"))?;
+    Ok(name)
+}
+
 /// Run one repeat of a case; returns the loop time in seconds (and memory for standalone runs).
 pub(super) fn run_case(dir: &Path, case: &Case) -> Result<(LoopTime, Memory), String> {
     let data = dir.join(data_name(&case.sys));
@@ -34,19 +54,7 @@ pub(super) fn run_case(dir: &Path, case: &Case) -> Result<(LoopTime, Memory), St
             run_standalone(&text, *t)
         }
         Engine::Lammps(exe, t) => {
-            let name = format!(
-                "in.{}.native.{}",
-                case.sys.key,
-                case.variant.label().replace(['/', ',', ' '], "_")
-            );
-            let text = script(
-                &case.sys,
-                &data_name(&case.sys),
-                case.variant,
-                true,
-                case.steps,
-            );
-            std::fs::write(dir.join(&name), text).map_err(|e| format!("{name}: {e}"))?;
+            let name = write_lammps_input(dir, case, true)?;
             let mut cmd = Command::new(exe);
             cmd.current_dir(dir).args(["-in", &name, "-log", "none"]);
             if *t > 0 {
@@ -58,19 +66,7 @@ pub(super) fn run_case(dir: &Path, case: &Case) -> Result<(LoopTime, Memory), St
             Ok((run_external(cmd, exe)?, None))
         }
         Engine::Shim(exe, t) => {
-            let name = format!(
-                "in.{}.{}",
-                case.sys.key,
-                case.variant.label().replace(['/', ',', ' '], "_")
-            );
-            let text = script(
-                &case.sys,
-                &data_name(&case.sys),
-                case.variant,
-                false,
-                case.steps,
-            );
-            std::fs::write(dir.join(&name), text).map_err(|e| format!("{name}: {e}"))?;
+            let name = write_lammps_input(dir, case, false)?;
             let mut cmd = Command::new(exe);
             cmd.current_dir(dir)
                 .args(["-in", &name, "-log", "none"])

@@ -2,8 +2,9 @@
 //! flips and shear, and the verdict on a difference (its growth, and its likely reason).
 
 use crate::report::c;
+use dpdnl::fmtnum::fmt_g;
 use dpdnl::io::growth::{Growth, MAX_RATE, Point, table_rows};
-use dpdnl::io::lammps_log::NeighborSummary;
+use dpdnl::io::lammps_log::{NeighborSummary, flip_records};
 use std::fmt::Write as _;
 
 /// `lammps neighbor lists: neigh_modify every 1 delay 10 check yes; Dangerous builds = 2`, from
@@ -47,22 +48,9 @@ fn dangerous_counts(n: &NeighborSummary) -> String {
 /// agree, but neither is right. One note per engine that reports it, with the cure.
 pub(super) fn flip_leak_notes(text_s: &str, text_l: &str) -> Vec<String> {
     let leak = |text: &str| -> Option<(u64, String)> {
-        let mut atoms = 0;
-        let mut v = String::new();
-        for line in text
-            .lines()
-            .filter(|l| l.contains("without remap v's velocity jump"))
-        {
-            let n = line
-                .split("box flips put ")
-                .nth(1)
-                .and_then(|r| r.split_whitespace().next())
-                .and_then(|w| w.parse::<u64>().ok())?;
-            atoms += n;
-            if let Some(rest) = line.split("mean velocity V = ").nth(1) {
-                v = rest.split(')').next().unwrap_or_default().to_string();
-            }
-        }
+        let no_jump: Vec<_> = flip_records(text).into_iter().filter(|r| !r.jump).collect();
+        let atoms = no_jump.iter().map(|r| r.atoms).sum::<u64>();
+        let v = no_jump.last().map(|r| fmt_g(r.v)).unwrap_or_default();
         (atoms > 0).then_some((atoms, v))
     };
     [("standalone engine", text_s), ("LAMMPS", text_l)]
