@@ -30,6 +30,8 @@ echo "== cargo fmt --check"
 cargo fmt --all -- --check
 echo "== validation READMEs: tables equal to the summaries they copy (validation/sync_tables.py --check)"
 python3 validation/sync_tables.py --check validation/finite_step/README.md validation/nonlinear/README.md validation/weighting/README.md
+echo "== the house: no import up the layers, no circle of files (tools/house.py --check; ARCHITECTURE.md)"
+python3 tools/house.py --check
 echo "== cargo clippy -D warnings"
 cargo clippy --workspace --all-targets -- -D warnings
 echo "== user's manual: mdBook site + Rust API + link check (scripts/build-docs.sh; installs mdBook only if missing)"
