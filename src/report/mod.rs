@@ -65,15 +65,7 @@ pub fn to_line<T: Serialize>(v: &T) -> Result<String, String> {
     String::from_utf8(out).map_err(|e| e.to_string())
 }
 
-/// Shortest round-trip decimal form; exponent form outside [1e-5, 1e16).
-pub fn short(x: f64) -> String {
-    let a = x.abs();
-    if x == 0.0 || (1e-5..1e16).contains(&a) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
+pub use crate::fmtnum::short;
 
 /// serde_json's compact output with the CLI's number and escape forms.
 struct LineFormatter;
