@@ -20,6 +20,8 @@ pub mod lanes;
 pub mod mdpd;
 pub mod plan;
 pub mod sdpd;
+#[cfg(feature = "test-style")]
+pub mod spring;
 pub mod style;
 
 pub use bonded::{ANGLE_STYLES, BOND_STYLES};
@@ -76,6 +78,14 @@ pub const PAIR_STYLES: &[PairStyleEntry] = &[
         about: "many-body DPD (free surfaces) with non-linear friction",
         make: |args, ntypes, dt| Ok(Box::new(mdpd::MdpdPair::new(args, ntypes, dt)?)),
         specs: &[mdpd::grammar::PAIR_STYLE, mdpd::grammar::PAIR_COEFF],
+        design: None,
+    },
+    #[cfg(feature = "test-style")]
+    PairStyleEntry {
+        name: spring::grammar::NAME,
+        about: "test only: a linear spring with a cut-off",
+        make: |args, ntypes, _dt| Ok(Box::new(spring::SpringPair::new(args, ntypes)?)),
+        specs: &[spring::grammar::PAIR_STYLE, spring::grammar::PAIR_COEFF],
         design: None,
     },
 ];
