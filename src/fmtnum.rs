@@ -1,5 +1,16 @@
 //! Numbers for messages: [`fmt_g`] prints like C's `%g` (six significant digits), so an error
-//! or warning shows `1e+300`, not the 301 digits of Rust's `{}`.
+//! or warning shows `1e+300`, not the 301 digits of Rust's `{}`; [`short`] is the round-trip
+//! form of `dpdnl design`/`theory` (pasting a printed number back reproduces it bit for bit).
+
+/// The shortest round-trip decimal form; exponent form outside [1e-5, 1e16).
+pub fn short(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || (1e-5..1e16).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
 
 /// Shortest round-trip decimal form; exponent form outside [1e-5, 1e16).
 pub fn short(x: f64) -> String {

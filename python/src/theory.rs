@@ -61,7 +61,9 @@ fn _design<'py>(
     seed: u32,
 ) -> PyResult<Bound<'py, PyAny>> {
     let f = fluid(dim, density, rc, mass, kt)?;
-    let d = rt::design(f, eta, sc, paper_approx, seed, InputLines::Dpd).map_err(err)?;
+    let lines = InputLines::of("dpd", None)
+        .ok_or_else(|| pyo3::exceptions::PyValueError::new_err("no design method 'dpd'"))?;
+    let d = rt::design(f, eta, sc, paper_approx, seed, lines).map_err(err)?;
     to_py(py, to_value(&d.json()))
 }
 

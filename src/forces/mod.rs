@@ -18,14 +18,16 @@ pub mod bonded;
 pub mod dpd;
 pub mod lanes;
 pub mod mdpd;
+pub mod plan;
 pub mod sdpd;
+#[cfg(feature = "test-style")]
+pub mod spring;
 pub mod style;
 
 pub use bonded::{ANGLE_STYLES, BOND_STYLES};
 pub use lanes::{BATCH, Isa, NoiseDist, PairBatch, in_range};
-pub use style::{
-    PairStyle, PrePass, SetupContext, SetupNote, StyleDerived, StylePlan, StyleRecord,
-};
+pub use plan::{DesignMethod, PairPlan, PlanPoint, StylePlan};
+pub use style::{PairStyle, PrePass, SetupContext, SetupNote, StyleDerived, StyleRecord};
 
 /// How the registry makes a pair style: from the words after its name, for `ntypes` atom types
 /// and time step `dt`.
@@ -42,6 +44,8 @@ pub struct PairStyleEntry {
     /// The usage strings and keywords of its `pair_style` and `pair_coeff` lines (quoted in
     /// error messages and the bad-input table).
     pub specs: &'static [crate::grammar::StyleSpec],
+    /// How `dpdnl design --method` designs it from target (η, Sc), if it can be.
+    pub design: Option<&'static dyn DesignMethod>,
 }
 
 /// The pair styles this project provides, the one place that names them: a new pair style is
@@ -56,6 +60,7 @@ pub const PAIR_STYLES: &[PairStyleEntry] = &[
             dpd::grammar::PAIR_COEFF,
             dpd::grammar::PAIR_COEFF_TARGETS,
         ],
+        design: Some(&dpd::DpdDesign),
     },
     PairStyleEntry {
         name: sdpd::grammar::NAME,
@@ -66,12 +71,22 @@ pub const PAIR_STYLES: &[PairStyleEntry] = &[
             sdpd::grammar::PAIR_COEFF,
             sdpd::grammar::PAIR_COEFF_TARGETS,
         ],
+        design: Some(&sdpd::SdpdDesign),
     },
     PairStyleEntry {
         name: mdpd::grammar::NAME,
         about: "many-body DPD (free surfaces) with non-linear friction",
         make: |args, ntypes, dt| Ok(Box::new(mdpd::MdpdPair::new(args, ntypes, dt)?)),
         specs: &[mdpd::grammar::PAIR_STYLE, mdpd::grammar::PAIR_COEFF],
+        design: None,
+    },
+    #[cfg(feature = "test-style")]
+    PairStyleEntry {
+        name: spring::grammar::NAME,
+        about: "test only: a linear spring with a cut-off",
+        make: |args, ntypes, _dt| Ok(Box::new(spring::SpringPair::new(args, ntypes)?)),
+        specs: &[spring::grammar::PAIR_STYLE, spring::grammar::PAIR_COEFF],
+        design: None,
     },
 ];
 
@@ -95,6 +110,43 @@ pub fn new_pair_style(
                 .join(", ")
         )),
     }
+}
+
+/// The words of `dpdnl design --method`: the styles that can be designed, in registry order.
+pub fn design_methods() -> impl Iterator<Item = &'static str> {
+    PAIR_STYLES
+        .iter()
+        .filter_map(|s| s.design.map(|d| d.method()))
+}
+
+/// The design method `dpdnl design --method NAME` names.
+pub fn design_method(name: &str) -> Option<&'static dyn DesignMethod> {
+    PAIR_STYLES
+        .iter()
+        .filter_map(|s| s.design)
+        .find(|d| d.method() == name)
+}
+
+/// Every usage spec: the pair styles' (from [`PAIR_STYLES`]), then the fixes'
+/// (`grammar::SPECS`).
+pub(crate) fn all_specs() -> impl Iterator<Item = &'static crate::grammar::StyleSpec> {
+    PAIR_STYLES
+        .iter()
+        .flat_map(|p| p.specs.iter())
+        .chain(crate::grammar::SPECS.iter())
+}
+
+/// The spec of `command style` (e.g. `("fix", "pex/push")`, `("pair_style", "sdpd")`).
+pub fn spec(command: &str, style: &str) -> Option<&'static crate::grammar::StyleSpec> {
+    all_specs().find(|s| s.command == command && s.style == style)
+}
+
+/// The usage of `pair_style` given without a style: the first registry entry's.
+pub(crate) fn pair_style_usage() -> &'static str {
+    PAIR_STYLES
+        .first()
+        .and_then(|s| s.specs.iter().find(|p| p.command == "pair_style"))
+        .map_or("pair_style STYLE args", |p| p.usage)
 }
 
 /// Rebuild a style from its [`StyleRecord::restart_lines`] for `ntypes` types.
@@ -126,6 +178,29 @@ pub fn from_restart_lines(
 mod tests {
     use super::*;
 
+    #[test]
+    fn every_spec_is_unique_and_lists_its_keywords_in_the_usage() {
+        for s in PAIR_STYLES {
+            assert!(
+                s.specs.iter().all(|p| p.style == s.name),
+                "{}: a spec of another style",
+                s.name
+            );
+        }
+        let specs: Vec<_> = all_specs().collect();
+        for (k, s) in specs.iter().enumerate() {
+            assert!(
+                specs[..k]
+                    .iter()
+                    .all(|o| (o.command, o.style, o.usage) != (s.command, s.style, s.usage)),
+                "{s:?}"
+            );
+            for kw in s.keywords {
+                assert!(s.usage.contains(kw), "{} lacks {kw}", s.usage);
+            }
+        }
+    }
+
     /// Every listed style is made by [`new_pair_style`] (its own grammar answers, not the
     /// unknown-style error), and an unknown name lists them.
     #[test]
@@ -136,9 +211,14 @@ mod tests {
             assert!(!e.contains("not supported"), "{name}: {e}");
         }
         let e = new_pair_style("lj/cut", &[], 1, 1.0).expect_err("unknown");
+        let names: Vec<&str> = PAIR_STYLES.iter().map(|s| s.name).collect();
+        assert!(names.starts_with(&["dpd/nonlinear", "sdpd", "mdpd/nonlinear"]));
         assert_eq!(
             e,
-            "pair style 'lj/cut' not supported: only dpd/nonlinear, sdpd, mdpd/nonlinear"
+            format!(
+                "pair style 'lj/cut' not supported: only {}",
+                names.join(", ")
+            )
         );
     }
 }

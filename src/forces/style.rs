@@ -1,8 +1,8 @@
 //! The style object: everything one pair style is — its settings and `pair_coeff` lines (parsed
 //! by its own `grammar` module, e.g. [`crate::forces::dpd::grammar`]), its set-up at each run,
 //! an optional per-atom pre-pass (a many-body style's density), its batched kernel, its
-//! cut-offs ([`PairStyle`]), and its restart lines, `write_data` coefficients and typed plan
-//! ([`StyleRecord`]); what follows from those answers by one rule is [`StyleDerived`].
+//! cut-offs ([`PairStyle`]), and its restart lines, `write_data` coefficients and plan
+//! ([`StyleRecord`], [`crate::forces::plan`]); what follows from those answers by one rule is [`StyleDerived`].
 //!
 //! The standalone engine (`System::pair`), the interpreter (`pair_style`, `pair_coeff`,
 //! `write_restart`) and the C ABI's one handle for every LAMMPS style (`capi/src/pair/`) hold
@@ -27,9 +27,11 @@
 
 use std::any::Any;
 use std::fmt::Debug;
+use std::sync::Arc;
 
 use crate::forces::Isa;
 use crate::forces::batcher::PairKernel;
+use crate::forces::plan::StylePlan;
 
 /// A line for the log from `System::setup` and the C ABI's set-up.
 #[derive(Clone, Debug, PartialEq)]
@@ -125,45 +127,10 @@ pub trait PrePass: Sync {
     fn fault(&self, who: &str, d: f64, step: u64) -> String;
 }
 
-/// What a run of a pair style would use, as its set-up resolved it: the typed report that
-/// `dpdnl theory SCRIPT`, `dpdnl design` and dry runs read ([`StyleRecord::plan`]), so that no
-/// caller needs to know the style's type.
-#[derive(Clone, Debug)]
-pub enum StylePlan {
-    /// A DPD-form style: its model (kT, friction, noise, weight; δt set) and (i, j,
-    /// coefficients) for i ≤ j, (η, Sc) targets resolved.
-    Dpd {
-        /// The model.
-        model: crate::forces::dpd::kernel::PairModel,
-        /// The pairs' coefficients.
-        coeffs: Vec<(usize, usize, crate::forces::dpd::kernel::PairCoeff)>,
-    },
-    /// Smoothed DPD: kT (boltz T), the kernel (the designed one when targets were given) and
-    /// (i, j, values) for i ≤ j.
-    Sdpd(PlannedSdpd),
-    /// A many-body style with a DPD-form friction and noise (`mdpd/nonlinear`): its model; no
-    /// pair-wise kinetic theory applies.
-    ManyBody {
-        /// The style's name.
-        name: &'static str,
-        /// The model of its DPD part.
-        model: crate::forces::dpd::kernel::PairModel,
-    },
-}
-
-/// What a planned run of `pair_style sdpd` holds (targets resolved).
-#[derive(Clone, Debug)]
-pub struct PlannedSdpd {
-    /// kT of the random force (boltz T, an energy).
-    pub kt: f64,
-    /// The kernel (the designed one when targets were given).
-    pub kernel: crate::forces::sdpd::kernel::Smoothing,
-    /// (i, j, values) for i ≤ j.
-    pub pairs: Vec<(usize, usize, crate::forces::sdpd::SdpdPair)>,
-}
-
-/// One pair style (see the module documentation).
-pub trait PairStyle: StyleRecord + Send + Sync + Debug {
+/// One pair style (see the module documentation). `Any` lets a test read one style's own
+/// fields (`&dyn Any` by trait upcasting); no code path of the engines downcasts: they use the
+/// trait.
+pub trait PairStyle: StyleRecord + Any + Send + Sync + Debug {
     /// The style's name (`dpd/nonlinear`, `sdpd`).
     fn name(&self) -> &'static str;
     /// Number of atom types the coefficient tables hold.
@@ -211,9 +178,6 @@ pub trait PairStyle: StyleRecord + Send + Sync + Debug {
     fn single(&self, _i: usize, _j: usize, _rsq: f64) -> Option<(f64, f64)> {
         None
     }
-    /// The style as `Any`: for tests that read one style's own fields (no code path of the
-    /// engines downcasts; they use the trait).
-    fn as_any(&self) -> &dyn Any;
     /// A copy of the style.
     fn clone_box(&self) -> Box<dyn PairStyle>;
 }
@@ -239,8 +203,9 @@ pub trait StyleRecord {
     fn atom_values(&self) -> Option<&[f64]> {
         None
     }
-    /// What a run would use, after [`PairStyle::setup`] (`units` for kT, `dt` the time step).
-    fn plan(&self, units: &crate::units::Units, dt: f64) -> StylePlan;
+    /// What a run would use, after [`PairStyle::setup`] (`units` for kT, `dt` the time step):
+    /// the report `dpdnl theory SCRIPT` and dry runs read ([`crate::forces::plan`]).
+    fn plan(&self, units: &crate::units::Units, dt: f64) -> Arc<dyn StylePlan>;
 }
 
 /// What follows from a style's answers by one rule for every style (which type pairs it

@@ -7,7 +7,8 @@
 //! both engines.
 //!
 //! Usage strings and keyword lists come from each style's own table: the pair styles' in their
-//! registry entry ([`crate::forces::PairStyleEntry::specs`]), the fixes' in [`SPECS`].
+//! registry entry (`forces::PairStyleEntry::specs`, handed down: this module names no style),
+//! the fixes' in [`SPECS`].
 //!
 //! Rules that used to differ between the engines, now one rule each (docs/input.md):
 //! - seeds are integers in 1..=2147483647 (LAMMPS's `int` seeds, and the range the
@@ -32,25 +33,11 @@ pub struct StyleSpec {
     pub keywords: &'static [&'static str],
 }
 
-/// The fixes of this project: with the pair styles' own specs (each [`PAIR_STYLES`] entry's
-/// `specs`), the single source of usage strings and keyword lists.
-///
-/// [`PAIR_STYLES`]: crate::forces::PAIR_STYLES
+/// The fixes of this project. The pair styles' specs are in their registry entries
+/// (`forces::PairStyleEntry::specs`); `forces::spec` looks a spec up in both (this module, at
+/// the bottom of the crate, names no style).
 pub(crate) const SPECS: &[StyleSpec] =
     &[fix::NVE, fix::NVE_EULER, fix::PEX_PUSH, fix::FLIP_MOMENTUM];
-
-/// Every spec: the pair styles' (from the registry), then the fixes'.
-pub(crate) fn all_specs() -> impl Iterator<Item = &'static StyleSpec> {
-    crate::forces::PAIR_STYLES
-        .iter()
-        .flat_map(|p| p.specs.iter())
-        .chain(SPECS.iter())
-}
-
-/// The spec of `command style` (e.g. `("fix", "pex/push")`).
-pub fn spec(command: &str, style: &str) -> Option<&'static StyleSpec> {
-    all_specs().find(|s| s.command == command && s.style == style)
-}
 
 /// The largest seed or step interval a style accepts (LAMMPS `int`).
 pub(crate) const INT_MAX: u64 = i32::MAX as u64;
@@ -269,22 +256,6 @@ pub(crate) fn at_most<S: AsRef<str>>(args: &[S], n: usize, usage: &str) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn every_spec_is_unique_and_lists_its_keywords_in_the_usage() {
-        let specs: Vec<_> = all_specs().collect();
-        for (k, s) in specs.iter().enumerate() {
-            assert!(
-                specs[..k]
-                    .iter()
-                    .all(|o| (o.command, o.style, o.usage) != (s.command, s.style, s.usage)),
-                "{s:?}"
-            );
-            for kw in s.keywords {
-                assert!(s.usage.contains(kw), "{} lacks {kw}", s.usage);
-            }
-        }
-    }
 
     #[test]
     fn integers_are_range_checked_before_narrowing() {

@@ -2,7 +2,9 @@
 //! package's dicts). The structs ending in `Json` are serialised with serde: their fields are
 //! the keys, in the order `--json` prints them ([`super::to_line`]).
 
-use crate::forces::sdpd::kernel::Smoothing;
+use crate::forces::DesignMethod;
+use crate::forces::plan::{DesignInputs, PairPlan, PairTheory};
+use crate::theory::sdpd::Smoothing;
 use crate::theory::vv_measured::vv_verdict;
 use crate::theory::{
     Design, DesignMode, Dim, Fluid, Targets, TheoryError, Transport, design_from_targets,
@@ -10,8 +12,6 @@ use crate::theory::{
     kinetic_theory, sdpd,
 };
 use serde::Serialize;
-
-use super::short;
 
 /// The fluid from the command line's numbers (`dim` checked to be 2 or 3).
 pub fn fluid_of(dim: i64, density: f64, rc: f64, mass: f64, kt: f64) -> Result<Fluid, TheoryError> {
@@ -91,13 +91,21 @@ impl From<&Transport> for TransportJson {
 
 // ---------------------------------------------------------------- design
 
-/// The input lines a design is printed as.
+/// The input lines a design is printed as: a style's design method (its registry entry's,
+/// [`crate::forces::design_method`]) and the sound speed where the style has one.
 #[derive(Clone, Copy)]
-pub enum InputLines {
-    /// `pair_style dpd/nonlinear` with γ and the weight exponent.
-    Dpd,
-    /// `pair_style sdpd` with the proposed kernel's s, η0 and the sound speed (or `C0`).
-    Sdpd { c0: Option<f64> },
+pub struct InputLines {
+    /// The method.
+    pub method: &'static dyn DesignMethod,
+    /// `--c0`: the sound speed of the `pair_coeff` line, for a style that has one.
+    pub c0: Option<f64>,
+}
+
+impl InputLines {
+    /// The lines of `dpdnl design --method NAME`, or `None` when no style is designed so.
+    pub fn of(method: &str, c0: Option<f64>) -> Option<InputLines> {
+        crate::forces::design_method(method).map(|method| InputLines { method, c0 })
+    }
 }
 
 /// A design: γ and s for the targets, the kinetic theory's check, the two input lines.
@@ -142,31 +150,15 @@ pub fn design_at(
         design_from_targets(&Targets { fluid, eta, sc })?
     };
     let predicted = kinetic_theory(&fluid, design.gamma, design.s)?;
-    let (pair_style, pair_coeff) = match lines {
-        InputLines::Dpd => (
-            format!(
-                "pair_style dpd/nonlinear {} {} {seed} weight {}",
-                short(temp),
-                short(fluid.cutoff),
-                short(design.s)
-            ),
-            format!("pair_coeff * * 0.0 {} 0.0", short(design.gamma)),
-        ),
-        InputLines::Sdpd { c0 } => (
-            format!(
-                "pair_style sdpd {} {} {seed} kernel proposed {}",
-                short(temp),
-                short(fluid.cutoff),
-                short(design.s)
-            ),
-            format!(
-                "pair_coeff * * {} {} {}",
-                short(fluid.mass * fluid.density),
-                c0.map_or("C0".to_string(), short),
-                short(design.eta0)
-            ),
-        ),
-    };
+    let (pair_style, pair_coeff) = lines.method.lines(
+        &design,
+        &fluid,
+        &DesignInputs {
+            temp,
+            seed,
+            c0: lines.c0,
+        },
+    );
     Ok(DesignResult {
         fluid,
         eta,
@@ -404,40 +396,66 @@ pub struct RunJson {
     pub dim: u32,
     pub natoms: usize,
     pub density: f64,
-    pub kt: f64,
+    pub kt: Option<f64>,
     pub dt: f64,
     pub integrator: String,
-    pub s: f64,
+    pub s: Option<f64>,
     pub pairs: Vec<PairJson>,
 }
 
-/// One type pair of a run: `pair_style sdpd` or `dpd/nonlinear`.
-#[derive(Serialize)]
-#[serde(untagged)]
-pub enum PairJson {
-    Sdpd {
-        i: usize,
-        j: usize,
-        rho0: f64,
-        c0: f64,
-        eta0: f64,
-        rc: f64,
-        kernel: &'static str,
-        fluid: FluidJson,
-        predicted: TransportJson,
-    },
-    Dpd {
-        i: usize,
-        j: usize,
-        a: f64,
-        gamma0: f64,
-        gamma1: f64,
-        rc: f64,
-        fluid: FluidJson,
-        predicted: TransportJson,
-        euler: Option<EulerBriefJson>,
-        vv_measured: Option<VvJson>,
-    },
+/// One type pair of a run with a prediction, from its style's plan ([`PairPlan`]): `i`, `j`,
+/// its coefficients and words, `fluid`, `predicted` and, where the finite-step theory applies
+/// ([`crate::forces::plan::PairTheory::finite_step`]), `euler` and `vv_measured` (one of them
+/// null: the run's integrator decides which).
+pub struct PairJson {
+    pub i: usize,
+    pub j: usize,
+    pub coeffs: Vec<(&'static str, f64)>,
+    pub words: Vec<(&'static str, &'static str)>,
+    pub fluid: FluidJson,
+    pub predicted: TransportJson,
+    pub finite_step: Option<(Option<EulerBriefJson>, Option<VvJson>)>,
+}
+
+impl PairJson {
+    /// The record of `pair`'s prediction `theory`, with the finite-step parts.
+    pub fn new(
+        pair: &PairPlan,
+        theory: &PairTheory,
+        finite_step: Option<(Option<EulerBriefJson>, Option<VvJson>)>,
+    ) -> PairJson {
+        PairJson {
+            i: pair.i,
+            j: pair.j,
+            coeffs: pair.coeffs.clone(),
+            words: pair.words.clone(),
+            fluid: (&theory.fluid).into(),
+            predicted: (&theory.predicted).into(),
+            finite_step,
+        }
+    }
+}
+
+impl Serialize for PairJson {
+    fn serialize<S: serde::Serializer>(&self, ser: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = ser.serialize_map(None)?;
+        m.serialize_entry("i", &self.i)?;
+        m.serialize_entry("j", &self.j)?;
+        for (k, v) in &self.coeffs {
+            m.serialize_entry(k, v)?;
+        }
+        for (k, v) in &self.words {
+            m.serialize_entry(k, v)?;
+        }
+        m.serialize_entry("fluid", &self.fluid)?;
+        m.serialize_entry("predicted", &self.predicted)?;
+        if let Some((euler, vv)) = &self.finite_step {
+            m.serialize_entry("euler", euler)?;
+            m.serialize_entry("vv_measured", vv)?;
+        }
+        m.end()
+    }
 }
 
 /// The Euler temperature of a run's step (None: unstable) and the critical step.

@@ -15,8 +15,54 @@
 //! DPD's, so a target (η, Sc) designs (η0, s) exactly as [`super::design_from_targets`] does.
 
 use super::{Dim, Fluid, TheoryError, Transport, positive, radial_moment};
-use crate::forces::sdpd::kernel::Smoothing;
 use std::f64::consts::PI;
+
+/// The sDPD kernel family of `pair_style sdpd … kernel NAME [s]` (the shapes themselves, W and
+/// F, are `forces::sdpd::kernel`'s `KernelShape`; the theory needs only which kernel).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Smoothing {
+    /// Lucy's kernel (WF-25): the proposed kernel with s = 2.
+    Lucy,
+    /// The quintic spline with h = r_c / 3.
+    Quintic,
+    /// The weighting-function paper's kernel (WF-41/56) with exponent s > 0.
+    Proposed(f64),
+}
+
+impl Smoothing {
+    /// The proposed kernel of exponent `s`; `None` unless `s` is finite and > 0.
+    pub fn proposed(s: f64) -> Option<Smoothing> {
+        (s.is_finite() && s > 0.0).then_some(Smoothing::Proposed(s))
+    }
+
+    /// The keyword of `kernel NAME`.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            Smoothing::Lucy => "lucy",
+            Smoothing::Quintic => "quintic",
+            Smoothing::Proposed(_) => "proposed",
+        }
+    }
+
+    /// The exponent s of the polynomial form (1 − u)^s of F: 2 for Lucy, s for the proposed
+    /// kernel, `None` for the quintic spline (piecewise).
+    pub fn exponent(self) -> Option<f64> {
+        match self {
+            Smoothing::Lucy => Some(2.0),
+            Smoothing::Quintic => None,
+            Smoothing::Proposed(s) => Some(s),
+        }
+    }
+}
+
+impl std::fmt::Display for Smoothing {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Smoothing::Proposed(s) => write!(f, "proposed (s = {s})"),
+            k => f.write_str(k.keyword()),
+        }
+    }
+}
 
 /// \[F\] = ∫ F(r) d^d r of the kernel at cut-off `rc` (F = −W'/r), in closed form.
 ///

@@ -14,18 +14,27 @@ pub fn run(text: &str) -> Result<(Vec<String>, Option<System>), ScriptError> {
     Ok((console.0, sys))
 }
 
-/// The `dpd/nonlinear` style's force field, if that is the pair style (a test's downcast: the
-/// engines read styles through the trait only).
-#[allow(dead_code)] // not every test crate that includes this module calls it
-pub fn dpd(sys: &System) -> Option<&dpdnl::engine::ForceField> {
-    let p = sys.pair.as_deref()?.as_any();
-    Some(&p.downcast_ref::<dpdnl::forces::dpd::DpdPair>()?.ff)
+/// The pair style as `Any` (a test's downcast, by trait upcasting: the engines read styles
+/// through the trait only).
+fn style(sys: &System) -> Option<&dyn std::any::Any> {
+    let p: &dyn dpdnl::PairStyle = sys.pair.as_deref()?;
+    Some(p)
 }
 
-/// The `sdpd` style, if that is the pair style (a test's downcast, as [`dpd`]).
+/// The `dpd/nonlinear` style's force field, if that is the pair style.
+#[allow(dead_code)] // not every test crate that includes this module calls it
+pub fn dpd(sys: &System) -> Option<&dpdnl::engine::ForceField> {
+    Some(
+        &style(sys)?
+            .downcast_ref::<dpdnl::forces::dpd::DpdPair>()?
+            .ff,
+    )
+}
+
+/// The `sdpd` style, if that is the pair style.
 #[allow(dead_code)] // not every test crate that includes this module calls it
 pub fn sdpd(sys: &System) -> Option<&dpdnl::forces::sdpd::SdpdField> {
-    sys.pair.as_deref()?.as_any().downcast_ref()
+    style(sys)?.downcast_ref()
 }
 
 /// Every atom's tag, position bits and velocity bits, sorted by tag (for bit-identity checks).

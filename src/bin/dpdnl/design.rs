@@ -6,17 +6,16 @@
 //! ("eqs. 52-53, 65", WF-52 … in `docs/models.md`) and the finite-step paper's (FS-22 …).
 
 use dpdnl::fmtnum::fmt_g;
-use dpdnl::forces::sdpd::kernel::Smoothing;
 use dpdnl::report::theory::{
     self as rt, EulerBriefJson, InputLines, PairJson, RunJson, ScriptJson, fluid_in, neighbours,
     step_x,
 };
 use dpdnl::report::{short as num, to_line};
-use dpdnl::theory::sdpd;
+use dpdnl::theory::sdpd::Smoothing;
 use dpdnl::theory::vv_measured::vv_verdict;
 use dpdnl::theory::{
     Design, DesignMode, Dim, Fluid, STIFF_DT_C_FRACTION, StepScales, Transport, euler_critical_dt,
-    euler_temperature_ratio, kinetic_theory, step_scales,
+    euler_temperature_ratio, step_scales,
 };
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -70,7 +69,7 @@ pub struct DesignArgs {
     seed: u32,
     /// `dpd` (γ and the weight exponent of `pair_style dpd/nonlinear`) or `sdpd` (η0 and the
     /// proposed kernel's s of `pair_style sdpd`: the same kinetic theory, docs/models.md 3.7).
-    #[arg(long, default_value = "dpd", value_parser = ["dpd", "sdpd"])]
+    #[arg(long, default_value = "dpd", value_parser = clap::builder::PossibleValuesParser::new(dpdnl::forces::design_methods()))]
     method: String,
     /// With --method sdpd: the sound speed c0 written into the printed `pair_coeff` line (the
     /// design does not choose it; without it the line holds the placeholder C0).
@@ -269,13 +268,10 @@ fn stiff_warning(gamma: f64, s: f64, t: &StepScales) -> String {
 pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>> {
     let (u, kt, temp) = units_kt(&a.units, a.kt, a.temp)?;
     let fluid = fluid_in(&u, a.dim, a.density, a.rc, a.mass, kt)?;
-    let lines = if a.method == "sdpd" {
-        InputLines::Sdpd { c0: a.c0 }
-    } else {
-        InputLines::Dpd
-    };
+    let lines = InputLines::of(&a.method, a.c0)
+        .ok_or_else(|| format!("--method '{}' designs no pair style", a.method))?;
     let res = rt::design_at(fluid, temp, a.eta, a.sc, a.paper_approx, a.seed, lines)?;
-    let (design, pred) = (&res.design, &res.predicted);
+    let design = &res.design;
     let scales = step_scales(&fluid, design.gamma, design.s)?;
     if scales.stiff() {
         eprintln!(
@@ -325,34 +321,14 @@ pub fn design_main(a: DesignArgs) -> Result<ExitCode, Box<dyn std::error::Error>
     }
     let _ = writeln!(out, "eta0 = {}", num(design.eta0));
     let _ = writeln!(out, "s = {}", num(design.s));
-    if a.method == "sdpd" {
-        let kernel = Smoothing::proposed(design.s).ok_or("designed s is not > 0")?;
-        let t = sdpd::kinetic_theory(&fluid, kernel, design.eta0)?;
-        let _ = writeln!(
-            out,
-            "# check: kinetic theory of the proposed sDPD kernel with (eta0, s) (Table 1, eq. {})",
-            if d == 3 { "45" } else { "60" }
-        );
-        transport_text(&mut out, &t);
-    } else {
-        let _ = writeln!(out, "gamma = {}", num(design.gamma));
-        let _ = writeln!(
-            out,
-            "# check: kinetic theory of (gamma, s) with w_D = (1 - r/r_c)^s"
-        );
-        transport_text(&mut out, pred);
+    let check = lines.method.check(design, &fluid)?;
+    for (k, v) in &check.values {
+        let _ = writeln!(out, "{k} = {}", num(*v));
     }
+    let _ = writeln!(out, "# {}", check.title);
+    transport_text(&mut out, &check.predicted);
     limits_text(&mut out, design, d, eqs);
-    let _ = writeln!(
-        out,
-        "{}",
-        if a.method == "sdpd" {
-            "# input lines for LAMMPS and dpdnl (rho0 = m n; choose the sound speed c0 so that the \
-             density fluctuates little, docs/models.md 3.7; set the seed you want)"
-        } else {
-            "# input lines for LAMMPS and dpdnl (friction none, noise plain; set the seed you want)"
-        }
-    );
+    let _ = writeln!(out, "# {}", lines.method.lines_note());
     let _ = writeln!(out, "{style}");
     let _ = writeln!(out, "{coeff}");
     print!("{out}");

@@ -2,14 +2,19 @@
 //! [`PairModel`], the seed and the per type-pair [`PairCoeff`] table ([`ForceField`]), its
 //! set-up (η/Sc targets, the Euler warning) and its kernel (`docs/models.md` §1.1–1.4).
 
-use std::any::Any;
+use std::sync::Arc;
 
 pub mod grammar;
 pub mod kernel;
 
+use crate::fmtnum::short;
 use crate::forces::batcher::PairKernel;
 use crate::forces::lanes::{Isa, PairBatch};
+use crate::forces::plan::{
+    DesignCheck, DesignInputs, DesignMethod, PairPlan, PairTheory, PlanPoint, StylePlan,
+};
 use crate::forces::style::{PairStyle, SetupContext, SetupNote, StyleDerived, StyleRecord, word};
+use crate::theory::{Design, Fluid, TheoryError, kinetic_theory};
 use grammar::DpdStyle;
 use kernel::{Friction, PairCoeff, PairModel, PairTable, pair_forces_batch_isa};
 
@@ -484,26 +489,22 @@ impl PairStyle for DpdPair {
         Some((fpair, 0.5 * c.a * c.rc * wr * wr))
     }
 
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-
     fn clone_box(&self) -> Box<dyn PairStyle> {
         Box::new(self.clone())
     }
 }
 
 impl StyleRecord for DpdPair {
-    fn plan(&self, _units: &crate::units::Units, _dt: f64) -> crate::forces::style::StylePlan {
+    fn plan(&self, _units: &crate::units::Units, _dt: f64) -> Arc<dyn StylePlan> {
         let n = self.ff.ntypes();
         let coeffs = (1..=n)
             .flat_map(|i| (i..=n).map(move |j| (i, j)))
             .filter_map(|(i, j)| self.ff.get(i, j).map(|c| (i, j, *c)))
             .collect();
-        crate::forces::style::StylePlan::Dpd {
+        Arc::new(DpdPlan {
             model: self.ff.model,
             coeffs,
-        }
+        })
     }
     fn restart_lines(&self) -> Vec<Vec<String>> {
         let settings = DpdStyle {
@@ -544,5 +545,110 @@ impl StyleRecord for DpdPair {
         self.ff
             .get(i, j)
             .map(|c| vec![c.a, c.gamma0, c.gamma1, c.rc])
+    }
+}
+
+/// A planned run of a DPD-form style: its model (kT, friction, noise, weight; δt set) and (i, j,
+/// coefficients) for i ≤ j, (η, Sc) targets resolved.
+#[derive(Clone, Debug)]
+pub struct DpdPlan {
+    /// The model.
+    pub model: PairModel,
+    /// The pairs' coefficients.
+    pub coeffs: Vec<(usize, usize, PairCoeff)>,
+}
+
+impl StylePlan for DpdPlan {
+    fn kt(&self) -> Option<f64> {
+        Some(self.model.kt)
+    }
+    fn weight_exponent(&self) -> Option<f64> {
+        Some(self.model.weight.exponent())
+    }
+    fn summary(&self) -> Option<String> {
+        Some(format!(
+            "friction {}, noise {}, weight s = {}",
+            self.model.friction.keyword(),
+            self.model.noise.keyword(),
+            short(self.model.weight.exponent())
+        ))
+    }
+    /// The ideal fluid's kinetic theory of each pair with γ0 > 0 (a = 0; γ1 dropped: the
+    /// zero-shear limit), docs/models.md 3.2; the finite-step theory applies with (γ0, s).
+    fn pairs(&self, at: &PlanPoint) -> Result<Vec<PairPlan>, TheoryError> {
+        let s = self.model.weight.exponent();
+        let mut out = Vec::with_capacity(self.coeffs.len());
+        for &(i, j, c) in &self.coeffs {
+            let theory = if c.gamma0 <= 0.0 {
+                Err("gamma0 = 0: no dissipation, no kinetic theory".to_string())
+            } else {
+                let fluid = at.fluid(c.rc, self.model.kt)?;
+                Ok(PairTheory {
+                    predicted: kinetic_theory(&fluid, c.gamma0, s)?,
+                    fluid,
+                    title: format!(
+                        "kinetic theory of the ideal fluid, w_D = (1 - r/r_c)^s (docs/models.md 3.2){}{}",
+                        if c.a != 0.0 {
+                            "; a != 0 adds a conservative viscosity not in it"
+                        } else {
+                            ""
+                        },
+                        if c.gamma1 != 0.0 {
+                            "; gamma0 only: the zero-shear limit of the non-linear friction"
+                        } else {
+                            ""
+                        }
+                    ),
+                    finite_step: Some((c.gamma0, s)),
+                })
+            };
+            out.push(PairPlan {
+                i,
+                j,
+                label: None,
+                coeffs: vec![
+                    ("a", c.a),
+                    ("gamma0", c.gamma0),
+                    ("gamma1", c.gamma1),
+                    ("rc", c.rc),
+                ],
+                words: Vec::new(),
+                theory,
+            });
+        }
+        Ok(out)
+    }
+}
+
+/// `dpdnl design --method dpd`: γ and the weight exponent of `pair_style dpd/nonlinear`
+/// (friction none, noise plain).
+pub struct DpdDesign;
+
+impl DesignMethod for DpdDesign {
+    fn method(&self) -> &'static str {
+        "dpd"
+    }
+    fn check(&self, design: &Design, fluid: &Fluid) -> Result<DesignCheck, String> {
+        Ok(DesignCheck {
+            values: vec![("gamma", design.gamma)],
+            title: "check: kinetic theory of (gamma, s) with w_D = (1 - r/r_c)^s".to_string(),
+            predicted: kinetic_theory(fluid, design.gamma, design.s).map_err(|e| e.to_string())?,
+        })
+    }
+    fn lines_note(&self) -> &'static str {
+        "input lines for LAMMPS and dpdnl (friction none, noise plain; set the seed you want)"
+    }
+    fn lines(&self, design: &Design, fluid: &Fluid, inputs: &DesignInputs) -> (String, String) {
+        (
+            format!(
+                "pair_style {} {} {} {} weight {}",
+                grammar::NAME,
+                short(inputs.temp),
+                short(fluid.cutoff),
+                inputs.seed,
+                short(design.s)
+            ),
+            format!("pair_coeff * * 0.0 {} 0.0", short(design.gamma)),
+        )
     }
 }

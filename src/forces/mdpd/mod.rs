@@ -11,17 +11,18 @@
 //! The DPD part is a [`DpdPair`] (its model, coefficient table, special blocks and set-up);
 //! this style adds B and r_d per type pair, the density weight and the densities.
 
-use std::any::Any;
+use std::sync::Arc;
 
 pub mod grammar;
 pub mod kernel;
 
 use crate::forces::batcher::PairKernel;
-use crate::forces::dpd::DpdPair;
 use crate::forces::dpd::grammar::DpdStyle;
 use crate::forces::dpd::kernel::{Friction, PairCoeff};
+use crate::forces::dpd::{DpdPair, DpdPlan};
+use crate::forces::plan::StylePlan;
 use crate::forces::style::{
-    PairStyle, PrePass, SetupContext, SetupNote, StyleDerived, StylePlan, StyleRecord, word,
+    PairStyle, PrePass, SetupContext, SetupNote, StyleDerived, StyleRecord, word,
 };
 use crate::forces::{Isa, PairBatch};
 use kernel::{DensityWeight, ManyBodyCoeff, add_many_body};
@@ -264,10 +265,6 @@ impl PairStyle for MdpdPair {
         })
     }
 
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-
     fn clone_box(&self) -> Box<dyn PairStyle> {
         Box::new(self.clone())
     }
@@ -290,11 +287,11 @@ impl PairKernel for MdpdKernel<'_> {
 }
 
 impl StyleRecord for MdpdPair {
-    fn plan(&self, _units: &crate::units::Units, _dt: f64) -> StylePlan {
-        StylePlan::ManyBody {
-            name: grammar::NAME,
+    fn plan(&self, _units: &crate::units::Units, _dt: f64) -> Arc<dyn StylePlan> {
+        Arc::new(MdpdPlan(DpdPlan {
             model: self.dpd.ff.model,
-        }
+            coeffs: Vec::new(),
+        }))
     }
 
     fn atom_values(&self) -> Option<&[f64]> {
@@ -343,5 +340,29 @@ impl StyleRecord for MdpdPair {
             }
             v
         })
+    }
+}
+
+/// A planned run of `pair_style mdpd/nonlinear`: the model of its DPD part; no pair-wise kinetic
+/// theory applies to a many-body style.
+#[derive(Clone, Debug)]
+pub struct MdpdPlan(pub DpdPlan);
+
+impl StylePlan for MdpdPlan {
+    fn kt(&self) -> Option<f64> {
+        self.0.kt()
+    }
+    fn weight_exponent(&self) -> Option<f64> {
+        self.0.weight_exponent()
+    }
+    fn summary(&self) -> Option<String> {
+        self.0.summary()
+    }
+    fn notes(&self) -> Vec<SetupNote> {
+        vec![SetupNote::Info(format!(
+            "pair_style {} is many-body: the ideal-fluid kinetic theory does not apply to it, so \
+             no pair has a prediction",
+            grammar::NAME
+        ))]
     }
 }

@@ -8,16 +8,21 @@
 //! 2. the pair forces of WF-12/19 through the same batch loop as `dpd/nonlinear`
 //!    ([`SdpdKernel`]), so the forces are central and applied ±, momentum exactly conserved.
 
-use std::any::Any;
+use std::sync::Arc;
 
 pub mod grammar;
 pub mod kernel;
 
+use crate::fmtnum::short;
 use crate::forces::batcher::PairKernel;
+use crate::forces::plan::{
+    DesignCheck, DesignInputs, DesignMethod, PairPlan, PairTheory, PlanPoint, StylePlan,
+};
 use crate::forces::style::{
     PairStyle, PrePass, SetupContext, SetupNote, StyleDerived, StyleRecord,
 };
 use crate::forces::{Isa, PairBatch};
+use crate::theory::{Design, Dim, Fluid, TheoryError, sdpd as theory};
 use grammar::{SdpdCoeffLine, SdpdStyle};
 use kernel::{KernelShape, SdpdAtom, SdpdCoeff, Smoothing, Tait, sdpd_forces_batch};
 
@@ -424,10 +429,6 @@ impl PairStyle for SdpdField {
         })
     }
 
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-
     fn clone_box(&self) -> Box<dyn PairStyle> {
         Box::new(self.clone())
     }
@@ -451,13 +452,13 @@ impl PairKernel for SdpdKernel<'_> {
 }
 
 impl StyleRecord for SdpdField {
-    fn plan(&self, units: &crate::units::Units, _dt: f64) -> crate::forces::style::StylePlan {
+    fn plan(&self, units: &crate::units::Units, _dt: f64) -> Arc<dyn StylePlan> {
         let n = self.ntypes;
         let pairs = (1..=n)
             .flat_map(|i| (i..=n).map(move |j| (i, j)))
             .filter_map(|(i, j)| self.get(i, j).map(|p| (i, j, *p)))
             .collect();
-        crate::forces::style::StylePlan::Sdpd(crate::forces::style::PlannedSdpd {
+        Arc::new(SdpdPlan {
             kt: units.kt(self.style.temp),
             kernel: self.style.kernel,
             pairs,
@@ -487,5 +488,107 @@ impl StyleRecord for SdpdField {
     }
     fn data_coeffs(&self, i: usize, j: usize) -> Option<Vec<f64>> {
         self.get(i, j).map(|p| vec![p.rho0, p.c0, p.eta0, p.rc])
+    }
+}
+
+/// A planned run of `pair_style sdpd` (targets resolved).
+#[derive(Clone, Debug)]
+pub struct SdpdPlan {
+    /// kT of the random force (boltz T, an energy).
+    pub kt: f64,
+    /// The kernel (the designed one when targets were given).
+    pub kernel: Smoothing,
+    /// (i, j, values) for i ≤ j.
+    pub pairs: Vec<(usize, usize, SdpdPair)>,
+}
+
+impl StylePlan for SdpdPlan {
+    fn kt(&self) -> Option<f64> {
+        Some(self.kt)
+    }
+    /// 2, whatever the kernel: the value a run's record has always shown for `sdpd` (the
+    /// standard DPD weight's; each pair's `kernel` names the kernel).
+    fn weight_exponent(&self) -> Option<f64> {
+        Some(2.0)
+    }
+    fn summary(&self) -> Option<String> {
+        Some(format!(
+            "pair_style {}, kernel {}",
+            grammar::NAME,
+            self.kernel
+        ))
+    }
+    /// The ideal sDPD fluid's kinetic theory of each pair (docs/models.md 3.7, Table 1).
+    fn pairs(&self, at: &PlanPoint) -> Result<Vec<PairPlan>, TheoryError> {
+        let mut out = Vec::with_capacity(self.pairs.len());
+        for &(i, j, p) in &self.pairs {
+            let fluid = at.fluid(p.rc, self.kt)?;
+            out.push(PairPlan {
+                i,
+                j,
+                label: Some(format!("{}, kernel {}", grammar::NAME, self.kernel)),
+                coeffs: vec![
+                    ("rho0", p.rho0),
+                    ("c0", p.c0),
+                    ("eta0", p.eta0),
+                    ("rc", p.rc),
+                ],
+                words: vec![("kernel", self.kernel.keyword())],
+                theory: Ok(PairTheory {
+                    predicted: theory::kinetic_theory(&fluid, self.kernel, p.eta0)?,
+                    fluid,
+                    title:
+                        "kinetic theory of sDPD (docs/models.md 3.7, Table 1; the Tait pressure \
+                            adds a conservative viscosity not in it)"
+                            .to_string(),
+                    finite_step: None,
+                }),
+            });
+        }
+        Ok(out)
+    }
+}
+
+/// `dpdnl design --method sdpd`: η0 and the proposed kernel's s of `pair_style sdpd` (the same
+/// kinetic theory as DPD's, docs/models.md 3.7).
+pub struct SdpdDesign;
+
+impl DesignMethod for SdpdDesign {
+    fn method(&self) -> &'static str {
+        "sdpd"
+    }
+    fn check(&self, design: &Design, fluid: &Fluid) -> Result<DesignCheck, String> {
+        let kernel = Smoothing::proposed(design.s).ok_or("designed s is not > 0")?;
+        Ok(DesignCheck {
+            values: Vec::new(),
+            title: format!(
+                "check: kinetic theory of the proposed sDPD kernel with (eta0, s) (Table 1, eq. {})",
+                if fluid.dim == Dim::Three { "45" } else { "60" }
+            ),
+            predicted: theory::kinetic_theory(fluid, kernel, design.eta0)
+                .map_err(|e| e.to_string())?,
+        })
+    }
+    fn lines_note(&self) -> &'static str {
+        "input lines for LAMMPS and dpdnl (rho0 = m n; choose the sound speed c0 so that the \
+         density fluctuates little, docs/models.md 3.7; set the seed you want)"
+    }
+    fn lines(&self, design: &Design, fluid: &Fluid, inputs: &DesignInputs) -> (String, String) {
+        (
+            format!(
+                "pair_style {} {} {} {} kernel proposed {}",
+                grammar::NAME,
+                short(inputs.temp),
+                short(fluid.cutoff),
+                inputs.seed,
+                short(design.s)
+            ),
+            format!(
+                "pair_coeff * * {} {} {}",
+                short(fluid.mass * fluid.density),
+                inputs.c0.map_or("C0".to_string(), short),
+                short(design.eta0)
+            ),
+        )
     }
 }

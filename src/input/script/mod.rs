@@ -30,7 +30,7 @@ mod setup;
 mod thermo;
 mod velocity;
 
-pub use run::{PlannedRun, PlannedSdpd};
+pub use run::PlannedRun;
 
 use super::expr::{AtomBinder, ExprContext, Formula, RefKind, eval_equal};
 use super::format::{FmtArg, sprintf};

@@ -26,7 +26,7 @@ fn hybrid_refusal(name: &str) -> String {
 
 impl Interpreter<'_> {
     pub(super) fn cmd_pair_style(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, crate::forces::dpd::grammar::PAIR_STYLE.usage)?;
+        need(args, 1, crate::forces::pair_style_usage())?;
         if args[0].starts_with("hybrid") {
             return Err(hybrid_refusal(&args[0]));
         }

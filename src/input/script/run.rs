@@ -5,15 +5,14 @@ use super::fix::FixKind;
 use super::{CmdResult, Interpreter};
 use crate::engine::lees_edwards::flip_jump_note;
 use crate::engine::{Integrator, SetupNote, System};
-use crate::forces::dpd::kernel::{PairCoeff, PairModel};
-pub use crate::forces::style::PlannedSdpd;
-use crate::forces::style::StylePlan;
+use crate::forces::StylePlan;
 use crate::grammar::{need, parse_int};
 use std::io::Write;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// What a `run` command would run, as seen by its set-up (for `dpdnl theory SCRIPT`): the
-/// state point and every pair's resolved coefficients.
+/// state point and the pair style's plan.
 #[derive(Clone, Debug)]
 pub struct PlannedRun {
     /// Step at which the run starts.
@@ -28,18 +27,16 @@ pub struct PlannedRun {
     pub volume: f64,
     /// Per-type masses (index 0 unused).
     pub masses: Vec<f64>,
-    /// The pair style's model (kT, friction, noise, weight; δt set).
-    pub model: PairModel,
+    /// The pair style's name.
+    pub style: &'static str,
+    /// What the pair style would use: kT, its words, each pair's coefficients and kinetic
+    /// theory, after (η, Sc) targets were resolved.
+    pub plan: Arc<dyn StylePlan>,
     /// Time step.
     pub dt: f64,
     /// The integrator, if any.
     pub integrator: Option<Integrator>,
-    /// (i, j, coefficients) for i ≤ j, after (η, Sc) targets were resolved (`dpd/nonlinear`;
-    /// empty under `sdpd`).
-    pub coeffs: Vec<(usize, usize, PairCoeff)>,
-    /// `pair_style sdpd`: its kernel and pairs (then `model` is a default placeholder).
-    pub sdpd: Option<PlannedSdpd>,
-    /// The set-up's log lines (resolved designs, warnings).
+    /// The set-up's log lines (resolved designs, warnings), then the plan's own notes.
     pub notes: Vec<SetupNote>,
     /// The unit style of the run.
     pub units: crate::units::Units,
@@ -48,27 +45,8 @@ pub struct PlannedRun {
 impl PlannedRun {
     fn of(sys: &mut System, steps: u64, mut notes: Vec<SetupNote>) -> Result<PlannedRun, String> {
         let style = sys.pair.as_deref().ok_or("no pair style")?;
-        let (model, coeffs, sdpd) = match style.plan(&sys.units, sys.dt) {
-            StylePlan::Dpd { model, coeffs } => (model, coeffs, None),
-            StylePlan::ManyBody { name, model } => {
-                notes.push(SetupNote::Info(format!(
-                    "pair_style {name} is many-body: the ideal-fluid kinetic theory does not \
-                     apply to it, so no pair has a prediction"
-                )));
-                (model, Vec::new(), None)
-            }
-            StylePlan::Sdpd(sd) => {
-                // Placeholder: a `sdpd` run has no DPD model (see `sdpd`).
-                let model = PairModel::new(
-                    sd.kt,
-                    crate::forces::dpd::kernel::Friction::None,
-                    crate::forces::dpd::kernel::Noise::Plain,
-                    crate::forces::dpd::kernel::Weight::STANDARD,
-                    sys.dt,
-                );
-                (model, Vec::new(), Some(sd))
-            }
-        };
+        let plan = style.plan(&sys.units, sys.dt);
+        notes.extend(plan.notes());
         Ok(PlannedRun {
             first_step: sys.step,
             steps,
@@ -76,11 +54,10 @@ impl PlannedRun {
             natoms: sys.atoms.len(),
             volume: sys.bx.volume(),
             masses: sys.mass.iter().map(|m| m.unwrap_or(0.0)).collect(),
-            model,
+            style: style.name(),
+            plan,
             dt: sys.dt,
             integrator: sys.integrator,
-            coeffs,
-            sdpd,
             notes,
             units: sys.units,
         })

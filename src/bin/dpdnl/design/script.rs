@@ -2,8 +2,7 @@
 
 use super::*;
 use dpdnl::engine::{Integrator, SetupNote};
-use dpdnl::forces::dpd::kernel::PairCoeff;
-use dpdnl::input::script::PlannedSdpd;
+use dpdnl::forces::{PairPlan, PlanPoint};
 use dpdnl::input::{Collect, Interpreter, Options, PlannedRun};
 
 /// `dpdnl theory SCRIPT`: set up every `run` of the script without running it and print, for
@@ -61,9 +60,6 @@ struct RunPoint<'a> {
     density: f64,
     /// The lightest mass.
     m: f64,
-    /// The weight exponent.
-    s: f64,
-    kt: f64,
     /// The run's unit style.
     units: dpdnl::Units,
     scheme: &'static str,
@@ -79,8 +75,6 @@ fn run_theory(
     let density = r.natoms as f64 / r.volume;
     let masses: Vec<f64> = r.masses.iter().skip(1).copied().collect();
     let m = masses.iter().copied().fold(f64::INFINITY, f64::min);
-    let s = r.model.weight.exponent();
-    let kt = r.model.kt;
     let scheme = match r.integrator {
         Some(Integrator::Euler) => "euler (fix nve/euler)",
         Some(Integrator::VelocityVerlet) => "velocity-Verlet (fix nve)",
@@ -90,19 +84,20 @@ fn run_theory(
         r,
         density,
         m,
-        s,
-        kt,
         units: r.units,
         scheme,
     };
     run_header(out, k, nruns, &p, &masses);
+    let at = PlanPoint {
+        dim: r.dim,
+        density,
+        mass: m,
+        mvv2e: r.units.mvv2e,
+    };
     let mut pairs_json = Vec::new();
-    if let Some(sd) = &r.sdpd {
-        sdpd_pairs(out, &p, sd, &mut pairs_json)?;
-    }
-    for (i, j, c) in &r.coeffs {
-        if let Some(pair) = dpd_pair(out, &p, (*i, *j, c))? {
-            pairs_json.push(pair);
+    for pair in r.plan.pairs(&at)? {
+        if let Some(json) = pair_theory(out, &p, &pair)? {
+            pairs_json.push(json);
         }
     }
     Ok(RunJson {
@@ -111,10 +106,10 @@ fn run_theory(
         dim: r.dim,
         natoms: r.natoms,
         density,
-        kt,
+        kt: r.plan.kt(),
         dt: r.dt,
         integrator: scheme.to_string(),
-        s,
+        s: r.plan.weight_exponent(),
         pairs: pairs_json,
     })
 }
@@ -125,8 +120,6 @@ fn run_header(out: &mut String, k: usize, nruns: usize, p: &RunPoint<'_>, masses
         r,
         density,
         m,
-        s,
-        kt,
         units,
         scheme,
     } = *p;
@@ -141,17 +134,11 @@ fn run_header(out: &mut String, k: usize, nruns: usize, p: &RunPoint<'_>, masses
         r.dim,
         r.natoms,
         num(density),
-        num(kt),
+        r.plan.kt().map_or("none".to_string(), num),
         num(r.dt),
-        match &r.sdpd {
-            Some(sd) => format!("pair_style sdpd, kernel {}", sd.kernel),
-            None => format!(
-                "friction {}, noise {}, weight s = {}",
-                r.model.friction.keyword(),
-                r.model.noise.keyword(),
-                num(s)
-            ),
-        }
+        r.plan
+            .summary()
+            .unwrap_or_else(|| format!("pair_style {}", r.style))
     );
     if !units.is_lj() {
         let _ = writeln!(
@@ -183,140 +170,80 @@ fn run_header(out: &mut String, k: usize, nruns: usize, p: &RunPoint<'_>, masses
     }
 }
 
-/// The sDPD type pairs of a run: their lines in `out`, their JSON records in `pairs_json`.
-fn sdpd_pairs(
-    out: &mut String,
-    pt: &RunPoint<'_>,
-    sd: &PlannedSdpd,
-    pairs_json: &mut Vec<PairJson>,
-) -> Result<(), Box<dyn std::error::Error>> {
-    let RunPoint {
-        r,
-        density,
-        m,
-        units,
-        ..
-    } = *pt;
-    for (i, j, p) in &sd.pairs {
-        let _ = writeln!(
-            out,
-            "# pair {i} {j} (sdpd, kernel {}): rho0 = {}, c0 = {}, eta0 = {}, rc = {}",
-            sd.kernel,
-            num(p.rho0),
-            num(p.c0),
-            num(p.eta0),
-            num(p.rc)
-        );
-        let fluid = Fluid::new(r.dim, density, p.rc, m, sd.kt)?.with_mvv2e(units.mvv2e)?;
-        let t = sdpd::kinetic_theory(&fluid, sd.kernel, p.eta0)?;
-        let _ = writeln!(
-            out,
-            "# kinetic theory of sDPD (docs/models.md 3.7, Table 1; the Tait pressure adds a \
-             conservative viscosity not in it)"
-        );
-        transport_text(out, &t);
-        pairs_json.push(PairJson::Sdpd {
-            i: *i,
-            j: *j,
-            rho0: p.rho0,
-            c0: p.c0,
-            eta0: p.eta0,
-            rc: p.rc,
-            kernel: sd.kernel.keyword(),
-            fluid: (&fluid).into(),
-            predicted: (&t).into(),
-        });
-    }
-    Ok(())
-}
-
-/// One DPD type pair of a run: its lines in `out`, its JSON record (None without
-/// dissipation, γ0 = 0).
-fn dpd_pair(
+/// One type pair of a run's plan: its lines in `out`, its JSON record (None without a
+/// prediction).
+fn pair_theory(
     out: &mut String,
     p: &RunPoint<'_>,
-    (i, j, c): (usize, usize, &PairCoeff),
+    pair: &PairPlan,
 ) -> Result<Option<PairJson>, Box<dyn std::error::Error>> {
-    let RunPoint {
-        r,
-        density,
-        m,
-        s,
-        kt,
-        units,
-        ..
-    } = *p;
+    let coeffs: Vec<String> = pair
+        .coeffs
+        .iter()
+        .map(|(k, v)| format!("{k} = {}", num(*v)))
+        .collect();
     let _ = writeln!(
         out,
-        "# pair {i} {j}: a = {}, gamma0 = {}, gamma1 = {}, rc = {}",
-        num(c.a),
-        num(c.gamma0),
-        num(c.gamma1),
-        num(c.rc)
+        "# pair {} {}{}: {}",
+        pair.i,
+        pair.j,
+        pair.label
+            .as_ref()
+            .map_or(String::new(), |l| format!(" ({l})")),
+        coeffs.join(", ")
     );
-    if c.gamma0 <= 0.0 {
-        let _ = writeln!(out, "# gamma0 = 0: no dissipation, no kinetic theory");
-        return Ok(None);
-    }
-    let fluid = Fluid::new(r.dim, density, c.rc, m, kt)?.with_mvv2e(units.mvv2e)?;
-    let t = kinetic_theory(&fluid, c.gamma0, s)?;
-    let _ = writeln!(
-        out,
-        "# kinetic theory of the ideal fluid, w_D = (1 - r/r_c)^s (docs/models.md 3.2){}{}",
-        if c.a != 0.0 {
-            "; a != 0 adds a conservative viscosity not in it"
-        } else {
-            ""
-        },
-        if c.gamma1 != 0.0 {
-            "; gamma0 only: the zero-shear limit of the non-linear friction"
-        } else {
-            ""
-        }
-    );
-    transport_text(out, &t);
-    let (euler_json, vv_json_text) = match r.integrator {
-        Some(Integrator::Euler) => {
-            let dt_c = euler_critical_dt(&fluid, c.gamma0, s)?;
-            let ratio = euler_temperature_ratio(&fluid, c.gamma0, s, r.dt).ok();
-            let _ = writeln!(
-                out,
-                "# Euler integrator, ideal fluid (finite-step paper eqs. 22, 25)"
-            );
-            match ratio {
-                Some(x) => {
-                    let _ = writeln!(out, "T_eq/T0 = {}", num(x));
-                }
-                None => {
-                    let _ = writeln!(out, "T_eq/T0 = unstable");
-                }
-            }
-            let _ = writeln!(out, "dt_c = {}", num(dt_c));
-            let _ = writeln!(out, "dt/dt_c = {}", num(r.dt / dt_c));
-            (
-                Some(EulerBriefJson {
-                    t_ratio: ratio,
-                    dt_c,
-                }),
-                None,
-            )
-        }
-        _ => {
-            let dt_c = euler_critical_dt(&fluid, c.gamma0, s)?;
-            vv_text(out, &fluid, s, c.gamma0, r.dt, dt_c);
-            (None, Some(rt::vv_json(&fluid, s, r.dt, dt_c)))
+    let theory = match &pair.theory {
+        Ok(t) => t,
+        Err(why) => {
+            let _ = writeln!(out, "# {why}");
+            return Ok(None);
         }
     };
-    Ok(Some(PairJson::Dpd {
-        i,
-        j,
-        a: c.a,
-        gamma0: c.gamma0,
-        gamma1: c.gamma1,
-        rc: c.rc,
-        fluid: (&fluid).into(),
-        predicted: (&t).into(),
-        euler: euler_json,
-        vv_measured: vv_json_text,
-    }))
+    let _ = writeln!(out, "# {}", theory.title);
+    transport_text(out, &theory.predicted);
+    let finite_step = match theory.finite_step {
+        Some((gamma0, s)) => Some(finite_step(out, p, &theory.fluid, gamma0, s)?),
+        None => None,
+    };
+    Ok(Some(PairJson::new(pair, theory, finite_step)))
+}
+
+/// The finite-step part of a pair whose friction is DPD's γ0 w_D (w_D = (1 − r/r_c)^s): the
+/// Euler temperature under `fix nve/euler`, the measured heating under velocity-Verlet.
+fn finite_step(
+    out: &mut String,
+    p: &RunPoint<'_>,
+    fluid: &Fluid,
+    gamma0: f64,
+    s: f64,
+) -> Result<(Option<EulerBriefJson>, Option<rt::VvJson>), Box<dyn std::error::Error>> {
+    let r = p.r;
+    let dt_c = euler_critical_dt(fluid, gamma0, s)?;
+    if r.integrator == Some(Integrator::Euler) {
+        let ratio = euler_temperature_ratio(fluid, gamma0, s, r.dt).ok();
+        let _ = writeln!(
+            out,
+            "# Euler integrator, ideal fluid (finite-step paper eqs. 22, 25)"
+        );
+        match ratio {
+            Some(x) => {
+                let _ = writeln!(out, "T_eq/T0 = {}", num(x));
+            }
+            None => {
+                let _ = writeln!(out, "T_eq/T0 = unstable");
+            }
+        }
+        let _ = writeln!(out, "dt_c = {}", num(dt_c));
+        let _ = writeln!(out, "dt/dt_c = {}", num(r.dt / dt_c));
+        Ok((
+            Some(EulerBriefJson {
+                t_ratio: ratio,
+                dt_c,
+            }),
+            None,
+        ))
+    } else {
+        vv_text(out, fluid, s, gamma0, r.dt, dt_c);
+        Ok((None, Some(rt::vv_json(fluid, s, r.dt, dt_c))))
+    }
 }
