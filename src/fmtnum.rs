@@ -12,16 +12,6 @@ pub fn short(x: f64) -> String {
     }
 }
 
-/// Shortest round-trip decimal form; exponent form outside [1e-5, 1e16).
-pub fn short(x: f64) -> String {
-    let a = x.abs();
-    if x == 0.0 || (1e-5..1e16).contains(&a) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
 /// `x` as C's `printf("%g", x)` prints it: six significant digits, trailing zeros removed,
 /// exponent form (`1.5e-07`, `1e+300`, at least two exponent digits) when the decimal exponent
 /// after rounding is below −4 or at least 6, else fixed form (`0.0001`, `123457`, `-2.5`).
