@@ -38,7 +38,7 @@ pub(crate) const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
 /// The settings of `pair_style dpd/nonlinear`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DpdStyle {
-    /// T as given (> 0): a temperature, as LAMMPS's `pair_style dpd` takes it; the set-up makes
+    /// T as given (>= 0; 0: no random force, the friction kept): a temperature, as LAMMPS's `pair_style dpd` takes it; the set-up makes
     /// kT = boltz T of the run's unit style (T itself in `units lj`).
     pub temp: f64,
     /// Global cut-off (> 0).
@@ -97,8 +97,10 @@ pub(crate) fn settings<S: AsRef<str>>(args: &[S], spec: &StyleSpec) -> Result<Dp
     let usage = spec.usage;
     need(args, 3, usage)?;
     let temp = parse_f64(args[0].as_ref(), "T")?;
-    if temp <= 0.0 {
-        return Err(format!("T = {temp} must be > 0"));
+    // T = 0, as LAMMPS's pair dpd has it: no random force, the friction kept (every noise
+    // scheme: each random part and the correction are proportional to sqrt(kT) or kT).
+    if !(temp >= 0.0) {
+        return Err(format!("T = {temp} must be >= 0"));
     }
     let rc = parse_f64(args[1].as_ref(), "rc")?;
     if rc <= 0.0 {

@@ -37,7 +37,7 @@ pub(crate) const PAIR_COEFF_TARGETS: StyleSpec = StyleSpec {
 /// The settings of `pair_style sdpd`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SdpdStyle {
-    /// T of the random force as given (> 0): a temperature, kT = boltz T at set-up (T itself
+    /// T of the random force as given (>= 0; 0: no random force): a temperature, kT = boltz T at set-up (T itself
     /// in `units lj`).
     pub temp: f64,
     /// Global cut-off, the kernel's support (> 0).
@@ -72,8 +72,10 @@ pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<SdpdStyle, String> {
     let usage = PAIR_STYLE.usage;
     need(args, 3, usage)?;
     let temp = parse_f64(args[0].as_ref(), "T")?;
-    if temp <= 0.0 {
-        return Err(format!("T = {temp} must be > 0"));
+    // T = 0, as LAMMPS's pair dpd has it: no random force, the friction kept (every noise
+    // scheme: each random part and the correction are proportional to sqrt(kT) or kT).
+    if !(temp >= 0.0) {
+        return Err(format!("T = {temp} must be >= 0"));
     }
     let rc = parse_f64(args[1].as_ref(), "rc")?;
     if rc <= 0.0 {
