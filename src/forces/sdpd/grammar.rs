@@ -74,7 +74,7 @@ pub fn pair_style<S: AsRef<str>>(args: &[S]) -> Result<SdpdStyle, String> {
     let temp = parse_f64(args[0].as_ref(), "T")?;
     // T = 0, as LAMMPS's pair dpd has it: no random force, the friction kept (every noise
     // scheme: each random part and the correction are proportional to sqrt(kT) or kT).
-    if !(temp >= 0.0) {
+    if temp.is_nan() || temp < 0.0 {
         return Err(format!("T = {temp} must be >= 0"));
     }
     let rc = parse_f64(args[1].as_ref(), "rc")?;
