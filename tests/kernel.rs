@@ -293,3 +293,40 @@ fn coefficient_validation() {
         assert!(e.contains(word), "{e}");
     }
 }
+
+/// T = 0, as LAMMPS's `pair dpd` has it: in every friction × noise scheme the random part and
+/// the correction are exactly 0 (σ = sqrt(2 kT γ) = 0; the two-step impulse vanishes, so
+/// v'' = v and S'' = S; F^A ∝ kT), and the conservative and dissipative parts are those of
+/// kT > 0, the friction kept: for constant friction a (1 − r/r_c) and −γ0 (1 − r/r_c)² (e·v)
+/// written out here.
+#[test]
+fn zero_temperature_keeps_friction_without_noise() {
+    let c = coeff();
+    for f in FRICTIONS {
+        for n in NOISES {
+            let cold = PairModel::new(0.0, f, n, Weight::STANDARD, 1e-3);
+            let warm = model(f, n, 1e-3);
+            for p in states(300) {
+                let a = pair_force(&cold, &c, &p);
+                let b = pair_force(&warm, &c, &p);
+                assert_eq!(a.fr, 0.0, "{f:?} {n:?}: random part {}", a.fr);
+                assert_eq!(a.fa, 0.0, "{f:?} {n:?}: correction {}", a.fa);
+                assert_eq!(a.fc.to_bits(), b.fc.to_bits(), "{f:?} {n:?}");
+                assert_eq!(a.fd.to_bits(), b.fd.to_bits(), "{f:?} {n:?}");
+                assert_eq!(a.total().to_bits(), (a.fc + a.fd).to_bits());
+                if f == Friction::None {
+                    let r = p.dr.iter().map(|x| x * x).sum::<f64>().sqrt();
+                    let q = 1.0 - r / c.rc;
+                    let ev = (0..3).map(|k| p.dr[k] * p.dv[k]).sum::<f64>() / r;
+                    let (fc, fd) = (c.a * q, -c.gamma0 * q * q * ev);
+                    assert!((a.fc - fc).abs() <= 1e-14 * c.a, "{n:?}: {} vs {fc}", a.fc);
+                    assert!(
+                        (a.fd - fd).abs() <= 1e-13 * fd.abs().max(1e-12),
+                        "{n:?}: {} vs {fd}",
+                        a.fd
+                    );
+                }
+            }
+        }
+    }
+}

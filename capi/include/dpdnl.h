@@ -96,8 +96,13 @@ typedef struct DpdnlSetup {
   int64_t natoms;
   // Volume of the box (area in 2-D).
   double volume;
-  // Per-type masses, `ntypes + 1` doubles (entry 0 unused), or null (per-atom masses).
+  // Per-type masses, `ntypes + 1` doubles (entry 0 unused), or null (none: LAMMPS's
+  // `atom->mass`); not used when `per_atom_mass` is non-zero.
   const double *mass;
+  // Non-zero when the atom style has per-atom masses (LAMMPS's `atom->rmass_flag`): every
+  // evaluation then reads `DpdnlAtoms::rmass` (required non-null) and the per-type masses are
+  // not used, as in LAMMPS; zero: the per-type masses (`DpdnlAtoms::rmass` must be null).
+  int32_t per_atom_mass;
   // Time step.
   double dt;
   // Nonzero when a `fix nve/euler` is defined (the finite-step warning).
@@ -361,7 +366,7 @@ struct DpdnlPairInfo dpdnl_pair_info(const struct DpdnlPair *h);
 //
 // # Safety
 // `h` is a live handle; `setup` is valid for reading (its `mass` null or `ntypes + 1`
-// doubles, its `units.style` a NUL-terminated string); `rc_max` is valid for writing.
+// doubles, read only when `per_atom_mass` is 0; its `units.style` a NUL-terminated string); `rc_max` is valid for writing.
 enum DpdnlStatus dpdnl_pair_init(struct DpdnlPair *h,
                                  const struct DpdnlSetup *setup,
                                  double *rc_max);

@@ -520,6 +520,7 @@ fn restart_text_gives_the_same_style_back() {
             special_lj: null(),
             units: lj_units(),
             substyle: 0,
+            per_atom_mass: 0,
         };
         let mut rc = 0.0;
         // SAFETY: a live handle.
@@ -680,6 +681,7 @@ fn sdpd_prepass_is_the_direct_density_sum_and_forces_conserve_momentum() {
             special_lj: [1.0; 4],
             units: dpdnl::Units::LJ,
             substyle: false,
+            per_atom_mass: false,
         })
         .unwrap();
     let pp = field.prepass().expect("sdpd has a pre-pass");
@@ -857,6 +859,7 @@ fn special_bonds_scale_a_pair_or_leave_it_out() {
             special_lj: special.as_ptr(),
             units: lj_units(),
             substyle: 0,
+            per_atom_mass: 0,
         };
         let mut rc = 0.0;
         // SAFETY: a live handle; `s` valid with 4 special factors.
@@ -958,6 +961,7 @@ fn sdpd_refuses_fractional_special_factors() {
             special_lj: special.as_ptr(),
             units: lj_units(),
             substyle: 0,
+            per_atom_mass: 0,
         };
         // SAFETY: a live handle; `s` valid.
         let st = unsafe { dpdnl_pair_init(h.0, &s, &mut rc) };
@@ -981,6 +985,7 @@ fn sdpd_refuses_fractional_special_factors() {
         special_lj: special.as_ptr(),
         units: lj_units(),
         substyle: 0,
+        per_atom_mass: 0,
     };
     // SAFETY: as above.
     assert_eq!(
@@ -1200,6 +1205,7 @@ fn threads_give_the_same_bits_as_one() {
             special_lj: special.map_or(null(), |s| s.as_ptr()),
             units: lj_units(),
             substyle: 0,
+            per_atom_mass: 0,
         };
         let mut rc = 0.0;
         // SAFETY: a live handle; `s` valid, 4 special factors when not null.
@@ -1460,6 +1466,7 @@ fn init_sdpd(h: &Handle, substyle: i32) -> Result<f64, String> {
         special_lj: null(),
         units: lj_units(),
         substyle,
+        per_atom_mass: 0,
     };
     init_with(h, &s)
 }
@@ -1489,6 +1496,7 @@ fn special_factors_given_before_a_compute_rebuild_the_blocks() {
             special_lj: at_setup.as_ptr(),
             units: lj_units(),
             substyle: 1,
+            per_atom_mass: 0,
         };
         let mut rc = 0.0;
         // SAFETY: a live handle; `s` valid with 4 special factors.
@@ -1528,6 +1536,7 @@ fn special_factors_given_before_a_compute_rebuild_the_blocks() {
         special_lj: ones.as_ptr(),
         units: lj_units(),
         substyle: 0,
+        per_atom_mass: 0,
     };
     let mut rc = 0.0;
     // SAFETY: a live handle; `s` valid.

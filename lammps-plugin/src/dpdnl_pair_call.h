@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The C ABI structs of one pair-style call, filled from LAMMPS's state, and the blow-up check
-// after it: shared by pair_style dpd/nonlinear and pair_style sdpd (their compute() only adds
-// the calls of their own passes). Marshalling only: every check and number is in Rust.
+// after it, for the one pair driver of every style (PairDpdnl::compute adds the calls of a
+// style's own passes). Marshalling only: every check and number is in Rust.
 
 #ifndef DPDNL_PAIR_CALL_H
 #define DPDNL_PAIR_CALL_H
@@ -31,11 +31,10 @@ struct PairCall {
   double *f;
 };
 
-// `rmass`: pass per-atom masses when the atom style has them (dpd/nonlinear), or per-type masses
-// only (sdpd). The tally pointers are the Pair's own (eng_vdwl, virial, eatom, vatom), used when
-// its flags ask for them.
-inline PairCall fill(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::NeighList *list, bool rmass,
-                     int eflag_global, int vflag_global, int eflag_atom, int vflag_atom,
+// The masses as the atom style has them: per-atom ones (rmass) where it has them, which every
+// style then reads (the choice and the checks are Rust's). The tally pointers are the Pair's own
+// (eng_vdwl, virial, eatom, vatom), used when its flags ask for them.
+inline PairCall fill(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::NeighList *list, int eflag_global, int vflag_global, int eflag_atom, int vflag_atom,
                      double *eng_vdwl, double *virial, double *eatom, double **vatom)
 {
   LAMMPS_NS::Atom *atom = lmp->atom;
@@ -48,7 +47,7 @@ inline PairCall fill(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::NeighList *list, bool rm
   c.atoms.tag = atom->tag;
   c.atoms.atom_type = atom->type;
   c.atoms.mass = atom->mass;
-  c.atoms.rmass = (rmass && atom->rmass_flag) ? atom->rmass : nullptr;
+  c.atoms.rmass = atom->rmass_flag ? atom->rmass : nullptr;
   c.atoms.nlocal = nlocal;
   c.atoms.nall = nall;
 

@@ -159,7 +159,10 @@ void PairDpdnl::init_style()
   s.natoms = atom->natoms;
   s.volume = domain->xprd * domain->yprd;
   if (s.dimension == 3) s.volume *= domain->zprd;
-  s.mass = (atom->rmass_flag || !atom->mass) ? nullptr : atom->mass;
+  // Both kinds of mass as the atom style has them; which one the style reads is decided in
+  // Rust (per-atom where the atom style has them, as LAMMPS's own styles do).
+  s.mass = atom->mass;
+  s.per_atom_mass = atom->rmass_flag ? 1 : 0;
   s.dt = update->dt;
   s.euler = euler ? 1 : 0;
   // special_bonds lj: a bonded neighbour's pair scaled by its factor (or refused by a style
@@ -247,10 +250,9 @@ void PairDpdnl::compute(int eflag, int vflag)
   if (domain->box_change) box_check();
 
   const bool prepass = info.values_per_atom > 0;
-  // A many-body style reads per-type masses only (its set-up refuses per-atom masses).
   dpdnl_pair_call::PairCall c =
-      dpdnl_pair_call::fill(lmp, own_list ? nullptr : list, !prepass, eflag_global,
-                            vflag_global, eflag_atom, vflag_atom, &eng_vdwl, virial, eatom, vatom);
+      dpdnl_pair_call::fill(lmp, own_list ? nullptr : list, eflag_global, vflag_global,
+                            eflag_atom, vflag_atom, &eng_vdwl, virial, eatom, vatom);
   const std::string where = "Pair " + name + ": ";
   if (own_list) {
     // The style's own list, built in Rust when LAMMPS has re-neighboured (ncalls) or an atom

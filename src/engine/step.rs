@@ -43,6 +43,7 @@ impl System {
             special_lj: self.special_lj(),
             units: self.units,
             substyle: false,
+            per_atom_mass: false,
         };
         let style = self
             .pair
@@ -176,7 +177,7 @@ impl System {
                     None => {}
                 }
             }
-            style.set_atom_values(&sums, &self.atoms.typ);
+            style.set_atom_values(&sums, &self.atoms.typ, None);
             self.prepass = sums;
         }
         let style = &*style;

@@ -52,8 +52,16 @@ pub struct SetupContext<'a> {
     pub natoms: usize,
     /// Number density N / V (N / area in 2-D).
     pub density: f64,
-    /// Per-type masses, index 0 unused (`None`: not set).
+    /// Per-type masses, index 0 unused (`None`: not set; every entry `None` when
+    /// [`SetupContext::per_atom_mass`]).
     pub mass: &'a [Option<f64>],
+    /// True when the atom style has per-atom masses (LAMMPS's `atom->rmass_flag`, through the
+    /// C ABI's `DpdnlSetup::per_atom_mass`; never in the standalone engine): every evaluation
+    /// then reads each atom's own mass (the kick and correction of the noise schemes, the
+    /// many-body density sum, sDPD's equation of state: [`PrePass::weight_of`],
+    /// [`PrePass::energy_of_mass`], [`PairStyle::set_atom_values`]) and the per-type masses
+    /// are not used, as in LAMMPS.
+    pub per_atom_mass: bool,
     /// Time step.
     pub dt: f64,
     /// True when the run integrates with `fix nve/euler` (the finite-step heating warning).
@@ -123,6 +131,19 @@ pub trait PrePass: Sync {
     /// The energy of an atom of type `t` with value `d`, or `None` when its state is not
     /// finite ([`PrePass::fault`] says why).
     fn energy_of(&self, t: usize, d: f64) -> Option<f64>;
+    /// With per-atom masses ([`SetupContext::per_atom_mass`]): the weight of one pair added to
+    /// an atom whose neighbour in the pair has mass `m`, the same bits as [`PrePass::weight`]
+    /// of the style set up with per-type mass `m`. The default: a weight that does not depend
+    /// on the neighbour's mass.
+    fn weight_of(&self, k: usize, rsq: f64, _m: f64) -> f64 {
+        self.weight(k, rsq)
+    }
+    /// With per-atom masses: [`PrePass::energy_of`] of an atom of mass `m`, the same bits as
+    /// that of the style set up with per-type mass `m`. The default: an energy that does not
+    /// depend on the atom's mass.
+    fn energy_of_mass(&self, t: usize, d: f64, _m: f64) -> Option<f64> {
+        self.energy_of(t, d)
+    }
     /// The error of an atom (`who`: its id) whose state is not finite at value `d`, `step`.
     fn fault(&self, who: &str, d: f64, step: u64) -> String;
 }
@@ -168,8 +189,9 @@ pub trait PairStyle: StyleRecord + Any + Send + Sync + Debug {
         None
     }
     /// The pre-pass values of every atom the kernel will see (owned and ghost atoms in LAMMPS),
+    /// their types and, with per-atom masses ([`SetupContext::per_atom_mass`]), their masses,
     /// before [`PairStyle::kernel`]; ignored by styles without a pre-pass.
-    fn set_atom_values(&mut self, _values: &[f64], _typ: &[u32]) {}
+    fn set_atom_values(&mut self, _values: &[f64], _typ: &[u32], _mass: Option<&[f64]>) {}
     /// The batched pair kernel (after [`PairStyle::setup`]), its lanes in instruction set `isa`.
     fn kernel(&self, isa: Isa) -> Box<dyn PairKernel + '_>;
     /// The conservative force F(r)/r and energy of one pair of types (i, j) at distance² `rsq`

@@ -86,8 +86,10 @@ pub(crate) fn parse_int_in(tok: &str, what: &str, lo: u64, hi: u64) -> Result<u6
 /// and > 0, the seed in 1..=2147483647 (`args` has at least three words: `need` first).
 pub(crate) fn temp_rc_seed<S: AsRef<str>>(args: &[S]) -> Result<(f64, f64, u32), String> {
     let temp = parse_f64(args[0].as_ref(), "T")?;
-    if temp <= 0.0 {
-        return Err(format!("T = {temp} must be > 0"));
+    // T = 0, as LAMMPS's pair dpd has it: no random force, the friction kept (every noise
+    // scheme: each random part and the correction are proportional to sqrt(kT) or kT).
+    if temp.is_nan() || temp < 0.0 {
+        return Err(format!("T = {temp} must be >= 0"));
     }
     let rc = parse_f64(args[1].as_ref(), "rc")?;
     if rc <= 0.0 {

@@ -80,14 +80,14 @@ pub(crate) unsafe fn walk_pairs(
         )));
     }
     // 1/m per atom (per-atom masses) or per type.
-    let (inv_mass, per_atom) = if atoms.rmass.is_null() {
-        // SAFETY: `ntypes + 1` doubles (caller's contract).
-        let mass = unsafe { slice(atoms.mass, nt + 1, "mass")? };
-        (inverse_masses(&mass[1..], 1)?, false)
-    } else {
-        // SAFETY: `nall` doubles (caller's contract).
-        let rmass = unsafe { slice(atoms.rmass, nall, "rmass")? };
-        (inverse_masses(rmass, 0)?, true)
+    // SAFETY: forwarded caller's contract.
+    let (inv_mass, per_atom) = match unsafe { atom_masses(atoms, nall)? } {
+        Some(rmass) => (inverse_masses(rmass, 0)?, true),
+        None => {
+            // SAFETY: `ntypes + 1` doubles (caller's contract).
+            let mass = unsafe { slice(atoms.mass, nt + 1, "mass")? };
+            (inverse_masses(&mass[1..], 1)?, false)
+        }
     };
 
     // SAFETY: forwarded caller's contract.
@@ -194,6 +194,29 @@ fn counts(st: &DpdnlStep, atoms: &DpdnlAtoms) -> Result<(usize, usize), Error> {
         )));
     }
     Ok((atoms.nlocal as usize, atoms.nall as usize))
+}
+
+/// The per-atom masses of `atoms` (`nall` of them, each checked finite and > 0), or `None` when
+/// the atoms have per-type masses: the one place where every pass of a pair style (the walk's
+/// 1/m_i + 1/m_j, the pre-pass's weights, its energies, the style's per-atom terms) chooses.
+/// LAMMPS's driver passes `atom->rmass` where the atom style has it (`atom->rmass_flag`), as
+/// LAMMPS's own styles and fixes read per-atom masses before per-type ones.
+///
+/// # Safety
+/// `atoms.rmass` is null or holds `nall` doubles.
+pub(crate) unsafe fn atom_masses(atoms: &DpdnlAtoms, nall: usize) -> Result<Option<&[f64]>, Error> {
+    if atoms.rmass.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: `nall` doubles (caller's contract).
+    let m = unsafe { slice(atoms.rmass, nall, "rmass")? };
+    if let Some(k) = m.iter().position(|&x| !(x.is_finite() && x > 0.0)) {
+        return Err(Error::invalid(format!(
+            "rmass[{k}] = {} must be a finite number > 0",
+            m[k]
+        )));
+    }
+    Ok(Some(m))
 }
 
 /// `1/m` for each mass, checking they are finite and > 0 (`offset` shifts the reported index).

@@ -2,7 +2,7 @@
 //! LAMMPS neighbour list.
 
 use super::{DpdnlPair, handle};
-use crate::compute::walk_pairs;
+use crate::compute::{atom_masses, walk_pairs};
 use crate::list::{for_each_row, special_class};
 use crate::ownlist::DpdnlSpecial;
 use crate::styles::put;
@@ -52,6 +52,29 @@ fn ready(h: &DpdnlPair) -> Result<(), Error> {
     Ok(())
 }
 
+/// The atoms' per-atom masses (`nall` of them) when the set-up was for per-atom masses, `None`
+/// for per-type ones ([`atom_masses`] chooses); atoms whose kind of mass differs from the
+/// set-up's are an error.
+///
+/// # Safety
+/// As [`atom_masses`].
+unsafe fn masses_of<'a>(
+    h: &DpdnlPair,
+    a: &'a DpdnlAtoms,
+    nall: usize,
+) -> Result<Option<&'a [f64]>, Error> {
+    // SAFETY: forwarded caller's contract.
+    let m = unsafe { atom_masses(a, nall)? };
+    if m.is_some() != h.per_atom_mass {
+        return Err(Error::invalid(if h.per_atom_mass {
+            "the set-up was for per-atom masses (rmass), but the atoms have none"
+        } else {
+            "the atoms have per-atom masses (rmass), but the set-up was for per-type masses"
+        }));
+    }
+    Ok(m)
+}
+
 /// The style's pre-pass and type count, after its set-up (a style without one is an error).
 fn prepass_of(h: &DpdnlPair) -> Result<(&dyn dpdnl::host::PrePass, usize), Error> {
     ready(h)?;
@@ -92,6 +115,8 @@ pub unsafe extern "C" fn dpdnl_pair_prepass(
         // SAFETY: nall doubles (caller's contract).
         let rho = unsafe { slice_mut(values, nall, "values")? };
         rho.fill(0.0);
+        // SAFETY: forwarded caller's contract.
+        let mass = unsafe { masses_of(h, a, nall)? };
         let newton = newton_pair != 0;
         let rcsq = pp.rcsq();
         let rule = SpecialRule::new(h.special, h.style.scales_special(), nt);
@@ -112,10 +137,18 @@ pub unsafe extern "C" fn dpdnl_pair_prepass(
                     let dr = [xi[0] - x[3 * j], xi[1] - x[3 * j + 1], xi[2] - x[3 * j + 2]];
                     let rsq = dr[0] * dr[0] + dr[1] * dr[1] + dr[2] * dr[2];
                     if rsq < rcsq[k] {
-                        let w = pp.weight(k, rsq);
-                        di += w;
+                        // i's weight with j's mass, j's with i's (per-atom masses), or one
+                        // weight for both (per-type masses: the style's one mass).
+                        let (wi, wj) = match mass {
+                            None => {
+                                let w = pp.weight(k, rsq);
+                                (w, w)
+                            }
+                            Some(m) => (pp.weight_of(k, rsq, m[j]), pp.weight_of(k, rsq, m[i])),
+                        };
+                        di += wi;
                         if newton || j < nlocal {
-                            rho[j] += w;
+                            rho[j] += wj;
                         }
                     }
                 }
@@ -153,7 +186,9 @@ pub unsafe extern "C" fn dpdnl_pair_prepass_finish(
         };
         let (pp, nt) = prepass_of(h)?;
         // SAFETY: forwarded caller's contract.
-        let (_, ty, nlocal, _) = unsafe { positions_types(a, nt)? };
+        let (_, ty, nlocal, nall) = unsafe { positions_types(a, nt)? };
+        // SAFETY: forwarded caller's contract.
+        let mass = unsafe { masses_of(h, a, nall)? };
         // SAFETY: nlocal entries (caller's contract).
         let (rho, tag) = unsafe {
             (
@@ -178,7 +213,11 @@ pub unsafe extern "C" fn dpdnl_pair_prepass_finish(
             let ti = ty[i] as usize;
             let d = pp.complete(ti, rho[i]);
             rho[i] = d;
-            let Some(u) = pp.energy_of(ti, d) else {
+            let u = match mass {
+                None => pp.energy_of(ti, d),
+                Some(m) => pp.energy_of_mass(ti, d, m[i]),
+            };
+            let Some(u) = u else {
                 let who = tag.get(i).map_or(format!("index {i}"), |t| t.to_string());
                 return Err(Error::invalid(pp.fault(&who, d, step)));
             };
@@ -245,9 +284,14 @@ pub unsafe extern "C" fn dpdnl_pair_compute(
             let (_, ty, _, nall) = unsafe { positions_types(a, nt)? };
             // SAFETY: nall doubles (caller's contract).
             let rho = unsafe { slice(values, nall, "values")? };
+            // SAFETY: forwarded caller's contract.
+            let mass = unsafe { masses_of(h, a, nall)? };
             h.typ.clear();
             h.typ.extend(ty.iter().map(|&t| t as u32));
-            h.style.set_atom_values(rho, &h.typ);
+            h.style.set_atom_values(rho, &h.typ, mass);
+        } else {
+            // SAFETY: forwarded caller's contract (the walk reads the masses themselves).
+            unsafe { masses_of(h, a, a.nall.max(0) as usize)? };
         }
         h.style.set_timestep(st.dt);
         let style = &*h.style;

@@ -34,7 +34,7 @@ fn lammps_hint(e: String) -> String {
 ///
 /// # Safety
 /// `h` is a live handle; `setup` is valid for reading (its `mass` null or `ntypes + 1`
-/// doubles, its `units.style` a NUL-terminated string); `rc_max` is valid for writing.
+/// doubles, read only when `per_atom_mass` is 0; its `units.style` a NUL-terminated string); `rc_max` is valid for writing.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn dpdnl_pair_init(
     h: *mut DpdnlPair,
@@ -61,7 +61,10 @@ pub unsafe extern "C" fn dpdnl_pair_init(
         }
         // SAFETY: forwarded caller's contract.
         let units = unsafe { units_of(&s.units)? };
-        let mass: Vec<Option<f64>> = if s.mass.is_null() {
+        // Per-atom masses where the atom style has them (the choice of every evaluation:
+        // `crate::compute::atom_masses`), else per-type ones.
+        let per_atom = s.per_atom_mass != 0;
+        let mass: Vec<Option<f64>> = if per_atom || s.mass.is_null() {
             vec![None; nt + 1]
         } else {
             // SAFETY: ntypes + 1 doubles (caller's contract).
@@ -91,11 +94,13 @@ pub unsafe extern "C" fn dpdnl_pair_init(
             special_lj: special,
             units,
             substyle: s.substyle != 0,
+            per_atom_mass: per_atom,
         };
         let notes = h
             .style
             .setup(&ctx)
             .map_err(|e| Error::invalid(lammps_hint(e)))?;
+        h.per_atom_mass = per_atom;
         let mut text: Vec<String> = notes
             .into_iter()
             .map(|n| match n {

@@ -65,6 +65,8 @@ pub struct DpdnlPair {
     working: WorkingList,
     /// The pair list the style builds for itself ([`dpdnl_pair_own_list`]).
     own: OwnList,
+    /// Whether the last set-up was for per-atom masses (`DpdnlSetup::per_atom_mass`).
+    per_atom_mass: bool,
 }
 
 /// The handle behind `h`.
@@ -100,6 +102,7 @@ unsafe fn emit(out: *mut *mut DpdnlPair, style: Box<dyn PairStyle>) -> Result<()
         launch: None,
         working: WorkingList::default(),
         own: OwnList::default(),
+        per_atom_mass: false,
     });
     // SAFETY: forwarded caller's contract.
     unsafe { put(out, Box::into_raw(h)) }

@@ -61,8 +61,13 @@ pub struct DpdnlSetup {
     pub natoms: i64,
     /// Volume of the box (area in 2-D).
     pub volume: f64,
-    /// Per-type masses, `ntypes + 1` doubles (entry 0 unused), or null (per-atom masses).
+    /// Per-type masses, `ntypes + 1` doubles (entry 0 unused), or null (none: LAMMPS's
+    /// `atom->mass`); not used when `per_atom_mass` is non-zero.
     pub mass: *const f64,
+    /// Non-zero when the atom style has per-atom masses (LAMMPS's `atom->rmass_flag`): every
+    /// evaluation then reads `DpdnlAtoms::rmass` (required non-null) and the per-type masses are
+    /// not used, as in LAMMPS; zero: the per-type masses (`DpdnlAtoms::rmass` must be null).
+    pub per_atom_mass: i32,
     /// Time step.
     pub dt: f64,
     /// Nonzero when a `fix nve/euler` is defined (the finite-step warning).

@@ -129,6 +129,7 @@ pub fn init_as(
         special_lj: null(),
         units,
         substyle,
+        per_atom_mass: 0,
     };
     init_with(h, &s)
 }

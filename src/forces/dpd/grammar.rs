@@ -44,7 +44,7 @@ const TARGETS: TargetRules = TargetRules {
 /// The settings of `pair_style dpd/nonlinear`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DpdStyle {
-    /// T as given (> 0): a temperature, as LAMMPS's `pair_style dpd` takes it; the set-up makes
+    /// T as given (>= 0; 0: no random force, the friction kept): a temperature, as LAMMPS's `pair_style dpd` takes it; the set-up makes
     /// kT = boltz T of the run's unit style (T itself in `units lj`).
     pub temp: f64,
     /// Global cut-off (> 0).

@@ -393,7 +393,9 @@ impl PairStyle for DpdPair {
     }
 
     /// Coefficients complete, the unit style's kT = boltz T and ftm2v in the model, (η, Sc)
-    /// targets resolved (one mass), the Euler warning, the dense tables.
+    /// targets resolved (one per-type mass, T > 0), the Euler warning (T > 0), the dense
+    /// tables. Per-atom masses need nothing here: the pair walk gives the kernel each pair's
+    /// 1/m_i + 1/m_j.
     fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String> {
         let mut notes = Vec::new();
         let subset = crate::forces::style::coverage(self, ctx)?;
@@ -417,9 +419,26 @@ impl PairStyle for DpdPair {
             .collect();
         let m_min = masses.iter().copied().fold(f64::INFINITY, f64::min);
         if self.ff.has_targets() {
+            if ctx.per_atom_mass {
+                return Err(format!(
+                    "pair_coeff … eta … sc …: the (eta, Sc) design is for one particle mass (the \
+                     kinetic theory of docs/models.md), but the atom style has per-atom masses, \
+                     which may differ from atom to atom; pair_style {} uses each atom's own mass \
+                     in its forces, so give gamma0 instead of eta and sc",
+                    self.label
+                ));
+            }
             if masses.len() != self.ff.ntypes() {
                 return Err(
                     "pair_coeff dpd/nonlinear eta ... sc ...: needs per-type masses".into(),
+                );
+            }
+            if self.ff.model.kt == 0.0 {
+                return Err(
+                    "pair_coeff … eta … sc …: the (eta, Sc) design needs T > 0: the kinetic \
+                     theory's viscosity and diffusion scale with kT, so at T = 0 no gamma0 gives \
+                     the targets; give gamma0 instead of eta and sc"
+                        .into(),
                 );
             }
             if masses.iter().any(|&m| m != m_min) {
@@ -436,7 +455,9 @@ impl PairStyle for DpdPair {
                 notes.push(SetupNote::Info(line));
             }
         }
+        // The finite-step prediction is for a thermostat at kT > 0 (T = 0: none to heat).
         if ctx.euler
+            && self.ff.model.kt > 0.0
             && ctx.natoms > 0
             && !masses.is_empty()
             && let Some(w) = self.euler_note(ctx.dim, ctx.density, m_min, u.mvv2e, ctx.dt)?

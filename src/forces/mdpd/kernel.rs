@@ -28,7 +28,8 @@ pub struct ManyBodyCoeff {
 }
 
 /// The density weight of one type pair, m w_ρ(r) (P-27), with the neighbour's mass m folded
-/// in (one mass for every type of the style: the sum is symmetric in i and j).
+/// in (per-type masses: one mass for every type of the style, so the sum is symmetric in i and
+/// j); with per-atom masses the neighbour's own mass ([`DensityWeight::w_mass`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DensityWeight {
     h: f64,
@@ -53,6 +54,17 @@ impl DensityWeight {
         let v = 1.0 - u;
         let w = self.norm * (1.0 + 3.0 * u) * (v * v * v);
         if rsq < self.h * self.h { w } else { 0.0 }
+    }
+
+    /// m w_ρ at squared distance `rsq` for a neighbour of mass `m` (per-atom masses): the same
+    /// bits as [`DensityWeight::w`] of `DensityWeight::new(h, m)`.
+    #[inline(always)]
+    pub fn w_mass(&self, rsq: f64, m: f64) -> f64 {
+        DensityWeight {
+            norm: m * LUCY_3D / (self.h * self.h * self.h),
+            ..*self
+        }
+        .w(rsq)
     }
 
     /// [`DensityWeight::w`] of every entry of `rsq` into `out` (a loop without calls or

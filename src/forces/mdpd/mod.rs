@@ -104,6 +104,12 @@ impl PrePass for MdpdPair {
         self.weights[k].w_of_squares(rsq, out)
     }
 
+    /// m_j w_ρ(r_ij) with the neighbour's own mass (per-atom masses: P-27 as written).
+    #[inline(always)]
+    fn weight_of(&self, k: usize, rsq: f64, m: f64) -> f64 {
+        self.weights[k].w_mass(rsq, m)
+    }
+
     /// No self term: ρ̄_i sums the other atoms only (Warren 2003; LAMMPS's `mdpd/rhosum`).
     fn complete(&self, _t: usize, sum: f64) -> f64 {
         sum
@@ -176,14 +182,18 @@ impl PairStyle for MdpdPair {
         self.dpd.cutoff(i, j)
     }
 
-    /// The DPD part's set-up (coverage, kT = boltz T, the Euler warning, its tables), then one
-    /// mass for the style's types (the density sum is symmetric only then), the density
-    /// weights and the many-body table.
+    /// The DPD part's set-up (coverage, kT = boltz T, the Euler warning, its tables), then, with
+    /// per-type masses, one mass for the style's types (the density sum is symmetric only
+    /// then; per-atom masses take each neighbour's own), the density weights and the
+    /// many-body table.
     fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String> {
         let mut notes = self.dpd.setup(ctx)?;
         let n = self.ntypes();
         let mut mass: Option<(usize, f64)> = None;
-        for t in (1..=n).filter(|&t| self.covers_type(t)) {
+        // Per-atom masses: each neighbour's own mass at every pre-pass (`weight_of`), any
+        // masses; the table's weights are for mass 1 and unused.
+        let per_type = if ctx.per_atom_mass { 0 } else { n };
+        for t in (1..=per_type).filter(|&t| self.covers_type(t)) {
             let m = ctx
                 .mass
                 .get(t)
@@ -252,7 +262,7 @@ impl PairStyle for MdpdPair {
         Some(self)
     }
 
-    fn set_atom_values(&mut self, values: &[f64], _typ: &[u32]) {
+    fn set_atom_values(&mut self, values: &[f64], _typ: &[u32], _mass: Option<&[f64]>) {
         self.rho.clear();
         self.rho.extend_from_slice(values);
     }

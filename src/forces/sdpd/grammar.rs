@@ -44,7 +44,7 @@ const TARGETS: TargetRules = TargetRules {
 /// The settings of `pair_style sdpd`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SdpdStyle {
-    /// T of the random force as given (> 0): a temperature, kT = boltz T at set-up (T itself
+    /// T of the random force as given (>= 0; 0: no random force): a temperature, kT = boltz T at set-up (T itself
     /// in `units lj`).
     pub temp: f64,
     /// Global cut-off, the kernel's support (> 0).

@@ -237,6 +237,17 @@ impl Tait {
         })
     }
 
+    /// The same equation of state for particles of mass `mass` (> 0; per-atom masses): the same
+    /// bits as [`Tait::in_units`] with that mass (P0 does not depend on it, d0 = ρ0 / m).
+    #[inline]
+    pub fn with_mass(self, mass: f64) -> Tait {
+        Tait {
+            mass,
+            d0: self.rho0 / mass,
+            ..self
+        }
+    }
+
     /// x⁷ with x = ρ/ρ0 = d/d0, by products.
     #[inline(always)]
     fn x7(x: f64) -> f64 {
@@ -291,7 +302,7 @@ pub struct SdpdCoeff {
 }
 
 impl SdpdCoeff {
-    /// Coefficients for a kernel, η0 > 0, kT > 0 and δt > 0.
+    /// Coefficients for a kernel, η0 > 0, kT >= 0 (0: no random part) and δt > 0.
     pub fn new(shape: KernelShape, eta0: f64, kt: f64, dt: f64) -> Result<SdpdCoeff, String> {
         if !(eta0.is_finite() && eta0 > 0.0) {
             return Err(format!("eta0 = {eta0} must be > 0"));

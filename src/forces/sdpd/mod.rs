@@ -161,6 +161,13 @@ impl SdpdField {
                 let Some((eta, sc)) = p.targets else {
                     continue;
                 };
+                if kt == 0.0 {
+                    return Err(format!(
+                        "pair_coeff {i} {j} eta … sc …: the (eta, Sc) design needs T > 0: the \
+                         kinetic theory's viscosity and diffusion scale with kT, so at T = 0 no \
+                         eta0 gives the targets; give eta0 instead of eta and sc"
+                    ));
+                }
                 let m = mass[i].unwrap_or(1.0);
                 if mass[j] != mass[i] {
                     return Err(format!(
@@ -287,10 +294,24 @@ impl SdpdField {
         self.w0[t]
     }
 
+    /// The equation of state of an atom of type `t` and, with per-atom masses, mass `m` (the
+    /// type's with that mass, [`Tait::with_mass`]); `None` for a type outside the style's pairs.
+    #[inline]
+    fn tait_of(&self, t: usize, m: Option<f64>) -> Option<Tait> {
+        let tait = self.tait[t]?;
+        Some(m.map_or(tait, |m| tait.with_mass(m)))
+    }
+
     /// 1/d and P/d² of an atom of type `t` at number density `d` (after resolve).
     #[inline]
     pub fn atom_terms(&self, t: usize, d: f64) -> SdpdAtom {
-        match self.tait[t] {
+        self.atom_terms_of(t, d, None)
+    }
+
+    /// [`SdpdField::atom_terms`] of an atom of mass `m` when given (per-atom masses).
+    #[inline]
+    pub fn atom_terms_of(&self, t: usize, d: f64, m: Option<f64>) -> SdpdAtom {
+        match self.tait_of(t, m) {
             Some(tait) => SdpdAtom {
                 inv_d: 1.0 / d,
                 pterm: tait.pressure_term(d),
@@ -303,6 +324,16 @@ impl SdpdField {
     #[inline]
     pub fn atom_energy(&self, t: usize, d: f64) -> f64 {
         self.tait[t].map_or(0.0, |tait| tait.energy(d))
+    }
+
+    /// The pre-pass energy of an atom of type `t`, mass `m` when given, at density `d`: `None`
+    /// when its pressure is not finite.
+    fn energy_with(&self, t: usize, d: f64, m: Option<f64>) -> Option<f64> {
+        let tait = self.tait_of(t, m);
+        self.atom_terms_of(t, d, m)
+            .pterm
+            .is_finite()
+            .then(|| tait.map_or(0.0, |tait| tait.energy(d)))
     }
 }
 
@@ -325,10 +356,12 @@ impl PrePass for SdpdField {
     }
 
     fn energy_of(&self, t: usize, d: f64) -> Option<f64> {
-        self.atom_terms(t, d)
-            .pterm
-            .is_finite()
-            .then(|| self.atom_energy(t, d))
+        self.energy_with(t, d, None)
+    }
+
+    /// The Tait energy with the atom's own mass (per-atom masses: ρ_i = m_i d_i).
+    fn energy_of_mass(&self, t: usize, d: f64, m: f64) -> Option<f64> {
+        self.energy_with(t, d, Some(m))
     }
 
     fn fault(&self, who: &str, d: f64, step: u64) -> String {
@@ -379,17 +412,28 @@ impl PairStyle for SdpdField {
             ));
         }
         // Per-type masses of the types in the style's own pairs (every type as the top-level
-        // style).
-        if (1..=self.ntypes)
-            .any(|t| self.covers_type(t) && ctx.mass.get(t).is_none_or(Option::is_none))
-        {
-            return Err(
-                "pair_style sdpd needs per-type masses (mass command): its equation of state is \
-                 per type, so per-atom masses are not supported"
-                    .into(),
-            );
-        }
-        let lines = self.resolve(ctx.dim, ctx.density, ctx.mass, ctx.dt, &ctx.units)?;
+        // style), unless the atom style has per-atom masses: then each atom's own mass enters
+        // its equation of state at every evaluation (`set_atom_values`, `energy_of_mass`).
+        let placeholder = vec![Some(1.0); self.ntypes + 1];
+        let mass = if ctx.per_atom_mass {
+            if self.pairs.iter().flatten().any(|p| p.targets.is_some()) {
+                return Err(
+                    "pair_coeff … eta … sc …: the (eta, Sc) design is for one particle mass (the \
+                     sDPD kinetic theory of docs/models.md 3.7), but the atom style has per-atom \
+                     masses, which may differ from atom to atom; give eta0 instead of eta and sc"
+                        .into(),
+                );
+            }
+            &placeholder[..]
+        } else {
+            if let Some(t) = (1..=self.ntypes)
+                .find(|&t| self.covers_type(t) && ctx.mass.get(t).is_none_or(Option::is_none))
+            {
+                return Err(format!("mass of atom type {t} is not set (mass)"));
+            }
+            ctx.mass
+        };
+        let lines = self.resolve(ctx.dim, ctx.density, mass, ctx.dt, &ctx.units)?;
         Ok(lines
             .into_iter()
             .map(|line| match line.strip_prefix("WARNING: ") {
@@ -407,14 +451,24 @@ impl PairStyle for SdpdField {
         Some(self)
     }
 
-    fn set_atom_values(&mut self, values: &[f64], typ: &[u32]) {
+    /// Each atom's 1/d and P/d², with its own mass where the atom style has per-atom masses
+    /// (ρ_i = m_i d_i in the equation of state of its type).
+    fn set_atom_values(&mut self, values: &[f64], typ: &[u32], mass: Option<&[f64]>) {
         let mut atoms = std::mem::take(&mut self.atoms);
         atoms.clear();
-        atoms.extend(
-            typ.iter()
-                .zip(values)
-                .map(|(&t, &d)| self.atom_terms(t as usize, d)),
-        );
+        match mass {
+            None => atoms.extend(
+                typ.iter()
+                    .zip(values)
+                    .map(|(&t, &d)| self.atom_terms(t as usize, d)),
+            ),
+            Some(m) => atoms.extend(
+                typ.iter()
+                    .zip(values)
+                    .zip(m)
+                    .map(|((&t, &d), &m)| self.atom_terms_of(t as usize, d, Some(m))),
+            ),
+        }
         self.atoms = atoms;
         self.density.clear();
         self.density.extend_from_slice(values);

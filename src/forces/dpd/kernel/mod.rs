@@ -216,7 +216,7 @@ impl PairCoeff {
 /// plus the time step the random force is scaled with.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairModel {
-    /// Thermostat temperature kT (> 0).
+    /// Thermostat temperature kT (>= 0; 0: no random force or correction, the friction kept).
     pub kt: f64,
     /// Friction model.
     pub friction: Friction,
