@@ -64,6 +64,8 @@ echo "== bonded peer test: plugin (friction none) vs LAMMPS's pair dpd, polymer 
 DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --test plugin_peer_bonded -- --ignored --nocapture
 echo "== many-body DPD: a liquid slab in coexistence, pair_style mdpd/nonlinear (plugin) vs LAMMPS's mdpd (about 2 minutes)"
 DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --test plugin_peer_mdpd -- --ignored --nocapture
+echo "== migration recipes (docs/manual/migration.md): sdpd/taitwater/isothermal -> sdpd, <T> (about a minute)"
+DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --test plugin_migration -- --ignored --nocapture
 echo "== Python package (pip install ./python into .venv-python, pytest, the example)"
 bash python/test.sh
 echo "== all tests passed"
