@@ -54,6 +54,9 @@ bash lammps-plugin/tests/cmake-plugin.sh
 BOUNDED="python3 scripts/bounded-test.py --"
 echo "== cargo test (workspace; cross-engine golden tests require build/lmp_dpdnl and the plugin; the tutorial word for word, its build commands included)"
 DPDNL_REQUIRE_LAMMPS=1 DPDNL_REQUIRE_PLUGIN=1 DPDNL_TUTORIAL_BUILD=1 $BOUNDED cargo test --workspace
+echo "== a new pair style is four files: the test-only style test/spring (cargo feature test-style, tests/new_style.rs)"
+cargo clippy -p dpdnl --features test-style --lib --tests -- -D warnings
+$BOUNDED cargo test --features test-style --test new_style
 echo "== LAMMPS shim tests (newton on/off, 1, 2, 3 and 4 ranks, restart, errors)"
 bash lammps-plugin/tests/run.sh
 echo "== plugin tests in LAMMPS 22Jul2025 (the same, plus plugin load/unload, Python, examples)"

@@ -347,7 +347,10 @@ fn dump_atom_writes_scaled_positions() {
     .iter()
     .enumerate()
     {
-        let (atom, custom) = (tmp(&format!("atom{k}.dump")), tmp(&format!("custom{k}.dump")));
+        let (atom, custom) = (
+            tmp(&format!("atom{k}.dump")),
+            tmp(&format!("custom{k}.dump")),
+        );
         let script = fluid(3, "dot", "plain", 20)
             .replace("region box block 0 5 0 5 0 5", region)
             .replace(
@@ -367,7 +370,11 @@ fn dump_atom_writes_scaled_positions() {
         let rows = |t: &str| -> Vec<Vec<f64>> {
             t.lines()
                 .filter(|l| l.split_whitespace().count() >= 5 && !l.starts_with("ITEM"))
-                .map(|l| l.split_whitespace().map(|w| w.parse().expect("number")).collect())
+                .map(|l| {
+                    l.split_whitespace()
+                        .map(|w| w.parse().expect("number"))
+                        .collect()
+                })
                 .collect()
         };
         let (a, c) = (rows(&atom), rows(&custom));
@@ -385,8 +392,15 @@ fn dump_atom_writes_scaled_positions() {
                 // The custom dump's xs ys zs at full precision are the same numbers.
                 assert_eq!(rc[5 + d], want[d], "custom xs/ys/zs column {d}");
                 // The atom dump prints them with %g (six digits).
-                assert!((ra[2 + d] - want[d]).abs() <= 5e-6 * want[d].abs().max(1e-3), "{ra:?} {want:?}");
-                assert!((-0.5..1.5).contains(&want[d]), "scaled coordinate {}", want[d]);
+                assert!(
+                    (ra[2 + d] - want[d]).abs() <= 5e-6 * want[d].abs().max(1e-3),
+                    "{ra:?} {want:?}"
+                );
+                assert!(
+                    (-0.5..1.5).contains(&want[d]),
+                    "scaled coordinate {}",
+                    want[d]
+                );
             }
         }
     }

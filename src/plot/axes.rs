@@ -210,6 +210,22 @@ pub(super) fn panel_axes(panel: &Panel) -> Result<(Axis, Axis), String> {
     Ok((x_coord, y_coord))
 }
 
+/// The chart a panel is drawn on.
+pub(super) type PanelChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
+
+/// The chart of a panel on `area` (already inside its margin and title), nothing drawn yet.
+pub(super) fn panel_chart<'a, DB: DrawingBackend>(
+    panel: &Panel,
+    area: &'a DrawingArea<DB, Shift>,
+) -> Result<PanelChart<'a, DB>, String> {
+    let (x_coord, y_coord) = panel_axes(panel)?;
+    ChartBuilder::on(area)
+        .x_label_area_size(48)
+        .y_label_area_size(78)
+        .build_cartesian_2d(x_coord, y_coord)
+        .map_err(err)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -230,20 +246,4 @@ mod tests {
         assert!(v.len() >= 3, "{v:?}");
         assert!(v.iter().all(|x| (2.0..=4.6).contains(x)));
     }
-}
-
-/// The chart a panel is drawn on.
-pub(super) type PanelChart<'a, DB> = ChartContext<'a, DB, Cartesian2d<Axis, Axis>>;
-
-/// The chart of a panel on `area` (already inside its margin and title), nothing drawn yet.
-pub(super) fn panel_chart<'a, DB: DrawingBackend>(
-    panel: &Panel,
-    area: &'a DrawingArea<DB, Shift>,
-) -> Result<PanelChart<'a, DB>, String> {
-    let (x_coord, y_coord) = panel_axes(panel)?;
-    ChartBuilder::on(area)
-        .x_label_area_size(48)
-        .y_label_area_size(78)
-        .build_cartesian_2d(x_coord, y_coord)
-        .map_err(err)
 }

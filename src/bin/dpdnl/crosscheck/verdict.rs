@@ -210,11 +210,10 @@ pub(super) fn engine_random_setup(script: &str) -> Option<(usize, String)> {
     script.lines().enumerate().find_map(|(k, line)| {
         let code = line.split('#').next().unwrap_or("");
         let w: Vec<&str> = code.split_whitespace().collect();
-        let random = match w.as_slice() {
-            ["velocity", _, "create", ..] => true,
-            ["create_atoms", _, "random", ..] => true,
-            _ => false,
-        };
+        let random = matches!(
+            w.as_slice(),
+            ["velocity", _, "create", ..] | ["create_atoms", _, "random", ..]
+        );
         random.then(|| (k + 1, w.join(" ")))
     })
 }
@@ -382,13 +381,22 @@ mod tests {
             what: "Temp".into(),
             source: 0,
         };
-        let g = Growth::AtStart { start, floor: 1e-12 };
+        let g = Growth::AtStart {
+            start,
+            floor: 1e-12,
+        };
         let v = differ_verdict("thermo", 1e-9, &summary(1, 0, 0), &g, found.as_ref());
         assert!(v.contains("start from different states"), "{v}");
-        assert!(v.contains("line 3, `velocity all create 1.0 4928 loop geom`"), "{v}");
+        assert!(
+            v.contains("line 3, `velocity all create 1.0 4928 loop geom`"),
+            "{v}"
+        );
         assert!(!v.contains("(model difference"), "{v}");
         let plain = differ_verdict("thermo", 1e-9, &summary(1, 0, 0), &g, None);
-        assert!(plain.contains("(model difference: already 3.0e-1 at step 0"), "{plain}");
+        assert!(
+            plain.contains("(model difference: already 3.0e-1 at step 0"),
+            "{plain}"
+        );
     }
 
     /// The leak notes come from the engines' own end-of-run warnings (the words of
