@@ -149,3 +149,86 @@ fn theory_reports_a_style_without_kinetic_theory() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The test-only bonded forms `bond_style test/quartic` (E = K (r − r0)⁴) and `angle_style
+/// test/square` (E = K (1 − cos θ)²), each one file in src/forces/bonded/ and its two lines in
+/// that folder's `mod.rs`: the forms give −∇E (central differences, h = 1e-6: truncation
+/// ~h² E''' and round-off ~ε E/h, far below the 1e-6 relative tolerance), and the engine runs
+/// the polymer solution of the golden cases with them, momentum conserved to round-off.
+#[test]
+fn a_new_bond_and_angle_style_are_one_file_each() {
+    use dpdnl::forces::bonded::{AngleStyle, BondStyle};
+    let w = |s: &str| s.split_whitespace().map(String::from).collect::<Vec<_>>();
+    let diff = |e: &dyn Fn(f64) -> f64, x: f64| (e(x + 1e-6) - e(x - 1e-6)) / 2e-6;
+    let mut bond = BondStyle::new(&w("test/quartic"), 1).expect("a registered bond style");
+    bond.set_coeff(&w("1 40.0 0.9")).expect("coefficients");
+    for r in [0.5, 0.8, 0.9, 1.1, 1.4] {
+        let (fbond, e, _) = bond.eval(1, r * r);
+        assert!(
+            (e - 40.0 * (r - 0.9f64).powi(4)).abs() < 1e-12,
+            "E at r = {r}"
+        );
+        let want = -diff(&|r| bond.eval(1, r * r).1, r) / r;
+        assert!(
+            (fbond - want).abs() <= 1e-6 * want.abs() + 1e-8,
+            "r = {r}: {fbond} {want}"
+        );
+    }
+    let mut angle = AngleStyle::new(&w("test/square"), 1).expect("a registered angle style");
+    angle.set_coeff(&w("1 3.0")).expect("coefficients");
+    let x = [[0.9, 0.1, -0.2], [0.0, 0.0, 0.0], [-0.3, 0.8, 0.4]];
+    let energy = |x: &[[f64; 3]; 3]| {
+        let d1 = [0, 1, 2].map(|c| x[0][c] - x[1][c]);
+        let d2 = [0, 1, 2].map(|c| x[2][c] - x[1][c]);
+        angle.eval(1, d1, d2).2
+    };
+    let d1 = [0, 1, 2].map(|c| x[0][c] - x[1][c]);
+    let d2 = [0, 1, 2].map(|c| x[2][c] - x[1][c]);
+    let (f1, f3, _) = angle.eval(1, d1, d2);
+    for (atom, f) in [(0, f1), (2, f3)] {
+        for c in 0..3 {
+            let e = |h: f64| {
+                let mut y = x;
+                y[atom][c] += h;
+                energy(&y)
+            };
+            let want = -diff(&e, 0.0);
+            assert!(
+                (f[c] - want).abs() <= 1e-6 * want.abs() + 1e-8,
+                "atom {atom} {c}"
+            );
+        }
+    }
+    let data = format!(
+        "{}/tests/data/crosscheck/polymer3d.data",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let (_, sys) = run(&format!(
+        "units lj\natom_style angle\nbond_style test/quartic\nangle_style test/square\n\
+         read_data {data}\nmass 1 1.0\nmass 2 1.5\n\
+         pair_style dpd/nonlinear 1.0 1.0 7919 friction cross\npair_coeff * * 25.0 4.5 0.0\n\
+         bond_coeff 1 200.0 0.85\nangle_coeff 1 5.0\nneighbor 0.5 bin\ntimestep 0.005\n\
+         fix 1 all nve\nthermo 0\nrun 0\n"
+    ))
+    .expect("the polymer runs with the test styles");
+    let mut sys = sys.expect("a system");
+    let p0 = sys.momentum();
+    let (_, sys2) = run(&format!(
+        "units lj\natom_style angle\nbond_style test/quartic\nangle_style test/square\n\
+         read_data {data}\nmass 1 1.0\nmass 2 1.5\n\
+         pair_style dpd/nonlinear 1.0 1.0 7919 friction cross\npair_coeff * * 25.0 4.5 0.0\n\
+         bond_coeff 1 200.0 0.85\nangle_coeff 1 5.0\nneighbor 0.5 bin\ntimestep 0.005\n\
+         fix 1 all nve\nthermo 0\nrun 200\n"
+    ))
+    .expect("200 steps");
+    sys = sys2.expect("a system");
+    let p1 = sys.momentum();
+    for k in 0..3 {
+        assert!(
+            (p1[k] - p0[k]).abs() < 1e-10,
+            "momentum {k}: {} -> {}",
+            p0[k],
+            p1[k]
+        );
+    }
+}

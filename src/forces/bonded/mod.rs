@@ -9,8 +9,12 @@ use crate::grammar::{need, parse_f64, shown, type_range};
 
 mod angle_cosine;
 mod angle_harmonic;
+#[cfg(feature = "test-style")]
+mod angle_test_square;
 mod bond_fene;
 mod bond_harmonic;
+#[cfg(feature = "test-style")]
+mod bond_test_quartic;
 
 /// What every bonded form has: its words (the grammar of its `*_coeff` lines).
 pub trait Form: Sync + std::fmt::Debug {
@@ -48,9 +52,19 @@ pub trait AngleForm: Form {
 }
 
 /// The bond styles, the one place that names them.
-pub const BOND_STYLES: &[&dyn BondForm] = &[&bond_harmonic::Harmonic, &bond_fene::Fene];
+pub const BOND_STYLES: &[&dyn BondForm] = &[
+    &bond_harmonic::Harmonic,
+    &bond_fene::Fene,
+    #[cfg(feature = "test-style")]
+    &bond_test_quartic::Quartic,
+];
 /// The angle styles, the one place that names them.
-pub const ANGLE_STYLES: &[&dyn AngleForm] = &[&angle_harmonic::Harmonic, &angle_cosine::Cosine];
+pub const ANGLE_STYLES: &[&dyn AngleForm] = &[
+    &angle_harmonic::Harmonic,
+    &angle_cosine::Cosine,
+    #[cfg(feature = "test-style")]
+    &angle_test_square::Square,
+];
 
 /// "a, b and c" of the registry's words, for "not supported" errors.
 fn words(w: Vec<&str>) -> String {
