@@ -8,6 +8,11 @@
 #include <stdint.h>
 #include <stddef.h>
 
+// How many pair styles the C++ side can register: the size of its table of creators (LAMMPS's
+// creator takes no name, so each style needs a function of its own). The build fails when the
+// registry outgrows it; the C++ side fails at load when the library it links lists more.
+#define DPDNL_PAIR_STYLE_SLOTS 64
+
 // Result of every fallible call. Anything but `Ok` leaves a message for [`dpdnl_last_error`].
 typedef enum DpdnlStatus {
   // Success.
@@ -44,6 +49,17 @@ typedef struct DpdnlAtoms {
   // Owned plus ghost atoms.
   int32_t nall;
 } DpdnlAtoms;
+
+// A fix or compute style of the LAMMPS side ([`dpdnl_lammps_style`]); static strings, all null
+// past the end of the list.
+typedef struct DpdnlLammpsStyle {
+  // LAMMPS's kind of style: "fix" or "compute".
+  const char *command;
+  // The style's name in input scripts.
+  const char *name;
+  // The line LAMMPS prints when it is registered ("fix NAME (dpdnl: …)").
+  const char *info;
+} DpdnlLammpsStyle;
 
 // A team member's work: `body(ctx, thread)`, called once by each thread of a launch (never
 // null when this library calls a launcher).
@@ -278,6 +294,13 @@ const char *dpdnl_pair_style_name(int32_t k);
 // The line LAMMPS prints when pair style `k` is registered ("pair_style NAME (dpdnl: …)"), a
 // static string; null when `k` is out of range.
 const char *dpdnl_pair_style_info(int32_t k);
+
+// The number of fix and compute styles the LAMMPS side registers beside the pair styles.
+int32_t dpdnl_lammps_style_count(void);
+
+// Fix or compute style `k` (0-based) of the LAMMPS side; every field null when `k` is out of
+// range.
+struct DpdnlLammpsStyle dpdnl_lammps_style(int32_t k);
 
 // A new pair style `name` ("dpd/nonlinear", "sdpd") from the words after the name (LAMMPS's
 // `Pair::settings(narg, arg)`) for `ntypes` atom types; `*out` gets a handle to release with

@@ -129,7 +129,7 @@ pub(crate) fn check_row(i: usize, jlist: &[i32], mask: usize, nall: usize) -> Re
 
 /// Whether any atom of `x` (3 doubles each) has moved more than `margin`/2 from its place in
 /// `x0`: the lifetime rule of a list holding the pairs within the cut-off plus `margin` (the
-/// style's own list, `ownlist.rs`, and the working copy of a list, `working.rs`). Positions of
+/// style's own list, `ownlist/`, and the working copy of a list, `working.rs`). Positions of
 /// another length count as moved.
 pub(crate) fn moved_half_margin(x: &[f64], x0: &[f64], margin: f64) -> bool {
     if x0.len() != x.len() {

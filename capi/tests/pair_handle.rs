@@ -804,6 +804,45 @@ fn style_registry_names_every_style() {
     }
 }
 
+#[test]
+fn lammps_style_list_names_the_fixes_and_computes() {
+    assert!(dpdnl_pair_style_count() <= DPDNL_PAIR_STYLE_SLOTS);
+    let text = |p: *const std::ffi::c_char| {
+        // SAFETY: a static string of the list.
+        unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
+    };
+    let n = dpdnl_lammps_style_count();
+    let listed: Vec<(String, String, String)> = (0..n)
+        .map(|k| {
+            let e = dpdnl_lammps_style(k);
+            (text(e.command), text(e.name), text(e.info))
+        })
+        .collect();
+    let names: Vec<(&str, &str)> = listed
+        .iter()
+        .map(|(c, n, _)| (c.as_str(), n.as_str()))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("fix", "nve/euler"),
+            ("fix", "pex/push"),
+            ("fix", "flip/momentum"),
+            ("compute", "sdpd/density")
+        ]
+    );
+    for (command, name, info) in &listed {
+        assert!(
+            info.starts_with(&format!("{command} {name} (dpdnl: ")),
+            "{info}"
+        );
+    }
+    for k in [-1, n] {
+        let e = dpdnl_lammps_style(k);
+        assert!(e.command.is_null() && e.name.is_null() && e.info.is_null());
+    }
+}
+
 /// The class (0 ordinary, 1–3 a 1-2, 1-3, 1-4 neighbour) this test gives the pair (i, j).
 fn class_of(a: &Atoms, i: usize, j: usize) -> usize {
     let (ti, tj) = (a.tag[i] as usize, a.tag[j] as usize);

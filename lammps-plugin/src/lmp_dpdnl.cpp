@@ -13,20 +13,45 @@
 
 #include "dpdnl_styles.h"
 
+#include "dpdnl.h"
+
+#include "error.h"
+#include "force.h"
 #include "input.h"
 #include "lammps.h"
+#include "modify.h"
 
 #include <mpi.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <dlfcn.h>
+#include <string>
 
 using namespace LAMMPS_NS;
 
 namespace {
 bool interposed = false;
+
+// Every style of the list (dpdnl_styles.h) into the style maps of `lmp`. The maps belong to
+// Force and Modify, which LAMMPS rebuilds on `clear`: called again after that.
+void register_styles(LAMMPS *lmp)
+{
+  std::string error;
+  for (const auto &s : dpdnl_styles::all(error)) {
+    if (s.pair) (*lmp->force->pair_map)[s.name] = s.pair;
+    if (s.fix) (*lmp->modify->fix_map)[s.name] = s.fix;
+    if (s.compute) (*lmp->modify->compute_map)[s.name] = s.compute;
+  }
+  if (!error.empty()) lmp->error->all(FLERR, "lmp_dpdnl: " + error);
 }
+
+// True if `lmp` currently knows the library's first pair style.
+bool registered(LAMMPS *lmp)
+{
+  return lmp->force && lmp->force->pair_map->count(dpdnl_pair_style_name(0)) == 1;
+}
+}    // namespace
 
 void LAMMPS::create()
 {
@@ -43,7 +68,7 @@ void LAMMPS::create()
   // A non-static member function called through a plain function pointer: with the Itanium
   // C++ ABI `this` is the first argument.
   original(this);
-  dpdnl_register_styles(this);
+  register_styles(this);
   interposed = true;
 }
 
@@ -51,8 +76,8 @@ int main(int argc, char **argv)
 {
   MPI_Init(&argc, &argv);
   LAMMPS *lmp = new LAMMPS(argc, argv, MPI_COMM_WORLD);
-  if (!interposed || !dpdnl_styles_registered(lmp)) {
-    dpdnl_register_styles(lmp);
+  if (!interposed || !registered(lmp)) {
+    register_styles(lmp);
     int me = 0;
     MPI_Comm_rank(MPI_COMM_WORLD, &me);
     if (me == 0)

@@ -307,33 +307,6 @@ double PairDpdnl::single(int, int, int itype, int jtype, double rsq, double, dou
 }
 
 // ---------------------------------------------------------------------------------------------
-// The registry: one creator per style index (LAMMPS's creators take no name), each making the
-// driver for the library's style of that index.
-
-namespace {
-using PairCreator = Pair *(*) (LAMMPS *);
-template <int K> Pair *make_style(LAMMPS *lmp)
-{
-  return new PairDpdnl(lmp, dpdnl_pair_style_name(K));
-}
-// Room for eight styles; a ninth adds one entry here.
-const PairCreator CREATORS[] = {&make_style<0>, &make_style<1>, &make_style<2>, &make_style<3>,
-                                &make_style<4>, &make_style<5>, &make_style<6>, &make_style<7>};
-constexpr int MAX_STYLES = sizeof(CREATORS) / sizeof(CREATORS[0]);
-}    // namespace
-
-int LAMMPS_NS::dpdnl_pair_styles()
-{
-  const int n = dpdnl_pair_style_count();
-  return n < MAX_STYLES ? n : MAX_STYLES;
-}
-
-PairCreator LAMMPS_NS::dpdnl_pair_creator(int k)
-{
-  return (k >= 0 && k < dpdnl_pair_styles()) ? CREATORS[k] : nullptr;
-}
-
-// ---------------------------------------------------------------------------------------------
 // Restart: the style's own restart lines (the same as a standalone restart file stores), as
 // text from Rust: int length, then that many bytes.
 
@@ -423,9 +396,14 @@ double PairDpdnl::memory_usage()
 }
 
 // "rho": the pre-pass values of the last evaluation (owned atoms first): sdpd's densities.
+// "dpdnl_pair": the style's handle (DpdnlPair *), for the C ABI's questions about it
+// (compute sdpd/density), answered by the top-level pair style only: PairHybrid passes the
+// question on to its sub-styles, and a sub-style is not the pair style a compute reads.
 void *PairDpdnl::extract(const char *str, int &dim)
 {
   dim = 0;
+  if (std::string(str) == "dpdnl_pair")
+    return force->pair == this ? reinterpret_cast<void *>(handle) : nullptr;
   if (info.values_per_atom > 0 && std::string(str) == "rho") {
     dim = 1;
     return reinterpret_cast<void *>(values);

@@ -7,7 +7,7 @@
 // communication of a many-body style's per-atom values between its two passes (as pair eam does
 // with its embedding term), and turns Rust's errors into error->all/one. It holds no
 // coefficient, rule or equation, and no style's name: every style the library lists is
-// registered through dpdnl_pair_creator().
+// registered under its name (dpdnl_styles.cpp).
 
 #ifndef DPDNL_PAIR_DPDNL_H
 #define DPDNL_PAIR_DPDNL_H
@@ -45,8 +45,6 @@ class PairDpdnl : public Pair {
   void unpack_reverse_comm(int, int *, double *) override;
   double memory_usage() override;
   void *extract(const char *, int &) override;
-  // True when the style has a per-atom pre-pass (a many-body density, e.g. sdpd's).
-  bool has_atom_values() const { return info.values_per_atom > 0; }
 
  protected:
   std::string name;      // the style's name, as LAMMPS knows it
@@ -67,12 +65,6 @@ class PairDpdnl : public Pair {
   void write_data_lines(FILE *fp, bool all);
   [[noreturn]] void rust_error(const std::string &context);
 };
-
-// The pair styles of the library (dpdnl_pair_style_count() of them, named by
-// dpdnl_pair_style_name(k)): style k's creator for LAMMPS's style maps and plugin records. The
-// launcher and the plugin register every style through these, so a new Rust style needs no C++.
-int dpdnl_pair_styles();
-Pair *(*dpdnl_pair_creator(int k))(LAMMPS *);
 
 }    // namespace LAMMPS_NS
 

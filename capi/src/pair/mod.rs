@@ -34,7 +34,10 @@ pub use handle::{
     dpdnl_pair_new, dpdnl_pair_settings, dpdnl_pair_threads,
 };
 pub use init::{dpdnl_pair_init, dpdnl_pair_list_choice, dpdnl_pair_special};
-pub use registry::{dpdnl_pair_style_count, dpdnl_pair_style_info, dpdnl_pair_style_name};
+pub use registry::{
+    DPDNL_PAIR_STYLE_SLOTS, DpdnlLammpsStyle, dpdnl_lammps_style, dpdnl_lammps_style_count,
+    dpdnl_pair_style_count, dpdnl_pair_style_info, dpdnl_pair_style_name,
+};
 pub use restart::{
     dpdnl_pair_data, dpdnl_pair_from_restart, dpdnl_pair_restart, dpdnl_pair_single,
 };
