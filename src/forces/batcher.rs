@@ -106,10 +106,19 @@ impl Batcher {
     }
 }
 
-/// The central force of lane `l`: fpair · r_ij (the force on i; −it on j).
+/// The force of lane `l` with r_ij: fpair · r_ij, plus the non-central part `ft` when the
+/// kernel wrote one ([`PairBatch::transverse`]): the force on i; −it on j.
 #[inline(always)]
 pub fn lane_force(b: &PairBatch, l: usize) -> ([f64; 3], [f64; 3]) {
     let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
     let s = b.fpair[l];
-    (dr, [s * dr[0], s * dr[1], s * dr[2]])
+    let fv = [s * dr[0], s * dr[1], s * dr[2]];
+    if b.transverse {
+        (
+            dr,
+            [fv[0] + b.ft[0][l], fv[1] + b.ft[1][l], fv[2] + b.ft[2][l]],
+        )
+    } else {
+        (dr, fv)
+    }
 }

@@ -16,6 +16,7 @@
 pub mod batcher;
 pub mod bonded;
 pub mod dpd;
+pub mod dpdext;
 pub mod lanes;
 pub mod mdpd;
 pub mod sdpd;
@@ -24,7 +25,7 @@ pub mod style;
 pub use bonded::{ANGLE_STYLES, BOND_STYLES};
 pub use lanes::{BATCH, Isa, NoiseDist, PairBatch, in_range};
 pub use style::{
-    PairStyle, PrePass, SetupContext, SetupNote, StyleDerived, StylePlan, StyleRecord,
+    PairStyle, PrePass, RunSteps, SetupContext, SetupNote, StyleDerived, StylePlan, StyleRecord,
 };
 
 /// How the registry makes a pair style: from the words after its name, for `ntypes` atom types
@@ -72,6 +73,54 @@ pub const PAIR_STYLES: &[PairStyleEntry] = &[
         about: "many-body DPD (free surfaces) with non-linear friction",
         make: |args, ntypes, dt| Ok(Box::new(mdpd::MdpdPair::new(args, ntypes, dt)?)),
         specs: &[mdpd::grammar::PAIR_STYLE, mdpd::grammar::PAIR_COEFF],
+    },
+    PairStyleEntry {
+        name: dpdext::grammar::NAME_EXT,
+        about: "DPD with non-linear parallel and constant perpendicular friction (dpd/ext)",
+        make: |args, ntypes, dt| {
+            Ok(Box::new(dpdext::ExtPair::new(
+                dpdext::grammar::Form::Ext,
+                args,
+                ntypes,
+                dt,
+            )?))
+        },
+        specs: &[
+            dpdext::grammar::PAIR_STYLE_EXT,
+            dpdext::grammar::PAIR_COEFF_EXT,
+        ],
+    },
+    PairStyleEntry {
+        name: dpdext::grammar::NAME_TSTAT,
+        about: "DPD thermostat with non-linear friction, T ramped (dpd/tstat)",
+        make: |args, ntypes, dt| {
+            Ok(Box::new(dpdext::ExtPair::new(
+                dpdext::grammar::Form::Tstat,
+                args,
+                ntypes,
+                dt,
+            )?))
+        },
+        specs: &[
+            dpdext::grammar::PAIR_STYLE_TSTAT,
+            dpdext::grammar::PAIR_COEFF_TSTAT,
+        ],
+    },
+    PairStyleEntry {
+        name: dpdext::grammar::NAME_EXT_TSTAT,
+        about: "DPD thermostat, parallel and perpendicular friction, T ramped (dpd/ext/tstat)",
+        make: |args, ntypes, dt| {
+            Ok(Box::new(dpdext::ExtPair::new(
+                dpdext::grammar::Form::ExtTstat,
+                args,
+                ntypes,
+                dt,
+            )?))
+        },
+        specs: &[
+            dpdext::grammar::PAIR_STYLE_EXT_TSTAT,
+            dpdext::grammar::PAIR_COEFF_EXT_TSTAT,
+        ],
     },
 ];
 
@@ -138,7 +187,8 @@ mod tests {
         let e = new_pair_style("lj/cut", &[], 1, 1.0).expect_err("unknown");
         assert_eq!(
             e,
-            "pair style 'lj/cut' not supported: only dpd/nonlinear, sdpd, mdpd/nonlinear"
+            "pair style 'lj/cut' not supported: only dpd/nonlinear, sdpd, mdpd/nonlinear, \
+             dpd/nonlinear/ext, dpd/nonlinear/tstat, dpd/nonlinear/ext/tstat"
         );
     }
 }
