@@ -786,7 +786,17 @@ fn style_registry_names_every_style() {
                 .into_owned()
         })
         .collect();
-    assert_eq!(names, ["dpd/nonlinear", "sdpd", "mdpd/nonlinear"]);
+    assert_eq!(
+        names,
+        [
+            "dpd/nonlinear",
+            "sdpd",
+            "mdpd/nonlinear",
+            "dpd/nonlinear/ext",
+            "dpd/nonlinear/tstat",
+            "dpd/nonlinear/ext/tstat"
+        ]
+    );
     // SAFETY: a static string.
     let info = unsafe { CStr::from_ptr(dpdnl_pair_style_info(1)) }
         .to_string_lossy()

@@ -5,8 +5,9 @@
 //! A driver finds the pairs in range, fills the lanes of a [`PairBatch`] with r_ij and the
 //! coefficient index (and, for the kernels that use them, v_ij, 1/m_i + 1/m_j and the tags),
 //! hands full batches to a [`PairKernel`], and adds the returned central forces
-//! `fpair · r_ij` to atom i and subtracts them from atom j, so momentum is conserved exactly
-//! whatever the kernel. A second pair style is a second `PairKernel`; it sees the atom indices
+//! `fpair · r_ij` (plus the non-central part `ft` of a kernel that sets
+//! [`PairBatch::transverse`]) to atom i and subtracts them from atom j, so momentum is conserved
+//! exactly whatever the kernel. A second pair style is a second `PairKernel`; it sees the atom indices
 //! of each lane, so a many-body style (sDPD's densities) gathers its per-atom values there.
 //!
 //! [`Batcher`] is the gather → batch → apply driver of the C ABI path (a LAMMPS neighbour
