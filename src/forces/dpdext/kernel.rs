@@ -13,7 +13,7 @@
 //! the random force and w∥² for the friction: `Weight` of exponent 2 s∥.
 
 use crate::forces::dpd::kernel::{
-    Derived, Friction, Noise, PairCoeff, PairForce, PairInput, PairModel, Weight, pair_parts,
+    Derived, PairCoeff, PairForce, PairInput, PairModel, Weight, pair_parts,
 };
 use crate::forces::lanes::{
     BATCH, Isa, PairBatch, dot, in_range, pair_noise, pair_transverse_noise,
@@ -250,6 +250,3 @@ pub fn ext_forces_batch_isa(
         }
     }
 }
-
-/// The friction model and noise scheme the kernel runs (re-exported for the style).
-pub type Schemes = (Friction, Noise);
