@@ -94,7 +94,7 @@ fn batch_is_bit_identical_to_scalar() {
                                 let ims = 0.5 + u(k, 6);
                                 let coeff = (k % 2) as usize;
                                 // Both tag orders.
-                                let (ti, tj) = if k % 3 == 0 {
+                                let (ti, tj) = if k.is_multiple_of(3) {
                                     (7 * k + 3, k + 1)
                                 } else {
                                     (k + 1, 7 * k + 3)
