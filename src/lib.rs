@@ -74,7 +74,7 @@ pub use forces::dpd::kernel::{
     pair_forces_batch,
 };
 pub use forces::{NoiseDist, PairBatch};
-pub use forces::{PairStyle, SetupContext, StyleDerived, StyleRecord, new_pair_style};
+pub use forces::{PairStyle, RunSteps, SetupContext, StyleDerived, StyleRecord, new_pair_style};
 pub use input::{Collect, Console, Interpreter, Options, ScriptError};
 pub use io::data::parse_data;
 pub use io::dump_read::parse_dump;

@@ -48,6 +48,20 @@ pub const STREAM_VELOCITY: u32 = 0x0000_0002;
 /// Stream id used by `create_atoms … random` (keyed by atom tag and component).
 pub const STREAM_CREATE_ATOMS: u32 = 0x0000_0003;
 
+/// Stream ids of the three components of the transverse pair noise ξ⃗_ij of
+/// `pair_style dpd/nonlinear/ext` (`docs/models.md` P-31): independent of ξ_ij and of each
+/// other. Like [`STREAM_PAIR_NOISE`] they are the low byte of the stream word; in a box shorter
+/// than 2 r_c the image bytes go above it ([`with_purpose`]).
+pub const STREAM_TRANSVERSE: [u32; 3] = [0x0000_0004, 0x0000_0005, 0x0000_0006];
+
+/// A pair-noise stream word (`image_stream`'s, low byte [`STREAM_PAIR_NOISE`]) with its low
+/// byte replaced by `purpose`: the same image key for another of the pair's variates. The
+/// identity for `purpose` = [`STREAM_PAIR_NOISE`].
+#[inline(always)]
+pub fn with_purpose(stream: u32, purpose: u32) -> u32 {
+    (stream & !0xFF) | (purpose & 0xFF)
+}
+
 const PHILOX_M0: u32 = 0xD251_1F53;
 const PHILOX_M1: u32 = 0xCD9E_8D57;
 const PHILOX_W0: u32 = 0x9E37_79B9;
@@ -345,6 +359,74 @@ pub fn pair_gaussian(seed: u32, step: u64, tag_i: u32, tag_j: u32) -> f64 {
 pub fn pair_uniform_noise(seed: u32, step: u64, tag_i: u32, tag_j: u32) -> f64 {
     let (lo, hi) = ordered_tags(tag_i, tag_j);
     uniform_noise_from_bits(keyed_bits(seed, STREAM_PAIR_NOISE, step, lo, hi))
+}
+
+/// The distribution of the pair variate ξ_ij (`pair_style … noise_dist gaussian|uniform`;
+/// docs/models.md §4.2, P-4a). Both have zero mean and unit variance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum NoiseDist {
+    /// Standard Gaussian (Box–Muller on the keyed bits): the papers' choice, the default.
+    #[default]
+    Gaussian,
+    /// Uniform on [−√3, √3] from the same keyed bits (Groot & Warren 1997): no ln or cos.
+    Uniform,
+}
+
+impl NoiseDist {
+    /// The keyword used by `pair_style … noise_dist KEYWORD`.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            NoiseDist::Gaussian => "gaussian",
+            NoiseDist::Uniform => "uniform",
+        }
+    }
+
+    /// Parse a `noise_dist` keyword value.
+    pub fn from_keyword(s: &str) -> Option<NoiseDist> {
+        match s {
+            "gaussian" => Some(NoiseDist::Gaussian),
+            "uniform" => Some(NoiseDist::Uniform),
+            _ => None,
+        }
+    }
+
+    /// ξ_ij of the pair (tags in either order) at `step`.
+    #[inline(always)]
+    pub fn pair_xi(self, seed: u32, step: u64, tag_i: u32, tag_j: u32) -> f64 {
+        match self {
+            NoiseDist::Gaussian => pair_gaussian(seed, step, tag_i, tag_j),
+            NoiseDist::Uniform => pair_uniform_noise(seed, step, tag_i, tag_j),
+        }
+    }
+}
+
+/// ξ⃗_ij: the transverse noise vector of pair (i, j) at `step` (`docs/models.md` P-31), drawn
+/// from `dist` for the ordered tags (component k from stream [`STREAM_TRANSVERSE`]`[k]`) and
+/// negated when `tag_i > tag_j`, so ξ⃗_ji = −ξ⃗_ij exactly. `dim` 2: the z component is 0.
+#[inline(always)]
+pub fn pair_transverse(
+    dist: NoiseDist,
+    seed: u32,
+    step: u64,
+    tag_i: u32,
+    tag_j: u32,
+    dim: u32,
+) -> [f64; 3] {
+    let (lo, hi) = ordered_tags(tag_i, tag_j);
+    let sign = if tag_i > tag_j { -1.0 } else { 1.0 };
+    let mut x = [0.0; 3];
+    for (k, xk) in x.iter_mut().enumerate() {
+        if k == 2 && dim == 2 {
+            break;
+        }
+        let o = keyed_bits(seed, STREAM_TRANSVERSE[k], step, lo, hi);
+        let v = match dist {
+            NoiseDist::Gaussian => gaussian_from_bits(o),
+            NoiseDist::Uniform => uniform_noise_from_bits([o[0], o[1], 0, 0]),
+        };
+        *xk = if sign < 0.0 { -v } else { v };
+    }
+    x
 }
 
 /// A uniform in `[0, 1)` keyed by `(seed, stream, step, a, b)` (no reordering of `a`, `b`).

@@ -197,6 +197,12 @@ typedef struct DpdnlStep {
   // Periodic axes (LAMMPS `domain->periodicity`). All 0: no image key (the plain key of
   // a box at least 2 r_c long).
   int32_t periodic[3];
+  // The current run's first and last step (LAMMPS `update->beginstep`, `endstep`: `run N
+  // start S stop E` sets them): a thermostat style's temperature ramp (`dpd/nonlinear/tstat`)
+  // reads them. Both 0 before any run.
+  int64_t beginstep;
+  // See `beginstep`.
+  int64_t endstep;
 } DpdnlStep;
 
 // The bonded neighbours of one rank's owned atoms, as LAMMPS keeps them (`atom->nspecial`,

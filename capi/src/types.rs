@@ -44,6 +44,12 @@ pub struct DpdnlStep {
     /// Periodic axes (LAMMPS `domain->periodicity`). All 0: no image key (the plain key of
     /// a box at least 2 r_c long).
     pub periodic: [i32; 3],
+    /// The current run's first and last step (LAMMPS `update->beginstep`, `endstep`: `run N
+    /// start S stop E` sets them): a thermostat style's temperature ramp (`dpd/nonlinear/tstat`)
+    /// reads them. Both 0 before any run.
+    pub beginstep: i64,
+    /// See `beginstep`.
+    pub endstep: i64,
 }
 
 /// Energy and virial accumulators, following LAMMPS `Pair::ev_tally` / `ev_tally_full`.

@@ -201,6 +201,8 @@ fn step_seven() -> DpdnlStep {
         boxlen: [0.0; 3],
         tilt: [0.0; 3],
         periodic: [0; 3],
+        beginstep: 0,
+        endstep: 0,
     }
 }
 
@@ -1129,6 +1131,8 @@ fn compute_list(
         boxlen: [0.0; 3],
         tilt: [0.0; 3],
         periodic: [0; 3],
+        beginstep: 0,
+        endstep: 0,
     };
     // Without tallies: a force-only step (the threaded walk's event path).
     let mut tally = if tallies {
@@ -1643,6 +1647,8 @@ fn run(h: &Handle, s: &Atoms, kind: ListKind, cut: f64, step: i64) -> Run {
         boxlen: [0.0; 3],
         tilt: [0.0; 3],
         periodic: [0; 3],
+        beginstep: 0,
+        endstep: 0,
     };
     let mut r = Run {
         f: vec![0.0; 3 * s.nall()],
@@ -1763,6 +1769,8 @@ fn bad_compute_arguments_give_codes_and_text() {
         boxlen: [0.0; 3],
         tilt: [0.0; 3],
         periodic: [0; 3],
+        beginstep: 0,
+        endstep: 0,
     };
     let mut call = |a: &DpdnlAtoms, l: &DpdnlNeighList, st: &DpdnlStep| {
         // SAFETY: every array above is sized for nall = 2.

@@ -65,6 +65,8 @@ inline PairCall fill(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::NeighList *list, int efl
 
   c.st.step = lmp->update->ntimestep;
   c.st.dt = lmp->update->dt;
+  c.st.beginstep = lmp->update->beginstep;
+  c.st.endstep = lmp->update->endstep;
   c.st.newton_pair = lmp->force->newton_pair;
   c.st.dimension = lmp->domain->dimension;
   LAMMPS_NS::Domain *domain = lmp->domain;

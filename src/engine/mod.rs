@@ -102,6 +102,11 @@ pub struct System {
     /// The last step of the coming run, when known ([`System::setup_run`]): `fix deform`'s
     /// rates depend on it as LAMMPS's do.
     run_end: Option<u64>,
+    /// `run … start S stop E` of the coming run ([`System::setup_run_window`]).
+    run_window: (Option<u64>, Option<u64>),
+    /// The current run's first and last step for a pair style's ramp (LAMMPS's `beginstep`,
+    /// `endstep`; [`crate::forces::PairStyle::at_step`]), set by [`System::setup`].
+    run_steps: crate::forces::RunSteps,
     /// Rebuild the lists at the next step (LAMMPS re-neighbours on the steps it writes a
     /// restart file: [`System::rebuild_at_next_step`]).
     force_rebuild: bool,
@@ -174,6 +179,8 @@ impl System {
             prepass: Vec::new(),
             pair_fault: None,
             run_end: None,
+            run_window: (None, None),
+            run_steps: crate::forces::RunSteps::default(),
             force_rebuild: false,
             topo: None,
             energies: Energies::default(),

@@ -14,6 +14,33 @@ impl System {
         self.setup()
     }
 
+    /// [`System::setup_run`] with LAMMPS's `run N start S stop E`: the steps a pair style's
+    /// temperature ramp runs between (`beginstep`, `endstep`; `None`: the run's own first and
+    /// last step). S after the first step or E before the last is an error, as in LAMMPS.
+    /// `fix deform` takes its rate from the run itself, so it refuses a window.
+    pub fn setup_run_window(
+        &mut self,
+        last: u64,
+        start: Option<u64>,
+        stop: Option<u64>,
+    ) -> Result<(), String> {
+        if start.is_some_and(|s| s > self.step) {
+            return Err("run start: the start step is after the first step of the run".into());
+        }
+        if stop.is_some_and(|s| s < last) {
+            return Err("run stop: the stop step is before the last step of the run".into());
+        }
+        if (start.is_some() || stop.is_some())
+            && self.tri.as_ref().is_some_and(|t| t.deform.is_some())
+        {
+            return Err("run start/stop: not supported with fix deform".into());
+        }
+        self.run_window = (start, stop);
+        let r = self.setup_run(last);
+        self.run_window = (None, None);
+        r
+    }
+
     /// Rebuild the neighbour lists at the next step whatever the atoms did, as LAMMPS does on a
     /// step it writes a restart file (`restart N`: `Neighbor::decide`); under shear that is
     /// also when atoms are wrapped with the velocity jump.
@@ -71,6 +98,10 @@ impl System {
             }
         }
         let end = self.run_end.take();
+        self.run_steps = crate::forces::RunSteps {
+            begin: self.run_window.0.unwrap_or(self.step),
+            end: self.run_window.1.or(end).unwrap_or(self.step),
+        };
         if let Some(t) = self.tri.as_mut() {
             if t.flip_fix.is_some() {
                 // The standalone `fix deform` is always `xy erate … remap v` of group all.
@@ -180,6 +211,7 @@ impl System {
             style.set_atom_values(&sums, &self.atoms.typ, None);
             self.prepass = sums;
         }
+        style.at_step(self.step, self.run_steps);
         let style = &*style;
         let kernel = style.kernel(self.neighbor.isa());
         self.tally = self.neighbor.compute_forces(

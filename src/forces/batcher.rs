@@ -5,8 +5,9 @@
 //! A driver finds the pairs in range, fills the lanes of a [`PairBatch`] with r_ij and the
 //! coefficient index (and, for the kernels that use them, v_ij, 1/m_i + 1/m_j and the tags),
 //! hands full batches to a [`PairKernel`], and adds the returned central forces
-//! `fpair · r_ij` to atom i and subtracts them from atom j, so momentum is conserved exactly
-//! whatever the kernel. A second pair style is a second `PairKernel`; it sees the atom indices
+//! `fpair · r_ij` (plus the non-central part `ft` of a kernel that sets
+//! [`PairBatch::transverse`]) to atom i and subtracts them from atom j, so momentum is conserved
+//! exactly whatever the kernel. A second pair style is a second `PairKernel`; it sees the atom indices
 //! of each lane, so a many-body style (sDPD's densities) gathers its per-atom values there.
 //!
 //! [`Batcher`] is the gather → batch → apply driver of the C ABI path (a LAMMPS neighbour
@@ -106,10 +107,19 @@ impl Batcher {
     }
 }
 
-/// The central force of lane `l`: fpair · r_ij (the force on i; −it on j).
+/// The force of lane `l` with r_ij: fpair · r_ij, plus the non-central part `ft` when the
+/// kernel wrote one ([`PairBatch::transverse`]): the force on i; −it on j.
 #[inline(always)]
 pub fn lane_force(b: &PairBatch, l: usize) -> ([f64; 3], [f64; 3]) {
     let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
     let s = b.fpair[l];
-    (dr, [s * dr[0], s * dr[1], s * dr[2]])
+    let fv = [s * dr[0], s * dr[1], s * dr[2]];
+    if b.transverse {
+        (
+            dr,
+            [fv[0] + b.ft[0][l], fv[1] + b.ft[1][l], fv[2] + b.ft[2][l]],
+        )
+    } else {
+        (dr, fv)
+    }
 }

@@ -7,44 +7,7 @@
 /// Pairs closer than this are skipped (their direction e_ij is undefined), as LAMMPS's DPD does.
 pub(crate) const MIN_PAIR_DISTANCE: f64 = 1.0e-10;
 
-/// The distribution of the pair variate ξ_ij (`pair_style … noise_dist gaussian|uniform`;
-/// docs/models.md §4.2, P-4a). Both have zero mean and unit variance.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum NoiseDist {
-    /// Standard Gaussian (Box–Muller on the keyed bits): the papers' choice, the default.
-    #[default]
-    Gaussian,
-    /// Uniform on [−√3, √3] from the same keyed bits (Groot & Warren 1997): no ln or cos.
-    Uniform,
-}
-
-impl NoiseDist {
-    /// The keyword used by `pair_style … noise_dist KEYWORD`.
-    pub fn keyword(self) -> &'static str {
-        match self {
-            NoiseDist::Gaussian => "gaussian",
-            NoiseDist::Uniform => "uniform",
-        }
-    }
-
-    /// Parse a `noise_dist` keyword value.
-    pub fn from_keyword(s: &str) -> Option<NoiseDist> {
-        match s {
-            "gaussian" => Some(NoiseDist::Gaussian),
-            "uniform" => Some(NoiseDist::Uniform),
-            _ => None,
-        }
-    }
-
-    /// ξ_ij of the pair (tags in either order) at `step`.
-    #[inline(always)]
-    pub fn pair_xi(self, seed: u32, step: u64, tag_i: u32, tag_j: u32) -> f64 {
-        match self {
-            NoiseDist::Gaussian => crate::rng::pair_gaussian(seed, step, tag_i, tag_j),
-            NoiseDist::Uniform => crate::rng::pair_uniform_noise(seed, step, tag_i, tag_j),
-        }
-    }
-}
+pub use crate::rng::NoiseDist;
 
 #[inline(always)]
 pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -94,6 +57,12 @@ pub struct PairBatch {
     /// Result: the conservative pair energy (0 for a pair out of range). Entries from `len` on
     /// are unspecified.
     pub energy: [f64; BATCH],
+    /// Result of a kernel with a non-central part (`dpd/nonlinear/ext`'s perpendicular friction
+    /// and noise, docs/models.md §4.11): that part of the force on i by component, `ft[k][l]`,
+    /// added to `fpair · r_ij` when [`PairBatch::transverse`] is set (−it on j).
+    pub ft: [[f64; BATCH]; 3],
+    /// Set by a kernel that wrote [`PairBatch::ft`]; central kernels leave it false.
+    pub transverse: bool,
     /// Working arrays of [`pair_forces_batch`](crate::forces::dpd::kernel::pair_forces_batch) (kept here so that no call zeroes them).
     pub(crate) scratch: BatchScratch,
     /// (Last, after the lane arrays, so that their alignment is that of the struct.) The box's lattice when it is shorter than 2 r_c along a periodic axis: each lane's
@@ -127,6 +96,8 @@ pub(crate) struct BatchScratch {
     pub(crate) bits: [[u32; BATCH]; 4],
     pub(crate) xi: [f64; BATCH],
     pub(crate) st: StageArrays,
+    /// The transverse noise vector ξ⃗_ij of each lane (`dpd/nonlinear/ext`), by component.
+    pub(crate) xt: [[f64; BATCH]; 3],
 }
 
 impl Default for PairBatch {
@@ -142,6 +113,8 @@ impl Default for PairBatch {
             images: None,
             fpair: [0.0; BATCH],
             energy: [0.0; BATCH],
+            ft: [[0.0; BATCH]; 3],
+            transverse: false,
             scratch: BatchScratch {
                 co: [[0.0; BATCH]; COEFF_LANES],
                 bits: [[0; BATCH]; 4],
@@ -150,6 +123,7 @@ impl Default for PairBatch {
                     g: [[0.0; BATCH]; 7],
                     gs: [[0.0; BATCH]; 3],
                 },
+                xt: [[0.0; BATCH]; 3],
             },
         }
     }
@@ -230,7 +204,7 @@ impl Isa {
 /// in two loops (random bits, then Gaussians) that run in SIMD lanes.
 #[inline(always)]
 pub(crate) fn pair_gaussians(b: &mut PairBatch, seed: u32, step: u64) {
-    lane_bits(b, seed, step);
+    lane_bits(b, seed, step, crate::rng::STREAM_PAIR_NOISE);
     let bits = &b.scratch.bits;
     let xi = &mut b.scratch.xi;
     for l in 0..BATCH {
@@ -239,15 +213,17 @@ pub(crate) fn pair_gaussians(b: &mut PairBatch, seed: u32, step: u64) {
 }
 
 /// The keyed bits of every lane into `b.scratch.bits` (P-4; with [`PairBatch::images`], each
-/// lane's stream names its pair's periodic image, P-4b).
+/// lane's stream names its pair's periodic image, P-4b), for the stream `purpose` (its low
+/// byte; [`crate::rng::STREAM_PAIR_NOISE`] for ξ_ij, [`crate::rng::STREAM_TRANSVERSE`] for
+/// the components of ξ⃗_ij).
 #[inline(always)]
-fn lane_bits(b: &mut PairBatch, seed: u32, step: u64) {
+fn lane_bits(b: &mut PairBatch, seed: u32, step: u64, purpose: u32) {
     let bits = &mut b.scratch.bits;
     match &b.images {
         None => {
             for l in 0..BATCH {
                 let (lo, hi) = crate::rng::ordered_tags(b.tag_i[l], b.tag_j[l]);
-                let o = crate::rng::keyed_bits(seed, crate::rng::STREAM_PAIR_NOISE, step, lo, hi);
+                let o = crate::rng::keyed_bits(seed, purpose, step, lo, hi);
                 bits[0][l] = o[0];
                 bits[1][l] = o[1];
                 bits[2][l] = o[2];
@@ -258,7 +234,7 @@ fn lane_bits(b: &mut PairBatch, seed: u32, step: u64) {
             for l in 0..BATCH {
                 let (ti, tj) = (b.tag_i[l], b.tag_j[l]);
                 let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
-                let stream = frame.pair_stream(ti, tj, dr);
+                let stream = crate::rng::with_purpose(frame.pair_stream(ti, tj, dr), purpose);
                 let (lo, hi) = crate::rng::ordered_tags(ti, tj);
                 let o = crate::rng::keyed_bits(seed, stream, step, lo, hi);
                 bits[0][l] = o[0];
@@ -277,11 +253,42 @@ pub(crate) fn pair_noise(b: &mut PairBatch, seed: u32, step: u64, dist: NoiseDis
     if dist == NoiseDist::Gaussian {
         return pair_gaussians(b, seed, step);
     }
-    lane_bits(b, seed, step);
+    lane_bits(b, seed, step, crate::rng::STREAM_PAIR_NOISE);
     let bits = &b.scratch.bits;
     let xi = &mut b.scratch.xi;
     for l in 0..BATCH {
         xi[l] = crate::rng::uniform_noise_from_bits([bits[0][l], bits[1][l], 0, 0]);
+    }
+}
+
+/// The transverse noise vector ξ⃗_ij of every lane into `b.scratch.xt` (docs/models.md P-31):
+/// component k from the stream [`crate::rng::STREAM_TRANSVERSE`]`[k]`, drawn for the ordered
+/// tags (min, max) as ξ_ij is, then negated when tag_i > tag_j, so ξ⃗_ji = −ξ⃗_ij
+/// ([`crate::rng::pair_transverse`], the same bits). `dim` 2: the z component is 0.
+#[inline(always)]
+pub(crate) fn pair_transverse_noise(
+    b: &mut PairBatch,
+    seed: u32,
+    step: u64,
+    dist: NoiseDist,
+    dim: u32,
+) {
+    for k in 0..3 {
+        if k == 2 && dim == 2 {
+            b.scratch.xt[2] = [0.0; BATCH];
+            continue;
+        }
+        lane_bits(b, seed, step, crate::rng::STREAM_TRANSVERSE[k]);
+        let bits = &b.scratch.bits;
+        let out = &mut b.scratch.xt[k];
+        for l in 0..BATCH {
+            let o = [bits[0][l], bits[1][l], bits[2][l], bits[3][l]];
+            let x = match dist {
+                NoiseDist::Gaussian => crate::rng::gaussian_from_bits(o),
+                NoiseDist::Uniform => crate::rng::uniform_noise_from_bits([o[0], o[1], 0, 0]),
+            };
+            out[l] = if b.tag_i[l] > b.tag_j[l] { -x } else { x };
+        }
     }
 }
 

@@ -16,6 +16,7 @@
 pub mod batcher;
 pub mod bonded;
 pub mod dpd;
+pub mod dpdext;
 pub mod lanes;
 pub mod mdpd;
 pub mod plan;
@@ -27,7 +28,7 @@ pub mod style;
 pub use bonded::{ANGLE_STYLES, BOND_STYLES};
 pub use lanes::{BATCH, Isa, NoiseDist, PairBatch, in_range};
 pub use plan::{DesignMethod, PairPlan, PlanPoint, StylePlan};
-pub use style::{PairStyle, PrePass, SetupContext, SetupNote, StyleDerived, StyleRecord};
+pub use style::{PairStyle, PrePass, RunSteps, SetupContext, SetupNote, StyleDerived, StyleRecord};
 
 /// How the registry makes a pair style: from the words after its name, for `ntypes` atom types
 /// and time step `dt`.
@@ -78,6 +79,57 @@ pub const PAIR_STYLES: &[PairStyleEntry] = &[
         about: "many-body DPD (free surfaces) with non-linear friction",
         make: |args, ntypes, dt| Ok(Box::new(mdpd::MdpdPair::new(args, ntypes, dt)?)),
         specs: &[mdpd::grammar::PAIR_STYLE, mdpd::grammar::PAIR_COEFF],
+        design: None,
+    },
+    PairStyleEntry {
+        name: dpdext::grammar::NAME_EXT,
+        about: "DPD with non-linear parallel and constant perpendicular friction (dpd/ext)",
+        make: |args, ntypes, dt| {
+            Ok(Box::new(dpdext::ExtPair::new(
+                dpdext::grammar::Form::Ext,
+                args,
+                ntypes,
+                dt,
+            )?))
+        },
+        specs: &[
+            dpdext::grammar::PAIR_STYLE_EXT,
+            dpdext::grammar::PAIR_COEFF_EXT,
+        ],
+        design: None,
+    },
+    PairStyleEntry {
+        name: dpdext::grammar::NAME_TSTAT,
+        about: "DPD thermostat with non-linear friction, T ramped (dpd/tstat)",
+        make: |args, ntypes, dt| {
+            Ok(Box::new(dpdext::ExtPair::new(
+                dpdext::grammar::Form::Tstat,
+                args,
+                ntypes,
+                dt,
+            )?))
+        },
+        specs: &[
+            dpdext::grammar::PAIR_STYLE_TSTAT,
+            dpdext::grammar::PAIR_COEFF_TSTAT,
+        ],
+        design: None,
+    },
+    PairStyleEntry {
+        name: dpdext::grammar::NAME_EXT_TSTAT,
+        about: "DPD thermostat, parallel and perpendicular friction, T ramped (dpd/ext/tstat)",
+        make: |args, ntypes, dt| {
+            Ok(Box::new(dpdext::ExtPair::new(
+                dpdext::grammar::Form::ExtTstat,
+                args,
+                ntypes,
+                dt,
+            )?))
+        },
+        specs: &[
+            dpdext::grammar::PAIR_STYLE_EXT_TSTAT,
+            dpdext::grammar::PAIR_COEFF_EXT_TSTAT,
+        ],
         design: None,
     },
     #[cfg(feature = "test-style")]

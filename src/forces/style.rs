@@ -117,6 +117,16 @@ pub(crate) fn targets_on_subset(style: &str, coeff: &str) -> String {
     )
 }
 
+/// The first and last step of the current run (LAMMPS's `update->beginstep` and `endstep`:
+/// `run N` from step n gives n and n + N; `run N start S stop E` gives S and E).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RunSteps {
+    /// The step the run (or its `start`) begins at.
+    pub begin: u64,
+    /// The step the run (or its `stop`) ends at.
+    pub end: u64,
+}
+
 /// A many-body style's pre-pass: one value per atom, d_i = complete(Σ_j w_k(r_ij²)) over the
 /// pairs within the cut-off of their type pair (k the dense index `t_i (ntypes + 1) + t_j`).
 pub trait PrePass: Sync {
@@ -169,6 +179,11 @@ pub trait PairStyle: StyleRecord + Any + Send + Sync + Debug {
     fn setup(&mut self, ctx: &SetupContext) -> Result<Vec<SetupNote>, String>;
     /// A new time step between set-ups (LAMMPS's `fix dt/reset`); the default keeps the set-up's.
     fn set_timestep(&mut self, _dt: f64) {}
+    /// The step whose forces come next, of a run from `run.begin` to `run.end` (LAMMPS's
+    /// `update->ntimestep`, `beginstep`, `endstep`), before [`PairStyle::kernel`] at every force
+    /// evaluation, the set-up's included: a thermostat's temperature ramp
+    /// (`dpd/nonlinear/tstat`, docs/models.md P-35). The default ignores it.
+    fn at_step(&mut self, _step: u64, _run: RunSteps) {}
     /// The cut-offs by dense type-pair index (`(ntypes + 1)²`, 0 for unset pairs), after
     /// [`PairStyle::setup`].
     fn cut_table(&self) -> &[f64];

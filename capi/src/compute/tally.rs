@@ -97,10 +97,11 @@ impl<'a, 'b> Apply<'a, 'b> {
     #[inline(always)]
     pub(crate) fn lane(&mut self, b: &PairBatch, l: usize, i: usize, j: usize) {
         let (dr, fv) = lane_force(b, l);
-        self.pair(i, j, fv, b.energy[l], b.fpair[l], dr);
+        self.pair(i, j, fv, b.energy[l], central(b, l), dr);
     }
 
-    /// Pair (i, j) with force `fv` on i; `energy`, `fpair` and `dr` for the tallies.
+    /// Pair (i, j) with force `fv` on i; `energy`, `fpair` (`None`: a non-central force, whose
+    /// virial is formed from `fv`) and `dr` for the tallies.
     #[inline(always)]
     pub(crate) fn pair(
         &mut self,
@@ -108,7 +109,7 @@ impl<'a, 'b> Apply<'a, 'b> {
         j: usize,
         fv: [f64; 3],
         energy: f64,
-        fpair: f64,
+        fpair: Option<f64>,
         dr: [f64; 3],
     ) {
         if self.row.is_some_and(|(r, _)| r != i) {
@@ -140,6 +141,7 @@ impl<'a, 'b> Apply<'a, 'b> {
                 j,
                 energy,
                 fpair,
+                fv,
                 dr,
                 self.flags,
             );
@@ -156,6 +158,13 @@ impl<'a, 'b> Apply<'a, 'b> {
     }
 }
 
+/// The central `fpair` of lane `l` for the tallies, `None` when the kernel added a non-central
+/// part ([`PairBatch::transverse`]).
+#[inline(always)]
+pub(crate) fn central(b: &PairBatch, l: usize) -> Option<f64> {
+    (!b.transverse).then_some(b.fpair[l])
+}
+
 /// LAMMPS `ev_tally` (half list) / `ev_tally_full` (full list) for one pair; the per-atom
 /// tallies only for the atoms of `(lo, n)`, `lo..lo + n`, whose entries the per-atom arrays
 /// start with.
@@ -167,7 +176,8 @@ pub(crate) fn tally_pair(
     i: usize,
     j: usize,
     evdwl: f64,
-    fpair: f64,
+    fpair: Option<f64>,
+    fv: [f64; 3],
     d: [f64; 3],
     Flags {
         full,
@@ -176,14 +186,25 @@ pub(crate) fn tally_pair(
     }: Flags,
 ) {
     let (i_owned, j_owned) = (i < nlocal, j < nlocal);
-    let v = [
-        d[0] * d[0] * fpair,
-        d[1] * d[1] * fpair,
-        d[2] * d[2] * fpair,
-        d[0] * d[1] * fpair,
-        d[0] * d[2] * fpair,
-        d[1] * d[2] * fpair,
-    ];
+    let v = match fpair {
+        Some(fpair) => [
+            d[0] * d[0] * fpair,
+            d[1] * d[1] * fpair,
+            d[2] * d[2] * fpair,
+            d[0] * d[1] * fpair,
+            d[0] * d[2] * fpair,
+            d[1] * d[2] * fpair,
+        ],
+        // LAMMPS's `ev_tally_xyz`.
+        None => [
+            d[0] * fv[0],
+            d[1] * fv[1],
+            d[2] * fv[2],
+            d[0] * fv[1],
+            d[0] * fv[2],
+            d[1] * fv[2],
+        ],
+    };
     // Global sums, in LAMMPS's order of operations: ev_tally_full adds half to i; ev_tally adds
     // the whole pair with newton on, and half per owned partner with newton off.
     if let Some(e) = s.eng.as_deref_mut() {

@@ -120,7 +120,7 @@ pub(crate) struct PairRec {
 #[derive(Clone, Copy)]
 pub(crate) struct TallyRec {
     pub(crate) energy: f64,
-    pub(crate) fpair: f64,
+    pub(crate) fpair: Option<f64>,
     pub(crate) dr: [f64; 3],
 }
 
@@ -225,7 +225,7 @@ pub(crate) fn threaded(
                             pairs.push(PairRec { i, j, f: fv });
                             tally.push(TallyRec {
                                 energy: bt.energy[l],
-                                fpair: bt.fpair[l],
+                                fpair: super::tally::central(bt, l),
                                 dr,
                             });
                         }
@@ -308,7 +308,7 @@ pub(crate) fn replay(blocks: &[Block], f: &mut [f64], lo: usize, sinks: &mut Sin
             }
         } else {
             for p in &b.pairs {
-                apply.pair(p.i as usize, p.j as usize, p.f, 0.0, 0.0, [0.0; 3]);
+                apply.pair(p.i as usize, p.j as usize, p.f, 0.0, Some(0.0), [0.0; 3]);
             }
         }
     }

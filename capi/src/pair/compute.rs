@@ -294,6 +294,12 @@ pub unsafe extern "C" fn dpdnl_pair_compute(
             unsafe { masses_of(h, a, a.nall.max(0) as usize)? };
         }
         h.style.set_timestep(st.dt);
+        // Negative steps are refused by the walk (`step = … must be >= 0`).
+        let run = dpdnl::RunSteps {
+            begin: st.beginstep.max(0) as u64,
+            end: st.endstep.max(0) as u64,
+        };
+        h.style.at_step(st.step.max(0) as u64, run);
         let style = &*h.style;
         let kernel = style.kernel(Isa::detect());
         let workers = h.workers.as_mut();

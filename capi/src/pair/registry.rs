@@ -151,7 +151,7 @@ mod tests {
                 "{command} {name} listed twice"
             );
             if command == "fix" {
-                assert!(dpdnl::grammar::spec("fix", name).is_some(), "fix {name}");
+                assert!(dpdnl::forces::spec("fix", name).is_some(), "fix {name}");
             }
         }
     }

@@ -568,7 +568,11 @@ pub(super) fn flush<const ONE_TYPE: bool>(
     for l in 0..n {
         let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
         let s = b.fpair[l];
-        let fv = [s * dr[0], s * dr[1], s * dr[2]];
+        let mut fv = [s * dr[0], s * dr[1], s * dr[2]];
+        if b.transverse {
+            // A kernel with a non-central part (`dpd/nonlinear/ext`): added as a vector.
+            fv = [fv[0] + b.ft[0][l], fv[1] + b.ft[1][l], fv[2] + b.ft[2][l]];
+        }
         let i = p.i[l] as usize - start;
         if i != cur {
             own[cur] = fi;

@@ -80,23 +80,53 @@ pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
     ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
 }
 
-/// `run N [upto] [pre yes|no] [post yes|no]`: the step count and whether `upto` was given.
-fn parse_run_args(args: &[String]) -> Result<(u64, bool), String> {
-    need(args, 1, "run N [upto] [pre yes|no] [post yes|no]")?;
-    let n: u64 = parse_int(&args[0], "number of steps")?;
-    let mut upto = false;
+/// What `run N [upto] [start S] [stop E] [pre yes|no] [post yes|no]` asks for.
+struct RunArgs {
+    n: u64,
+    upto: bool,
+    start: Option<u64>,
+    stop: Option<u64>,
+}
+
+const RUN_USAGE: &str = "run N [upto] [start S] [stop E] [pre yes|no] [post yes|no]";
+
+/// `run N [upto] [start S] [stop E] [pre yes|no] [post yes|no]`.
+fn parse_run_args(args: &[String]) -> Result<RunArgs, String> {
+    need(args, 1, RUN_USAGE)?;
+    let mut r = RunArgs {
+        n: parse_int(&args[0], "number of steps")?,
+        upto: false,
+        start: None,
+        stop: None,
+    };
     let mut k = 1;
     while k < args.len() {
         match args[k].as_str() {
             "upto" => {
-                upto = true;
+                r.upto = true;
                 k += 1;
             }
             "pre" | "post" => k += 2,
-            o => return Err(format!("run keyword '{o}' not supported (upto, pre, post)")),
+            w @ ("start" | "stop") => {
+                let v = args
+                    .get(k + 1)
+                    .ok_or_else(|| format!("run {w} needs a step; usage: {RUN_USAGE}"))?;
+                let v = Some(parse_int(v, &format!("run {w}"))?);
+                if w == "start" {
+                    r.start = v;
+                } else {
+                    r.stop = v;
+                }
+                k += 2;
+            }
+            o => {
+                return Err(format!(
+                    "run keyword '{o}' not supported (upto, start, stop, pre, post)"
+                ));
+            }
         }
     }
-    Ok((n, upto))
+    Ok(r)
 }
 
 /// Steps between blow-up checks ([`crate::engine::System::check_health`]) when no thermo
@@ -143,7 +173,12 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_run(&mut self, args: &[String]) -> CmdResult {
-        let (mut n, upto) = parse_run_args(args)?;
+        let RunArgs {
+            mut n,
+            upto,
+            start,
+            stop,
+        } = parse_run_args(args)?;
         let threads = self.threads;
         let step = self.sys_mut()?.step;
         if self.console.get().interrupted() {
@@ -169,7 +204,7 @@ impl Interpreter<'_> {
                 sys.step
             ));
         }
-        sys.setup_run(sys.step + n)?;
+        sys.setup_run_window(sys.step + n, start, stop)?;
         let notes = std::mem::take(&mut sys.setup_notes);
         let integ = sys.integrator;
         let first = sys.step;

@@ -279,6 +279,12 @@ impl PairModel {
         self.inv_sqrt_dt = 1.0 / self.sqrt_dt;
     }
 
+    /// δt^(−1/2), the random force's factor.
+    #[inline(always)]
+    pub(crate) fn inv_sqrt_dt(&self) -> f64 {
+        self.inv_sqrt_dt
+    }
+
     /// The time step this model was set for.
     pub fn timestep(&self) -> f64 {
         self.sqrt_dt * self.sqrt_dt
@@ -369,18 +375,18 @@ pub fn pair_force(model: &PairModel, c: &PairCoeff, p: &PairInput) -> PairForce 
 /// ([`PairTable`]) and once per call by [`pair_force`], with the same operations, so both give
 /// the same bits.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Derived {
+pub(crate) struct Derived {
     /// 1 / r_c (so that q = 1 − r · (1/r_c)).
-    inv_rc: f64,
+    pub(crate) inv_rc: f64,
     /// sqrt(2 kT γ0): σ of constant friction (eq. 31 with γ = γ0).
-    sigma0: f64,
+    pub(crate) sigma0: f64,
     /// a r_c / 2, the prefactor of the conservative energy.
-    half_a_rc: f64,
+    pub(crate) half_a_rc: f64,
 }
 
 impl Derived {
     #[inline(always)]
-    fn new(model: &PairModel, c: &PairCoeff) -> Derived {
+    pub(crate) fn new(model: &PairModel, c: &PairCoeff) -> Derived {
         Derived {
             inv_rc: 1.0 / c.rc,
             sigma0: (2.0 * model.kt * c.gamma0).sqrt(),
@@ -425,7 +431,7 @@ impl PairTable {
 /// as separate loops over its pairs (same operations, so every bit of the result is the same).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn pair_parts(
+pub(crate) fn pair_parts(
     friction: Friction,
     noise: Noise,
     weight: impl Fn(f64) -> (f64, f64),
