@@ -113,18 +113,22 @@ fn edit(text: &str, find: &str, replace: &str) -> String {
 }
 
 /// The pair styles whose thermostat temperatures follow their name, and how many there are.
-const TEMPERATURE_WORDS: [(&str, usize); 7] = [
+const TEMPERATURE_WORDS: [(&str, usize); 10] = [
     ("dpd", 1),
     ("dpd/tstat", 2),
     ("dpd/ext", 1),
     ("dpd/ext/tstat", 2),
     ("mdpd", 1),
     ("dpd/nonlinear", 1),
+    ("dpd/nonlinear/tstat", 2),
+    ("dpd/nonlinear/ext", 1),
+    ("dpd/nonlinear/ext/tstat", 2),
     ("mdpd/nonlinear", 1),
 ];
 
-/// The script with the thermostat temperature of its pair_style line(s) set to 0 (LAMMPS's
-/// styles) or 1e-300 (this project's, which refuse 0): a deterministic force.
+/// The script with the thermostat temperature(s) of its pair_style line(s) set to 0 (T = 0 as
+/// LAMMPS's `pair dpd` has it, in both LAMMPS's styles and this project's): a deterministic
+/// force, the conservative and dissipative parts.
 fn negligible_temperature(script: &str) -> String {
     let mut out = String::new();
     for line in script.lines() {
@@ -132,14 +136,9 @@ fn negligible_temperature(script: &str) -> String {
         if words.first().map(String::as_str) == Some("pair_style") {
             let mut k = 1;
             while k < words.len() {
-                if let Some((name, n)) = TEMPERATURE_WORDS.iter().find(|(s, _)| *s == words[k]) {
-                    let zero = if name.ends_with("nonlinear") {
-                        "1e-300"
-                    } else {
-                        "0.0"
-                    };
+                if let Some((_, n)) = TEMPERATURE_WORDS.iter().find(|(s, _)| *s == words[k]) {
                     for w in words.iter_mut().skip(k + 1).take(*n) {
-                        *w = zero.to_string();
+                        *w = "0.0".to_string();
                     }
                     k += n;
                 }
@@ -304,6 +303,9 @@ fn recipes_apply_to_their_inputs() {
         ("dpd", dpd_input(), "pair_style dpd "),
         ("dpd-tstat", cg_water("dpd-tstat"), "dpd/tstat"),
         ("dpd-ext-tstat", cg_water("dpd-ext-tstat"), "dpd/ext/tstat"),
+        ("ext", dpdext_input(), "dpd/ext "),
+        ("ext-tstat", cg_water("ext-tstat"), "dpd/ext/tstat"),
+        ("tstat", cg_water("tstat"), "dpd/tstat"),
         ("mdpd", mdpd, "mdpd/rhosum"),
         ("sdpd", sdpd_input(), "sdpd/taitwater"),
     ] {
@@ -378,6 +380,36 @@ fn dpd_ext_step0_forces() {
         s = edit(&s, old, new);
     }
     assert_round_off("dpd-ext", forces_agree("dpd-ext", &s, &[], 0), 1e-12);
+}
+
+/// LAMMPS's dpdext example as it is (γ⊥ 4.53–4.55, ws and ws⊥ per pair).
+fn dpdext_input() -> String {
+    std::fs::read_to_string(corpus("lammps-dpdext").join("in.dpdext")).expect("corpus script")
+}
+
+#[test]
+fn ext_step0_forces() {
+    assert_round_off("ext", forces_agree("ext", &dpdext_input(), &[], 0), 1e-12);
+}
+
+#[test]
+fn ext_tstat_step0_forces() {
+    let files = corpus_files("lammps-dpdext-tstat");
+    assert_round_off(
+        "ext-tstat",
+        forces_agree("ext-tstat", &cg_water("ext-tstat"), &files, 0),
+        1e-12,
+    );
+}
+
+#[test]
+fn tstat_ramp_step0_forces() {
+    let files = corpus_files("lammps-dpdext-tstat");
+    assert_round_off(
+        "tstat",
+        forces_agree("tstat", &cg_water("tstat"), &files, 0),
+        1e-12,
+    );
 }
 
 /// LAMMPS's mdpd example with the run-time edit LAMMPS 22Jul2025 needs (`comm_modify vel yes`).
