@@ -732,3 +732,55 @@ fn lammps_write_data_continues_with_pair_style_before_read_data() {
         }
     }
 }
+
+/// The verdict example of the crosscheck page (docs/manual/cli/crosscheck.md) is this run's
+/// verdict: the sheared golden case `in.shear_dot_twostep_2d` run to 1500 steps instead of 150
+/// (chaotic growth of round-off, then the engines' different box flips). The test fails when
+/// the page's line is not the current code's; `DPDNL_BLESS=1 cargo test --test crosscheck
+/// manual_verdict` rewrites it.
+#[test]
+fn manual_verdict_example_is_the_current_verdict() {
+    let Some(lmp) = lmp() else { return };
+    let src = root().join("tests/data/crosscheck");
+    let dir = std::env::temp_dir().join(format!("dpdnl-verdict-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("work dir");
+    let script = read(&src.join("in.shear_dot_twostep_2d"));
+    assert_eq!(script.matches("\nrun             150\n").count(), 1);
+    let script = script.replace("\nrun             150\n", "\nrun             1500\n");
+    std::fs::write(dir.join("in.shear_dot_twostep_2d"), script).expect("script");
+    std::fs::copy(src.join("dpd2d.data"), dir.join("dpd2d.data")).expect("data file");
+    let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+        .arg("crosscheck")
+        .arg(dir.join("in.shear_dot_twostep_2d"))
+        .arg("--lmp")
+        .arg(&lmp)
+        .arg("--workdir")
+        .arg(dir.join("w"))
+        .output()
+        .expect("run dpdnl crosscheck");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    let verdict = stdout.lines().last().unwrap_or("").to_string();
+    assert!(
+        verdict.starts_with("CROSSCHECK DIFFER (chaotic growth of round-off"),
+        "{verdict}"
+    );
+    let page = root().join("docs/manual/cli/crosscheck.md");
+    let text = read(&page);
+    let marker = "<!-- verdict: tests/crosscheck.rs manual_verdict_example_is_the_current_verdict -->\n```text\n";
+    let at = text.find(marker).expect("the page's verdict marker") + marker.len();
+    let end = at + text[at..].find("\n```").expect("the block's end");
+    if std::env::var_os("DPDNL_BLESS").is_some() {
+        let new = format!("{}{verdict}{}", &text[..at], &text[end..]);
+        std::fs::write(&page, new).expect("rewrite the page");
+    } else {
+        assert_eq!(
+            &text[at..end],
+            verdict,
+            "{}: the verdict example is not the current one; `DPDNL_BLESS=1 cargo test --test \
+             crosscheck manual_verdict` rewrites it",
+            page.display()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
