@@ -103,41 +103,70 @@ pub(crate) fn settings<S: AsRef<str>>(args: &[S], spec: &StyleSpec) -> Result<Dp
     let usage = spec.usage;
     need(args, 3, usage)?;
     let (temp, rc, seed) = temp_rc_seed(args)?;
-    let mut style = DpdStyle {
+    let k = friction_noise_keywords(&args[3..], spec)?;
+    Ok(DpdStyle {
         temp,
         rc,
         seed,
+        friction: k.friction,
+        noise: k.noise,
+        weight: k.weight,
+        dist: k.dist,
+    })
+}
+
+/// The friction, noise, weight and noise-distribution keywords of a DPD-form style.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct FrictionNoise {
+    /// `friction none|cross|dot` (default none).
+    pub friction: Friction,
+    /// `noise plain|corrected|twostep` (default plain).
+    pub noise: Noise,
+    /// `weight s` (default 2), where the style's spec lists it.
+    pub weight: Weight,
+    /// `noise_dist gaussian|uniform` (default gaussian).
+    pub dist: NoiseDist,
+}
+
+/// Parse the keywords `[friction F] [noise N] [weight s] [noise_dist D]` that `spec` lists (the
+/// one parser of every DPD-form style: `dpd/nonlinear`, `mdpd/nonlinear` and the ext and
+/// tstat forms).
+pub(crate) fn friction_noise_keywords<S: AsRef<str>>(
+    args: &[S],
+    spec: &StyleSpec,
+) -> Result<FrictionNoise, String> {
+    let mut k = FrictionNoise {
         friction: Friction::None,
         noise: Noise::Plain,
         weight: Weight::STANDARD,
         dist: NoiseDist::Gaussian,
     };
-    keywords(&args[3..], spec, |key, val| {
+    keywords(args, spec, |key, val| {
         match key {
             "friction" => {
-                style.friction = Friction::from_keyword(val).ok_or_else(|| {
+                k.friction = Friction::from_keyword(val).ok_or_else(|| {
                     format!("friction '{}' must be none, cross or dot", shown(val))
                 })?
             }
             "noise" => {
-                style.noise = Noise::from_keyword(val).ok_or_else(|| {
+                k.noise = Noise::from_keyword(val).ok_or_else(|| {
                     format!("noise '{}' must be plain, corrected or twostep", shown(val))
                 })?
             }
             "noise_dist" => {
-                style.dist = NoiseDist::from_keyword(val).ok_or_else(|| {
+                k.dist = NoiseDist::from_keyword(val).ok_or_else(|| {
                     format!("noise_dist '{}' must be gaussian or uniform", shown(val))
                 })?
             }
             _ => {
                 let s = parse_f64(val, "weight exponent")?;
-                style.weight =
+                k.weight =
                     Weight::new(s).ok_or_else(|| format!("weight exponent {s} must be > 0"))?
             }
         }
         Ok(())
     })?;
-    Ok(style)
+    Ok(k)
 }
 
 /// One parsed `pair_coeff` line of `dpd/nonlinear`.

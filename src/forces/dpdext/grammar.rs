@@ -8,7 +8,7 @@ use crate::forces::dpd::kernel::{Friction, Noise, PairCoeff, PairModel, Weight};
 use crate::forces::dpdext::kernel::ExtCoeff;
 use crate::grammar::{
     INT_MAX, StyleSpec, coeff_types, keywords, need, parse_f64, parse_int_in, sets_some_pair,
-    shown, type_pairs,
+    type_pairs,
 };
 
 /// `dpd/nonlinear/ext`: conservative, parallel and perpendicular parts.
@@ -189,43 +189,18 @@ pub fn pair_style<S: AsRef<str>>(form: Form, args: &[S]) -> Result<ExtStyle, Str
         return Err(format!("rc = {rc} must be > 0"));
     }
     let seed = parse_int_in(word(temps + 1), "seed", 1, INT_MAX)? as u32;
-    let mut style = ExtStyle {
+    let k = crate::forces::dpd::grammar::friction_noise_keywords(&args[temps + 2..], spec)?;
+    Ok(ExtStyle {
         form,
         t_start,
         t_stop,
         rc,
         seed,
-        friction: Friction::None,
-        noise: Noise::Plain,
-        weight: Weight::STANDARD,
-        dist: NoiseDist::Gaussian,
-    };
-    keywords(&args[temps + 2..], spec, |key, val| {
-        match key {
-            "friction" => {
-                style.friction = Friction::from_keyword(val).ok_or_else(|| {
-                    format!("friction '{}' must be none, cross or dot", shown(val))
-                })?
-            }
-            "noise" => {
-                style.noise = Noise::from_keyword(val).ok_or_else(|| {
-                    format!("noise '{}' must be plain, corrected or twostep", shown(val))
-                })?
-            }
-            "noise_dist" => {
-                style.dist = NoiseDist::from_keyword(val).ok_or_else(|| {
-                    format!("noise_dist '{}' must be gaussian or uniform", shown(val))
-                })?
-            }
-            _ => {
-                let s = parse_f64(val, "weight exponent")?;
-                style.weight =
-                    Weight::new(s).ok_or_else(|| format!("weight exponent {s} must be > 0"))?
-            }
-        }
-        Ok(())
-    })?;
-    Ok(style)
+        friction: k.friction,
+        noise: k.noise,
+        weight: k.weight,
+        dist: k.dist,
+    })
 }
 
 /// One parsed `pair_coeff` line.
