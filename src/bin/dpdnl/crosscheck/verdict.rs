@@ -394,7 +394,7 @@ mod tests {
         assert!(!v.contains("(model difference"), "{v}");
         let plain = differ_verdict("thermo", 1e-9, &summary(1, 0, 0), &g, None);
         assert!(
-            plain.contains("(model difference: already 3.0e-1 at step 0"),
+            plain.contains("(model difference: already 3.0e-01 at step 0"),
             "{plain}"
         );
     }
