@@ -56,11 +56,18 @@ pub(crate) fn resolve_design(
         .map_err(fail)?;
     let design = theory::design_from_targets(&Targets { fluid, eta, sc }).map_err(fail)?;
     let tr = theory::kinetic_theory(&fluid, design.gamma, design.s).map_err(fail)?;
+    use crate::fmtnum::fixed;
     let message = format!(
-        "pair_coeff {label}: eta {eta} sc {sc} at n = {density:.10} (N/V), m = {mass}, kT = {kt}, \
-         rc = {rc}, d = {dim} -> gamma0 = {:.10}, weight s = {:.10} (kinetic theory: eta_D = {:.6}, \
-         eta_K = {:.6}, D = {:.6}, Sc = {:.6}; ideal fluid, a = 0)",
-        design.gamma, design.s, tr.eta_d, tr.eta_k, tr.diffusion, tr.schmidt
+        "pair_coeff {label}: eta {eta} sc {sc} at n = {} (N/V), m = {mass}, kT = {kt}, \
+         rc = {rc}, d = {dim} -> gamma0 = {}, weight s = {} (kinetic theory: eta_D = {}, \
+         eta_K = {}, D = {}, Sc = {}; ideal fluid, a = 0)",
+        fixed(density, 10),
+        fixed(design.gamma, 10),
+        fixed(design.s, 10),
+        fixed(tr.eta_d, 6),
+        fixed(tr.eta_k, 6),
+        fixed(tr.diffusion, 6),
+        fixed(tr.schmidt, 6)
     );
     Ok(ResolvedDesign {
         gamma: design.gamma,

@@ -22,9 +22,11 @@
 //! energy per volume times `nktv2p`, so −pxy/γ̇ from thermo is η × `nktv2p`.
 //!
 //! The LAMMPS styles take the constants from LAMMPS (`force->boltz`, …, through the C ABI's
-//! `DpdnlUnits`); the standalone engine reads `units lj`, `real` and `metal` with the same
-//! numbers as LAMMPS's `Update::set_units` ([`Units::standalone`]). In `lj` every factor is 1,
-//! so multiplying by it changes no bit of an `lj` run.
+//! `DpdnlUnits`); the standalone engine reads `units lj`, `real`, `metal`, `si`, `cgs`, `micro`
+//! and `nano` with the same numbers as LAMMPS's `Update::set_units` ([`Units::standalone`]);
+//! only `electron` (atomic units, of no use to DPD) is LAMMPS's alone. In `lj` every factor is
+//! 1, so multiplying by it changes no bit of an `lj` run; `si`, `cgs`, `micro` and `nano` are
+//! coherent (mvv2e = ftm2v = nktv2p = mv2d = 1) and differ from `lj` by `boltz` alone.
 
 use std::fmt;
 
@@ -88,9 +90,17 @@ impl fmt::Display for UnitStyle {
     }
 }
 
-/// The unit styles the standalone engine reads (LAMMPS with this project's styles runs every
-/// one of [`UnitStyle::ALL`]).
-pub const STANDALONE_STYLES: [UnitStyle; 3] = [UnitStyle::Lj, UnitStyle::Real, UnitStyle::Metal];
+/// The unit styles the standalone engine reads: all but `electron` (LAMMPS with this project's
+/// styles runs every one of [`UnitStyle::ALL`]).
+pub const STANDALONE_STYLES: [UnitStyle; 7] = [
+    UnitStyle::Lj,
+    UnitStyle::Real,
+    UnitStyle::Metal,
+    UnitStyle::Si,
+    UnitStyle::Cgs,
+    UnitStyle::Micro,
+    UnitStyle::Nano,
+];
 
 /// A unit style and its conversion constants, named as LAMMPS's `Force` members.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -144,13 +154,42 @@ impl Units {
         mv2d: 1.0 / 0.602214129,
     };
 
-    /// The units of `units WORD` in the standalone engine: `lj`, `real` or `metal`; any other
-    /// word is refused, naming what is read and that LAMMPS runs the other styles.
+    /// `units si`: kg, m, s, J, K (LAMMPS's `Update::set_units`).
+    pub const SI: Units = Units::coherent(UnitStyle::Si, 1.3806504e-23);
+
+    /// `units cgs`: g, cm, s, erg, K (LAMMPS's `Update::set_units`).
+    pub const CGS: Units = Units::coherent(UnitStyle::Cgs, 1.3806504e-16);
+
+    /// `units micro`: pg, μm, μs, pg·μm²/μs², K (LAMMPS's `Update::set_units`).
+    pub const MICRO: Units = Units::coherent(UnitStyle::Micro, 1.3806504e-8);
+
+    /// `units nano`: ag, nm, ns, ag·nm²/ns², K (LAMMPS's `Update::set_units`).
+    pub const NANO: Units = Units::coherent(UnitStyle::Nano, 0.013806504);
+
+    /// A coherent style: every conversion factor 1, Boltzmann's constant `boltz`.
+    const fn coherent(style: UnitStyle, boltz: f64) -> Units {
+        Units {
+            style,
+            boltz,
+            mvv2e: 1.0,
+            ftm2v: 1.0,
+            nktv2p: 1.0,
+            mv2d: 1.0,
+        }
+    }
+
+    /// The units of `units WORD` in the standalone engine (any style of
+    /// [`STANDALONE_STYLES`]); any other word is refused, naming what is read and that LAMMPS
+    /// runs the other styles.
     pub fn standalone(word: &str) -> Result<Units, String> {
         match UnitStyle::from_name(word) {
             Some(UnitStyle::Lj) => Ok(Units::LJ),
             Some(UnitStyle::Real) => Ok(Units::REAL),
             Some(UnitStyle::Metal) => Ok(Units::METAL),
+            Some(UnitStyle::Si) => Ok(Units::SI),
+            Some(UnitStyle::Cgs) => Ok(Units::CGS),
+            Some(UnitStyle::Micro) => Ok(Units::MICRO),
+            Some(UnitStyle::Nano) => Ok(Units::NANO),
             Some(u) => Err(format!(
                 "units '{u}' not supported by the standalone engine: it reads {} (LAMMPS with \
                  this project's styles runs every unit style)",
@@ -214,20 +253,25 @@ impl Units {
         self.boltz * t
     }
 
-    /// The time step LAMMPS sets with `units` (standalone styles; LAMMPS's `Update::set_units`).
+    /// The time step LAMMPS sets with `units` (LAMMPS's `Update::set_units`).
     pub fn default_dt(&self) -> f64 {
         match self.style {
+            UnitStyle::Lj => 0.005,
             UnitStyle::Real => 1.0,
-            UnitStyle::Metal => 0.001,
-            _ => 0.005,
+            UnitStyle::Metal | UnitStyle::Electron => 0.001,
+            UnitStyle::Si | UnitStyle::Cgs => 1.0e-8,
+            UnitStyle::Micro => 2.0,
+            UnitStyle::Nano => 0.00045,
         }
     }
 
-    /// The neighbour skin LAMMPS sets with `units` (standalone styles).
+    /// The neighbour skin LAMMPS sets with `units` (LAMMPS's `Update::set_units`).
     pub fn default_skin(&self) -> f64 {
         match self.style {
-            UnitStyle::Real | UnitStyle::Metal => 2.0,
-            _ => 0.3,
+            UnitStyle::Lj => 0.3,
+            UnitStyle::Real | UnitStyle::Metal | UnitStyle::Electron => 2.0,
+            UnitStyle::Si => 0.001,
+            UnitStyle::Cgs | UnitStyle::Micro | UnitStyle::Nano => 0.1,
         }
     }
 
@@ -256,7 +300,7 @@ impl Default for Units {
     }
 }
 
-/// "lj, real and metal".
+/// "lj, real, metal, si, cgs, micro and nano".
 fn standalone_list() -> String {
     let names: Vec<&str> = STANDALONE_STYLES.iter().map(|u| u.name()).collect();
     match names.split_last() {
@@ -273,7 +317,15 @@ mod tests {
     /// times a mass, is an energy (mvv2e ftm2v = 1 to rounding in every standalone style).
     #[test]
     fn constants_are_consistent() {
-        for u in [Units::LJ, Units::REAL, Units::METAL] {
+        for u in [
+            Units::LJ,
+            Units::REAL,
+            Units::METAL,
+            Units::SI,
+            Units::CGS,
+            Units::MICRO,
+            Units::NANO,
+        ] {
             assert!(
                 (u.mvv2e * u.ftm2v - 1.0).abs() < 4.0 * f64::EPSILON,
                 "{u:?}"
@@ -291,9 +343,9 @@ mod tests {
         for u in UnitStyle::ALL {
             assert_eq!(UnitStyle::from_name(u.name()), Some(u));
         }
-        let e = Units::standalone("si").expect_err("si is LAMMPS-only");
+        let e = Units::standalone("electron").expect_err("electron is LAMMPS-only");
         assert!(
-            e.contains("'si'") && e.contains("lj, real and metal"),
+            e.contains("'electron'") && e.contains("lj, real, metal, si, cgs, micro and nano"),
             "{e}"
         );
         let e = Units::standalone("furlong").expect_err("not a unit style");

@@ -14,7 +14,12 @@
 //! (2 τ) the thermo of the scaled runs stays within 1e-7 relative of the lj run's (measured:
 //! below 1e-9 at the last row; a missing factor is off by O(1) or by the factor itself, 10⁻⁴
 //! to 10³ here). Every friction × noise scheme, both integrators, the (η, Sc) design and sDPD
-//! (with its design) are covered, in `real` and `metal`.
+//! (with its design) are covered, in `real` and `metal`; the friction × noise schemes, the
+//! design and the CLI also in `si`, `cgs`, `micro` and `nano` (issue 56), whose numbers (kT ~
+//! 4e-21 J in `si`) would show any absolute threshold of the engine.
+//!
+//! The constants themselves are checked against LAMMPS's, written out below from
+//! `src/update.cpp` (`Update::set_units`) of lammps/lammps.
 
 mod common;
 
@@ -59,6 +64,53 @@ impl Scale {
             m: 40.0,
             e: Units::METAL.boltz * 300.0,
         }
+    }
+    /// `si`: σ = 1 μm, m = 1e-15 kg (a μm³ of water), ε = k_B · 300 K.
+    fn si() -> Scale {
+        Scale {
+            u: Units::SI,
+            l: 1e-6,
+            m: 1e-15,
+            e: Units::SI.boltz * 300.0,
+        }
+    }
+    /// `cgs`: σ = 1e-4 cm, m = 1e-12 g, ε = k_B · 300 K.
+    fn cgs() -> Scale {
+        Scale {
+            u: Units::CGS,
+            l: 1e-4,
+            m: 1e-12,
+            e: Units::CGS.boltz * 300.0,
+        }
+    }
+    /// `micro`: σ = 0.5 μm, m = 0.125 pg, ε = k_B · 300 K.
+    fn micro() -> Scale {
+        Scale {
+            u: Units::MICRO,
+            l: 0.5,
+            m: 0.125,
+            e: Units::MICRO.boltz * 300.0,
+        }
+    }
+    /// `nano`: σ = 0.65 nm, m = 9e-5 ag (three water molecules), ε = k_B · 300 K.
+    fn nano() -> Scale {
+        Scale {
+            u: Units::NANO,
+            l: 0.65,
+            m: 9e-5,
+            e: Units::NANO.boltz * 300.0,
+        }
+    }
+    /// Every unit style of the standalone engine but `lj`.
+    fn others() -> [Scale; 6] {
+        [
+            Scale::real(),
+            Scale::metal(),
+            Scale::si(),
+            Scale::cgs(),
+            Scale::micro(),
+            Scale::nano(),
+        ]
     }
     fn tau(&self) -> f64 {
         self.l * (self.m * self.u.mvv2e / self.e).sqrt()
@@ -191,8 +243,8 @@ fn compare(lj: &(Vec<Vec<f64>>, dpdnl::System, Vec<String>), s: &Scale, script: 
 
 const TOL: f64 = 1e-7;
 
-/// Every friction × noise scheme of `dpd/nonlinear`, velocity-Verlet and Euler, in `real` and
-/// `metal`, follows the lj run (module notes).
+/// Every friction × noise scheme of `dpd/nonlinear`, velocity-Verlet and Euler, in `real`,
+/// `metal`, `si`, `cgs`, `micro` and `nano`, follows the lj run (module notes).
 #[test]
 fn dpd_runs_scale_exactly_between_unit_styles() {
     let cases = [
@@ -209,7 +261,7 @@ fn dpd_runs_scale_exactly_between_unit_styles() {
     for (friction, noise, g1, fix) in cases {
         let lj = Scale::lj();
         let base = run(&dpd_script(&lj, &dpd_pair(&lj, friction, noise, g1), fix));
-        for s in [Scale::real(), Scale::metal()] {
+        for s in Scale::others() {
             let d = compare(
                 &base,
                 &s,
@@ -259,7 +311,7 @@ fn design_scales_between_unit_styles() {
         g.split(',').next().unwrap().trim().parse().unwrap()
     };
     let g_lj = gamma_of(&base.2);
-    for s in [Scale::real(), Scale::metal()] {
+    for s in Scale::others() {
         let script = setup(&s);
         let (_, _, lines) = run(&script);
         let g = gamma_of(&lines) / (s.e * s.tau() / (s.l * s.l));
@@ -366,6 +418,101 @@ fn thermo_defaults_follow_the_unit_style() {
     assert_eq!((sys.dt, sys.neighbor.skin), (0.005, 0.3));
     // ke per atom in lj.
     assert!((r[2] / (1.5 * 0.99 * r[1]) - 1.0).abs() < 1e-12);
+    // The coherent styles: LAMMPS's defaults (LAMMPS_SET_UNITS), extensive ke = 3/2 (N - 1) k_B T.
+    for (u, dt, skin) in [
+        (Units::SI, 1.0e-8, 0.001),
+        (Units::CGS, 1.0e-8, 0.1),
+        (Units::MICRO, 2.0, 0.1),
+        (Units::NANO, 0.00045, 0.1),
+    ] {
+        let (r, sys) = rows(u.style.name(), "");
+        assert_eq!((sys.dt, sys.neighbor.skin), (dt, skin), "{}", u.style);
+        assert_eq!(sys.units, u);
+        assert_eq!(r[3], dt);
+        let ke = 1.5 * 99.0 * u.boltz * r[1];
+        assert!(
+            (r[2] / ke - 1.0).abs() < 1e-12,
+            "{}: ke {} vs {ke}",
+            u.style,
+            r[2]
+        );
+    }
+}
+
+/// LAMMPS's `Update::set_units` (lammps/lammps, `src/update.cpp`, the same numbers in the
+/// releases of 2021 to 2025), written out: per style boltz, mvv2e, ftm2v, nktv2p, mv2d and the
+/// default timestep and skin. (`real` and `metal` give mvv2e and ftm2v as LAMMPS's expressions.)
+const LAMMPS_SET_UNITS: [(&str, [f64; 5], f64, f64); 7] = [
+    ("lj", [1.0, 1.0, 1.0, 1.0, 1.0], 0.005, 0.3),
+    (
+        "real",
+        [
+            0.0019872067,
+            48.88821291 * 48.88821291,
+            1.0 / 48.88821291 / 48.88821291,
+            68568.415,
+            1.0 / 0.602214129,
+        ],
+        1.0,
+        2.0,
+    ),
+    (
+        "metal",
+        [
+            8.617343e-5,
+            1.0364269e-4,
+            1.0 / 1.0364269e-4,
+            1.6021765e6,
+            1.0 / 0.602214129,
+        ],
+        0.001,
+        2.0,
+    ),
+    ("si", [1.3806504e-23, 1.0, 1.0, 1.0, 1.0], 1.0e-8, 0.001),
+    ("cgs", [1.3806504e-16, 1.0, 1.0, 1.0, 1.0], 1.0e-8, 0.1),
+    ("micro", [1.3806504e-8, 1.0, 1.0, 1.0, 1.0], 2.0, 0.1),
+    ("nano", [0.013806504, 1.0, 1.0, 1.0, 1.0], 0.00045, 0.1),
+];
+
+/// Every style the standalone engine reads has LAMMPS's constants, bit for bit, and kT = boltz T.
+#[test]
+fn constants_equal_lammps() {
+    assert_eq!(
+        dpdnl::units::STANDALONE_STYLES.len(),
+        LAMMPS_SET_UNITS.len()
+    );
+    for (name, [boltz, mvv2e, ftm2v, nktv2p, mv2d], dt, skin) in LAMMPS_SET_UNITS {
+        let u = Units::standalone(name).expect(name);
+        assert_eq!(u.style.name(), name);
+        assert!(dpdnl::units::STANDALONE_STYLES.contains(&u.style));
+        let ours = [u.boltz, u.mvv2e, u.ftm2v, u.nktv2p, u.mv2d];
+        let theirs = [boltz, mvv2e, ftm2v, nktv2p, mv2d];
+        for (k, what) in ["boltz", "mvv2e", "ftm2v", "nktv2p", "mv2d"]
+            .iter()
+            .enumerate()
+        {
+            assert_eq!(ours[k].to_bits(), theirs[k].to_bits(), "{name} {what}");
+        }
+        assert_eq!((u.default_dt(), u.default_skin()), (dt, skin), "{name}");
+        for t in [1.0, 300.0, 1234.5] {
+            assert_eq!(u.kt(t), boltz * t, "{name}: kT = boltz T");
+        }
+        // The C ABI's path (LAMMPS's numbers through from_host) gives the same units.
+        assert_eq!(
+            Units::from_host(name, boltz, mvv2e, ftm2v, nktv2p, mv2d),
+            Ok(u)
+        );
+    }
+    // The thermal energy at 300 K (NIST 2006, which LAMMPS uses) in each coherent style.
+    for (name, kt300) in [
+        ("si", 4.1419512e-21),
+        ("cgs", 4.1419512e-14),
+        ("micro", 4.1419512e-6),
+        ("nano", 4.1419512),
+    ] {
+        let kt = Units::standalone(name).unwrap().kt(300.0);
+        assert!((kt / kt300 - 1.0).abs() < 1e-15, "{name}: {kt}");
+    }
 }
 
 /// The unit styles the standalone engine does not read are refused naming the file, the line
@@ -374,10 +521,10 @@ fn thermo_defaults_follow_the_unit_style() {
 fn other_unit_styles_are_refused_clearly() {
     for (style, want) in [
         (
-            "si",
-            "units 'si' not supported by the standalone engine: it reads lj, real and metal",
+            "electron",
+            "units 'electron' not supported by the standalone engine: it reads lj, real, metal, \
+             si, cgs, micro and nano",
         ),
-        ("nano", "units 'nano' not supported"),
         ("furlong", "units 'furlong' is not a LAMMPS unit style"),
     ] {
         let e = common::run(&format!("dimension 3\nunits {style}\n")).expect_err(style);
@@ -475,7 +622,7 @@ fn design_and_theory_cli_work_in_the_units_given() {
         "0.01",
         "--json",
     ]);
-    for s in [Scale::real(), Scale::metal()] {
+    for s in Scale::others() {
         let (l, tau, name) = (s.l, s.tau(), s.u.style.name());
         let arg = |x: f64| format!("{x:e}");
         let (t, m, n, rc) = (arg(s.temp()), arg(s.m), arg(3.0 / l.powi(3)), arg(l));

@@ -45,7 +45,8 @@ pub struct DesignArgs {
     /// Thermal energy kT.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     kt: f64,
-    /// Unit style of the numbers (LAMMPS's `units`): lj, real or metal. Outside lj the mass
+    /// Unit style of the numbers (LAMMPS's `units`): lj, real, metal, si, cgs, micro or nano.
+    /// Outside lj the mass
     /// is in the style's mass unit, viscosities in energy × time / volume (LAMMPS's native unit;
     /// −pxy/γ̇ of the thermo gives η × nktv2p), and T of the printed `pair_style` line is a
     /// temperature (kT = boltz T).
@@ -127,8 +128,8 @@ pub struct TheoryArgs {
     /// Thermal energy kT (the thermostat's kT0 for the Euler temperature).
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     kt: f64,
-    /// Unit style of the numbers (LAMMPS's `units`): lj (default), real or metal. Outside lj the
-    /// mass is in the style's mass unit and viscosities in energy × time / volume (LAMMPS's
+    /// Unit style of the numbers (LAMMPS's `units`): lj (default), real, metal, si, cgs, micro
+    /// or nano. Outside lj the mass is in the style's mass unit and viscosities in energy × time / volume (LAMMPS's
     /// native unit; −pxy/γ̇ of the thermo gives η × nktv2p). With SCRIPT the script's `units`
     /// decides (this option and --temp are refused).
     #[arg(long)]
@@ -150,7 +151,7 @@ pub struct TheoryArgs {
     json: bool,
 }
 
-/// The unit style of `--units` (lj, real or metal), kT (from `--kt`, or boltz T with `--temp`)
+/// The unit style of `--units` (any of the standalone engine's), kT (from `--kt`, or boltz T with `--temp`)
 /// and the T of a `pair_style` line.
 fn units_kt(
     units: &str,

@@ -12,11 +12,11 @@ use crate::rng::{STREAM_CREATE_ATOMS, keyed_uniform};
 use std::collections::BTreeMap;
 
 impl Interpreter<'_> {
-    /// `units lj|real|metal`: LAMMPS's constants ([`crate::units::Units::standalone`]), and
+    /// `units lj|real|metal|si|cgs|micro|nano`: LAMMPS's constants ([`crate::units::Units::standalone`]), and
     /// LAMMPS's default time step and neighbour skin of the style (as `Update::set_units`
     /// resets them). Before the box only, as in LAMMPS.
     pub(super) fn cmd_units(&mut self, args: &[String]) -> CmdResult {
-        exact(args, 1, "units lj|real|metal")?;
+        exact(args, 1, "units lj|real|metal|si|cgs|micro|nano")?;
         if self.sys.is_some() {
             return Err("Units command after simulation box is defined".into());
         }

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Write the data files of the unit-style golden cases (deterministic, stdlib only).
 
-Run from anywhere: python3 tests/data/crosscheck/gen_units.py  (rewrites real3d.data and
-metal3d.data beside it)
+Run from anywhere: python3 tests/data/crosscheck/gen_units.py  (rewrites real3d.data,
+metal3d.data, si3d.data and nano3d.data beside it)
 
 Each is dpd3d.data (the 500-atom, 3-D state of the `lj` golden cases, kT = 1, masses 1 and 1.5)
 carried into a LAMMPS unit style: lengths times L0, masses times M0 and velocities times
@@ -19,17 +19,21 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 STYLES = {
     "real": (0.0019872067, 48.88821291 * 48.88821291),
     "metal": (8.617343e-5, 1.0364269e-4),
+    "si": (1.3806504e-23, 1.0),
+    "nano": (0.013806504, 1.0),
 }
 T = 300.0
-L0 = 6.0  # Angstrom per sigma
-M0 = {"real": 18.0, "metal": 40.0}  # g/mol per lj mass unit
+# Length per sigma: 6 Angstrom (real, metal), 1 micrometre (si), 1 nm (nano).
+L0 = {"real": 6.0, "metal": 6.0, "si": 1e-6, "nano": 1.0}
+# Mass per lj mass unit: g/mol (real, metal), kg (si: a cubic micrometre of water), ag (nano).
+M0 = {"real": 18.0, "metal": 40.0, "si": 1e-15, "nano": 1e-4}
 
 
 def scales(style):
     boltz, mvv2e = STYLES[style]
     eps = boltz * T
-    tau = L0 * math.sqrt(M0[style] * mvv2e / eps)
-    return L0, M0[style], L0 / tau, tau
+    tau = L0[style] * math.sqrt(M0[style] * mvv2e / eps)
+    return L0[style], M0[style], L0[style] / tau, tau
 
 
 def convert(style):
