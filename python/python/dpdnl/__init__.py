@@ -16,9 +16,9 @@ Units: the theory and analysis functions below take LAMMPS's reduced units (``un
 m, distance σ, energy ε, time τ = σ √(m/ε), and k_B = 1, so a temperature is given as the
 energy kT. Each parameter below states its dimension and its lj unit (a viscosity is
 energy·time/volume = mass/(distance·time) in 3-D, m/(σ τ), and mass/time in 2-D, m/τ). A
-:class:`Simulation` runs in the unit style its commands set (``units lj``, ``real`` or
-``metal``, with LAMMPS's constants); for the theory in ``real`` or ``metal`` use the command
-line's ``dpdnl design --units`` and ``dpdnl theory --units``.
+:class:`Simulation` runs in the unit style its commands set (``units lj``, ``real``, ``metal``,
+``si``, ``cgs``, ``micro`` or ``nano``, with LAMMPS's constants); for the theory outside ``lj``
+use the command line's ``dpdnl design --units`` and ``dpdnl theory --units``.
 
 Papers: "the non-linear paper" is Naseri, Salueña Perez and Bonet Avalos, Phys. Chem. Chem.
 Phys. 27, 190 (2025); "the finite-step paper" Marsh and Yeomans, Europhys. Lett. 37 (1997);
