@@ -41,7 +41,7 @@ ERROR_CASES = [
     ("bad weight", "pair_style dpd/nonlinear 1.0 1.0 5 weight -1", "weight exponent -1 must be > 0", True),
     ("unknown keyword", "pair_style dpd/nonlinear 1.0 1.0 5 frcition dot", "unknown pair_style dpd/nonlinear keyword 'frcition'", True),
     ("seed 0", "pair_style dpd/nonlinear 1.0 1.0 0", "seed = 0", True),
-    ("negative T", "pair_style dpd/nonlinear -1.0 1.0 5", "T = -1 must be > 0", True),
+    ("negative T", "pair_style dpd/nonlinear -1.0 1.0 5", "T = -1 must be >= 0", True),
     ("zero rc", "pair_style dpd/nonlinear 1.0 0.0 5", "rc = 0 must be > 0", True),
     ("non-numeric T", "pair_style dpd/nonlinear hot 1.0 5", "expected a number for T, found 'hot'", True),
     ("negative gamma0", "pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff 1 1 25 -4.5 0", "gamma0 = -4.5 must be >= 0", True),
