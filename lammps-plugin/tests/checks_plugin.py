@@ -73,7 +73,7 @@ print("TEMP", lmp.get_thermo("temp"))
                        env=dict(os.environ, OMP_NUM_THREADS="1"))
     lines = p.stdout.splitlines()
     exc = [l for l in lines if l.startswith("EXCEPTION")]
-    check(len(exc) == 3 and "T = -1 must be > 0" in exc[0] and "noise 'x' must be plain, corrected or twostep" in exc[1]
+    check(len(exc) == 3 and "T = -1 must be >= 0" in exc[0] and "noise 'x' must be plain, corrected or twostep" in exc[1]
           and "gamma0 = -4.5 must be >= 0" in exc[2],
           "three bad commands raise exceptions with the dpdnl messages" +
           ("" if len(exc) == 3 else ": " + (p.stdout + p.stderr)[-800:]))
