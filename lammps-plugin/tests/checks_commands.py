@@ -103,7 +103,7 @@ def survives_clear(tmp):
     check(rc == 0 and len(thermo_blocks(log)) == 3,
           "three runs separated by 'clear'" + ("" if rc == 0 else ": " + out[-500:]))
     if PLUGIN_MODE:
-        check(log.count("Restoring plugin: pair_style dpd/nonlinear") == 2,
+        check(log.count("Restoring plugin: pair_style dpd/nonlinear (") == 2,
               "LAMMPS re-registers the plugin's styles after each 'clear'")
     else:
         check("WARNING: could not hook" not in out, "LAMMPS::create() interposition active")
