@@ -501,13 +501,7 @@ impl PairStyle for DpdPair {
     /// F/r = a (1 − r/r_c) / r and E = a r_c (1 − r/r_c)² / 2 (docs/models.md §1.1).
     fn single(&self, i: usize, j: usize, rsq: f64) -> Option<(f64, f64)> {
         let c = self.ff.get(i, j)?;
-        if rsq >= c.rc * c.rc {
-            return Some((0.0, 0.0));
-        }
-        let r = rsq.sqrt();
-        let wr = 1.0 - r / c.rc;
-        let fpair = if r > 0.0 { c.a * wr / r } else { 0.0 };
-        Some((fpair, 0.5 * c.a * c.rc * wr * wr))
+        Some(c.conservative(rsq))
     }
 
     fn clone_box(&self) -> Box<dyn PairStyle> {

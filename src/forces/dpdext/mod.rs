@@ -257,13 +257,7 @@ impl PairStyle for ExtPair {
     /// thermostat-only forms, whose a is 0).
     fn single(&self, i: usize, j: usize, rsq: f64) -> Option<(f64, f64)> {
         let c = self.get(i, j)?.par;
-        if rsq >= c.rc * c.rc {
-            return Some((0.0, 0.0));
-        }
-        let r = rsq.sqrt();
-        let wr = 1.0 - r / c.rc;
-        let fpair = if r > 0.0 { c.a * wr / r } else { 0.0 };
-        Some((fpair, 0.5 * c.a * c.rc * wr * wr))
+        Some(c.conservative(rsq))
     }
 
     fn clone_box(&self) -> Box<dyn PairStyle> {

@@ -186,6 +186,19 @@ pub struct PairCoeff {
 }
 
 impl PairCoeff {
+    /// The conservative part alone at squared distance `rsq`, as LAMMPS's `pair dpd`
+    /// `single()` returns it: (F/r, E) = (a (1 − r/r_c) / r, a r_c (1 − r/r_c)² / 2), and
+    /// (0, 0) at r ≥ r_c (docs/models.md §1.1).
+    pub fn conservative(&self, rsq: f64) -> (f64, f64) {
+        if rsq >= self.rc * self.rc {
+            return (0.0, 0.0);
+        }
+        let r = rsq.sqrt();
+        let wr = 1.0 - r / self.rc;
+        let fpair = if r > 0.0 { self.a * wr / r } else { 0.0 };
+        (fpair, 0.5 * self.a * self.rc * wr * wr)
+    }
+
     /// Check the ranges the kernel relies on; the message names the offending parameter.
     pub fn validate(&self) -> Result<(), String> {
         let finite = |name: &str, x: f64| {
