@@ -269,7 +269,7 @@ def stage_standalone(a, e: dict) -> None:
 
 def verdict_line(out: str) -> str | None:
     for line in out.splitlines():
-        if line.startswith(("AGREE", "DIFFER", "VERDICT", "verdict")):
+        if line.startswith(("CROSSCHECK ", "VERIFY ")):
             return line.strip()
     return None
 
