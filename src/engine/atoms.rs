@@ -23,6 +23,9 @@ pub struct Atoms {
     /// `atom->mask`); empty while no group but `all` was ever defined (every atom's mask is
     /// then 1: [`Atoms::mask_of`]), else one per atom, permuted with the rest.
     pub mask: Vec<u32>,
+    /// `fix mvv/dpd`'s estimated velocities (LAMMPS's `vest`), from its first half to its
+    /// second in one step; empty without that fix, else one per atom, permuted with the rest.
+    pub vest: Vec<[f64; 3]>,
 }
 
 impl Atoms {
@@ -48,6 +51,9 @@ impl Atoms {
     fn push_common(&mut self, tag: u32, typ: u32, x: [f64; 3], v: [f64; 3], image: [i32; 3]) {
         if !self.mask.is_empty() {
             self.mask.push(1);
+        }
+        if !self.vest.is_empty() {
+            self.vest.push([0.0; 3]);
         }
         self.x.push(x);
         self.v.push(v);
@@ -118,6 +124,9 @@ impl Atoms {
         }
         if !self.mask.is_empty() {
             apply(&mut self.mask, &mut scratch.mask, perm);
+        }
+        if !self.vest.is_empty() {
+            apply(&mut self.vest, &mut scratch.vest, perm);
         }
     }
 }

@@ -289,6 +289,7 @@ pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch
         image,
         mol,
         mask,
+        vest,
     } = atoms;
     gather(x, perm, &mut scratch.vec3);
     gather(v, perm, &mut scratch.vec3);
@@ -301,6 +302,9 @@ pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch
     }
     if !mask.is_empty() {
         gather(mask, perm, &mut scratch.u32s);
+    }
+    if !vest.is_empty() {
+        gather(vest, perm, &mut scratch.vec3);
     }
 }
 

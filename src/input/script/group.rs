@@ -97,7 +97,7 @@ impl Interpreter<'_> {
                         args[2]
                     ));
                 }
-                GroupOp::Block(self.region(&args[2])?)
+                GroupOp::Block(self.region_for_atoms(&args[2])?)
             }
             s @ ("subtract" | "union" | "intersect") => {
                 n_min(if s == "union" { 3 } else { 4 })?;

@@ -135,6 +135,22 @@ impl Interpreter<'_> {
             }
         }
         self.regions.insert(args[0].clone(), b);
+        // What an atom is matched against (`group region`, a fix's `region`): INF is
+        // unbounded there, as LAMMPS's ±BIG (an atom not yet wrapped back into the box stays
+        // inside), EDGE the box face.
+        let mut m = b;
+        for d in 0..3 {
+            for s in 0..2 {
+                if args[2 + 2 * d + s] == "INF" {
+                    m[d][s] = if s == 0 {
+                        f64::NEG_INFINITY
+                    } else {
+                        f64::INFINITY
+                    };
+                }
+            }
+        }
+        self.region_match.insert(args[0].clone(), m);
         match prism {
             Some(t) => {
                 self.prisms.insert(args[0].clone(), t);
@@ -144,6 +160,14 @@ impl Interpreter<'_> {
             }
         }
         Ok(())
+    }
+
+    /// The bounds atoms are matched against in region `id` (INF unbounded).
+    pub(super) fn region_for_atoms(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
+        self.region_match
+            .get(id)
+            .copied()
+            .ok_or_else(|| format!("no region with ID '{id}'"))
     }
 
     pub(super) fn region(&self, id: &str) -> Result<[[f64; 2]; 3], String> {

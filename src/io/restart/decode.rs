@@ -316,6 +316,7 @@ fn decode_atoms(i: &mut In, ntypes: u32) -> Field<Atoms> {
         image,
         mol: Vec::new(),
         mask: Vec::new(),
+        vest: Vec::new(),
     })
 }
 
