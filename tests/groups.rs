@@ -136,3 +136,99 @@ fn velocity_create_and_dump_on_a_group() {
     assert_eq!(lines.len(), 9 + idx.len());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The tags and states of the atoms of `bit` or not of it.
+fn split(s: &System, name: &str) -> (Vec<usize>, Vec<usize>) {
+    let bit = s.groups.bit(name).expect("group");
+    (0..s.atoms.len()).partition(|&i| s.atoms.mask_of(i) & bit != 0)
+}
+
+/// `fix nve` on a group moves its atoms only; `setforce 0 0 0` on a group (applied at the
+/// set-up's forces too) leaves its atoms at constant velocity: x(t) = x(0) + t v(0) to
+/// round-off.
+#[test]
+fn an_integrator_on_a_group_and_setforce_zero() {
+    let start = run(&format!(
+        "{SYSTEM}group t2 type 2\ngroup t1 type 1\nvelocity all create 1.0 99\nrun 0\n"
+    ));
+    let s = run(&format!(
+        "{SYSTEM}group t2 type 2\ngroup t1 type 1\nvelocity all create 1.0 99\n\
+         fix 1 t2 nve\nfix 2 t2 setforce 0.0 0.0 0.0\nrun 10\n"
+    ));
+    let by_tag = |s: &System| {
+        let mut v: Vec<_> = (0..s.atoms.len())
+            .map(|i| (s.atoms.tag[i], s.atoms.x[i], s.atoms.v[i], s.atoms.image[i]))
+            .collect();
+        v.sort_by_key(|e| e.0);
+        v
+    };
+    let (a0, a1) = (by_tag(&start), by_tag(&s));
+    let l = 6.0;
+    let (t2, _) = split(&s, "t2");
+    let t2_tags: std::collections::HashSet<u32> = t2.iter().map(|&i| s.atoms.tag[i]).collect();
+    for (p, q) in a0.iter().zip(&a1) {
+        if t2_tags.contains(&p.0) {
+            assert_eq!(
+                p.2, q.2,
+                "atom {}: the velocity of a forceless atom changed",
+                p.0
+            );
+            for k in 0..3 {
+                let unwrapped = |x: [f64; 3], im: [i32; 3]| x[k] + im[k] as f64 * l;
+                let moved = unwrapped(q.1, q.3) - unwrapped(p.1, p.3);
+                assert!(
+                    (moved - 10.0 * s.dt * p.2[k]).abs() < 1e-12,
+                    "atom {}: moved {moved}",
+                    p.0
+                );
+            }
+        } else {
+            assert_eq!(
+                (p.1, p.2),
+                (q.1, q.2),
+                "atom {} outside the group moved",
+                p.0
+            );
+        }
+    }
+}
+
+/// `fix momentum 1 linear 1 1 1` zeroes the group's momentum at every step's end (to
+/// round-off), while the rest of the system keeps exchanging momentum with it.
+#[test]
+fn momentum_zeroes_the_groups_momentum() {
+    let s = run(&format!(
+        "{SYSTEM}group t2 type 2\nvelocity all create 1.0 99\nvelocity t2 set 0.5 0.0 0.0 sum yes\n\
+         fix 1 all nve\nfix 2 t2 momentum 1 linear 1 1 1\nrun 5\n"
+    ));
+    let (t2, rest) = split(&s, "t2");
+    let p = |idx: &[usize]| {
+        let mut p = [0.0; 3];
+        for &i in idx {
+            for k in 0..3 {
+                p[k] += s.atoms.v[i][k];
+            }
+        }
+        p
+    };
+    let (pg, pr) = (p(&t2), p(&rest));
+    assert!(pg.iter().all(|c| c.abs() < 1e-12), "group momentum {pg:?}");
+    assert!(
+        pr.iter().any(|c| c.abs() > 1e-6),
+        "the rest exchanged none: {pr:?}"
+    );
+}
+
+/// `fix aveforce NULL NULL 0.0` gives every selected atom the same z force (the average), so
+/// after the step the group's atoms all share one z acceleration; x and y are left alone.
+#[test]
+fn aveforce_sets_the_average() {
+    let s = run(&format!(
+        "{SYSTEM}group t2 type 2\nfix 1 all nve\nfix 2 t2 aveforce NULL NULL 0.0\nrun 0\n"
+    ));
+    let (t2, _) = split(&s, "t2");
+    let fz: Vec<f64> = t2.iter().map(|&i| s.atoms.f[i][2]).collect();
+    assert!(fz.iter().all(|&f| f == fz[0]), "z forces differ");
+    let fx: Vec<f64> = t2.iter().map(|&i| s.atoms.f[i][0]).collect();
+    assert!(fx.iter().any(|&f| f != fx[0]), "x forces were averaged too");
+}
