@@ -182,15 +182,15 @@ impl Interpreter<'_> {
     }
 }
 
-/// `momentum N [linear XF YF ZF] [rescale]` (`angular` refused).
+/// `momentum N [linear XF YF ZF] [angular] [rescale]`.
 fn momentum(id: &str, bit: u32, rest: &[String], dim: usize) -> Result<Box<dyn Fix>, String> {
-    let usage = "fix ID GROUP momentum N [linear XFLAG YFLAG ZFLAG] [rescale]";
+    let usage = "fix ID GROUP momentum N [linear XFLAG YFLAG ZFLAG] [angular] [rescale]";
     need(rest, 1, usage)?;
     let every: u64 = parse_int(&rest[0], "momentum interval N")?;
     if every == 0 {
         return Err("fix momentum: N must be >= 1".into());
     }
-    let (mut linear, mut any_linear, mut rescale) = ([false; 3], false, false);
+    let (mut linear, mut any_linear, mut angular, mut rescale) = ([false; 3], false, false, false);
     let mut k = 1;
     while k < rest.len() {
         match rest[k].as_str() {
@@ -216,11 +216,8 @@ fn momentum(id: &str, bit: u32, rest: &[String], dim: usize) -> Result<Box<dyn F
                 k += 1;
             }
             "angular" => {
-                return Err(
-                    "fix momentum angular: not supported in the standalone engine (only \
-                     linear and rescale); remove 'angular' or run the script in LAMMPS"
-                        .into(),
-                );
+                angular = true;
+                k += 1;
             }
             o => {
                 return Err(format!(
@@ -230,9 +227,13 @@ fn momentum(id: &str, bit: u32, rest: &[String], dim: usize) -> Result<Box<dyn F
             }
         }
     }
-    if !any_linear {
-        return Err(format!("fix momentum needs 'linear X Y Z'; usage: {usage}"));
+    if !any_linear && !angular {
+        return Err(format!(
+            "fix momentum needs 'linear X Y Z' or 'angular'; usage: {usage}"
+        ));
     }
     let _ = dim;
-    Ok(Box::new(Momentum::new(id, bit, every, linear, rescale)))
+    Ok(Box::new(Momentum::new(
+        id, bit, every, linear, angular, rescale,
+    )))
 }
