@@ -205,8 +205,8 @@ fn momentum_zeroes_the_groups_momentum() {
     let p = |idx: &[usize]| {
         let mut p = [0.0; 3];
         for &i in idx {
-            for k in 0..3 {
-                p[k] += s.atoms.v[i][k];
+            for (pk, vk) in p.iter_mut().zip(s.atoms.v[i]) {
+                *pk += vk;
             }
         }
         p
