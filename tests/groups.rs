@@ -232,3 +232,16 @@ fn aveforce_sets_the_average() {
     let fx: Vec<f64> = t2.iter().map(|&i| s.atoms.f[i][0]).collect();
     assert!(fx.iter().any(|&f| f != fx[0]), "x forces were averaged too");
 }
+
+/// `read_data FILE group ID` puts the atoms read into group ID (LAMMPS's keyword).
+#[test]
+fn read_data_group_keyword() {
+    let data =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/crosscheck/dpd3d.data");
+    let s = run(&format!(
+        "units lj\natom_style atomic\nread_data {} group fluid\n",
+        data.display()
+    ));
+    assert_eq!(members(&s, "fluid").len(), s.atoms.len());
+    assert_eq!(s.atoms.len(), 500);
+}
