@@ -245,3 +245,34 @@ fn read_data_group_keyword() {
     assert_eq!(members(&s, "fluid").len(), s.atoms.len());
     assert_eq!(s.atoms.len(), 500);
 }
+
+/// A run with fixes on groups continues exactly through a restart file: `run 20` + `run 20`
+/// gives the same bits as `run 20`, `write_restart`, then `read_restart` (the groups come
+/// back from the file), the fixes re-issued, `run 20`.
+#[test]
+fn fixes_on_groups_restart_exactly() {
+    let dir = std::env::temp_dir().join(format!("dpdnl-groups-restart-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let file = dir.join("g.restart");
+    let fixes = "variable fz equal 0.1*cos(0.3*step)\nfix 1 t2 nve\nfix 2 rest nve/euler\n\
+                 fix 3 left addforce 0.2 0.0 v_fz every 2\nfix 4 t2 momentum 3 linear 1 1 1\n\
+                 fix 5 rest aveforce NULL 0.0 NULL\ntimestep 0.01\n";
+    let setup = format!(
+        "{SYSTEM}group t2 type 2\ngroup rest subtract all t2\ngroup left region left\n\
+         velocity all create 1.0 5\n"
+    );
+    let straight = run(&format!("{setup}{fixes}run 20\nrun 20\n"));
+    run(&format!(
+        "{setup}{fixes}run 20\nwrite_restart {}\n",
+        file.display()
+    ));
+    let resumed = run(&format!(
+        "read_restart {}\nregion left block 0 3 INF INF INF INF\n{fixes}run 20\n",
+        file.display()
+    ));
+    assert_eq!(
+        common::state_by_tag(&straight),
+        common::state_by_tag(&resumed)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
