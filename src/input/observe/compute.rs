@@ -138,7 +138,12 @@ impl Observe {
             return Err(format!("reuse of compute ID '{id}' (uncompute it first)"));
         }
         if args[1] != "all" {
-            return Err(format!("group '{}' not supported: only 'all'", args[1]));
+            return Err(format!(
+                "compute {} on group '{}' not supported in the standalone engine: its computes \
+                 act on group all only (fixes, velocity and dump take a group)",
+                args.get(2).map_or("", String::as_str),
+                args[1]
+            ));
         }
         let sys = env
             .system()

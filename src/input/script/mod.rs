@@ -22,6 +22,8 @@
 
 mod bonded;
 mod fix;
+mod fix_group;
+mod group;
 mod output;
 mod pair;
 mod restart;
@@ -149,6 +151,8 @@ pub struct Interpreter<'c> {
     vars: BTreeMap<String, Var>,
     dim: usize,
     regions: BTreeMap<String, [[f64; 2]; 3]>,
+    /// The same regions as atoms are matched against them (INF unbounded).
+    region_match: BTreeMap<String, [[f64; 2]; 3]>,
     /// Tilt factors (xy, xz, yz) of `region … prism` regions.
     prisms: BTreeMap<String, [f64; 3]>,
     sys: Option<System>,
@@ -245,6 +249,7 @@ impl<'c> Interpreter<'c> {
             vars,
             dim: 3,
             regions: BTreeMap::new(),
+            region_match: BTreeMap::new(),
             prisms: BTreeMap::new(),
             sys: None,
             atom_style: Default::default(),
@@ -476,6 +481,7 @@ impl<'c> Interpreter<'c> {
             "atom_style" => self.cmd_atom_style(args),
             "variable" => self.cmd_variable(args),
             "region" => self.cmd_region(args),
+            "group" => self.cmd_group(args),
             "create_box" => self.cmd_create_box(args),
             "create_atoms" => self.cmd_create_atoms(args),
             "read_data" => self.cmd_read_data(args),

@@ -104,6 +104,7 @@ impl Interpreter<'_> {
         sys.step = r.step;
         sys.mass = r.masses;
         sys.atoms = r.atoms;
+        sys.groups = crate::engine::groups::Groups::from_names(r.groups).map_err(bad)?;
         sys.tally = r.tally;
         let topo_lines = match r.topo {
             Some(t) => {
@@ -222,6 +223,7 @@ impl Interpreter<'_> {
             atoms: std::mem::take(&mut sys.atoms),
             tally: sys.tally,
             units: sys.units.style,
+            groups: sys.groups.names().to_vec(),
         };
         let bytes = restart::encode(&r);
         sys.atoms = r.atoms;

@@ -4,9 +4,11 @@
 use super::fix::FixKind;
 use super::{CmdResult, Interpreter};
 use crate::engine::lees_edwards::flip_jump_note;
+use crate::engine::modify::InputValue;
 use crate::engine::{Integrator, SetupNote, System};
 use crate::forces::StylePlan;
 use crate::grammar::{need, parse_int};
+use crate::input::observe::Env;
 use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
@@ -160,6 +162,10 @@ impl Interpreter<'_> {
                         sys.apply_pex_push(p);
                     }
                 }
+                FixKind::Engine if !setup => {
+                    let id = id.clone();
+                    self.sys_mut()?.fix_end_of_step(&id);
+                }
                 FixKind::Observe => {
                     if let Some(sample) = self.obs.sample(id, &*self)? {
                         let (id, step) = (id.clone(), self.sys_mut()?.step);
@@ -168,6 +174,31 @@ impl Interpreter<'_> {
                 }
                 _ => {}
             }
+        }
+        Ok(())
+    }
+
+    /// Hand the engine's fixes the variables they read at the coming `post_force` (or set-up),
+    /// evaluated now, after the forces of the step (as LAMMPS evaluates them in `post_force`).
+    fn feed_fix_inputs(&mut self) -> CmdResult {
+        let wanted = self.sys_mut()?.fix_inputs();
+        if wanted.is_empty() {
+            return Ok(());
+        }
+        let mut values = Vec::new();
+        for (fix, inputs) in wanted {
+            for (k, input) in inputs.iter().enumerate() {
+                let v = if input.atom {
+                    InputValue::Atom(self.atom_variable(&input.name)?)
+                } else {
+                    InputValue::Equal(self.equal_variable(&input.name)?)
+                };
+                values.push((fix, k, v));
+            }
+        }
+        let sys = self.sys_mut()?;
+        for (fix, k, v) in values {
+            sys.set_fix_input(fix, k, v);
         }
         Ok(())
     }
@@ -204,7 +235,11 @@ impl Interpreter<'_> {
                 sys.step
             ));
         }
+        sys.defer_fix_setup = true;
         sys.setup_run_window(sys.step + n, start, stop)?;
+        self.feed_fix_inputs()?;
+        let sys = self.sys_mut()?;
+        sys.setup_fixes();
         let notes = std::mem::take(&mut sys.setup_notes);
         let integ = sys.integrator;
         let first = sys.step;
@@ -291,7 +326,8 @@ impl Interpreter<'_> {
         let every = self.thermo.every;
         let start = Instant::now();
         let mut last_progress = Instant::now();
-        let measuring = self.obs.has_fixes();
+        let measuring =
+            self.obs.has_fixes() || self.fixes.iter().any(|(_, k)| *k == FixKind::Engine);
         for _ in 0..n {
             // LAMMPS re-neighbours on the steps it writes a restart file.
             let next = self.sys_mut()?.step + 1;
@@ -300,10 +336,14 @@ impl Interpreter<'_> {
             if rebuild {
                 sys.rebuild_at_next_step();
             }
-            if measuring {
-                sys.advance();
-            } else {
-                sys.step_once();
+            sys.advance_to_forces();
+            self.feed_fix_inputs()?;
+            let sys = self.sys_mut()?;
+            sys.advance_finish();
+            if !measuring {
+                for k in 0..sys.pex.len() {
+                    sys.apply_pex_push(k);
+                }
             }
             let step = sys.step;
             let thermo_due = (every > 0 && step % every == 0) || step == last;

@@ -135,6 +135,22 @@ impl Interpreter<'_> {
             }
         }
         self.regions.insert(args[0].clone(), b);
+        // What an atom is matched against (`group region`, a fix's `region`): INF is
+        // unbounded there, as LAMMPS's ±BIG (an atom not yet wrapped back into the box stays
+        // inside), EDGE the box face.
+        let mut m = b;
+        for d in 0..3 {
+            for s in 0..2 {
+                if args[2 + 2 * d + s] == "INF" {
+                    m[d][s] = if s == 0 {
+                        f64::NEG_INFINITY
+                    } else {
+                        f64::INFINITY
+                    };
+                }
+            }
+        }
+        self.region_match.insert(args[0].clone(), m);
         match prism {
             Some(t) => {
                 self.prisms.insert(args[0].clone(), t);
@@ -146,7 +162,15 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    fn region(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
+    /// The bounds atoms are matched against in region `id` (INF unbounded).
+    pub(super) fn region_for_atoms(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
+        self.region_match
+            .get(id)
+            .copied()
+            .ok_or_else(|| format!("no region with ID '{id}'"))
+    }
+
+    pub(super) fn region(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
         self.regions
             .get(id)
             .copied()
@@ -307,19 +331,29 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_read_data(&mut self, args: &[String]) -> CmdResult {
-        let usage = "read_data FILE [nocoeff] [extra/atom/types N] [extra/bond/types N] [extra/angle/types N] [extra/bond|angle|dihedral|improper|special/per/atom N]";
+        let usage = "read_data FILE [nocoeff] [group ID] [extra/atom/types N] [extra/bond/types N] [extra/angle/types N] [extra/bond|angle|dihedral|improper|special/per/atom N]";
         need(args, 1, usage)?;
         // LAMMPS's keywords that make room for more (types added to the file's counts; the
         // per-atom ones only size LAMMPS's arrays and change nothing here), and `nocoeff`
         // (the file's coefficient sections are skipped).
         let mut extra_types = [0usize; 3];
         let mut nocoeff = false;
+        let mut group = None;
         let mut k = 1;
         while k < args.len() {
             let slot = match args[k].as_str() {
                 "nocoeff" => {
                     nocoeff = true;
                     k += 1;
+                    continue;
+                }
+                // LAMMPS: the atoms read join group ID (here every atom: no `add`).
+                "group" => {
+                    let id = args.get(k + 1).ok_or_else(|| {
+                        format!("read_data group needs a group ID; usage: {usage}")
+                    })?;
+                    group = Some(id.clone());
+                    k += 2;
                     continue;
                 }
                 "extra/atom/types" => Some(0),
@@ -397,6 +431,11 @@ impl Interpreter<'_> {
             self.sys = None;
         }
         filled?;
+        if let Some(g) = group {
+            let sys = self.sys_mut()?;
+            let tags = sys.atoms.tag.clone();
+            sys.set_group_members(&g, &tags)?;
+        }
         let n = d.atoms.len();
         self.out(&format!(
             "Read data file {}: {n} atoms, {} atom types",
