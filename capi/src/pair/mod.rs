@@ -42,6 +42,7 @@ pub use restart::{
     dpdnl_pair_data, dpdnl_pair_from_restart, dpdnl_pair_restart, dpdnl_pair_single,
 };
 pub use types::{DpdnlPairInfo, DpdnlSetup, DpdnlUnits};
+pub(crate) use restart::describe;
 
 use crate::Error;
 use crate::compute::Workers;
