@@ -48,11 +48,12 @@ int FixDpdnlFrames::setmask()
 void FixDpdnlFrames::init()
 {
   if (claimed == 0)
-    error->all(FLERR, "Fix dpdnl/frames: no dpdnl pair style in this run (pair_style "
-                      "dpd/nonlinear, sdpd, ..., alone or under hybrid/overlay)");
+    error->all(FLERR, std::string("Fix dpdnl/frames: no dpdnl pair style in this run "
+                                  "(pair_style dpd/nonlinear, sdpd, ..., alone or under "
+                                  "hybrid/overlay)"));
   if (claimed > 1)
-    error->all(FLERR, "Fix dpdnl/frames: two dpdnl pair styles under hybrid; a frame holds "
-                      "the force of one (use one dpdnl sub-style)");
+    error->all(FLERR, std::string("Fix dpdnl/frames: two dpdnl pair styles under hybrid; a "
+                                  "frame holds the force of one (use one dpdnl sub-style)"));
   claimed = 0;
 }
 

@@ -234,10 +234,14 @@ impl<'a> Cursor<'a> {
         Ok(s)
     }
     fn u32(&mut self) -> Result<u32, String> {
-        Ok(u32::from_le_bytes(self.take(4)?.try_into().unwrap_or([0; 4])))
+        Ok(u32::from_le_bytes(
+            self.take(4)?.try_into().unwrap_or([0; 4]),
+        ))
     }
     fn u64(&mut self) -> Result<u64, String> {
-        Ok(u64::from_le_bytes(self.take(8)?.try_into().unwrap_or([0; 8])))
+        Ok(u64::from_le_bytes(
+            self.take(8)?.try_into().unwrap_or([0; 8]),
+        ))
     }
     fn f64(&mut self) -> Result<f64, String> {
         Ok(f64::from_bits(self.u64()?))
@@ -380,7 +384,9 @@ impl<R: Read> FrameReader<R> {
             .and_then(|_| self.src.read_exact(&mut sum))
             .map_err(|_| format!("{name}: frame {k}: truncated (the run stopped while writing)"))?;
         if fnv1a64(&body) != u64::from_le_bytes(sum) {
-            return Err(format!("{name}: frame {k}: checksum mismatch (corrupt file)"));
+            return Err(format!(
+                "{name}: frame {k}: checksum mismatch (corrupt file)"
+            ));
         }
         let frame = decode_body(&body).map_err(|e| format!("{name}: frame {k}: {e}"))?;
         self.index = k;

@@ -54,7 +54,12 @@ pub unsafe extern "C" fn dpdnl_pair_restart(
 pub(crate) unsafe fn describe(h: *mut DpdnlPair) -> Result<(String, String), Error> {
     // SAFETY: forwarded caller's contract.
     let h = unsafe { handle(h)? };
-    let lines: Vec<String> = h.style.restart_lines().iter().map(|l| l.join(" ")).collect();
+    let lines: Vec<String> = h
+        .style
+        .restart_lines()
+        .iter()
+        .map(|l| l.join(" "))
+        .collect();
     Ok((h.style.name().to_string(), lines.join("\n")))
 }
 

@@ -149,7 +149,9 @@ fn frame_script(s: &Settings, fr: &Frame) -> Result<String, CannotRun> {
     let pad = (0..3).map(|d| hi[d] - lo[d]).fold(0.0, f64::max);
     for d in 0..h.dimension as usize {
         if !h.periodic(d) {
-            let (mn, mx) = fr.x.iter().fold((lo[d], hi[d]), |(a, b), x| (a.min(x[d]), b.max(x[d])));
+            let (mn, mx) =
+                fr.x.iter()
+                    .fold((lo[d], hi[d]), |(a, b), x| (a.min(x[d]), b.max(x[d])));
             lo[d] = mn - pad;
             hi[d] = mx + pad;
         }
@@ -183,7 +185,6 @@ fn frame_script(s: &Settings, fr: &Frame) -> Result<String, CannotRun> {
             text.push('\n');
         }
     }
-    let _ = &s.name;
     Ok(text)
 }
 
@@ -212,9 +213,7 @@ fn recompute(s: &Settings, fr: &Frame, vars: &[(String, String)]) -> Result<Syst
     let mut it = Interpreter::new(&mut console, &opts)?;
     it.run_text(&text, &s.file)
         .map_err(|e| CannotRun(format!("the script's settings of {}: {e}", s.name)))?;
-    let mut sys = it
-        .into_system()
-        .ok_or_else(|| CannotRun("no box".into()))?;
+    let mut sys = it.into_system().ok_or_else(|| CannotRun("no box".into()))?;
     for k in 0..fr.tag.len() {
         sys.atoms
             .push(fr.tag[k], fr.typ[k], fr.x[k], fr.v[k], [0, 0, 0]);
@@ -296,7 +295,9 @@ fn run(a: &VerifyArgs) -> Result<bool, CannotRun> {
         let mut reader = FrameReader::open(path)?;
         loop {
             let t0 = Instant::now();
-            let Some(fr) = reader.next_frame()? else { break };
+            let Some(fr) = reader.next_frame()? else {
+                break;
+            };
             let t_read = t0.elapsed().as_secs_f64();
             let style = fr.head.style.clone();
             let s = match &settings {
@@ -308,7 +309,7 @@ fn run(a: &VerifyArgs) -> Result<bool, CannotRun> {
                         s.name
                     )));
                 }
-                None => settings.insert(settings_of(&script, &file, &style)?),
+                None => settings.insert(settings(&script, &file, &style)?),
             };
             let t1 = Instant::now();
             let sys = recompute(s, &fr, &vars)?;
@@ -328,7 +329,10 @@ fn run(a: &VerifyArgs) -> Result<bool, CannotRun> {
         return Err(CannotRun("the frame files hold no frame".into()));
     }
     let style = settings.map(|s| s.name).unwrap_or_default();
-    let tol = format!("rtol {}{}", a.rtol, if a.atol > 0.0 { format!(" or atol {}", a.atol) } else { String::new() });
+    let tol = match a.atol > 0.0 {
+        true => format!("rtol {:e} or atol {:e}", a.rtol, a.atol),
+        false => format!("rtol {:e}", a.rtol),
+    };
     if bad_frames == 0 {
         println!(
             "VERIFY AGREE: pair_style {style}, {frames} frame(s), {atoms} atom forces within \
@@ -342,10 +346,6 @@ fn run(a: &VerifyArgs) -> Result<bool, CannotRun> {
         );
         Ok(false)
     }
-}
-
-fn settings_of(script: &str, file: &str, style: &str) -> Result<Settings, CannotRun> {
-    settings(script, file, style)
 }
 
 fn report_frame(
