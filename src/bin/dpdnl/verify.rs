@@ -74,7 +74,7 @@ struct Settings {
 }
 
 /// The script's lines that matter to `style` (see the module's documentation).
-fn settings(script: &str, file: &str, style: &str) -> Result<Settings, CannotRun> {
+fn read_settings(script: &str, file: &str, style: &str) -> Result<Settings, CannotRun> {
     let mut lines = Vec::new();
     let mut ours = false;
     let mut hybrid = false;
@@ -309,7 +309,7 @@ fn run(a: &VerifyArgs) -> Result<bool, CannotRun> {
                         s.name
                     )));
                 }
-                None => settings.insert(settings(&script, &file, &style)?),
+                None => settings.insert(read_settings(&script, &file, &style)?),
             };
             let t1 = Instant::now();
             let sys = recompute(s, &fr, &vars)?;
