@@ -2,9 +2,12 @@
 //! `docs/examples/in.overlay_lj` (LAMMPS's `lj/cut` overlaid on `dpd/nonlinear`, set up with
 //! LAMMPS-only commands) with `fix dpdnl/frames`; `dpdnl verify` recomputes the dpd/nonlinear
 //! force of every frame in the standalone engine and must AGREE, on 1 rank and on 4 ranks of 2
-//! OpenMP threads each; a frame with one atom's force changed must DIFFER and name that atom.
+//! OpenMP threads each (there also with many-body `mdpd/nonlinear`, whose densities verify
+//! recomputes from each frame); a frame with one atom's force changed must DIFFER and name that
+//! atom.
 //!
-//! The 10⁶-atom run is `#[ignore]`d (minutes): run it with
+//! The 10⁶-atom run is `#[ignore]`d (about 10 s of LAMMPS and 5 s of verify on 2 cores, 1 GB,
+//! 264 MB of frames; kept out of CI for its memory and disk): run it with
 //! `cargo test --release --test verify -- --ignored --nocapture`.
 //!
 //! Without `build/lmp_dpdnl` (build: `bash lammps-plugin/build.sh`) the tests print a skip note
@@ -21,9 +24,45 @@ fn script() -> PathBuf {
     plugin_support::root().join("docs/examples/in.overlay_lj")
 }
 
+/// The example with many-body DPD (`mdpd/nonlinear`, one mass: its density sum needs it) in
+/// place of dpd/nonlinear, at density 6: the densities are recomputed from each frame.
+fn mdpd_script(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(script()).unwrap();
+    let mut out = String::new();
+    for line in text.lines() {
+        let line = match line.split_whitespace().next() {
+            Some("lattice") => "lattice fcc 6.0".to_string(),
+            Some("mass") if line.ends_with("2.0") => "mass 2 1.0".to_string(),
+            Some("pair_style") => "pair_style hybrid/overlay lj/cut 1.0 mdpd/nonlinear ${T} 1.0 \
+                                   7919 friction cross\npair_coeff * * lj/cut 0.05 0.5\n\
+                                   pair_coeff * * mdpd/nonlinear -40.0 25.0 18.0 1.0 0.75 0.5"
+                .to_string(),
+            Some("pair_coeff") => continue,
+            _ => line.to_string(),
+        };
+        out.push_str(&line);
+        out.push('\n');
+    }
+    std::fs::create_dir_all(dir).unwrap();
+    let p = dir.join("in.mdpd_overlay");
+    std::fs::write(&p, out).unwrap();
+    p
+}
+
 /// Run LAMMPS (`ranks` MPI ranks, `threads` OpenMP threads each) on the test script in `dir`
 /// with `-var NAME VALUE` pairs; its output, which must hold no ERROR.
 fn lammps(lmp: &Path, dir: &Path, ranks: u32, threads: u32, vars: &[(&str, &str)]) -> String {
+    lammps_on(lmp, &script(), dir, ranks, threads, vars)
+}
+
+fn lammps_on(
+    lmp: &Path,
+    input: &Path,
+    dir: &Path,
+    ranks: u32,
+    threads: u32,
+    vars: &[(&str, &str)],
+) -> String {
     std::fs::create_dir_all(dir).unwrap();
     let mut cmd = if ranks == 1 {
         Command::new(lmp)
@@ -45,7 +84,7 @@ fn lammps(lmp: &Path, dir: &Path, ranks: u32, threads: u32, vars: &[(&str, &str)
     cmd.current_dir(dir)
         .env("OMP_NUM_THREADS", threads.to_string())
         .arg("-in")
-        .arg(script())
+        .arg(input)
         .args(["-log", "none"]);
     for (k, v) in vars {
         cmd.args(["-var", k, v]);
@@ -65,9 +104,13 @@ fn lammps(lmp: &Path, dir: &Path, ranks: u32, threads: u32, vars: &[(&str, &str)
 
 /// `dpdnl verify SCRIPT FRAMES`: exit code and output.
 fn verify(frames: &Path, extra: &[&str]) -> (i32, String) {
+    verify_on(&script(), frames, extra)
+}
+
+fn verify_on(input: &Path, frames: &Path, extra: &[&str]) -> (i32, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
         .arg("verify")
-        .arg(script())
+        .arg(input)
         .arg(frames)
         .args(extra)
         .output()
@@ -156,12 +199,23 @@ fn four_ranks_two_threads_agree() {
     let (code, out) = verify(&d.join("frames.bin"), &[]);
     assert_eq!(code, 0, "{out}");
     assert!(out.contains("VERIFY AGREE"), "{out}");
+
+    // Many-body DPD: the frame's densities are recomputed from its positions.
+    let d = dir("four_ranks_mdpd");
+    let input = mdpd_script(&d);
+    lammps_on(&lmp, &input, &d, 4, 2, &[]);
+    let (code, out) = verify_on(&input, &d.join("frames.bin"), &[]);
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains("VERIFY AGREE: pair_style mdpd/nonlinear, 5 frame(s)"),
+        "{out}"
+    );
 }
 
 /// ≥ 10⁶ atoms (fcc at density 3, 63³ cells: 1 000 188 atoms), 4 steps, frames at 0, 2 and 4.
 /// Prints LAMMPS's loop time and verify's times per frame.
 #[test]
-#[ignore = "10^6 atoms: minutes; cargo test --release --test verify -- --ignored --nocapture"]
+#[ignore = "10^6 atoms; cargo test --release --test verify -- --ignored --nocapture"]
 fn a_million_atoms_agree() {
     let Some(lmp) = plugin_support::lmp_dpdnl("dpdnl verify at 10^6 atoms") else {
         return;
