@@ -81,7 +81,7 @@ fn read_settings(script: &str, file: &str, style: &str) -> Result<Settings, Cann
     let mut seen = false;
     for raw in logical_lines(script) {
         let body = strip_comment(&raw.text);
-        let Ok(w) = split_words(&body) else { continue };
+        let Ok(w) = split_words(body) else { continue };
         let Some(cmd) = w.first() else { continue };
         match cmd.as_str() {
             "variable" | "units" | "dimension" => lines.push((body.to_string(), false)),
