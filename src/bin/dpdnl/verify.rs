@@ -47,6 +47,7 @@ pub struct VerifyArgs {
 }
 
 /// "Cannot run" (exit 2).
+#[derive(Debug)]
 struct CannotRun(String);
 
 impl From<String> for CannotRun {
@@ -73,45 +74,91 @@ struct Settings {
     file: String,
 }
 
-/// The script's lines that matter to `style` (see the module's documentation).
-fn read_settings(script: &str, file: &str, style: &str) -> Result<Settings, CannotRun> {
-    let mut lines = Vec::new();
-    let mut ours = false;
-    let mut hybrid = false;
-    let mut seen = false;
-    for raw in logical_lines(script) {
-        let body = strip_comment(&raw.text);
-        let Ok(w) = split_words(body) else { continue };
-        let Some(cmd) = w.first() else { continue };
-        match cmd.as_str() {
-            "variable" | "units" | "dimension" => lines.push((body.to_string(), false)),
-            "pair_style" => {
-                hybrid = w.get(1).is_some_and(|s| s.starts_with("hybrid"));
-                ours = w.get(1).is_some_and(|s| s == style)
-                    || (hybrid && w.iter().skip(2).any(|s| s == style));
-                if ours {
-                    seen = true;
-                    lines.push((body.to_string(), false));
+/// The scan of a script (and the files it includes) for the lines that matter to one style.
+struct Scan<'a> {
+    style: &'a str,
+    lines: Vec<(String, bool)>,
+    /// The current `pair_style` is (or holds) the style.
+    ours: bool,
+    hybrid: bool,
+    seen: bool,
+    /// `include` lines not followed (a variable in the file name), for a note.
+    skipped: Vec<String>,
+}
+
+impl Scan<'_> {
+    /// Scan `text`; `dir` resolves relative `include` names (LAMMPS's current directory, the
+    /// script's own when run from there).
+    fn text(&mut self, text: &str, dir: &std::path::Path, depth: usize) -> Result<(), CannotRun> {
+        let style = self.style;
+        for raw in logical_lines(text) {
+            let body = strip_comment(&raw.text);
+            let Ok(w) = split_words(body) else { continue };
+            let Some(cmd) = w.first() else { continue };
+            match cmd.as_str() {
+                "variable" | "units" | "dimension" => self.lines.push((body.to_string(), false)),
+                "include" if w.len() == 2 && !w[1].contains('$') && depth < 16 => {
+                    let path = dir.join(&w[1]);
+                    let t = std::fs::read_to_string(&path).map_err(|e| {
+                        CannotRun(format!(
+                            "include {}: cannot read {}: {e}",
+                            w[1],
+                            path.display()
+                        ))
+                    })?;
+                    self.text(&t, path.parent().unwrap_or(dir), depth + 1)?;
                 }
+                "include" => self.skipped.push(body.to_string()),
+                "pair_style" => {
+                    self.hybrid = w.get(1).is_some_and(|s| s.starts_with("hybrid"));
+                    self.ours = w.get(1).is_some_and(|s| s == style)
+                        || (self.hybrid && w.iter().skip(2).any(|s| s == style));
+                    if self.ours {
+                        self.seen = true;
+                        self.lines.push((body.to_string(), false));
+                    }
+                }
+                "pair_coeff" if self.ours && !self.hybrid => {
+                    self.lines.push((body.to_string(), true))
+                }
+                "pair_coeff" if self.ours && w.get(3).is_some_and(|s| s == style) => {
+                    let mut kept: Vec<String> = w.clone();
+                    kept.remove(3);
+                    self.lines.push((kept.join(" "), true));
+                }
+                _ => {}
             }
-            "pair_coeff" if ours && !hybrid => lines.push((body.to_string(), true)),
-            "pair_coeff" if ours && w.get(3).is_some_and(|s| s == style) => {
-                let mut kept: Vec<String> = w.clone();
-                kept.remove(3);
-                lines.push((kept.join(" "), true));
-            }
-            _ => {}
         }
+        Ok(())
     }
-    if !seen {
+}
+
+/// The script's lines that matter to `style` (see the module's documentation), following its
+/// `include` files.
+fn read_settings(script: &str, path: &std::path::Path, style: &str) -> Result<Settings, CannotRun> {
+    let file = path.display().to_string();
+    let mut scan = Scan {
+        style,
+        lines: Vec::new(),
+        ours: false,
+        hybrid: false,
+        seen: false,
+        skipped: Vec::new(),
+    };
+    let dir = path.parent().unwrap_or(std::path::Path::new("."));
+    scan.text(script, dir, 0)?;
+    for line in &scan.skipped {
+        eprintln!("note: dpdnl verify: '{line}' not followed (a variable in the file name)");
+    }
+    if !scan.seen {
         return Err(CannotRun(format!(
             "{file} has no pair_style {style} (the frames' style), alone or under hybrid"
         )));
     }
     Ok(Settings {
-        lines,
+        lines: scan.lines,
         name: style.to_string(),
-        file: file.to_string(),
+        file,
     })
 }
 
@@ -309,7 +356,7 @@ fn run(a: &VerifyArgs) -> Result<bool, CannotRun> {
                         s.name
                     )));
                 }
-                None => settings.insert(read_settings(&script, &file, &style)?),
+                None => settings.insert(read_settings(&script, &a.script, &style)?),
             };
             let t1 = Instant::now();
             let sys = recompute(s, &fr, &vars)?;
@@ -400,5 +447,46 @@ fn report_frame(
                 );
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lines kept: the style's own under hybrid/overlay (its name dropped from
+    /// `pair_coeff`), none of another pair_style's, and those of an included file.
+    #[test]
+    fn settings_follow_hybrid_and_include() {
+        let dir = std::env::temp_dir().join(format!("dpdnl-verify-unit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("coeffs.in"),
+            "pair_coeff 2 2 dpd/nonlinear 4 3 0\n",
+        )
+        .unwrap();
+        let script = "units lj\nvariable T equal 1.0\npair_style soft 1.0\npair_coeff * * 1.0\n\
+                      pair_style hybrid/overlay lj/cut 1.0 dpd/nonlinear ${T} 1.0 5\n\
+                      pair_coeff * * lj/cut 0.1 0.5\npair_coeff 1 1 dpd/nonlinear 5 4.5 0\n\
+                      include coeffs.in\nfix 1 all nve\n";
+        let path = dir.join("in.test");
+        let s = read_settings(script, &path, "dpd/nonlinear").unwrap();
+        let lines: Vec<(&str, bool)> = s.lines.iter().map(|(l, c)| (l.as_str(), *c)).collect();
+        assert_eq!(
+            lines,
+            [
+                ("units lj", false),
+                ("variable T equal 1.0", false),
+                (
+                    "pair_style hybrid/overlay lj/cut 1.0 dpd/nonlinear ${T} 1.0 5",
+                    false
+                ),
+                ("pair_coeff 1 1 5 4.5 0", true),
+                ("pair_coeff 2 2 4 3 0", true),
+            ]
+        );
+        let e = read_settings(script, &path, "sdpd").err().unwrap();
+        assert!(e.0.contains("no pair_style sdpd"), "{}", e.0);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }
