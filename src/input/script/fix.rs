@@ -20,6 +20,9 @@ pub(super) enum FixKind {
     FlipMomentum,
     /// `ave/time`, `ave/chunk`, `ave/histo` (in `observe`).
     Observe,
+    /// `dpdnl/frames N FILE`: LAMMPS's (the frames `dpdnl verify` checks); words checked,
+    /// nothing written here.
+    Frames,
 }
 
 impl Interpreter<'_> {
@@ -69,6 +72,15 @@ impl Interpreter<'_> {
             let f = Observe::parse_fix(args, &*self)?;
             self.obs.add_fix(f);
             self.fixes.push((id, FixKind::Observe));
+            return Ok(());
+        }
+        if args[2] == "dpdnl/frames" {
+            grammar::fix::frames(&args[1], &args[3..])?;
+            self.out(
+                "fix dpdnl/frames: LAMMPS writes the frames; the standalone engine's forces are \
+                 the reference `dpdnl verify` recomputes, so it writes none",
+            );
+            self.fixes.push((id, FixKind::Frames));
             return Ok(());
         }
         let dim = self.dim;
@@ -222,7 +234,7 @@ impl Interpreter<'_> {
                         t.flip_fix = None;
                     }
                 }
-                FixKind::Enforce2d => {}
+                FixKind::Enforce2d | FixKind::Frames => {}
                 FixKind::Observe => {
                     self.obs.unfix(&id);
                 }

@@ -142,6 +142,10 @@ pub struct Options {
     /// Cap on the number of atoms `create_atoms` may bring the system to (None: only the
     /// memory check). For untrusted scripts, as `max_steps`.
     pub max_atoms: Option<usize>,
+    /// Take this sub-style's words from a `pair_style hybrid`/`hybrid/overlay` line instead of
+    /// refusing it (`dpdnl verify`, which recomputes one dpdnl style of a LAMMPS run that
+    /// overlays others): its words are the longest run after its name that it parses.
+    pub substyle: Option<String>,
 }
 
 /// The interpreter state.
@@ -183,6 +187,8 @@ pub struct Interpreter<'c> {
     /// [`Options::max_steps`] and [`Options::max_atoms`].
     max_steps: Option<u64>,
     max_atoms: Option<usize>,
+    /// [`Options::substyle`].
+    substyle: Option<String>,
     depth: usize,
     run_first: u64,
     obs: Observe,
@@ -270,6 +276,7 @@ impl<'c> Interpreter<'c> {
             threads: opts.threads.max(1),
             max_steps: opts.max_steps,
             max_atoms: opts.max_atoms,
+            substyle: opts.substyle.clone(),
             depth: 0,
             run_first: 0,
             obs: Observe::new(),
