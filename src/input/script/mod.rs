@@ -27,10 +27,12 @@ mod pair;
 mod restart;
 mod run;
 mod setup;
+mod state;
 mod thermo;
 mod velocity;
 
 pub use run::PlannedRun;
+pub use state::{CARRIED, FromState, StateReport, first_run_line, setup_groups};
 
 use super::expr::{AtomBinder, ExprContext, Formula, RefKind, eval_equal};
 use super::format::{FmtArg, sprintf};
@@ -140,6 +142,8 @@ pub struct Options {
     /// Cap on the number of atoms `create_atoms` may bring the system to (None: only the
     /// memory check). For untrusted scripts, as `max_steps`.
     pub max_atoms: Option<usize>,
+    /// Run from LAMMPS's state (`dpdnl crosscheck --from lammps`): see [`FromState`].
+    pub from_state: Option<FromState>,
 }
 
 /// The interpreter state.
@@ -182,6 +186,10 @@ pub struct Interpreter<'c> {
     depth: usize,
     run_first: u64,
     obs: Observe,
+    /// The "from LAMMPS's state" mode, when [`Options::from_state`] is set.
+    state: Option<state::StateMode>,
+    /// The `run` commands started (a set-up error is one before the first).
+    runs_started: u64,
 }
 
 type CmdResult = Result<(), String>;
@@ -268,6 +276,8 @@ impl<'c> Interpreter<'c> {
             depth: 0,
             run_first: 0,
             obs: Observe::new(),
+            state: opts.from_state.clone().map(state::StateMode::new),
+            runs_started: 0,
         })
     }
 
@@ -286,6 +296,11 @@ impl<'c> Interpreter<'c> {
     /// set-up).
     pub fn system_mut(&mut self) -> Option<&mut System> {
         self.sys.as_mut()
+    }
+
+    /// The number of `run` commands started so far (0: an error came from the set-up).
+    pub fn runs_started(&self) -> u64 {
+        self.runs_started
     }
 
     /// The file names of the dumps currently defined, as given to `dump` (after variable
@@ -336,6 +351,10 @@ impl<'c> Interpreter<'c> {
             let Some((cmd, args)) = words.split_first() else {
                 continue;
             };
+            if let Some(r) = self.state_command(raw.line, cmd, args) {
+                r.map_err(|m| err(cmd, m))?;
+                continue;
+            }
             if cmd == "include" {
                 if args.len() != 1 {
                     return Err(err(cmd, "usage: include FILE".into()));
@@ -514,7 +533,11 @@ impl<'c> Interpreter<'c> {
             "dump" => self.cmd_dump(args),
             "dump_modify" => self.cmd_dump_modify(args),
             "undump" => self.cmd_undump(args),
-            "run" => self.cmd_run(args),
+            "run" => {
+                self.runs_started += 1;
+                self.cmd_run(args)
+            }
+            "run_style" => run::cmd_run_style(args),
             "change_box" => self.cmd_change_box(args),
             "reset_timestep" => self.cmd_reset_timestep(args),
             "print" => self.cmd_print(args),

@@ -307,6 +307,31 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_read_data(&mut self, args: &[String]) -> CmdResult {
+        let (d, nocoeff) = self.read_data_file(args)?;
+        let (n, ntypes, nb, nbt, na, nat) = (
+            d.atoms.len(),
+            d.ntypes,
+            d.bonds.len(),
+            d.nbondtypes,
+            d.angles.len(),
+            d.nangletypes,
+        );
+        self.fill_new_system(d, nocoeff, &args[0])?;
+        self.out(&format!(
+            "Read data file {}: {n} atoms, {ntypes} atom types",
+            args[0]
+        ));
+        if self.atom_style.molecular() {
+            self.out(&format!(
+                "  {nb} bonds, {nbt} bond types, {na} angles, {nat} angle types"
+            ));
+        }
+        Ok(())
+    }
+
+    /// The data file of a `read_data` command, read and checked, with its keywords' extra
+    /// types added; and whether `nocoeff` was given.
+    pub(super) fn read_data_file(&mut self, args: &[String]) -> Result<(DataFile, bool), String> {
         let usage = "read_data FILE [nocoeff] [extra/atom/types N] [extra/bond/types N] [extra/angle/types N] [extra/bond|angle|dihedral|improper|special/per/atom N]";
         need(args, 1, usage)?;
         // LAMMPS's keywords that make room for more (types added to the file's counts; the
@@ -359,16 +384,26 @@ impl Interpreter<'_> {
         d.ntypes = d.ntypes.saturating_add(extra_types[0]);
         d.nbondtypes = d.nbondtypes.saturating_add(extra_types[1]);
         d.nangletypes = d.nangletypes.saturating_add(extra_types[2]);
+        Ok((d, nocoeff))
+    }
+
+    /// A new box made from the data file `d` (named `file` in messages): the topology (the
+    /// styles given before take the type counts), the box with the pair style given before it,
+    /// the atoms, velocities and masses, then the coefficient sections in file order. On an
+    /// error no box is left (as if the command had not run: an embedding may go on).
+    pub(super) fn fill_new_system(
+        &mut self,
+        mut d: DataFile,
+        nocoeff: bool,
+        file: &str,
+    ) -> CmdResult {
         crate::engine::check_ntypes(d.ntypes)?;
         for n in [d.nbondtypes, d.nangletypes] {
             crate::engine::check_ntypes(n.max(1))?;
         }
         d.masses.resize(d.ntypes + 1, None);
         if self.dim == 2 && d.atoms.iter().any(|a| a.2[2] != 0.0) {
-            return Err(format!(
-                "{}: a 2-D system needs z = 0 for every atom",
-                args[0]
-            ));
+            return Err(format!("{file}: a 2-D system needs z = 0 for every atom"));
         }
         if let Some(h) = &d.atoms_hint
             && !style_match(h, self.atom_style.word())
@@ -378,8 +413,6 @@ impl Interpreter<'_> {
                 self.atom_style.word()
             ));
         }
-        // The topology (styles given before read_data take the type counts), then the box
-        // with the pair style given before it, then the coefficient sections in file order.
         let topo = if self.atom_style.molecular() {
             let mut t = self
                 .pre_topo
@@ -391,27 +424,11 @@ impl Interpreter<'_> {
             None
         };
         self.new_system(d.ntypes, d.lo, d.hi)?;
-        let filled = self.fill_from_data(&d, topo, nocoeff, &args[0]);
+        let filled = self.fill_from_data(&d, topo, nocoeff, file);
         if filled.is_err() {
-            // As if the command had not run (an embedding may go on).
             self.sys = None;
         }
-        filled?;
-        let n = d.atoms.len();
-        self.out(&format!(
-            "Read data file {}: {n} atoms, {} atom types",
-            args[0], d.ntypes
-        ));
-        if self.atom_style.molecular() {
-            self.out(&format!(
-                "  {} bonds, {} bond types, {} angles, {} angle types",
-                d.bonds.len(),
-                d.nbondtypes,
-                d.angles.len(),
-                d.nangletypes
-            ));
-        }
-        Ok(())
+        filled
     }
 
     /// The new box of `read_data` filled from the file `d`: the topology `topo`, the tilt, the
@@ -533,13 +550,37 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_write_data(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, "write_data FILE [nocoeff]")?;
+        let usage = "write_data FILE [nocoeff] [nofix] [pair ii|ij]";
+        need(args, 1, usage)?;
         let mut nocoeff = false;
-        for a in &args[1..] {
-            if a != "nocoeff" {
-                return Err(format!("write_data keyword '{a}' not supported"));
+        let mut pair: Option<CoeffKind> = None;
+        let mut k = 1;
+        while k < args.len() {
+            match args[k].as_str() {
+                "nocoeff" => nocoeff = true,
+                // No fix here writes a data section of its own.
+                "nofix" => {}
+                "pair" => {
+                    pair = Some(match args.get(k + 1).map(String::as_str) {
+                        Some("ii") => CoeffKind::Pair,
+                        Some("ij") => CoeffKind::PairIJ,
+                        o => {
+                            return Err(format!(
+                                "write_data pair needs ii or ij, found '{}'; usage: {usage}",
+                                crate::grammar::shown(o.unwrap_or(""))
+                            ));
+                        }
+                    });
+                    k += 1;
+                }
+                a => {
+                    return Err(format!(
+                        "write_data keyword '{}' not supported; usage: {usage}",
+                        crate::grammar::shown(a)
+                    ));
+                }
             }
-            nocoeff = true;
+            k += 1;
         }
         let sys = self.sys.as_mut().ok_or("needs a simulation box first")?;
         // A tilted box: LAMMPS's `write_data` wraps the atoms first (`Domain::pbc`, with the
@@ -605,6 +646,11 @@ impl Interpreter<'_> {
                     coeffs[1] = rows(&a.coeff).map(|r| (a.form.word().to_string(), r));
                 }
             }
+        }
+        if let Some(kind) = pair.filter(|_| !nocoeff)
+            && let Some(p) = sys.pair.as_deref().filter(|p| p.writes_data())
+        {
+            d.coeffs.push(pair_coeff_section(p, kind, sys.ntypes)?);
         }
         let title = format!(
             "LAMMPS data file via write_data (dpdnl), timestep = {}",
@@ -704,6 +750,42 @@ impl Interpreter<'_> {
         self.sys_mut()?.step = n;
         Ok(())
     }
+}
+
+/// The `Pair Coeffs` (`kind` Pair: a line `I c…` per type) or `PairIJ Coeffs` (a line `I J c…`
+/// per type pair I ≤ J) section of `write_data … pair ii|ij`, numbers as LAMMPS's styles
+/// write them (`%.17g`), for a style that writes data coefficients.
+fn pair_coeff_section(
+    p: &dyn crate::forces::PairStyle,
+    kind: CoeffKind,
+    ntypes: usize,
+) -> Result<crate::io::data::CoeffSection, String> {
+    let mut lines = Vec::new();
+    for i in 1..=ntypes {
+        let js: Vec<usize> = match kind {
+            CoeffKind::PairIJ => (i..=ntypes).collect(),
+            _ => vec![i],
+        };
+        for j in js {
+            let mut words = vec![i.to_string()];
+            if kind == CoeffKind::PairIJ {
+                words.push(j.to_string());
+            }
+            for v in p.data_coeffs(i, j).unwrap_or_default() {
+                words.push(crate::input::format::sprintf(
+                    "%.17g",
+                    &[crate::input::format::FmtArg::Float(v)],
+                )?);
+            }
+            lines.push((0, words));
+        }
+    }
+    Ok(crate::io::data::CoeffSection {
+        kind,
+        line: 0,
+        style: Some(p.name().to_string()),
+        lines,
+    })
 }
 
 /// Bytes per atom the engine needs at least (atom data measured 95–148 B/atom, BENCHMARKS.md;

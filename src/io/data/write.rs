@@ -3,8 +3,9 @@
 use super::*;
 
 /// Write a data file (LAMMPS `write_data` layout, 17 significant digits so it reads back
-/// exactly): header, `Masses`, the coefficient sections given in `coeffs` (bond, angle: the
-/// style name and the words after the type of each type's line), `Atoms` in the style's
+/// exactly): header, `Masses`, the `Pair Coeffs`/`PairIJ Coeffs` sections of `d.coeffs`, the
+/// coefficient sections given in `coeffs` (bond, angle: the style name and the words after the
+/// type of each type's line), `Atoms` in the style's
 /// columns with image flags, `Velocities`, `Bonds`, `Angles`.
 pub fn format_data(d: &DataFile, title: &str) -> String {
     format_data_with(d, title, &[None, None])
@@ -41,6 +42,20 @@ pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffRows; 2]) -> S
             if let Some(m) = m {
                 let _ = writeln!(s, "{t} {m:.16e}");
             }
+        }
+    }
+    for c in d
+        .coeffs
+        .iter()
+        .filter(|c| matches!(c.kind, CoeffKind::Pair | CoeffKind::PairIJ))
+    {
+        let hint = c
+            .style
+            .as_deref()
+            .map_or(String::new(), |h| format!(" # {h}"));
+        let _ = writeln!(s, "\n{}{hint}\n", c.kind.title());
+        for (_, words) in &c.lines {
+            let _ = writeln!(s, "{}", words.join(" "));
         }
     }
     for (c, what) in coeffs.iter().zip(["Bond", "Angle"]) {
