@@ -158,6 +158,11 @@ pub struct Interpreter<'c> {
     sys: Option<System>,
     /// `atom_style` (the columns `read_data` reads; molecular styles carry a topology).
     atom_style: crate::engine::topology::AtomStyle,
+    /// The columns of `atom_style`'s data-file lines (`charge`, `mdpd`, `hybrid` …).
+    atom_columns: crate::io::data::AtomColumns,
+    /// The extra columns' values by atom id (read from a data file, written back by
+    /// `write_data`; atoms made later get 0).
+    atom_extra: BTreeMap<u32, crate::io::data::AtomExtra>,
     /// `bond_style`, `angle_style` words and `special_bonds` given before the box exists.
     pre_topo: bonded::PreTopology,
     /// `pair_style` words given before the box exists (the style is made with the box).
@@ -256,6 +261,8 @@ impl<'c> Interpreter<'c> {
             prisms: BTreeMap::new(),
             sys: None,
             atom_style: Default::default(),
+            atom_columns: Default::default(),
+            atom_extra: BTreeMap::new(),
             pre_topo: Default::default(),
             pre_pair: None,
             comm_cutoff: 0.0,

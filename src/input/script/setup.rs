@@ -4,10 +4,11 @@
 
 use super::{CmdResult, Interpreter, type_range};
 use crate::engine::lees_edwards::Triclinic;
-use crate::engine::topology::AtomStyle;
 use crate::engine::{SimBox, System};
 use crate::grammar::{at_most, need, parse_f64, parse_int};
-use crate::io::data::{CoeffKind, DataFile, format_data_with, parse_data_styled, style_match};
+use crate::io::data::{
+    AtomColumns, CoeffKind, DataFile, format_data_with, parse_data_columns, style_match,
+};
 use crate::rng::{STREAM_CREATE_ATOMS, keyed_uniform};
 use std::collections::BTreeMap;
 
@@ -52,14 +53,26 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_atom_style(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, "atom_style atomic|bond|angle|molecular|full")?;
-        // The style word first (`hybrid` takes sub-styles), then the count.
-        let style = AtomStyle::from_word(&args[0])?;
-        exact(args, 1, "atom_style atomic|bond|angle|molecular|full")?;
+        need(
+            args,
+            1,
+            "atom_style atomic|bond|angle|molecular|full|charge|mdpd|hybrid …",
+        )?;
+        // The style words first (`hybrid` takes sub-styles), then the box.
+        let columns = AtomColumns::parse(args)?;
+        if columns.per_atom_mass() {
+            return Err(format!(
+                "atom_style {}: per-atom masses (sphere's diameter and density) are not \
+                 supported: this engine has per-type masses only (the DPD styles use no radius); \
+                 use atom_style atomic (or charge, mdpd, bond, …) with `mass`",
+                columns.words.join(" ")
+            ));
+        }
         if self.sys.is_some() {
             return Err("atom_style command after simulation box is defined".into());
         }
-        self.atom_style = style;
+        self.atom_style = columns.base;
+        self.atom_columns = columns;
         Ok(())
     }
 
@@ -380,7 +393,7 @@ impl Interpreter<'_> {
         }
         let text = std::fs::read_to_string(&args[0])
             .map_err(|e| format!("cannot read data file {}: {e}", args[0]))?;
-        let mut d = parse_data_styled(&text, &args[0], self.atom_style)?;
+        let mut d = parse_data_columns(&text, &args[0], &self.atom_columns)?;
         d.ntypes = d.ntypes.saturating_add(extra_types[0]);
         d.nbondtypes = d.nbondtypes.saturating_add(extra_types[1]);
         d.nangletypes = d.nangletypes.saturating_add(extra_types[2]);
@@ -406,11 +419,11 @@ impl Interpreter<'_> {
             return Err(format!("{file}: a 2-D system needs z = 0 for every atom"));
         }
         if let Some(h) = &d.atoms_hint
-            && !style_match(h, self.atom_style.word())
+            && !style_match(h, self.atom_columns.word())
         {
             self.warn(&format!(
                 "Atom style in data file {h} differs from currently defined atom style {}",
-                self.atom_style.word()
+                self.atom_columns.word()
             ));
         }
         let topo = if self.atom_style.molecular() {
@@ -428,6 +441,12 @@ impl Interpreter<'_> {
         if filled.is_err() {
             self.sys = None;
         }
+        self.atom_extra = d
+            .atoms
+            .iter()
+            .zip(&d.extra)
+            .map(|(a, e)| (a.0, *e))
+            .collect();
         filled
     }
 
@@ -646,6 +665,15 @@ impl Interpreter<'_> {
                     coeffs[1] = rows(&a.coeff).map(|r| (a.form.word().to_string(), r));
                 }
             }
+        }
+        if !self.atom_columns.is_plain() {
+            d.style = self.atom_columns.base;
+            d.columns = self.atom_columns.clone();
+            d.extra = d
+                .atoms
+                .iter()
+                .map(|a| self.atom_extra.get(&a.0).copied().unwrap_or_default())
+                .collect();
         }
         if let Some(kind) = pair.filter(|_| !nocoeff)
             && let Some(p) = sys.pair.as_deref().filter(|p| p.writes_data())

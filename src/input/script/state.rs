@@ -21,7 +21,7 @@
 //! file) is an error: the split is textual, at the first `run` of the script itself.
 
 use super::{CmdResult, Interpreter};
-use crate::io::data::{DataFile, parse_data_styled};
+use crate::io::data::{DataFile, parse_data_columns};
 use std::path::PathBuf;
 
 /// Where LAMMPS's state is, for [`super::Options::from_state`].
@@ -239,7 +239,7 @@ impl Interpreter<'_> {
         let file = spec.data.display().to_string();
         let text = std::fs::read_to_string(&spec.data)
             .map_err(|e| format!("cannot read LAMMPS's state {file}: {e}"))?;
-        let mut d: DataFile = parse_data_styled(&text, &file, self.atom_style)
+        let mut d: DataFile = parse_data_columns(&text, &file, &self.atom_columns)
             .map_err(|e| format!("LAMMPS's state: {e}"))?;
         let step = title_step(&text)
             .ok_or_else(|| format!("LAMMPS's state {file}: no 'timestep = N' in its title line"))?;

@@ -70,9 +70,21 @@ pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffRows; 2]) -> S
             }
         }
     }
-    let _ = writeln!(s, "\nAtoms # {}\n", d.style.word());
+    let plain = d.columns.is_plain() || d.columns.base != d.style;
+    let word = if plain {
+        d.style.word()
+    } else {
+        d.columns.word()
+    };
+    let _ = writeln!(s, "\nAtoms # {word}\n");
     for (k, (tag, t, x, im)) in d.atoms.iter().enumerate() {
         let mol = d.mol.get(k).copied().unwrap_or(0);
+        if !plain {
+            let e = d.extra.get(k).copied().unwrap_or_default();
+            let line = columns_line(&d.columns, (*tag, *t, mol), x, &e);
+            let _ = writeln!(s, "{line} {} {} {}", im[0], im[1], im[2]);
+            continue;
+        }
         let lead = match d.style {
             AtomStyle::Atomic => format!("{tag} {t}"),
             AtomStyle::Full => format!("{tag} {mol} {t} 0"),
@@ -86,8 +98,13 @@ pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffRows; 2]) -> S
     }
     if !d.velocities.is_empty() {
         let _ = writeln!(s, "\nVelocities\n");
-        for (tag, v) in &d.velocities {
-            let _ = writeln!(s, "{tag} {:.16e} {:.16e} {:.16e}", v[0], v[1], v[2]);
+        for (k, (tag, v)) in d.velocities.iter().enumerate() {
+            let _ = write!(s, "{tag} {:.16e} {:.16e} {:.16e}", v[0], v[1], v[2]);
+            if d.columns.omega && !plain {
+                let w = d.omega.get(k).copied().unwrap_or_default();
+                let _ = write!(s, " {:.16e} {:.16e} {:.16e}", w[0], w[1], w[2]);
+            }
+            let _ = writeln!(s);
         }
     }
     if !d.bonds.is_empty() {
@@ -102,6 +119,33 @@ pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffRows; 2]) -> S
             let [p, q, r] = a.atoms;
             let _ = writeln!(s, "{} {} {p} {q} {r}", k + 1, a.typ);
         }
+    }
+    s
+}
+
+/// An `Atoms` line in the columns `c` (before the image flags): (id, type, molecule), the
+/// position and the extra values; charges are 0.
+fn columns_line(
+    c: &AtomColumns,
+    (tag, t, mol): (u32, u32, u32),
+    x: &[f64; 3],
+    e: &AtomExtra,
+) -> String {
+    let mut s = String::new();
+    for (k, f) in c.atom.iter().enumerate() {
+        if k > 0 {
+            s.push(' ');
+        }
+        let _ = match f {
+            Field::Id => write!(s, "{tag}"),
+            Field::Type => write!(s, "{t}"),
+            Field::Mol => write!(s, "{mol}"),
+            Field::Q => write!(s, "0"),
+            Field::Rho => write!(s, "{:.16e}", e.rho),
+            Field::Diameter => write!(s, "{:.16e}", e.diameter),
+            Field::Density => write!(s, "{:.16e}", e.density),
+            Field::X => write!(s, "{:.16e} {:.16e} {:.16e}", x[0], x[1], x[2]),
+        };
     }
     s
 }
