@@ -9,8 +9,10 @@
 //! - this file: the [`Interpreter`] and its [`Options`], [`Console`] and [`ScriptError`]; reading
 //!   scripts (`include`), variables and `$` substitution, the command dispatch;
 //! - `setup`: the box and the atoms (`units`, `dimension`, `boundary`, `atom_style`, `region`,
-//!   `create_box`, `create_atoms`, `read_data`, `write_data`, `mass`, `neighbor`, `timestep`,
-//!   `change_box`, `reset_timestep`);
+//!   `create_box`, `create_atoms`, `mass`, `neighbor`, `timestep`, `change_box`,
+//!   `reset_timestep`);
+//! - `data`: `read_data`, `write_data`;
+//! - `state`: crosscheck's run from LAMMPS's state ([`FromState`]);
 //! - `velocity`: `velocity`;
 //! - `pair`: `pair_style`, `pair_coeff` (parsed by [`crate::grammar`]);
 //! - `fix`: `fix`, `unfix` and `fix deform`;
@@ -18,9 +20,11 @@
 //! - `output`: `dump`, `dump_modify`, `undump`, the dump files, `print`, `log`;
 //! - `run`: `run`, the end-of-step fixes, dry runs and their [`PlannedRun`];
 //! - `restart`: `write_restart`, `read_restart`, `restart N FILE` (the file format is
-//!   [`crate::io::restart`]).
+//!   [`crate::io::restart`]);
+//! - `run_style verlet` is accepted in the dispatch (`run`).
 
 mod bonded;
+mod data;
 mod fix;
 mod output;
 mod pair;
