@@ -12,6 +12,7 @@
 pub mod atoms;
 pub mod domain;
 pub mod fixes;
+pub mod groups;
 pub mod lees_edwards;
 pub mod measure;
 pub(crate) mod neighbor;
@@ -82,6 +83,8 @@ pub struct System {
     pub units: crate::units::Units,
     /// Current step (LAMMPS's `update->ntimestep`).
     pub step: u64,
+    /// The names of the groups by mask bit (`group`; the masks are [`Atoms::mask`]).
+    pub groups: groups::Groups,
     /// The integrator, if a `fix nve` or `fix nve/euler` is defined.
     pub integrator: Option<Integrator>,
     /// PeX pushes defined with `fix … pex/push`.
@@ -170,6 +173,7 @@ impl System {
             dt: 0.005,
             units: crate::units::Units::LJ,
             step: 0,
+            groups: groups::Groups::default(),
             integrator: None,
             pex: Vec::new(),
             tally: PairTally::default(),

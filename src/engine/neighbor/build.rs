@@ -288,6 +288,7 @@ pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch
         typ,
         image,
         mol,
+        mask,
     } = atoms;
     gather(x, perm, &mut scratch.vec3);
     gather(v, perm, &mut scratch.vec3);
@@ -297,6 +298,9 @@ pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch
     gather(image, perm, &mut scratch.int3);
     if !mol.is_empty() {
         gather(mol, perm, &mut scratch.u32s);
+    }
+    if !mask.is_empty() {
+        gather(mask, perm, &mut scratch.u32s);
     }
 }
 

@@ -26,6 +26,7 @@
 mod bonded;
 mod data;
 mod fix;
+mod group;
 mod output;
 mod pair;
 mod restart;
@@ -506,6 +507,7 @@ impl<'c> Interpreter<'c> {
             "atom_style" => self.cmd_atom_style(args),
             "variable" => self.cmd_variable(args),
             "region" => self.cmd_region(args),
+            "group" => self.cmd_group(args),
             "create_box" => self.cmd_create_box(args),
             "create_atoms" => self.cmd_create_atoms(args),
             "read_data" => self.cmd_read_data(args),

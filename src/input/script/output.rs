@@ -8,7 +8,9 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 
 pub(super) struct Dump {
-    id: String,
+    pub(super) id: String,
+    /// The group whose atoms are written (at each write, as LAMMPS).
+    pub(super) group: String,
     every: u64,
     pub(super) path: String,
     columns: Vec<String>,
@@ -21,12 +23,12 @@ pub(super) struct Dump {
 
 impl Interpreter<'_> {
     pub(super) fn cmd_dump(&mut self, args: &[String]) -> CmdResult {
-        let usage = "dump ID all custom N FILE COLUMNS… | dump ID all atom N FILE";
+        let usage = "dump ID GROUP custom N FILE COLUMNS… | dump ID GROUP atom N FILE";
         // The style word first, so that a style this engine lacks is named as such, whatever
         // its arguments.
         need(args, 3, usage)?;
         if args[1] != "all" {
-            return Err(format!("group '{}' not supported: only 'all'", args[1]));
+            self.group_bit(&args[1])?;
         }
         // `atom` is LAMMPS's default atom dump: id, type and scaled positions.
         let atom_style = match args[2].as_str() {
@@ -109,6 +111,7 @@ impl Interpreter<'_> {
             .map_err(|e| format!("cannot open dump file {}: {e}", args[4]))?;
         self.dumps.push(Dump {
             id: args[0].clone(),
+            group: args[1].clone(),
             every,
             path: args[4].clone(),
             columns,
@@ -170,8 +173,11 @@ impl Interpreter<'_> {
             }
             let _ = setup;
             d.last = Some(step);
-            let n = sys.atoms.len();
-            let mut order: Vec<usize> = (0..n).collect();
+            let bit = sys.groups.bit(&d.group).unwrap_or(1);
+            let mut order: Vec<usize> = (0..sys.atoms.len())
+                .filter(|&i| sys.atoms.mask_of(i) & bit != 0)
+                .collect();
+            let n = order.len();
             order.sort_by_key(|&i| sys.atoms.tag[i]);
             let w = &mut d.writer;
             let io = |e: std::io::Error| format!("cannot write dump file: {e}");

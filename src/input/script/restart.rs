@@ -106,6 +106,7 @@ impl Interpreter<'_> {
         sys.step = r.step;
         sys.mass = r.masses;
         sys.atoms = r.atoms;
+        sys.groups = crate::engine::groups::Groups::from_names(r.groups).map_err(bad)?;
         sys.tally = r.tally;
         let topo_lines = match r.topo {
             Some(t) => {
@@ -224,6 +225,7 @@ impl Interpreter<'_> {
             atoms: std::mem::take(&mut sys.atoms),
             tally: sys.tally,
             units: sys.units.style,
+            groups: sys.groups.names().to_vec(),
         };
         let bytes = restart::encode(&r);
         sys.atoms = r.atoms;

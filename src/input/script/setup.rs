@@ -156,7 +156,7 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    fn region(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
+    pub(super) fn region(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
         self.regions
             .get(id)
             .copied()
