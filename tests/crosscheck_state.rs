@@ -116,6 +116,7 @@ fn the_state_replaces_the_set_up() {
         "{:?}",
         r.not_carried
     );
+    // No group dump here: the group is named as not carried.
     assert!(
         r.not_carried.iter().any(|n| n.starts_with("group heavy ")),
         "{:?}",
@@ -192,17 +193,9 @@ fn run_style_verlet_only() {
     );
 }
 
-/// LAMMPS's own `dpdext` example, migrated (`dpd/ext` → `dpd/nonlinear/ext`, the same words:
-/// docs/manual/migration.md) and shortened to 100 steps, thermo every 20 steps and a dump at
-/// steps 0, 50 and 100 at full precision (the corpus file is not edited: the copy is made here).
-/// The standalone engine cannot build it (`lattice`, `create_atoms … random` on LAMMPS's
-/// generator, `velocity create`), so crosscheck runs from LAMMPS's state: it must AGREE within
-/// the golden cases' rtol 1e-9, atol 1e-9, and name what the state carried.
-#[test]
-fn corpus_dpdext_from_lammps_state_agrees() {
-    let Some(lmp) = plugin_support::lmp_dpdnl("crosscheck from LAMMPS's state") else {
-        return;
-    };
+/// LAMMPS's `dpdext` example, migrated and shortened (see the test below), with `fix_line`
+/// in place of its `fix 1 all nve` (when not empty) and `after` after its run.
+fn dpdext_copy(fix_line: &str, after: &str) -> String {
     let original = plugin_support::read(
         &plugin_support::root().join("validation/corpus/lammps-dpdext/in.dpdext"),
     );
@@ -214,16 +207,35 @@ fn corpus_dpdext_from_lammps_state_agrees() {
                 assert_eq!(w[1], "dpd/ext", "{line}");
                 script.push_str(&line.replacen("dpd/ext", "dpd/nonlinear/ext", 1));
             }
-            Some("run") => script.push_str("run 100"),
+            Some("run") => {
+                script.push_str("run 100");
+                script.push_str(after);
+            }
             Some("thermo") => script.push_str(
                 "thermo 20\nthermo_modify format float %20.15g\n\
                  dump d all custom 50 dump.${engine} id x y z vx vy vz fx fy fz\n\
                  dump_modify d format float %20.15g",
             ),
+            Some("fix") if !fix_line.is_empty() => script.push_str(fix_line),
             _ => script.push_str(line),
         }
         script.push('\n');
     }
+    script
+}
+
+/// LAMMPS's own `dpdext` example, migrated (`dpd/ext` → `dpd/nonlinear/ext`, the same words:
+/// docs/manual/migration.md) and shortened to 100 steps, thermo every 20 steps and a dump at
+/// steps 0, 50 and 100 at full precision (the corpus file is not edited: the copy is made here).
+/// The standalone engine cannot build it (`lattice`, `create_atoms … random` on LAMMPS's
+/// generator, `velocity create`), so crosscheck runs from LAMMPS's state: it must AGREE within
+/// the golden cases' rtol 1e-9, atol 1e-9, and name what the state carried.
+#[test]
+fn corpus_dpdext_from_lammps_state_agrees() {
+    let Some(lmp) = plugin_support::lmp_dpdnl("crosscheck from LAMMPS's state") else {
+        return;
+    };
+    let script = dpdext_copy("", "");
     for needed in [
         "lattice",
         "create_atoms 1 random",
@@ -287,4 +299,97 @@ fn corpus_dpdext_from_lammps_state_agrees() {
         stderr.contains("in.dpdext:16: lattice: unknown command"),
         "{stderr}"
     );
+}
+
+/// Groups from LAMMPS's state: the dpdext example with three groups made in its set-up (a
+/// region, a type, their intersection), a `velocity … set` on one of them in the set-up, a dump
+/// of another, and `velocity left set 0 0 0` between two runs: the standalone engine takes each
+/// group's membership from LAMMPS (`gmask()`), and the engines AGREE.
+#[test]
+fn corpus_dpdext_groups_from_lammps_state_agree() {
+    let Some(lmp) = plugin_support::lmp_dpdnl("crosscheck from LAMMPS's state") else {
+        return;
+    };
+    let script = dpdext_copy(
+        "region half block 0 2.5 INF INF INF INF units box\ngroup left region half\n\
+         group heavy type 2\ngroup lh intersect left heavy\nvelocity lh set 0 0 0\n\
+         fix 1 all nve\ndump h lh custom 50 dump.lh.${engine} id vx vy vz\n\
+         dump_modify h format float %20.15g",
+        "\nvelocity left set 0 0 0\nrun 50",
+    );
+    let dir = scratch("crosscheck_state_groups");
+    let path = dir.join("in.groups");
+    std::fs::write(&path, &script).expect("script");
+    let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+        .arg("crosscheck")
+        .arg(&path)
+        .arg("--lmp")
+        .arg(&lmp)
+        .arg("--workdir")
+        .arg(dir.join("work"))
+        .args(["--threads", "2", "--atol", "1e-9", "--from", "lammps"])
+        .output()
+        .expect("run dpdnl crosscheck");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stdout}\n{stderr}");
+    let verdict = stdout.lines().last().unwrap_or("");
+    assert!(
+        verdict.starts_with("CROSSCHECK AGREE: thermo log and 2 dump(s)"),
+        "{verdict}"
+    );
+    assert!(
+        verdict.contains("velocity x2, group x3; not carried: nothing)"),
+        "{verdict}"
+    );
+    // The intersection holds some atoms but not all: the dump of it is not trivially empty.
+    let text = plugin_support::read(&dir.join("work/dump.lh.standalone"));
+    let rows = dpdnl::io::dump_read::parse_dump(&text).expect("dump")[0]
+        .rows
+        .len();
+    assert!(rows > 10 && rows < 100, "{rows} atoms in lh");
+}
+
+/// A group of the set-up takes LAMMPS's membership from the group dump, whatever its own
+/// command says (here `type 1`, while LAMMPS's dump puts atoms 2 and 3 in it).
+#[test]
+fn groups_take_lammps_membership() {
+    let dir = scratch("state_mode_groups");
+    let dump = dir.join("groups.dump");
+    std::fs::write(
+        &dump,
+        "ITEM: TIMESTEP\n40\nITEM: NUMBER OF ATOMS\n3\nITEM: BOX BOUNDS pp pp pp\n0 4\n0 4\n0 4\n\
+         ITEM: ATOMS id v_dpdnl_group_0\n1 0\n2 1\n3 1\n",
+    )
+    .expect("dump");
+    let data = dir.join("state.data");
+    std::fs::write(&data, STATE).expect("state file");
+    let script = format!(
+        "{PRELUDE}region b block 0 4 0 4 0 4\ncreate_box 2 b\ngroup g type 1\n\
+         pair_style dpd/nonlinear 1.0 1.0 5\npair_coeff * * 25 4.5 0\nrun 0\n"
+    );
+    let path = dir.join("in.test");
+    std::fs::write(&path, &script).expect("script");
+    let opts = Options {
+        from_state: Some(FromState {
+            data,
+            group_dump: Some(dump),
+            groups: vec!["g".into()],
+            run_line: 9,
+        }),
+        threads: 1,
+        ..Options::default()
+    };
+    let mut console = Collect::default();
+    let mut it = Interpreter::new(&mut console, &opts).expect("interpreter");
+    it.run_file(&path).expect("runs");
+    let sys = it.system().expect("a system");
+    let bit = sys.groups.bit("g").expect("group g");
+    let mut members: Vec<u32> = (0..sys.atoms.len())
+        .filter(|&i| sys.atoms.mask_of(i) & bit != 0)
+        .map(|i| sys.atoms.tag[i])
+        .collect();
+    members.sort_unstable();
+    assert_eq!(members, [2, 3]);
+    assert!(it.state_report().expect("report").not_carried.is_empty());
 }

@@ -223,11 +223,13 @@ impl System {
                 }
                 // LAMMPS adds the first group's atoms, then takes out every atom of any other
                 // group in turn (the group itself among them).
-                GroupOp::Subtract(_) => bits[1..]
-                    .iter()
-                    .fold(if m & bits[0] != 0 { m | bit } else { m }, |m, &o| {
-                        if m & o != 0 { m & !bit } else { m }
-                    }),
+                GroupOp::Subtract(_) => {
+                    bits[1..]
+                        .iter()
+                        .fold(if m & bits[0] != 0 { m | bit } else { m }, |m, &o| {
+                            if m & o != 0 { m & !bit } else { m }
+                        })
+                }
                 GroupOp::Union(_) if bits.iter().any(|&o| m & o != 0) => m | bit,
                 GroupOp::Intersect(_) if bits.iter().all(|&o| m & o != 0) => m | bit,
                 _ => m,

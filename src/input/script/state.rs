@@ -14,7 +14,8 @@
 //!   such ([`CARRIED`]: `lattice`, `create_atoms`, `velocity`, `set`, `delete_atoms`,
 //!   `displace_atoms`, `minimize`, `mass`, …), and so are `region` commands this engine cannot
 //!   parse (only the atoms they placed matter once the state is installed) and `group`
-//!   commands (their memberships are LAMMPS's);
+//!   commands: each group takes LAMMPS's membership at the end of the set-up
+//!   ([`FromState::group_dump`]); `group ID delete` runs as written;
 //! - every other command runs as usual (units, styles, coefficients, fixes, computes, output).
 //!
 //! From the run line on, the script runs normally. A `run` met before it (in an `include`d
@@ -60,6 +61,8 @@ pub(super) struct StateMode {
     active: bool,
     installed: bool,
     report: StateReport,
+    /// The group memberships of the group dump (name, member ids), once read.
+    members: Option<Vec<(String, Vec<u32>)>>,
 }
 
 impl StateMode {
@@ -69,8 +72,58 @@ impl StateMode {
             active: true,
             installed: false,
             report: StateReport::default(),
+            members: None,
         }
     }
+
+    /// The ids of the members of group `name` in LAMMPS's state (None: not in the group dump).
+    fn members(&mut self, name: &str) -> Result<Option<Vec<u32>>, String> {
+        if self.members.is_none() {
+            self.members = Some(match &self.spec.group_dump {
+                Some(p) => read_group_dump(p, &self.spec.groups)?,
+                None => Vec::new(),
+            });
+        }
+        Ok(self
+            .members
+            .as_ref()
+            .and_then(|m| m.iter().find(|(g, _)| g == name))
+            .map(|(_, t)| t.clone()))
+    }
+}
+
+/// The memberships of `groups` in a `write_dump … custom … id v_…` file whose columns after
+/// `id` are the groups' 0/1 masks, in order.
+fn read_group_dump(
+    path: &std::path::Path,
+    groups: &[String],
+) -> Result<Vec<(String, Vec<u32>)>, String> {
+    let file = path.display();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read LAMMPS's group memberships {file}: {e}"))?;
+    let frames = crate::io::dump_read::parse_dump(&text).map_err(|e| format!("{file}: {e}"))?;
+    let f = frames
+        .first()
+        .ok_or_else(|| format!("{file}: no frame of group memberships"))?;
+    if f.columns.len() != groups.len() + 1 || f.columns.first().map(String::as_str) != Some("id") {
+        return Err(format!(
+            "{file}: columns {:?}, expected id and one per group {groups:?}",
+            f.columns
+        ));
+    }
+    Ok(groups
+        .iter()
+        .enumerate()
+        .map(|(k, g)| {
+            let tags = f
+                .rows
+                .iter()
+                .filter(|r| r[k + 1] != 0.0)
+                .map(|r| r[0] as u32)
+                .collect();
+            (g.clone(), tags)
+        })
+        .collect())
 }
 
 /// The set-up commands whose effect LAMMPS's state carries: accepted and not run before the
@@ -185,7 +238,8 @@ impl Interpreter<'_> {
             "create_box" | "read_data" if !st.installed => Some(self.install_state(cmd, args)),
             "create_box" | "read_data" => Some(Ok(self.carried(line, shown))),
             c if CARRIED.contains(&c) => Some(Ok(self.carried(line, shown))),
-            "group" => Some(Ok(self.carried_group(line, shown, args))),
+            "group" if args.get(1).map(String::as_str) == Some("delete") => None,
+            "group" => Some(self.carried_group(line, shown, args)),
             "region" => match self.cmd_region(args) {
                 Ok(()) => Some(Ok(())),
                 Err(e) => {
@@ -211,23 +265,37 @@ impl Interpreter<'_> {
         }
     }
 
-    /// A `group` of the set-up: its membership is LAMMPS's (the standalone engine has no
-    /// groups of its own yet, so it is named as not carried).
-    fn carried_group(&mut self, line: usize, shown: String, args: &[String]) {
+    /// A `group` of the set-up: its membership is LAMMPS's at the end of the set-up (the
+    /// group dump's column of it); a group the dump lacks is named as not carried.
+    fn carried_group(&mut self, line: usize, shown: String, args: &[String]) -> CmdResult {
         self.carried(line, shown);
         let name = args.first().cloned().unwrap_or_default();
-        if let Some(st) = self.state.as_mut()
-            && name != "all"
-            && !st
-                .report
-                .not_carried
-                .iter()
-                .any(|n| n.starts_with(&format!("group {name} ")))
-        {
-            st.report.not_carried.push(format!(
-                "group {name} (the standalone engine has no groups: a command on it fails)"
-            ));
+        let members = self
+            .state
+            .as_mut()
+            .map(|st| st.members(&name))
+            .transpose()?
+            .flatten();
+        match members {
+            Some(tags) => {
+                self.sys_mut()?.set_group_members(&name, &tags)?;
+            }
+            None => {
+                if let Some(st) = self.state.as_mut()
+                    && !st
+                        .report
+                        .not_carried
+                        .iter()
+                        .any(|n| n.starts_with(&format!("group {name} ")))
+                {
+                    st.report.not_carried.push(format!(
+                        "group {name} (LAMMPS's state has no membership of it: a group deleted \
+                         or named by a variable in the set-up)"
+                    ));
+                }
+            }
         }
+        Ok(())
     }
 
     /// `create_box` or `read_data` in the state mode: the box and atoms of LAMMPS's state,

@@ -1,7 +1,7 @@
 //! A crosscheck from LAMMPS's state (`--from lammps`): LAMMPS runs the script's set-up (its
 //! text up to the first top-level `run`) and writes its exact state (`write_data … nocoeff`:
 //! box, tilt, atoms with their style's columns and image flags, velocities, masses, topology,
-//! the step in the title; each group's membership through `grmask()` in a `write_dump`), which
+//! the step in the title; each group's membership through `gmask()` in a `write_dump`), which
 //! the standalone engine then installs in place of its own set-up
 //! ([`dpdnl::input::FromState`]).
 
@@ -46,7 +46,7 @@ fn setup_script(text: &str, run_line: usize, groups: &[String], workdir: &Path) 
     if !groups.is_empty() {
         let mut cols = String::new();
         for (k, g) in groups.iter().enumerate() {
-            let _ = writeln!(s, "variable dpdnl_group_{k} atom grmask({g})");
+            let _ = writeln!(s, "variable dpdnl_group_{k} atom gmask({g})");
             let _ = write!(cols, " v_dpdnl_group_{k}");
         }
         let _ = writeln!(
@@ -200,7 +200,7 @@ mod tests {
             "{s}"
         );
         assert!(
-            s.contains("variable dpdnl_group_0 atom grmask(mobile)\n"),
+            s.contains("variable dpdnl_group_0 atom gmask(mobile)\n"),
             "{s}"
         );
         assert!(s.contains(" id v_dpdnl_group_0 modify sort id\n"), "{s}");
