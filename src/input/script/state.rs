@@ -236,21 +236,21 @@ impl Interpreter<'_> {
                 st.spec.run_line
             ))),
             "create_box" | "read_data" if !st.installed => Some(self.install_state(cmd, args)),
-            "create_box" | "read_data" => Some(Ok(self.carried(line, shown))),
-            c if CARRIED.contains(&c) => Some(Ok(self.carried(line, shown))),
+            "create_box" | "read_data" => Some(self.carried(line, shown)),
+            c if CARRIED.contains(&c) => Some(self.carried(line, shown)),
             "group" if args.get(1).map(String::as_str) == Some("delete") => None,
             "group" => Some(self.carried_group(line, shown, args)),
             "region" => match self.cmd_region(args) {
                 Ok(()) => Some(Ok(())),
                 Err(e) => {
-                    self.carried(line, shown);
+                    let carried = self.carried(line, shown);
                     let st = self.state.as_mut()?;
                     st.report.not_carried.push(format!(
                         "region {} (this engine cannot define it: {e}); only the atoms LAMMPS \
                          placed with it are carried",
                         args.first().map_or("", String::as_str)
                     ));
-                    Some(Ok(()))
+                    Some(carried)
                 }
             },
             _ => None,
@@ -258,17 +258,18 @@ impl Interpreter<'_> {
     }
 
     /// Logs a carried command and records it for the report.
-    fn carried(&mut self, line: usize, shown: String) {
+    fn carried(&mut self, line: usize, shown: String) -> CmdResult {
         self.out(&format!("carried by LAMMPS's state (not run): {shown}"));
         if let Some(st) = self.state.as_mut() {
             st.report.carried.push((line, shown));
         }
+        Ok(())
     }
 
     /// A `group` of the set-up: its membership is LAMMPS's at the end of the set-up (the
     /// group dump's column of it); a group the dump lacks is named as not carried.
     fn carried_group(&mut self, line: usize, shown: String, args: &[String]) -> CmdResult {
-        self.carried(line, shown);
+        self.carried(line, shown)?;
         let name = args.first().cloned().unwrap_or_default();
         let members = self
             .state

@@ -272,7 +272,7 @@ fn atoms_line_columns(
              must be 0"
         )));
     }
-    if d.columns.per_atom_mass() && !(e.density > 0.0) {
+    if d.columns.per_atom_mass() && e.density <= 0.0 {
         return Err(ctx(format!(
             "Invalid density in Atoms section of data file: atom {tag} has density {} (must be \
              > 0)",
