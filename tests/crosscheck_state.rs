@@ -48,7 +48,7 @@ fn run_from_state(dir: &Path, script: &str) -> (Result<(), String>, Vec<String>,
         let mut it = Interpreter::new(&mut console, &opts).expect("interpreter");
         let res = it.run_file(&path).map_err(|e| e.to_string());
         let atoms = it.system().map(|s| {
-            let mut a: Vec<(u32, [f64; 3], [f64; 3], [i32; 3], u64)> = (0..s.atoms.len())
+            let mut a: Vec<AtomRow> = (0..s.atoms.len())
                 .map(|i| {
                     (
                         s.atoms.tag[i],
@@ -67,9 +67,12 @@ fn run_from_state(dir: &Path, script: &str) -> (Result<(), String>, Vec<String>,
     (res, console.0, Interp { report, atoms })
 }
 
+/// One atom after the run: id, position, velocity, image flags, the system's step.
+type AtomRow = (u32, [f64; 3], [f64; 3], [i32; 3], u64);
+
 struct Interp {
     report: Option<dpdnl::input::StateReport>,
-    atoms: Option<Vec<(u32, [f64; 3], [f64; 3], [i32; 3], u64)>>,
+    atoms: Option<Vec<AtomRow>>,
 }
 
 const PRELUDE: &str = "units lj\natom_style atomic\nboundary p p p\n";
