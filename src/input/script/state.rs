@@ -118,8 +118,8 @@ fn read_group_dump(
             let tags = f
                 .rows
                 .iter()
-                .filter(|r| r[k + 1] != 0.0)
-                .map(|r| r[0] as u32)
+                .filter(|r| r.get(k + 1).is_some_and(|&m| m != 0.0))
+                .filter_map(|r| r.first().map(|&id| id as u32))
                 .collect();
             (g.clone(), tags)
         })
