@@ -396,3 +396,49 @@ fn groups_take_lammps_membership() {
     assert_eq!(members, [2, 3]);
     assert!(it.state_report().expect("report").not_carried.is_empty());
 }
+
+/// The atom styles of item 2 from LAMMPS's state: the dpdext example under `atom_style charge`
+/// and `hybrid bond charge` (LAMMPS's write_data writes their columns, the standalone engine
+/// reads them) agrees as under `atomic`.
+#[test]
+fn corpus_dpdext_charge_styles_from_lammps_state_agree() {
+    let Some(lmp) = plugin_support::lmp_dpdnl("crosscheck from LAMMPS's state") else {
+        return;
+    };
+    for (k, style) in ["charge", "hybrid bond charge"].iter().enumerate() {
+        let script: String = dpdext_copy("", "")
+            .lines()
+            .map(|l| {
+                if l.starts_with("atom_style") {
+                    format!("atom_style {style}\n")
+                } else {
+                    format!("{l}\n")
+                }
+            })
+            .collect();
+        let dir = scratch(&format!("crosscheck_state_style{k}"));
+        let path = dir.join("in.style");
+        std::fs::write(&path, &script).expect("script");
+        let out = Command::new(env!("CARGO_BIN_EXE_dpdnl"))
+            .arg("crosscheck")
+            .arg(&path)
+            .arg("--lmp")
+            .arg(&lmp)
+            .arg("--workdir")
+            .arg(dir.join("work"))
+            .args(["--threads", "2", "--atol", "1e-9"])
+            .output()
+            .expect("run dpdnl crosscheck");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{style}: {stdout}\n{stderr}");
+        let state = plugin_support::read(&dir.join("work/lammps-state.data"));
+        let hint = style.split_whitespace().next().unwrap_or("");
+        assert!(state.contains(&format!("Atoms # {hint}")), "{state}");
+        let verdict = stdout.lines().last().unwrap_or("");
+        assert!(
+            verdict.starts_with("CROSSCHECK AGREE: thermo log and 1 dump(s), 600 atom rows"),
+            "{style}: {verdict}"
+        );
+    }
+}
