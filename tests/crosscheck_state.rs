@@ -264,9 +264,9 @@ fn corpus_dpdext_from_lammps_state_agrees() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{stdout}\n{stderr}");
     assert!(
-        stdout.contains(
-            "note: the standalone engine cannot build this system (the standalone engine failed: "
-        ) && stdout.contains("lattice: unknown command 'lattice'"),
+        stdout.contains("note: the standalone engine cannot build this system (/")
+            && stdout.contains("in.dpdext:16: lattice: unknown command 'lattice'")
+            && stdout.contains("); crosschecking from LAMMPS's state (--from lammps)"),
         "{stdout}"
     );
     assert!(

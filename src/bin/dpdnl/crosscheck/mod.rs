@@ -163,7 +163,9 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
                 println!(
                     "note: the standalone engine cannot build this system ({}); crosschecking \
                  from LAMMPS's state (--from lammps)",
-                    f.error.0
+                    f.error
+                        .0
+                        .trim_start_matches("the standalone engine failed: ")
                 );
                 let st = state::lammps_state(&lmp, &script, &workdir, &vars)?;
                 let s = run_standalone(&script, &workdir, &mut vars, threads, Some(&st))
