@@ -9,8 +9,10 @@
 //! - this file: the [`Interpreter`] and its [`Options`], [`Console`] and [`ScriptError`]; reading
 //!   scripts (`include`), variables and `$` substitution, the command dispatch;
 //! - `setup`: the box and the atoms (`units`, `dimension`, `boundary`, `atom_style`, `region`,
-//!   `create_box`, `create_atoms`, `read_data`, `write_data`, `mass`, `neighbor`, `timestep`,
-//!   `change_box`, `reset_timestep`);
+//!   `create_box`, `create_atoms`, `mass`, `neighbor`, `timestep`, `change_box`,
+//!   `reset_timestep`);
+//! - `data`: `read_data`, `write_data`;
+//! - `state`: crosscheck's run from LAMMPS's state ([`FromState`]);
 //! - `velocity`: `velocity`;
 //! - `pair`: `pair_style`, `pair_coeff` (parsed by [`crate::grammar`]);
 //! - `fix`: `fix`, `unfix` and `fix deform`;
@@ -18,9 +20,11 @@
 //! - `output`: `dump`, `dump_modify`, `undump`, the dump files, `print`, `log`;
 //! - `run`: `run`, the end-of-step fixes, dry runs and their [`PlannedRun`];
 //! - `restart`: `write_restart`, `read_restart`, `restart N FILE` (the file format is
-//!   [`crate::io::restart`]).
+//!   [`crate::io::restart`]);
+//! - `run_style verlet` is accepted in the dispatch (`run`).
 
 mod bonded;
+mod data;
 mod fix;
 mod fix_group;
 mod group;
@@ -29,10 +33,12 @@ mod pair;
 mod restart;
 mod run;
 mod setup;
+mod state;
 mod thermo;
 mod velocity;
 
 pub use run::PlannedRun;
+pub use state::{CARRIED, FromState, StateReport, first_run_line, setup_groups};
 
 use super::expr::{AtomBinder, ExprContext, Formula, RefKind, eval_equal};
 use super::format::{FmtArg, sprintf};
@@ -146,6 +152,8 @@ pub struct Options {
     /// refusing it (`dpdnl verify`, which recomputes one dpdnl style of a LAMMPS run that
     /// overlays others): its words are the longest run after its name that it parses.
     pub substyle: Option<String>,
+    /// Run from LAMMPS's state (`dpdnl crosscheck --from lammps`): see [`FromState`].
+    pub from_state: Option<FromState>,
 }
 
 /// The interpreter state.
@@ -162,6 +170,11 @@ pub struct Interpreter<'c> {
     sys: Option<System>,
     /// `atom_style` (the columns `read_data` reads; molecular styles carry a topology).
     atom_style: crate::engine::topology::AtomStyle,
+    /// The columns of `atom_style`'s data-file lines (`charge`, `mdpd`, `hybrid` …).
+    atom_columns: crate::io::data::AtomColumns,
+    /// The extra columns' values by atom id (read from a data file, written back by
+    /// `write_data`; atoms made later get 0).
+    atom_extra: BTreeMap<u32, crate::io::data::AtomExtra>,
     /// `bond_style`, `angle_style` words and `special_bonds` given before the box exists.
     pre_topo: bonded::PreTopology,
     /// `pair_style` words given before the box exists (the style is made with the box).
@@ -192,6 +205,10 @@ pub struct Interpreter<'c> {
     depth: usize,
     run_first: u64,
     obs: Observe,
+    /// The "from LAMMPS's state" mode, when [`Options::from_state`] is set.
+    state: Option<state::StateMode>,
+    /// The `run` commands started (a set-up error is one before the first).
+    runs_started: u64,
 }
 
 type CmdResult = Result<(), String>;
@@ -259,6 +276,8 @@ impl<'c> Interpreter<'c> {
             prisms: BTreeMap::new(),
             sys: None,
             atom_style: Default::default(),
+            atom_columns: Default::default(),
+            atom_extra: BTreeMap::new(),
             pre_topo: Default::default(),
             pre_pair: None,
             comm_cutoff: 0.0,
@@ -280,6 +299,8 @@ impl<'c> Interpreter<'c> {
             depth: 0,
             run_first: 0,
             obs: Observe::new(),
+            state: opts.from_state.clone().map(state::StateMode::new),
+            runs_started: 0,
         })
     }
 
@@ -298,6 +319,11 @@ impl<'c> Interpreter<'c> {
     /// set-up).
     pub fn system_mut(&mut self) -> Option<&mut System> {
         self.sys.as_mut()
+    }
+
+    /// The number of `run` commands started so far (0: an error came from the set-up).
+    pub fn runs_started(&self) -> u64 {
+        self.runs_started
     }
 
     /// The file names of the dumps currently defined, as given to `dump` (after variable
@@ -348,6 +374,10 @@ impl<'c> Interpreter<'c> {
             let Some((cmd, args)) = words.split_first() else {
                 continue;
             };
+            if let Some(r) = self.state_command(raw.line, cmd, args) {
+                r.map_err(|m| err(cmd, m))?;
+                continue;
+            }
             if cmd == "include" {
                 if args.len() != 1 {
                     return Err(err(cmd, "usage: include FILE".into()));
@@ -527,7 +557,11 @@ impl<'c> Interpreter<'c> {
             "dump" => self.cmd_dump(args),
             "dump_modify" => self.cmd_dump_modify(args),
             "undump" => self.cmd_undump(args),
-            "run" => self.cmd_run(args),
+            "run" => {
+                self.runs_started += 1;
+                self.cmd_run(args)
+            }
+            "run_style" => run::cmd_run_style(args),
             "change_box" => self.cmd_change_box(args),
             "reset_timestep" => self.cmd_reset_timestep(args),
             "print" => self.cmd_print(args),

@@ -97,6 +97,8 @@ impl Interpreter<'_> {
         self.dt = r.dt;
         self.skin = r.skin;
         self.atom_style = r.topo.as_ref().map_or(AtomStyle::Atomic, |t| t.style);
+        self.atom_columns = crate::io::data::AtomColumns::of(self.atom_style);
+        self.atom_extra.clear();
         self.new_system(r.ntypes as usize, r.lo, r.hi)
             .map_err(bad)?;
         let natoms = r.atoms.len();

@@ -82,6 +82,25 @@ pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
     ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
 }
 
+/// `run_style verlet`: the standalone engine's only integrator loop (velocity Verlet, as
+/// LAMMPS's default `verlet`); LAMMPS's other run styles (`respa`, `verlet/split`, …) are
+/// refused.
+pub(super) fn cmd_run_style(args: &[String]) -> CmdResult {
+    need(args, 1, "run_style verlet")?;
+    match args[0].as_str() {
+        "verlet" if args.len() == 1 => Ok(()),
+        "verlet" => Err(format!(
+            "run_style verlet takes no arguments, found '{}'",
+            crate::grammar::shown(&args[1])
+        )),
+        o => Err(format!(
+            "run_style '{}' not supported: the standalone engine has only 'verlet' (LAMMPS's \
+             default); drop the command, or use run_style verlet",
+            crate::grammar::shown(o)
+        )),
+    }
+}
+
 /// What `run N [upto] [start S] [stop E] [pre yes|no] [post yes|no]` asks for.
 struct RunArgs {
     n: u64,
