@@ -185,6 +185,49 @@ fn overlay_run_agrees_and_a_changed_force_is_named() {
     assert!(out.contains("checksum mismatch"), "{out}");
 }
 
+/// The example under `pair_style hybrid` (not overlay) with dpd/nonlinear on the 1-1 pairs only,
+/// lj/cut on 2-2 and `none` on 1-2, as LAMMPS's `srp` example assigns its pairs: the type pairs
+/// without dpd/nonlinear's coefficients belong to the other styles, and verify recomputes only
+/// dpd/nonlinear's share.
+fn hybrid_script(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(script()).unwrap();
+    let mut out = String::new();
+    for line in text.lines() {
+        let line = match line.split_whitespace().next() {
+            Some("pair_style") => "pair_style hybrid lj/cut 1.0 dpd/nonlinear ${T} 1.0 34387 \
+                                   friction dot noise twostep\n\
+                                   pair_coeff 1 1 dpd/nonlinear 5.0 4.5 1.0\n\
+                                   pair_coeff 1 2 none\n\
+                                   pair_coeff 2 2 lj/cut 0.05 0.5"
+                .to_string(),
+            Some("pair_coeff") => continue,
+            _ => line.to_string(),
+        };
+        out.push_str(&line);
+        out.push('\n');
+    }
+    std::fs::create_dir_all(dir).unwrap();
+    let p = dir.join("in.hybrid_part");
+    std::fs::write(&p, out).unwrap();
+    p
+}
+
+#[test]
+fn a_substyle_of_hybrid_on_some_type_pairs_agrees() {
+    let Some(lmp) = plugin_support::lmp_dpdnl("dpdnl verify under hybrid") else {
+        return;
+    };
+    let d = dir("hybrid_part");
+    let input = hybrid_script(&d);
+    lammps_on(&lmp, &input, &d, 1, 1, &[]);
+    let (code, out) = verify_on(&input, &d.join("frames.bin"), &[]);
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains("VERIFY AGREE") && out.contains("5 frame(s), 2500 atom forces"),
+        "{out}"
+    );
+}
+
 /// The acceptance run of issue 56: 4 MPI ranks of 2 OpenMP threads each (OMP_NUM_THREADS=2),
 /// newton on, LAMMPS's lj/cut overlaid.
 #[test]

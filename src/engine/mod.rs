@@ -91,6 +91,11 @@ pub struct System {
     /// The fixes with per-step hooks (`modify/`): integrators on groups, force fixes,
     /// `momentum`. When none of them integrates, [`System::integrator`] integrates all atoms.
     pub modify: modify::Modify,
+    /// True when the pair style stands for one sub-style of LAMMPS's `pair_style hybrid` or
+    /// `hybrid/overlay` (`dpdnl verify`, which recomputes that style's share of a LAMMPS run):
+    /// type pairs without coefficients belong to other styles ([`crate::forces::style::coverage`]).
+    /// False in a standalone run, which has no hybrid.
+    pub pair_substyle: bool,
     /// When true, [`System::setup`] leaves the fixes' set-up to the caller, who first hands
     /// them their variables ([`System::fix_inputs`]) and then calls [`System::setup_fixes`].
     pub defer_fix_setup: bool,
@@ -184,6 +189,7 @@ impl System {
             integrator: None,
             modify: modify::Modify::default(),
             defer_fix_setup: false,
+            pair_substyle: false,
             pex: Vec::new(),
             tally: PairTally::default(),
             setup_notes: Vec::new(),

@@ -69,7 +69,7 @@ impl System {
             euler: self.modify.scheme().or(self.integrator) == Some(Integrator::Euler),
             special_lj: self.special_lj(),
             units: self.units,
-            substyle: false,
+            substyle: self.pair_substyle,
             per_atom_mass: false,
         };
         let style = self

@@ -72,6 +72,9 @@ struct Settings {
     lines: Vec<(String, bool)>,
     name: String,
     file: String,
+    /// The style is a sub-style of `hybrid`/`hybrid/overlay` (its last `pair_style` line):
+    /// type pairs without its coefficients belong to other styles.
+    hybrid: bool,
 }
 
 /// The scan of a script (and the files it includes) for the lines that matter to one style.
@@ -159,6 +162,7 @@ fn read_settings(script: &str, path: &std::path::Path, style: &str) -> Result<Se
         lines: scan.lines,
         name: style.to_string(),
         file,
+        hybrid: scan.hybrid,
     })
 }
 
@@ -261,6 +265,8 @@ fn recompute(s: &Settings, fr: &Frame, vars: &[(String, String)]) -> Result<Syst
     it.run_text(&text, &s.file)
         .map_err(|e| CannotRun(format!("the script's settings of {}: {e}", s.name)))?;
     let mut sys = it.into_system().ok_or_else(|| CannotRun("no box".into()))?;
+    // The style may cover some type pairs only (`pair_coeff I J none` or another style's).
+    sys.pair_substyle = s.hybrid;
     for k in 0..fr.tag.len() {
         sys.atoms
             .push(fr.tag[k], fr.typ[k], fr.x[k], fr.v[k], [0, 0, 0]);
