@@ -515,6 +515,7 @@ impl<'c> Interpreter<'c> {
             "dump_modify" => self.cmd_dump_modify(args),
             "undump" => self.cmd_undump(args),
             "run" => self.cmd_run(args),
+            "run_style" => run::cmd_run_style(args),
             "change_box" => self.cmd_change_box(args),
             "reset_timestep" => self.cmd_reset_timestep(args),
             "print" => self.cmd_print(args),

@@ -129,6 +129,28 @@ fn parse_run_args(args: &[String]) -> Result<RunArgs, String> {
     Ok(r)
 }
 
+/// `run_style verlet`: the standalone engine's only run style (velocity Verlet, or the Euler
+/// update of `fix nve/euler`, both driven as LAMMPS's `Verlet` drives them), so the command is
+/// accepted and changes nothing; every other style (`respa`, `verlet/split`, …) is refused.
+pub(super) fn cmd_run_style(args: &[String]) -> CmdResult {
+    need(args, 1, "run_style verlet")?;
+    match args[0].as_str() {
+        "verlet" => {
+            crate::grammar::at_most(args, 1, "run_style verlet")?;
+            Ok(())
+        }
+        s @ ("respa" | "respa/omp") => Err(format!(
+            "run_style {s} is not supported: the standalone engine has one force evaluation \
+             per step (run_style verlet); use run_style verlet, or drop the line (verlet is \
+             the default)"
+        )),
+        s => Err(format!(
+            "run_style {s} is not supported: the standalone engine runs run_style verlet \
+             only; use run_style verlet, or drop the line (verlet is the default)"
+        )),
+    }
+}
+
 /// Steps between blow-up checks ([`crate::engine::System::check_health`]) when no thermo
 /// output falls in between.
 const HEALTH_EVERY: u64 = 100;
