@@ -46,7 +46,9 @@
 //!
 //! Every error names the offending token and its 1-based column in the formula.
 
+mod boolean;
 mod token;
+pub use boolean::eval_boolean;
 use token::tokenize;
 
 /// What a formula may refer to: variables, thermo keywords, computes and fixes.

@@ -21,6 +21,7 @@
 //!   [`crate::io::restart`]).
 
 mod bonded;
+mod control;
 mod fix;
 mod output;
 mod pair;
@@ -108,7 +109,8 @@ impl std::error::Error for ScriptError {}
 
 #[derive(Clone, Debug)]
 enum Var {
-    Index(String),
+    /// `index` and `loop` variables: their values and the one `next` has reached.
+    Index(Vec<String>, usize),
     Str(String),
     Equal(String),
     /// `variable NAME atom FORMULA` (per-atom values; see `observe`).
@@ -180,6 +182,9 @@ pub struct Interpreter<'c> {
     max_steps: Option<u64>,
     max_atoms: Option<usize>,
     depth: usize,
+    /// `jump` and `next`: the jump the last command asked for, and whether the next `jump` is
+    /// skipped (a `next` that exhausted its variable).
+    flow: control::Flow,
     run_first: u64,
     obs: Observe,
 }
@@ -237,7 +242,7 @@ impl<'c> Interpreter<'c> {
         };
         let mut vars = BTreeMap::new();
         for (k, v) in &opts.vars {
-            vars.insert(k.clone(), Var::Index(v.clone()));
+            vars.insert(k.clone(), Var::Index(vec![v.clone()], 0));
         }
         Ok(Interpreter {
             console,
@@ -266,6 +271,7 @@ impl<'c> Interpreter<'c> {
             max_steps: opts.max_steps,
             max_atoms: opts.max_atoms,
             depth: 0,
+            flow: Default::default(),
             run_first: 0,
             obs: Observe::new(),
         })
@@ -319,15 +325,30 @@ impl<'c> Interpreter<'c> {
 
     /// Run script text; `name` is used in error messages.
     pub fn run_text(&mut self, text: &str, name: &str) -> Result<(), ScriptError> {
-        for raw in logical_lines(text) {
+        let mut name = name.to_string();
+        let mut lines = logical_lines(text);
+        let mut k = 0;
+        // `jump FILE LABEL`: the label searched for (lines are skipped, unsubstituted, until
+        // `label LABEL`), and the line of that jump.
+        let mut seeking: Option<(String, usize)> = None;
+        while k < lines.len() {
+            let raw = &lines[k];
+            k += 1;
+            let line = raw.line;
             let err = |command: &str, message: String| ScriptError {
-                file: name.to_string(),
-                line: raw.line,
+                file: name.clone(),
+                line,
                 command: command.to_string(),
                 message,
             };
             let body = strip_comment(&raw.text);
             if body.trim().is_empty() {
+                continue;
+            }
+            if let Some((label, _)) = &seeking {
+                if control::is_label(body, label) {
+                    seeking = None;
+                }
                 continue;
             }
             let first = body.split_whitespace().next().unwrap_or("").to_string();
@@ -337,29 +358,65 @@ impl<'c> Interpreter<'c> {
                 continue;
             };
             if cmd == "include" {
-                if args.len() != 1 {
-                    return Err(err(cmd, "usage: include FILE".into()));
-                }
-                if self.depth > 16 {
-                    return Err(err(cmd, "include nested more than 16 deep".into()));
-                }
-                // A missing file is an error of this line (file and line of the `include`).
-                let text = std::fs::read_to_string(&args[0]).map_err(|e| {
-                    err(
-                        cmd,
-                        format!("cannot read '{}': {e}", crate::grammar::shown(&args[0])),
-                    )
-                })?;
-                self.depth += 1;
-                let r = self.run_text(&text, &args[0]);
-                self.depth -= 1;
-                r?;
+                self.include(args)
+                    .map_err(|e| e.unwrap_or_else(|m| err(cmd, m)))?;
                 continue;
             }
             self.command(cmd, args).map_err(|m| err(cmd, m))?;
+            if let Some(jump) = self.flow.pending.take() {
+                self.flow
+                    .count_jump(self.max_steps)
+                    .map_err(|m| err("jump", m))?;
+                if let Some(file) = jump.file {
+                    let text = std::fs::read_to_string(&file).map_err(|e| {
+                        err(
+                            "jump",
+                            format!("cannot read '{}': {e}", crate::grammar::shown(&file)),
+                        )
+                    })?;
+                    lines = logical_lines(&text);
+                    name = file;
+                }
+                k = 0;
+                seeking = jump.label.map(|l| (l, line));
+            }
+        }
+        if let Some((label, line)) = seeking {
+            let message = format!(
+                "label '{label}' not found in {}",
+                crate::grammar::shown(&name)
+            );
+            return Err(ScriptError {
+                file: name,
+                line,
+                command: "jump".into(),
+                message,
+            });
         }
         self.flush_outputs();
         Ok(())
+    }
+
+    /// `include FILE`: its errors are the included file's (`Err(Ok(e))`), or this line's
+    /// (`Err(Err(message))`: a missing file, too deep).
+    fn include(&mut self, args: &[String]) -> Result<(), Result<ScriptError, String>> {
+        if args.len() != 1 {
+            return Err(Err("usage: include FILE".into()));
+        }
+        if self.depth > 16 {
+            return Err(Err("include nested more than 16 deep".into()));
+        }
+        // A missing file is an error of this line (file and line of the `include`).
+        let text = std::fs::read_to_string(&args[0]).map_err(|e| {
+            Err(format!(
+                "cannot read '{}': {e}",
+                crate::grammar::shown(&args[0])
+            ))
+        })?;
+        self.depth += 1;
+        let r = self.run_text(&text, &args[0]);
+        self.depth -= 1;
+        r.map_err(Ok)
     }
 
     // ------------------------------------------------------------------ variables
@@ -367,7 +424,8 @@ impl<'c> Interpreter<'c> {
     fn var_string(&self, name: &str) -> Result<String, String> {
         match self.vars.get(name) {
             None => Err(format!("variable '{name}' is not defined")),
-            Some(Var::Index(s)) | Some(Var::Str(s)) => Ok(s.clone()),
+            Some(Var::Index(v, at)) => Ok(v[*at].clone()),
+            Some(Var::Str(s)) => Ok(s.clone()),
             Some(Var::Equal(e)) => {
                 let v = self.eval(e)?;
                 sprintf("%.15g", &[FmtArg::Float(v)])
@@ -516,6 +574,10 @@ impl<'c> Interpreter<'c> {
             "undump" => self.cmd_undump(args),
             "run" => self.cmd_run(args),
             "run_style" => run::cmd_run_style(args),
+            "if" => self.cmd_if(args),
+            "label" => control::cmd_label(args),
+            "jump" => self.cmd_jump(args),
+            "next" => self.cmd_next(args),
             "change_box" => self.cmd_change_box(args),
             "reset_timestep" => self.cmd_reset_timestep(args),
             "print" => self.cmd_print(args),
@@ -541,14 +603,14 @@ impl<'c> Interpreter<'c> {
             }
             "index" => {
                 need(args, 3, "variable NAME index VALUE…")?;
-                if args.len() > 3 {
-                    return Err(
-                        "index variables with several values (loops with next) are not supported"
-                            .into(),
-                    );
-                }
                 // As LAMMPS: an index variable already defined (e.g. by -var) is kept.
-                self.vars.entry(name).or_insert(Var::Index(args[2].clone()));
+                self.vars
+                    .entry(name)
+                    .or_insert(Var::Index(args[2..].to_vec(), 0));
+            }
+            "loop" => {
+                let values = control::loop_values(&args[2..])?;
+                self.vars.entry(name).or_insert(Var::Index(values, 0));
             }
             "string" => {
                 need(args, 3, "variable NAME string VALUE")?;
@@ -566,7 +628,7 @@ impl<'c> Interpreter<'c> {
             }
             o => {
                 return Err(format!(
-                    "variable style '{o}' not supported (index, string, equal, atom, delete)"
+                    "variable style '{o}' not supported (index, loop, string, equal, atom, delete)"
                 ));
             }
         }
@@ -581,6 +643,13 @@ impl Interpreter<'_> {
     }
 }
 
+/// The number a string-valued variable holds.
+fn number_of(name: &str, s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .map_err(|_| format!("variable '{name}' = '{s}' is not a number"))
+}
+
 /// The formula context of an interpreter: variables, thermo keywords, computes and fixes;
 /// the depth guards against variables that refer to themselves.
 struct Ctx<'a, 'b>(&'a Interpreter<'b>, usize);
@@ -592,10 +661,8 @@ impl ExprContext for Ctx<'_, '_> {
         }
         match self.0.vars.get(name) {
             None => Err(format!("variable '{name}' is not defined")),
-            Some(Var::Index(s)) | Some(Var::Str(s)) => s
-                .trim()
-                .parse::<f64>()
-                .map_err(|_| format!("variable '{name}' = '{s}' is not a number")),
+            Some(Var::Index(v, at)) => number_of(name, &v[*at]),
+            Some(Var::Str(s)) => number_of(name, s),
             Some(Var::Equal(e)) => eval_equal(e, &Ctx(self.0, self.1 + 1)),
             Some(Var::Atom(_)) => Err(format!(
                 "variable '{name}' is atom-style: not usable in an equal-style formula"

@@ -317,6 +317,9 @@ impl Interpreter<'_> {
             }
             k += 2;
         }
+        // As LAMMPS's print: the text's own `$` variables are substituted now (those inside
+        // quotes, which the line's substitution leaves).
+        let text = self.substitute(&args[0])?;
         if let Some((path, append)) = file {
             let mut f = std::fs::OpenOptions::new()
                 .create(true)
@@ -325,12 +328,12 @@ impl Interpreter<'_> {
                 .truncate(!append)
                 .open(&path)
                 .map_err(|e| format!("cannot open {path}: {e}"))?;
-            writeln!(f, "{}", args[0]).map_err(|e| format!("cannot write {path}: {e}"))?;
+            writeln!(f, "{text}").map_err(|e| format!("cannot write {path}: {e}"))?;
         }
         if screen {
-            self.out(&args[0]);
+            self.out(&text);
         } else if let Some(l) = self.log.as_mut() {
-            let _ = writeln!(l, "{}", args[0]);
+            let _ = writeln!(l, "{text}");
         }
         Ok(())
     }
