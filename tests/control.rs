@@ -97,3 +97,76 @@ fn refusals_name_what_is_wrong() {
     assert!(refused("variable e equal 1\nnext e\n").contains("not an index or loop variable"));
     assert!(refused("run_style respa 2 2\n").contains("run_style respa is not supported"));
 }
+
+mod plugin_support;
+
+/// The lines of a LAMMPS log or screen text that a script's `print`, `fix print`, `if` and
+/// `run every` commands wrote: those starting with "out:".
+fn out_lines(text: &str) -> Vec<String> {
+    text.lines()
+        .filter(|l| l.starts_with("out:"))
+        .map(str::to_string)
+        .collect()
+}
+
+/// The same script in both engines: the lines its `if`, loop, `run every` and `fix print`
+/// commands print, and the `fix print` file, are the same text (values printed to 10
+/// significant digits: the engines' thermo values agree to ~1e-14 relative, see the golden
+/// case in.control_if_loop_every_3d).
+#[test]
+fn printed_lines_and_fix_print_file_match_lammps() {
+    let Some(lmp) = plugin_support::lmp_dpdnl("script control against LAMMPS") else {
+        return;
+    };
+    let dir = plugin_support::work_dir("control", "print");
+    std::fs::create_dir_all(&dir).unwrap();
+    let data = plugin_support::root().join("tests/data/crosscheck/dpd3d.data");
+    let script = format!(
+        "units lj\natom_style atomic\natom_modify map yes\ncomm_modify vel yes\nread_data {}\nmass * 1.0\n\
+         pair_style dpd/nonlinear 1.0 1.0 5 friction dot\npair_coeff * * 25.0 4.5 0.5\n\
+         run_style verlet\nfix 1 all nve\nthermo 100\n\
+         variable t string yes\n\
+         if \"$t == yes\" then \"print 'out: if t = $t'\" else \"print 'out: no'\"\n\
+         fix p all print 3 \"out: step $(step) T $(temp:%.10g) pe $(pe:%.10g)\" file fp.txt title \"# fix p\"\n\
+         variable i loop 2\nlabel again\nrun 4\n\
+         if \"$i == 1\" then \"print 'out: first loop'\" elif \"$i == 2\" \"print 'out: second loop'\"\n\
+         next i\njump SELF again\n\
+         run 6 every 4 \"print 'out: chunk to $(step) Pxx $(pxx:%.10g)'\"\n\
+         unfix p\nprint \"out: done at $(step)\"\n\
+         variable xr equal x[3]+2*vy[7]\n\
+         print \"out: atoms $(x[3]:%.10g) $(vy[7]:%.10g) $(fz[7]:%.10g) $(mass[7]) $(type[7]) $(id[7]) $(v_xr:%.10g)\"\n",
+        data.display()
+    );
+    let input = dir.join("in.control");
+    std::fs::write(&input, &script).unwrap();
+    // LAMMPS: -echo none, so only what the commands print is in its log.
+    let out = std::process::Command::new(&lmp)
+        .args(["-in", "in.control", "-log", "lammps.log", "-echo", "none"])
+        .current_dir(&dir)
+        .output()
+        .expect("run lmp_dpdnl");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lammps = out_lines(&std::fs::read_to_string(dir.join("lammps.log")).unwrap());
+    let lammps_file = std::fs::read_to_string(dir.join("fp.txt")).unwrap();
+    std::fs::remove_file(dir.join("fp.txt")).unwrap();
+    // The standalone engine, in the same folder (the fix print file is relative).
+    let mut console = dpdnl::Collect::default();
+    let opts = dpdnl::input::Options::default();
+    let here = std::env::current_dir().unwrap();
+    std::env::set_current_dir(&dir).unwrap();
+    let r = dpdnl::Interpreter::new(&mut console, &opts)
+        .unwrap()
+        .run_file(&input);
+    std::env::set_current_dir(here).unwrap();
+    r.unwrap();
+    let standalone = out_lines(&console.0.join("\n"));
+    let standalone_file = std::fs::read_to_string(dir.join("fp.txt")).unwrap();
+    assert!(lammps.len() >= 10, "{lammps:?}");
+    assert_eq!(standalone, lammps);
+    assert_eq!(standalone_file, lammps_file);
+    assert!(lammps_file.starts_with("# fix p\n"), "{lammps_file}");
+}

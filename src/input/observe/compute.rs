@@ -45,6 +45,8 @@ pub(super) enum ComputeKind {
     /// `sdpd/density`: per atom the number density d_i of `pair_style sdpd`'s last evaluation;
     /// vector [mean d, rms(d − mean)/mean].
     SdpdDensity,
+    /// `reduce MODE INPUT…` (in `reduce`): a scalar (one input) or a vector.
+    Reduce(super::reduce::Reduce),
 }
 
 impl ComputeKind {
@@ -60,10 +62,14 @@ impl ComputeKind {
             ComputeKind::Gyration => "gyration",
             ComputeKind::GyrationChunk { .. } => "gyration/chunk",
             ComputeKind::SdpdDensity => "sdpd/density",
+            ComputeKind::Reduce(_) => "reduce",
         }
     }
 
     pub(super) fn has_scalar(&self) -> bool {
+        if let ComputeKind::Reduce(r) = self {
+            return r.inputs.len() == 1;
+        }
         matches!(
             self,
             ComputeKind::Temp
@@ -89,12 +95,16 @@ impl ComputeKind {
             ComputeKind::Msd(_) => Some(4),
             ComputeKind::GyrationChunk { nchunk, .. } => Some(*nchunk),
             ComputeKind::SdpdDensity => Some(2),
+            ComputeKind::Reduce(r) if r.inputs.len() > 1 => Some(r.inputs.len()),
             _ => None,
         }
     }
 
     pub(super) fn extensive(&self) -> bool {
-        matches!(self, ComputeKind::Pe | ComputeKind::Ke)
+        match self {
+            ComputeKind::Reduce(r) => r.extensive(),
+            k => matches!(k, ComputeKind::Pe | ComputeKind::Ke),
+        }
     }
 
     /// Whether the compute has per-atom values (`c_ID` in `dump custom` and `fix ave/chunk`).
@@ -108,7 +118,7 @@ impl ComputeKind {
 }
 
 /// The usage of `compute`, quoted in its errors.
-const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | gyration | sdpd/density | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | gyration | sdpd/density | reduce MODE INPUT… | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
 
 /// A compute: its ID and what it computes.
 #[derive(Debug)]
@@ -198,6 +208,7 @@ impl Observe {
                 ComputeKind::SdpdDensity
             }
             "pressure" => Self::pressure(args, env)?,
+            "reduce" => ComputeKind::Reduce(super::reduce::Reduce::parse(args, env)?),
             "msd" => ComputeKind::Msd(Msd::new(sys, Self::msd_com(args)?)),
             "chunk/atom" if args.get(3).map(String::as_str) == Some("molecule") => {
                 extra(4)?;
@@ -474,6 +485,7 @@ impl Observe {
             let uses = match &c.kind {
                 ComputeKind::Pressure(t) => t == id,
                 ComputeKind::GyrationChunk { chunk, .. } => chunk == id,
+                ComputeKind::Reduce(r) => r.uses_compute(id),
                 _ => false,
             };
             if c.id != id && uses {
@@ -484,8 +496,14 @@ impl Observe {
         Ok(())
     }
 
-    pub(super) fn compute_scalar(&self, c: &ComputeDef, sys: &System) -> Result<f64, String> {
+    pub(super) fn compute_scalar(
+        &self,
+        c: &ComputeDef,
+        env: &dyn Env,
+        sys: &System,
+    ) -> Result<f64, String> {
         Ok(match &c.kind {
+            ComputeKind::Reduce(r) if r.inputs.len() == 1 => r.values(env, sys)?[0],
             ComputeKind::Temp => sys.thermo().temp,
             ComputeKind::TempDeform => sys.thermo_deform().temp,
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.press,
@@ -505,8 +523,14 @@ impl Observe {
         })
     }
 
-    pub(super) fn compute_vector(&self, c: &ComputeDef, sys: &System) -> Result<Vec<f64>, String> {
+    pub(super) fn compute_vector(
+        &self,
+        c: &ComputeDef,
+        env: &dyn Env,
+        sys: &System,
+    ) -> Result<Vec<f64>, String> {
         Ok(match &c.kind {
+            ComputeKind::Reduce(r) if r.inputs.len() > 1 => r.values(env, sys)?,
             ComputeKind::Temp => sys.thermo().ke_tensor.to_vec(),
             ComputeKind::TempDeform => sys.thermo_deform().ke_tensor.to_vec(),
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.p_tensor.to_vec(),
@@ -550,6 +574,27 @@ impl Observe {
     /// Whether compute `id` exists and has per-atom values.
     pub fn has_per_atom(&self, id: &str) -> bool {
         self.compute(id).is_some_and(|c| c.kind.has_per_atom())
+    }
+
+    /// The per-atom values of compute `id`: Some(0) for one value per atom (`c_ID`), Some(n)
+    /// for n columns (`c_ID[1]` … `c_ID[n]`), None without per-atom values.
+    pub(super) fn per_atom_width(&self, id: &str) -> Option<usize> {
+        self.compute(id)
+            .filter(|c| c.kind.has_per_atom())
+            .map(|_| 0)
+    }
+
+    /// Column `col` (None: the per-atom vector) of compute `id`'s per-atom values.
+    pub(super) fn per_atom_column(
+        &self,
+        id: &str,
+        col: Option<usize>,
+        sys: &System,
+    ) -> Result<Vec<f64>, String> {
+        match col {
+            None => self.compute_per_atom(id, sys),
+            Some(k) => Err(format!("compute '{id}' has no per-atom column [{k}]")),
+        }
     }
 }
 

@@ -171,7 +171,7 @@ impl Interpreter<'_> {
 
     /// One command given as text (a command of `if`): substituted, split and run as an input
     /// line (`include` too; its errors then name the included file's line).
-    fn one(&mut self, text: &str) -> CmdResult {
+    pub(super) fn one(&mut self, text: &str) -> CmdResult {
         let substituted = self.substitute(strip_comment(text))?;
         let words = split_words(strip_comment(&substituted))?;
         let Some((cmd, args)) = words.split_first() else {
@@ -182,8 +182,7 @@ impl Interpreter<'_> {
                 .include(args)
                 .map_err(|e| e.map_or_else(|m| m, |e| e.to_string()));
         }
-        self.command(cmd, args)
-            .map_err(|m| format!("{cmd} (in if): {m}"))
+        self.command(cmd, args).map_err(|m| format!("{cmd}: {m}"))
     }
 
     /// `jump FILE [LABEL]`: read FILE (`SELF`: the file being read) from its start, or from

@@ -19,6 +19,8 @@ pub(super) enum FixKind {
     FlipMomentum,
     /// `ave/time`, `ave/chunk`, `ave/histo` (in `observe`).
     Observe,
+    /// `print` (in `fix_print`).
+    Print,
 }
 
 impl Interpreter<'_> {
@@ -31,7 +33,7 @@ impl Interpreter<'_> {
     }
 
     fn define_fix(&mut self, args: &[String]) -> CmdResult {
-        let usage = "fix ID all nve | nve/euler | enforce2d | pex/push DP [width W] [every N] | deform … | flip/momentum [mode jump|check] | ave/time … | ave/chunk … | ave/histo …";
+        let usage = "fix ID all nve | nve/euler | enforce2d | pex/push DP [width W] [every N] | deform … | flip/momentum [mode jump|check] | print N TEXT … | ave/time … | ave/chunk … | ave/histo …";
         need(args, 3, usage)?;
         if args[1] != "all" {
             return Err(format!("group '{}' not supported: only 'all'", args[1]));
@@ -44,6 +46,13 @@ impl Interpreter<'_> {
             let f = Observe::parse_fix(args, &*self)?;
             self.obs.add_fix(f);
             self.fixes.push((id, FixKind::Observe));
+            return Ok(());
+        }
+        if args[2] == "print" {
+            self.sys_mut()?;
+            let p = super::fix_print::PrintFix::parse(args)?;
+            self.prints.insert(id.clone(), p);
+            self.fixes.push((id, FixKind::Print));
             return Ok(());
         }
         let dim = self.dim;
@@ -212,6 +221,9 @@ impl Interpreter<'_> {
                 FixKind::Enforce2d => {}
                 FixKind::Observe => {
                     self.obs.unfix(&id);
+                }
+                FixKind::Print => {
+                    self.prints.remove(&id);
                 }
             }
         }

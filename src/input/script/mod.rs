@@ -23,6 +23,7 @@
 mod bonded;
 mod control;
 mod fix;
+mod fix_print;
 mod output;
 mod pair;
 mod restart;
@@ -33,7 +34,7 @@ mod velocity;
 
 pub use run::PlannedRun;
 
-use super::expr::{AtomBinder, ExprContext, Formula, RefKind, eval_equal};
+use super::expr::{AtomBinder, AtomValue, ExprContext, Formula, RefKind, eval_equal};
 use super::format::{FmtArg, sprintf};
 use super::lexer::{logical_lines, split_words, strip_comment};
 use super::observe::{self, Observe, VarStyle};
@@ -171,6 +172,8 @@ pub struct Interpreter<'c> {
     thermo: ThermoSettings,
     dumps: Vec<Dump>,
     fixes: Vec<(String, FixKind)>,
+    /// The `fix print` fixes, by ID.
+    prints: BTreeMap<String, fix_print::PrintFix>,
     /// The words of each fix's `fix` command, by ID (for restart files).
     fix_lines: BTreeMap<String, Vec<String>>,
     /// `restart N FILE`, when set.
@@ -264,6 +267,7 @@ impl<'c> Interpreter<'c> {
             thermo: ThermoSettings::default(),
             dumps: Vec::new(),
             fixes: Vec::new(),
+            prints: BTreeMap::new(),
             fix_lines: BTreeMap::new(),
             restart: None,
             restart_fixes: Vec::new(),
@@ -447,20 +451,30 @@ impl<'c> Interpreter<'c> {
         let mut out = String::with_capacity(s.len());
         let mut i = 0;
         let b = s.as_bytes();
-        let mut in_single = false;
-        let mut in_triple = false;
         while i < b.len() {
-            if !in_single && s[i..].starts_with("\"\"\"") {
-                in_triple = !in_triple;
-                out.push_str("\"\"\"");
-                i += 3;
+            // As LAMMPS's `Input::substitute`: text in single, double or triple quotes is
+            // copied as it is (the commands that take such text, `print`, `if`, `fix print`,
+            // `run every`, substitute it themselves when they use it). An unmatched quote
+            // copies the rest (the word split reports it).
+            let quote = if s[i..].starts_with("\"\"\"") {
+                Some("\"\"\"")
+            } else if b[i] == b'"' {
+                Some("\"")
+            } else if b[i] == b'\'' {
+                Some("'")
+            } else {
+                None
+            };
+            if let Some(q) = quote {
+                let end = s[i + q.len()..]
+                    .find(q)
+                    .map_or(s.len(), |e| i + q.len() + e + q.len());
+                out.push_str(&s[i..end]);
+                i = end;
                 continue;
             }
             let c = b[i];
-            if c == b'\'' && !in_triple {
-                in_single = !in_single;
-            }
-            if c != b'$' || in_single || in_triple || i + 1 >= b.len() {
+            if c != b'$' || i + 1 >= b.len() {
                 let ch = s[i..].chars().next().unwrap_or(' ');
                 out.push(ch);
                 i += ch.len_utf8();
@@ -671,6 +685,23 @@ impl ExprContext for Ctx<'_, '_> {
     }
     fn thermo(&self, keyword: &str) -> Option<Result<f64, String>> {
         self.0.thermo_value(keyword)
+    }
+    fn atom(&self, value: AtomValue, id: u64) -> Option<Result<f64, String>> {
+        let Some(sys) = self.0.sys.as_ref() else {
+            return Some(Err("needs a simulation box".into()));
+        };
+        let tags = &sys.atoms.tag;
+        // As LAMMPS: an ID past the largest is an error, one no atom has (a gap) gives 0.
+        let largest = tags.iter().copied().max().map_or(0, u64::from);
+        if id > largest {
+            return Some(Err(format!(
+                "atom ID {id} is larger than the largest atom ID, {largest}"
+            )));
+        }
+        Some(Ok(tags
+            .iter()
+            .position(|&t| u64::from(t) == id)
+            .map_or(0.0, |i| observe::atom_value(sys, i, value))))
     }
     fn reference(
         &self,

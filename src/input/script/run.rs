@@ -77,20 +77,27 @@ pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
             | "restart"
             | "log"
             | "print"
-    ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
+    ) || (cmd == "fix"
+        && args
+            .get(2)
+            .is_some_and(|s| s.starts_with("ave/") || s == "print"))
 }
 
-/// What `run N [upto] [start S] [stop E] [pre yes|no] [post yes|no]` asks for.
+/// What `run N [upto] [start S] [stop E] [pre yes|no] [post yes|no] [every M CMD…]` asks for.
 struct RunArgs {
     n: u64,
     upto: bool,
     start: Option<u64>,
     stop: Option<u64>,
+    /// `every M CMD…` (`every M NULL`: no commands): run in chunks of M steps and run the
+    /// commands after each.
+    every: Option<(u64, Vec<String>)>,
 }
 
-const RUN_USAGE: &str = "run N [upto] [start S] [stop E] [pre yes|no] [post yes|no]";
+const RUN_USAGE: &str =
+    "run N [upto] [start S] [stop E] [pre yes|no] [post yes|no] [every M CMD…|NULL]";
 
-/// `run N [upto] [start S] [stop E] [pre yes|no] [post yes|no]`.
+/// `run N [upto] [start S] [stop E] [pre yes|no] [post yes|no] [every M CMD…|NULL]`.
 fn parse_run_args(args: &[String]) -> Result<RunArgs, String> {
     need(args, 1, RUN_USAGE)?;
     let mut r = RunArgs {
@@ -98,6 +105,7 @@ fn parse_run_args(args: &[String]) -> Result<RunArgs, String> {
         upto: false,
         start: None,
         stop: None,
+        every: None,
     };
     let mut k = 1;
     while k < args.len() {
@@ -119,9 +127,25 @@ fn parse_run_args(args: &[String]) -> Result<RunArgs, String> {
                 }
                 k += 2;
             }
+            "every" => {
+                // As LAMMPS: every takes the rest of the line.
+                let m = args
+                    .get(k + 1)
+                    .ok_or_else(|| format!("run every needs M; usage: {RUN_USAGE}"))?;
+                let m: u64 = parse_int(m, "run every")?;
+                if m == 0 {
+                    return Err(format!("run every M = 0 must be > 0; usage: {RUN_USAGE}"));
+                }
+                let mut cmds = args[k + 2..].to_vec();
+                if cmds.len() == 1 && cmds[0] == "NULL" {
+                    cmds.clear();
+                }
+                r.every = Some((m, cmds));
+                k = args.len();
+            }
             o => {
                 return Err(format!(
-                    "run keyword '{o}' not supported (upto, start, stop, pre, post)"
+                    "run keyword '{o}' not supported (upto, start, stop, pre, post, every)"
                 ));
             }
         }
@@ -182,6 +206,10 @@ impl Interpreter<'_> {
                         sys.apply_pex_push(p);
                     }
                 }
+                FixKind::Print => {
+                    let id = id.clone();
+                    self.fix_print_step(&id, setup)?;
+                }
                 FixKind::Observe => {
                     if let Some(sample) = self.obs.sample(id, &*self)? {
                         let (id, step) = (id.clone(), self.sys_mut()?.step);
@@ -200,19 +228,46 @@ impl Interpreter<'_> {
             upto,
             start,
             stop,
+            every,
         } = parse_run_args(args)?;
+        let step = self.sys_mut()?.step;
+        if upto {
+            n = n
+                .checked_sub(step)
+                .ok_or("run upto: target step is in the past")?;
+        }
+        let Some((m, cmds)) = every else {
+            return self.run_chunk(n, start, stop);
+        };
+        if let Some(cap) = self.max_steps.filter(|&cap| n > cap) {
+            return Err(format!(
+                "run of {n} steps exceeds the cap of {cap} (Options::max_steps)"
+            ));
+        }
+        // LAMMPS's `Run::command` with `every`: chunks of at most M steps (one of 0 steps
+        // for `run 0`), each a run of its own with its set-up, then the commands.
+        let mut left = n;
+        let mut first = true;
+        while left > 0 || first {
+            let chunk = left.min(m);
+            self.run_chunk(chunk, start, stop)?;
+            for c in &cmds {
+                self.one(c).map_err(|e| format!("every: {e}"))?;
+            }
+            left -= chunk;
+            first = false;
+        }
+        Ok(())
+    }
+
+    /// One run of `n` steps (a whole `run`, or one chunk of `run N every M`).
+    fn run_chunk(&mut self, n: u64, start: Option<u64>, stop: Option<u64>) -> CmdResult {
         let threads = self.threads;
         let step = self.sys_mut()?.step;
         if self.console.get().interrupted() {
             return Err(self.interrupted_at(step, None));
         }
         self.drop_unclaimed_fix_state();
-        let sys = self.sys_mut()?;
-        if upto {
-            n = n
-                .checked_sub(sys.step)
-                .ok_or("run upto: target step is in the past")?;
-        }
         if let Some(cap) = self.max_steps.filter(|&cap| n > cap) {
             return Err(format!(
                 "run of {n} steps exceeds the cap of {cap} (Options::max_steps)"
@@ -313,7 +368,7 @@ impl Interpreter<'_> {
         let every = self.thermo.every;
         let start = Instant::now();
         let mut last_progress = Instant::now();
-        let measuring = self.obs.has_fixes();
+        let measuring = self.obs.has_fixes() || !self.prints.is_empty();
         for _ in 0..n {
             // LAMMPS re-neighbours on the steps it writes a restart file.
             let next = self.sys_mut()?.step + 1;
