@@ -45,6 +45,9 @@ pub(super) enum ComputeKind {
     /// `sdpd/density`: per atom the number density d_i of `pair_style sdpd`'s last evaluation;
     /// vector [mean d, rms(d − mean)/mean].
     SdpdDensity,
+    /// `temp/partial xflag yflag zflag`: as `temp` over the flagged velocity components
+    /// (`System::thermo_partial`).
+    TempPartial([bool; 3]),
     /// `reduce MODE INPUT…` (in `reduce`): a scalar (one input) or a vector.
     Reduce(super::reduce::Reduce),
 }
@@ -63,6 +66,7 @@ impl ComputeKind {
             ComputeKind::GyrationChunk { .. } => "gyration/chunk",
             ComputeKind::SdpdDensity => "sdpd/density",
             ComputeKind::Reduce(_) => "reduce",
+            ComputeKind::TempPartial(_) => "temp/partial",
         }
     }
 
@@ -74,6 +78,7 @@ impl ComputeKind {
             self,
             ComputeKind::Temp
                 | ComputeKind::TempDeform
+                | ComputeKind::TempPartial(_)
                 | ComputeKind::Pressure(_)
                 | ComputeKind::Pe
                 | ComputeKind::Ke
@@ -90,6 +95,7 @@ impl ComputeKind {
         match self {
             ComputeKind::Temp
             | ComputeKind::TempDeform
+            | ComputeKind::TempPartial(_)
             | ComputeKind::Pressure(_)
             | ComputeKind::Gyration => Some(6),
             ComputeKind::Msd(_) => Some(4),
@@ -100,9 +106,15 @@ impl ComputeKind {
         }
     }
 
-    pub(super) fn extensive(&self) -> bool {
+    /// Whether the scalar (`index` None) or the vector is extensive (LAMMPS's `extscalar`,
+    /// `extvector`): thermo output with `thermo_modify norm yes` divides it by the atom count.
+    /// The temperatures' vectors (Σ m v_a v_b) are, their scalars are not.
+    pub(super) fn extensive(&self, index: Option<usize>) -> bool {
         match self {
             ComputeKind::Reduce(r) => r.extensive(),
+            ComputeKind::Temp | ComputeKind::TempDeform | ComputeKind::TempPartial(_) => {
+                index.is_some()
+            }
             k => matches!(k, ComputeKind::Pe | ComputeKind::Ke),
         }
     }
@@ -113,12 +125,15 @@ impl ComputeKind {
     }
 
     pub(super) fn is_temperature(&self) -> bool {
-        matches!(self, ComputeKind::Temp | ComputeKind::TempDeform)
+        matches!(
+            self,
+            ComputeKind::Temp | ComputeKind::TempDeform | ComputeKind::TempPartial(_)
+        )
     }
 }
 
 /// The usage of `compute`, quoted in its errors.
-const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | gyration | sdpd/density | reduce MODE INPUT… | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | temp/partial XFLAG YFLAG ZFLAG | pressure TEMP-ID | pe | ke | gyration | sdpd/density | reduce MODE INPUT… | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
 
 /// A compute: its ID and what it computes.
 #[derive(Debug)]
@@ -180,6 +195,26 @@ impl Observe {
             "temp/deform" => {
                 extra(3)?;
                 ComputeKind::TempDeform
+            }
+            "temp/partial" => {
+                let usage = "compute ID all temp/partial xflag yflag zflag (each 0 or 1)";
+                let mut flags = [false; 3];
+                for (k, f) in flags.iter_mut().enumerate() {
+                    *f = match arg(args, 3 + k, usage)? {
+                        "0" => false,
+                        "1" => true,
+                        o => {
+                            return Err(format!(
+                                "compute temp/partial flag '{o}' must be 0 or 1; usage: {usage}"
+                            ));
+                        }
+                    };
+                }
+                extra(6)?;
+                if flags[2] && sys.dim() == 2 {
+                    return Err("compute temp/partial cannot use vz (zflag 1) in 2-D".into());
+                }
+                ComputeKind::TempPartial(flags)
             }
             "pe" => {
                 extra(3)?;
@@ -415,6 +450,7 @@ impl Observe {
         match self.compute(id).map(|c| &c.kind) {
             Some(ComputeKind::Temp) => Ok(sys.thermo()),
             Some(ComputeKind::TempDeform) => Ok(sys.thermo_deform()),
+            Some(ComputeKind::TempPartial(f)) => Ok(sys.thermo_partial(*f)),
             Some(k) => Err(format!(
                 "compute '{id}' is a {} compute, not a temperature",
                 k.style()
@@ -506,6 +542,7 @@ impl Observe {
             ComputeKind::Reduce(r) if r.inputs.len() == 1 => r.values(env, sys)?[0],
             ComputeKind::Temp => sys.thermo().temp,
             ComputeKind::TempDeform => sys.thermo_deform().temp,
+            ComputeKind::TempPartial(f) => sys.thermo_partial(*f).temp,
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.press,
             ComputeKind::Pe => sys.tally.energy,
             ComputeKind::Ke => sys.thermo().ke,
@@ -533,6 +570,7 @@ impl Observe {
             ComputeKind::Reduce(r) if r.inputs.len() > 1 => r.values(env, sys)?,
             ComputeKind::Temp => sys.thermo().ke_tensor.to_vec(),
             ComputeKind::TempDeform => sys.thermo_deform().ke_tensor.to_vec(),
+            ComputeKind::TempPartial(f) => sys.thermo_partial(*f).ke_tensor.to_vec(),
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.p_tensor.to_vec(),
             ComputeKind::Msd(m) => m.compute(sys)?.to_vec(),
             ComputeKind::Gyration => gyration_tensor(sys).to_vec(),

@@ -82,7 +82,7 @@ impl Observe {
     /// `thermo_modify norm yes`, as LAMMPS).
     pub fn extensive(&self, kind: RefKind, id: &str, index: Option<usize>) -> bool {
         match kind {
-            RefKind::Compute => self.compute(id).is_some_and(|c| c.kind.extensive()),
+            RefKind::Compute => self.compute(id).is_some_and(|c| c.kind.extensive(index)),
             RefKind::Fix => self.fix(id).is_some_and(|f| f.extensive(self, index)),
         }
     }
