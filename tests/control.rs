@@ -42,6 +42,14 @@ fn if_commands_are_substituted_when_they_run() {
 }
 
 #[test]
+fn branches_are_read_as_they_are_reached() {
+    // As LAMMPS: the true branch runs and what follows it is not looked at.
+    assert_eq!(printed("if \"1 > 0\" then \"print yes\" elif\n"), ["yes"]);
+    assert!(refused("if \"1 < 0\" then \"print yes\" else\n").contains("'else' needs commands"));
+    assert!(refused("if \"1 < 0\" then \"print yes\" elif \"1\"\n").contains("no command"));
+}
+
+#[test]
 fn loop_with_next_and_jump_self() {
     let text = "variable i loop 3\n\
                 label top\n\

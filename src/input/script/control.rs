@@ -120,8 +120,8 @@ impl Interpreter<'_> {
             ));
         }
         let is_branch = |w: &String| w == "elif" || w == "else";
-        // Branches: (condition or None for else, the commands).
-        let mut branches: Vec<(Option<&str>, &[String])> = Vec::new();
+        // As LAMMPS: the branches are read as they are reached, so a malformed branch after
+        // the one that runs is not looked at.
         let mut cond = Some(args[0].as_str());
         let mut k = 2;
         loop {
@@ -129,44 +129,46 @@ impl Interpreter<'_> {
                 .iter()
                 .position(is_branch)
                 .map_or(args.len(), |p| k + p);
-            branches.push((cond, &args[k..end]));
-            if end == args.len() {
-                break;
+            let truth = match cond {
+                Some(c) => eval_boolean(&self.substitute(c)?)? != 0.0,
+                None => true,
+            };
+            if truth {
+                if end == k {
+                    return Err(format!(
+                        "a branch of the if command has no command; usage: {IF_USAGE}"
+                    ));
+                }
+                for c in &args[k..end] {
+                    if c.trim().is_empty() {
+                        return Err("a command of the if command is empty".into());
+                    }
+                    self.one(c)?;
+                }
+                return Ok(());
             }
-            let word = &args[end];
-            if word == "elif" {
-                let c = args
-                    .get(end + 1)
-                    .ok_or_else(|| format!("elif needs a Boolean; usage: {IF_USAGE}"))?;
-                cond = Some(c.as_str());
+            if end == args.len() {
+                return Ok(());
+            }
+            if end + 2 > args.len() {
+                return Err(format!(
+                    "'{}' needs {}; usage: {IF_USAGE}",
+                    args[end],
+                    if args[end] == "elif" {
+                        "a Boolean and commands"
+                    } else {
+                        "commands"
+                    }
+                ));
+            }
+            if args[end] == "elif" {
+                cond = Some(args[end + 1].as_str());
                 k = end + 2;
             } else {
                 cond = None;
                 k = end + 1;
             }
         }
-        for (cond, commands) in branches {
-            let truth = match cond {
-                Some(c) => eval_boolean(&self.substitute(c)?)? != 0.0,
-                None => true,
-            };
-            if !truth {
-                continue;
-            }
-            if commands.is_empty() {
-                return Err(format!(
-                    "a branch of the if command has no command; usage: {IF_USAGE}"
-                ));
-            }
-            for c in commands {
-                if c.trim().is_empty() {
-                    return Err("a command of the if command is empty".into());
-                }
-                self.one(c)?;
-            }
-            return Ok(());
-        }
-        Ok(())
     }
 
     /// One command given as text (a command of `if`): substituted, split and run as an input

@@ -172,6 +172,8 @@ pub struct Interpreter<'c> {
     thermo: ThermoSettings,
     dumps: Vec<Dump>,
     fixes: Vec<(String, FixKind)>,
+    /// The files `write_dump` wrote (for [`Interpreter::dump_files`]).
+    written_dumps: Vec<String>,
     /// The `fix print` fixes, by ID.
     prints: BTreeMap<String, fix_print::PrintFix>,
     /// The words of each fix's `fix` command, by ID (for restart files).
@@ -268,6 +270,7 @@ impl<'c> Interpreter<'c> {
             dumps: Vec::new(),
             fixes: Vec::new(),
             prints: BTreeMap::new(),
+            written_dumps: Vec::new(),
             fix_lines: BTreeMap::new(),
             restart: None,
             restart_fixes: Vec::new(),
@@ -299,9 +302,14 @@ impl<'c> Interpreter<'c> {
     }
 
     /// The file names of the dumps currently defined, as given to `dump` (after variable
-    /// substitution), in the order they were defined.
+    /// substitution), in the order they were defined; then those `write_dump` wrote, in the
+    /// order written.
     pub fn dump_files(&self) -> Vec<String> {
-        self.dumps.iter().map(|d| d.path.clone()).collect()
+        self.dumps
+            .iter()
+            .map(|d| d.path.clone())
+            .chain(self.written_dumps.iter().cloned())
+            .collect()
     }
 
     fn out(&mut self, text: &str) {
@@ -586,6 +594,7 @@ impl<'c> Interpreter<'c> {
             "dump" => self.cmd_dump(args),
             "dump_modify" => self.cmd_dump_modify(args),
             "undump" => self.cmd_undump(args),
+            "write_dump" => self.cmd_write_dump(args),
             "run" => self.cmd_run(args),
             "run_style" => run::cmd_run_style(args),
             "if" => self.cmd_if(args),

@@ -70,6 +70,7 @@ pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
     matches!(
         cmd,
         "dump"
+            | "write_dump"
             | "dump_modify"
             | "undump"
             | "write_data"
