@@ -459,6 +459,25 @@ impl Observe {
         }
     }
 
+    /// The velocity components temperature compute `id` counts (`velocity … temp ID`): all
+    /// three for `temp`, the flagged ones for `temp/partial`; `temp/deform`'s bias (a
+    /// streaming velocity) is refused there.
+    pub fn temp_components(&self, id: &str) -> Result<[bool; 3], String> {
+        match self.compute(id).map(|c| &c.kind) {
+            Some(ComputeKind::Temp) => Ok([true; 3]),
+            Some(ComputeKind::TempPartial(f)) => Ok(*f),
+            Some(ComputeKind::TempDeform) => Err(format!(
+                "velocity with temp/deform compute '{id}' is not supported (use temp or \
+                 temp/partial)"
+            )),
+            Some(k) => Err(format!(
+                "compute '{id}' is a {} compute, not a temperature",
+                k.style()
+            )),
+            None => Err(format!("temperature compute '{id}' does not exist")),
+        }
+    }
+
     /// The state of pressure compute `id` (its temperature's kinetic part + the virial).
     pub fn thermo_of_press(&self, id: &str, sys: &System) -> Result<crate::engine::Thermo, String> {
         match self.compute(id).map(|c| &c.kind) {
