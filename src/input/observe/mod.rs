@@ -38,10 +38,11 @@ mod compute;
 mod fix;
 mod global;
 mod per_atom;
+mod reduce;
 
 pub use compute::ComputeDef;
 pub use fix::AveFix;
-pub(crate) use per_atom::eval_atoms;
+pub(crate) use per_atom::{atom_value, eval_atoms};
 
 use super::expr::RefKind;
 use super::format::{ArgKind, conversion_kinds};

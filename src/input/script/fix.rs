@@ -23,6 +23,8 @@ pub(super) enum FixKind {
     /// `dpdnl/frames N FILE`: LAMMPS's (the frames `dpdnl verify` checks); words checked,
     /// nothing written here.
     Frames,
+    /// `print` (in `fix_print`).
+    Print,
 }
 
 impl Interpreter<'_> {
@@ -35,7 +37,7 @@ impl Interpreter<'_> {
     }
 
     fn define_fix(&mut self, args: &[String]) -> CmdResult {
-        let usage = "fix ID GROUP nve | nve/euler | mvv/dpd [LAMBDA] | setforce … | addforce … | aveforce … | momentum … | enforce2d | fix ID all pex/push DP [width W] [every N] | deform … | flip/momentum [mode jump|check] | ave/time … | ave/chunk … | ave/histo …";
+        let usage = "fix ID GROUP nve | nve/euler | mvv/dpd [LAMBDA] | setforce … | addforce … | aveforce … | momentum … | enforce2d | print N TEXT … | fix ID all pex/push DP [width W] [every N] | deform … | flip/momentum [mode jump|check] | dpdnl/frames N FILE | ave/time … | ave/chunk … | ave/histo …";
         need(args, 3, usage)?;
         let id = args[0].clone();
         if self.fixes.iter().any(|(i, _)| i == &id) {
@@ -81,6 +83,13 @@ impl Interpreter<'_> {
                  the reference `dpdnl verify` recomputes, so it writes none",
             );
             self.fixes.push((id, FixKind::Frames));
+            return Ok(());
+        }
+        if args[2] == "print" {
+            self.sys_mut()?;
+            let p = super::fix_print::PrintFix::parse(args)?;
+            self.prints.insert(id.clone(), p);
+            self.fixes.push((id, FixKind::Print));
             return Ok(());
         }
         let dim = self.dim;
@@ -237,6 +246,9 @@ impl Interpreter<'_> {
                 FixKind::Enforce2d | FixKind::Frames => {}
                 FixKind::Observe => {
                     self.obs.unfix(&id);
+                }
+                FixKind::Print => {
+                    self.prints.remove(&id);
                 }
             }
         }

@@ -24,9 +24,11 @@
 //! - `run_style verlet` is accepted in the dispatch (`run`).
 
 mod bonded;
+mod control;
 mod data;
 mod fix;
 mod fix_group;
+mod fix_print;
 mod group;
 mod output;
 mod pair;
@@ -40,7 +42,7 @@ mod velocity;
 pub use run::PlannedRun;
 pub use state::{CARRIED, FromState, StateReport, first_run_line, setup_groups};
 
-use super::expr::{AtomBinder, ExprContext, Formula, RefKind, eval_equal};
+use super::expr::{AtomBinder, AtomValue, ExprContext, Formula, RefKind, eval_equal};
 use super::format::{FmtArg, sprintf};
 use super::lexer::{logical_lines, split_words, strip_comment};
 use super::observe::{self, Observe, VarStyle};
@@ -116,7 +118,8 @@ impl std::error::Error for ScriptError {}
 
 #[derive(Clone, Debug)]
 enum Var {
-    Index(String),
+    /// `index` and `loop` variables: their values and the one `next` has reached.
+    Index(Vec<String>, usize),
     Str(String),
     Equal(String),
     /// `variable NAME atom FORMULA` (per-atom values; see `observe`).
@@ -190,6 +193,10 @@ pub struct Interpreter<'c> {
     thermo: ThermoSettings,
     dumps: Vec<Dump>,
     fixes: Vec<(String, FixKind)>,
+    /// The files `write_dump` wrote (for [`Interpreter::dump_files`]).
+    written_dumps: Vec<String>,
+    /// The `fix print` fixes, by ID.
+    prints: BTreeMap<String, fix_print::PrintFix>,
     /// The words of each fix's `fix` command, by ID (for restart files).
     fix_lines: BTreeMap<String, Vec<String>>,
     /// `restart N FILE`, when set.
@@ -203,6 +210,9 @@ pub struct Interpreter<'c> {
     /// [`Options::substyle`].
     substyle: Option<String>,
     depth: usize,
+    /// `jump` and `next`: the jump the last command asked for, and whether the next `jump` is
+    /// skipped (a `next` that exhausted its variable).
+    flow: control::Flow,
     run_first: u64,
     obs: Observe,
     /// The "from LAMMPS's state" mode, when [`Options::from_state`] is set.
@@ -264,7 +274,7 @@ impl<'c> Interpreter<'c> {
         };
         let mut vars = BTreeMap::new();
         for (k, v) in &opts.vars {
-            vars.insert(k.clone(), Var::Index(v.clone()));
+            vars.insert(k.clone(), Var::Index(vec![v.clone()], 0));
         }
         Ok(Interpreter {
             console,
@@ -289,6 +299,8 @@ impl<'c> Interpreter<'c> {
             thermo: ThermoSettings::default(),
             dumps: Vec::new(),
             fixes: Vec::new(),
+            prints: BTreeMap::new(),
+            written_dumps: Vec::new(),
             fix_lines: BTreeMap::new(),
             restart: None,
             restart_fixes: Vec::new(),
@@ -297,6 +309,7 @@ impl<'c> Interpreter<'c> {
             max_atoms: opts.max_atoms,
             substyle: opts.substyle.clone(),
             depth: 0,
+            flow: Default::default(),
             run_first: 0,
             obs: Observe::new(),
             state: opts.from_state.clone().map(state::StateMode::new),
@@ -327,9 +340,14 @@ impl<'c> Interpreter<'c> {
     }
 
     /// The file names of the dumps currently defined, as given to `dump` (after variable
-    /// substitution), in the order they were defined.
+    /// substitution), in the order they were defined; then those `write_dump` wrote, in the
+    /// order written.
     pub fn dump_files(&self) -> Vec<String> {
-        self.dumps.iter().map(|d| d.path.clone()).collect()
+        self.dumps
+            .iter()
+            .map(|d| d.path.clone())
+            .chain(self.written_dumps.iter().cloned())
+            .collect()
     }
 
     fn out(&mut self, text: &str) {
@@ -357,15 +375,30 @@ impl<'c> Interpreter<'c> {
 
     /// Run script text; `name` is used in error messages.
     pub fn run_text(&mut self, text: &str, name: &str) -> Result<(), ScriptError> {
-        for raw in logical_lines(text) {
+        let mut name = name.to_string();
+        let mut lines = logical_lines(text);
+        let mut k = 0;
+        // `jump FILE LABEL`: the label searched for (lines are skipped, unsubstituted, until
+        // `label LABEL`), and the line of that jump.
+        let mut seeking: Option<(String, usize)> = None;
+        while k < lines.len() {
+            let raw = &lines[k];
+            k += 1;
+            let line = raw.line;
             let err = |command: &str, message: String| ScriptError {
-                file: name.to_string(),
-                line: raw.line,
+                file: name.clone(),
+                line,
                 command: command.to_string(),
                 message,
             };
             let body = strip_comment(&raw.text);
             if body.trim().is_empty() {
+                continue;
+            }
+            if let Some((label, _)) = &seeking {
+                if control::is_label(body, label) {
+                    seeking = None;
+                }
                 continue;
             }
             let first = body.split_whitespace().next().unwrap_or("").to_string();
@@ -379,29 +412,65 @@ impl<'c> Interpreter<'c> {
                 continue;
             }
             if cmd == "include" {
-                if args.len() != 1 {
-                    return Err(err(cmd, "usage: include FILE".into()));
-                }
-                if self.depth > 16 {
-                    return Err(err(cmd, "include nested more than 16 deep".into()));
-                }
-                // A missing file is an error of this line (file and line of the `include`).
-                let text = std::fs::read_to_string(&args[0]).map_err(|e| {
-                    err(
-                        cmd,
-                        format!("cannot read '{}': {e}", crate::grammar::shown(&args[0])),
-                    )
-                })?;
-                self.depth += 1;
-                let r = self.run_text(&text, &args[0]);
-                self.depth -= 1;
-                r?;
+                self.include(args)
+                    .map_err(|e| e.unwrap_or_else(|m| err(cmd, m)))?;
                 continue;
             }
             self.command(cmd, args).map_err(|m| err(cmd, m))?;
+            if let Some(jump) = self.flow.pending.take() {
+                self.flow
+                    .count_jump(self.max_steps)
+                    .map_err(|m| err("jump", m))?;
+                if let Some(file) = jump.file {
+                    let text = std::fs::read_to_string(&file).map_err(|e| {
+                        err(
+                            "jump",
+                            format!("cannot read '{}': {e}", crate::grammar::shown(&file)),
+                        )
+                    })?;
+                    lines = logical_lines(&text);
+                    name = file;
+                }
+                k = 0;
+                seeking = jump.label.map(|l| (l, line));
+            }
+        }
+        if let Some((label, line)) = seeking {
+            let message = format!(
+                "label '{label}' not found in {}",
+                crate::grammar::shown(&name)
+            );
+            return Err(ScriptError {
+                file: name,
+                line,
+                command: "jump".into(),
+                message,
+            });
         }
         self.flush_outputs();
         Ok(())
+    }
+
+    /// `include FILE`: its errors are the included file's (`Err(Ok(e))`), or this line's
+    /// (`Err(Err(message))`: a missing file, too deep).
+    fn include(&mut self, args: &[String]) -> Result<(), Result<ScriptError, String>> {
+        if args.len() != 1 {
+            return Err(Err("usage: include FILE".into()));
+        }
+        if self.depth > 16 {
+            return Err(Err("include nested more than 16 deep".into()));
+        }
+        // A missing file is an error of this line (file and line of the `include`).
+        let text = std::fs::read_to_string(&args[0]).map_err(|e| {
+            Err(format!(
+                "cannot read '{}': {e}",
+                crate::grammar::shown(&args[0])
+            ))
+        })?;
+        self.depth += 1;
+        let r = self.run_text(&text, &args[0]);
+        self.depth -= 1;
+        r.map_err(Ok)
     }
 
     // ------------------------------------------------------------------ variables
@@ -409,7 +478,8 @@ impl<'c> Interpreter<'c> {
     fn var_string(&self, name: &str) -> Result<String, String> {
         match self.vars.get(name) {
             None => Err(format!("variable '{name}' is not defined")),
-            Some(Var::Index(s)) | Some(Var::Str(s)) => Ok(s.clone()),
+            Some(Var::Index(v, at)) => Ok(v[*at].clone()),
+            Some(Var::Str(s)) => Ok(s.clone()),
             Some(Var::Equal(e)) => {
                 let v = self.eval(e)?;
                 sprintf("%.15g", &[FmtArg::Float(v)])
@@ -431,20 +501,30 @@ impl<'c> Interpreter<'c> {
         let mut out = String::with_capacity(s.len());
         let mut i = 0;
         let b = s.as_bytes();
-        let mut in_single = false;
-        let mut in_triple = false;
         while i < b.len() {
-            if !in_single && s[i..].starts_with("\"\"\"") {
-                in_triple = !in_triple;
-                out.push_str("\"\"\"");
-                i += 3;
+            // As LAMMPS's `Input::substitute`: text in single, double or triple quotes is
+            // copied as it is (the commands that take such text, `print`, `if`, `fix print`,
+            // `run every`, substitute it themselves when they use it). An unmatched quote
+            // copies the rest (the word split reports it).
+            let quote = if s[i..].starts_with("\"\"\"") {
+                Some("\"\"\"")
+            } else if b[i] == b'"' {
+                Some("\"")
+            } else if b[i] == b'\'' {
+                Some("'")
+            } else {
+                None
+            };
+            if let Some(q) = quote {
+                let end = s[i + q.len()..]
+                    .find(q)
+                    .map_or(s.len(), |e| i + q.len() + e + q.len());
+                out.push_str(&s[i..end]);
+                i = end;
                 continue;
             }
             let c = b[i];
-            if c == b'\'' && !in_triple {
-                in_single = !in_single;
-            }
-            if c != b'$' || in_single || in_triple || i + 1 >= b.len() {
+            if c != b'$' || i + 1 >= b.len() {
                 let ch = s[i..].chars().next().unwrap_or(' ');
                 out.push(ch);
                 i += ch.len_utf8();
@@ -562,6 +642,11 @@ impl<'c> Interpreter<'c> {
                 self.cmd_run(args)
             }
             "run_style" => run::cmd_run_style(args),
+            "write_dump" => self.cmd_write_dump(args),
+            "if" => self.cmd_if(args),
+            "label" => control::cmd_label(args),
+            "jump" => self.cmd_jump(args),
+            "next" => self.cmd_next(args),
             "change_box" => self.cmd_change_box(args),
             "reset_timestep" => self.cmd_reset_timestep(args),
             "print" => self.cmd_print(args),
@@ -587,14 +672,14 @@ impl<'c> Interpreter<'c> {
             }
             "index" => {
                 need(args, 3, "variable NAME index VALUE…")?;
-                if args.len() > 3 {
-                    return Err(
-                        "index variables with several values (loops with next) are not supported"
-                            .into(),
-                    );
-                }
                 // As LAMMPS: an index variable already defined (e.g. by -var) is kept.
-                self.vars.entry(name).or_insert(Var::Index(args[2].clone()));
+                self.vars
+                    .entry(name)
+                    .or_insert(Var::Index(args[2..].to_vec(), 0));
+            }
+            "loop" => {
+                let values = control::loop_values(&args[2..])?;
+                self.vars.entry(name).or_insert(Var::Index(values, 0));
             }
             "string" => {
                 need(args, 3, "variable NAME string VALUE")?;
@@ -612,7 +697,7 @@ impl<'c> Interpreter<'c> {
             }
             o => {
                 return Err(format!(
-                    "variable style '{o}' not supported (index, string, equal, atom, delete)"
+                    "variable style '{o}' not supported (index, loop, string, equal, atom, delete)"
                 ));
             }
         }
@@ -627,6 +712,13 @@ impl Interpreter<'_> {
     }
 }
 
+/// The number a string-valued variable holds.
+fn number_of(name: &str, s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .map_err(|_| format!("variable '{name}' = '{s}' is not a number"))
+}
+
 /// The formula context of an interpreter: variables, thermo keywords, computes and fixes;
 /// the depth guards against variables that refer to themselves.
 struct Ctx<'a, 'b>(&'a Interpreter<'b>, usize);
@@ -638,10 +730,8 @@ impl ExprContext for Ctx<'_, '_> {
         }
         match self.0.vars.get(name) {
             None => Err(format!("variable '{name}' is not defined")),
-            Some(Var::Index(s)) | Some(Var::Str(s)) => s
-                .trim()
-                .parse::<f64>()
-                .map_err(|_| format!("variable '{name}' = '{s}' is not a number")),
+            Some(Var::Index(v, at)) => number_of(name, &v[*at]),
+            Some(Var::Str(s)) => number_of(name, s),
             Some(Var::Equal(e)) => eval_equal(e, &Ctx(self.0, self.1 + 1)),
             Some(Var::Atom(_)) => Err(format!(
                 "variable '{name}' is atom-style: not usable in an equal-style formula"
@@ -650,6 +740,23 @@ impl ExprContext for Ctx<'_, '_> {
     }
     fn thermo(&self, keyword: &str) -> Option<Result<f64, String>> {
         self.0.thermo_value(keyword)
+    }
+    fn atom(&self, value: AtomValue, id: u64) -> Option<Result<f64, String>> {
+        let Some(sys) = self.0.sys.as_ref() else {
+            return Some(Err("needs a simulation box".into()));
+        };
+        let tags = &sys.atoms.tag;
+        // As LAMMPS: an ID past the largest is an error, one no atom has (a gap) gives 0.
+        let largest = tags.iter().copied().max().map_or(0, u64::from);
+        if id > largest {
+            return Some(Err(format!(
+                "atom ID {id} is larger than the largest atom ID, {largest}"
+            )));
+        }
+        Some(Ok(tags
+            .iter()
+            .position(|&t| u64::from(t) == id)
+            .map_or(0.0, |i| observe::atom_value(sys, i, value))))
     }
     fn reference(
         &self,

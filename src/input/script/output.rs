@@ -1,5 +1,5 @@
 //! Files and screen output other than thermo: `dump` (custom style, sorted by atom ID),
-//! `dump_modify`, `undump` and the dump files, `print`, `log`.
+//! `dump_modify`, `undump`, `write_dump` and the dump files, `print`, `log`.
 
 use super::{CmdResult, Interpreter};
 use crate::grammar::{at_most, need, parse_int};
@@ -294,6 +294,53 @@ impl Interpreter<'_> {
         Ok(())
     }
 
+    /// `write_dump GROUP custom|atom FILE [COLUMNS…] [modify DUMP_MODIFY-ARGS…]` (LAMMPS's
+    /// `WriteDump`): one snapshot of the current step, written as a dump of the same style with
+    /// those `dump_modify` settings would write it, then closed; the script's own dumps are
+    /// not touched.
+    pub(super) fn cmd_write_dump(&mut self, args: &[String]) -> CmdResult {
+        let usage = "write_dump GROUP custom|atom FILE [COLUMNS…] [modify DUMP_MODIFY-ARGS…]";
+        need(args, 3, usage)?;
+        let (dump_part, modify) = match args.iter().position(|a| a == "modify") {
+            Some(k) => (&args[..k], Some(&args[k + 1..])),
+            None => (args, None),
+        };
+        need(dump_part, 3, usage)?;
+        const ID: &str = "WRITE_DUMP";
+        let mut dump_args: Vec<String> =
+            vec![ID.into(), dump_part[0].clone(), dump_part[1].clone()];
+        dump_args.push("1".into());
+        dump_args.extend(dump_part[2..].iter().cloned());
+        let saved = std::mem::take(&mut self.dumps);
+        let r = self.write_dump_now(&dump_args, modify);
+        self.dumps = saved;
+        r
+    }
+
+    /// Define the dump of `write_dump`, apply its `modify` words and write its one frame.
+    fn write_dump_now(&mut self, dump_args: &[String], modify: Option<&[String]>) -> CmdResult {
+        self.sys_mut()?;
+        self.cmd_dump(dump_args)?;
+        if let Some(m) = modify {
+            if m.is_empty() {
+                return Err("write_dump modify needs dump_modify arguments".into());
+            }
+            let mut margs = vec![dump_args[0].clone()];
+            margs.extend(m.iter().cloned());
+            self.cmd_dump_modify(&margs)?;
+        }
+        self.write_dumps(false)?;
+        for d in self.dumps.iter_mut() {
+            d.writer
+                .flush()
+                .map_err(|e| format!("cannot write dump file {}: {e}", d.path))?;
+            if !self.written_dumps.contains(&d.path) {
+                self.written_dumps.push(d.path.clone());
+            }
+        }
+        Ok(())
+    }
+
     pub(super) fn cmd_undump(&mut self, args: &[String]) -> CmdResult {
         need(args, 1, "undump ID")?;
         let before = self.dumps.len();
@@ -323,6 +370,9 @@ impl Interpreter<'_> {
             }
             k += 2;
         }
+        // As LAMMPS's print: the text's own `$` variables are substituted now (those inside
+        // quotes, which the line's substitution leaves).
+        let text = self.substitute(&args[0])?;
         if let Some((path, append)) = file {
             let mut f = std::fs::OpenOptions::new()
                 .create(true)
@@ -331,12 +381,12 @@ impl Interpreter<'_> {
                 .truncate(!append)
                 .open(&path)
                 .map_err(|e| format!("cannot open {path}: {e}"))?;
-            writeln!(f, "{}", args[0]).map_err(|e| format!("cannot write {path}: {e}"))?;
+            writeln!(f, "{text}").map_err(|e| format!("cannot write {path}: {e}"))?;
         }
         if screen {
-            self.out(&args[0]);
+            self.out(&text);
         } else if let Some(l) = self.log.as_mut() {
-            let _ = writeln!(l, "{}", args[0]);
+            let _ = writeln!(l, "{text}");
         }
         Ok(())
     }

@@ -41,6 +41,53 @@ fn scale_to(sys: &mut System, t: f64, bit: u32) {
     }
 }
 
+/// `velocity all scale T temp ID` with `compute temp/partial` (LAMMPS: the bias, here the
+/// unflagged components, is removed, the rest scaled from the compute's temperature to T, the
+/// bias restored): the flagged components are multiplied by √(T / T_partial), the others
+/// kept with `bias yes`; with `bias no` (LAMMPS's default) every component is multiplied.
+fn scale_partial(sys: &mut System, t: f64, flags: [bool; 3], bias: bool) -> CmdResult {
+    let now = sys.thermo_partial(flags).temp;
+    if now <= 0.0 {
+        return Err("cannot scale a zero temperature".into());
+    }
+    let s = (t / now).sqrt();
+    for v in sys.atoms.v.iter_mut() {
+        for k in 0..3 {
+            if flags[k] || !bias {
+                v[k] *= s;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The keywords of `velocity all scale T`: `temp ID` and `bias yes|no` (default no, as in
+/// LAMMPS: the whole velocity is scaled by the compute's temperature); the
+/// others LAMMPS's velocity takes (`dist`, `sum`, `mom`, `rot`, `loop`, `rigid`, `units`) do
+/// not change a scaling and are accepted.
+fn scale_keywords<'a>(args: &'a [String], usage: &str) -> Result<(Option<&'a str>, bool), String> {
+    let (mut temp, mut bias) = (None, false);
+    let mut k = 0;
+    while k < args.len() {
+        need(&args[k..], 2, usage)?;
+        let val = args[k + 1].as_str();
+        match args[k].as_str() {
+            "temp" => temp = Some(val),
+            "bias" => {
+                bias = match val {
+                    "yes" => true,
+                    "no" => false,
+                    o => return Err(format!("velocity bias '{o}' must be yes or no")),
+                }
+            }
+            "dist" | "sum" | "mom" | "rot" | "loop" | "rigid" | "units" => {}
+            o => return Err(format!("unknown velocity scale keyword '{o}'")),
+        }
+        k += 2;
+    }
+    Ok((temp, bias))
+}
+
 /// Mass of atom `i` (1.0 where its type has none, which the caller rules out).
 fn atom_mass(sys: &System, i: usize) -> f64 {
     sys.mass[sys.atoms.typ[i] as usize].unwrap_or(1.0)
@@ -137,6 +184,13 @@ fn velocity_create(
                 }
             }
             "loop" | "sum" => {}
+            w @ ("temp" | "bias") => {
+                return Err(format!(
+                    "velocity create with '{w}' is not supported: it creates with the \
+                     temperature of all three components; create without it, then \
+                     `velocity all scale T temp ID` with the temperature compute"
+                ));
+            }
             o => return Err(format!("unknown velocity keyword '{o}'")),
         }
         k += 2;
@@ -238,7 +292,7 @@ fn velocity_ramp(sys: &mut System, dim: usize, args: &[String], bit: u32) -> Cmd
 
 impl Interpreter<'_> {
     pub(super) fn cmd_velocity(&mut self, args: &[String]) -> CmdResult {
-        let usage = "velocity GROUP create T SEED [dist uniform|gaussian] [mom yes|no] [rot no] [loop all|local|geom] | velocity GROUP set VX VY VZ [sum yes|no] | velocity GROUP zero linear | velocity GROUP scale T";
+        let usage = "velocity GROUP create T SEED [dist uniform|gaussian] [mom yes|no] [rot no] [loop all|local|geom] | velocity GROUP set VX VY VZ [sum yes|no] | velocity GROUP zero linear | velocity GROUP scale T [temp ID] [bias yes|no]";
         need(args, 2, usage)?;
         let bit = self.group_bit(&args[0])?;
         let dim = self.dim;
@@ -261,10 +315,26 @@ impl Interpreter<'_> {
             "scale" => {
                 need(args, 3, usage)?;
                 let t = parse_f64(&args[2], "temperature")?;
-                if group_temp(sys, bit) <= 0.0 {
-                    return Err("cannot scale a zero temperature".into());
+                let (temp, bias) = scale_keywords(&args[3..], usage)?;
+                let flags = match temp {
+                    Some(id) => self.obs.temp_components(id)?,
+                    None => [true; 3],
+                };
+                let sys = self.sys_mut()?;
+                if flags == [true; 3] {
+                    if group_temp(sys, bit) <= 0.0 {
+                        return Err("cannot scale a zero temperature".into());
+                    }
+                    scale_to(sys, t, bit);
+                } else if bit != 1 {
+                    return Err(format!(
+                        "velocity {} scale with temp of a temp/partial compute: group all only \
+                         (the computes act on all atoms)",
+                        args[0]
+                    ));
+                } else {
+                    scale_partial(sys, t, flags, bias)?;
                 }
-                scale_to(sys, t, bit);
                 Ok(())
             }
             o => Err(format!(
