@@ -189,9 +189,8 @@ fn run_style_verlet_only() {
     let e = it.run_text("run_style respa 2 2\n", "t").unwrap_err();
     assert_eq!(e.line, 1);
     assert!(
-        e.message.starts_with(
-            "run_style 'respa' not supported: the standalone engine has only 'verlet'"
-        ),
+        e.message
+            .starts_with("run_style respa is not supported: the standalone engine has one force"),
         "{e}"
     );
 }
