@@ -4,7 +4,7 @@
 //! state they give, their global scalars and vectors).
 
 use super::{Env, Observe, arg, parse_num};
-use crate::engine::System;
+use crate::engine::{KineticBias, StressParts, System};
 use crate::engine::measure::{Bin1d, BinOrigin, Discard, Msd};
 
 /// Names of the computes LAMMPS defines by itself.
@@ -50,6 +50,17 @@ pub(super) enum ComputeKind {
     TempPartial([bool; 3]),
     /// `reduce MODE INPUT…` (in `reduce`): a scalar (one input) or a vector.
     Reduce(super::reduce::Reduce),
+    /// `stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial]`: per atom 6 columns
+    /// (`System::stress_atom`).
+    StressAtom(StressAtom),
+}
+
+/// A `compute stress/atom`: the temperature compute whose bias the kinetic part removes
+/// (None: `NULL`) and the parts summed (`parts.ke`'s bias is resolved at each evaluation).
+#[derive(Debug)]
+pub(super) struct StressAtom {
+    temp: Option<String>,
+    parts: StressParts,
 }
 
 impl ComputeKind {
@@ -67,6 +78,7 @@ impl ComputeKind {
             ComputeKind::SdpdDensity => "sdpd/density",
             ComputeKind::Reduce(_) => "reduce",
             ComputeKind::TempPartial(_) => "temp/partial",
+            ComputeKind::StressAtom(_) => "stress/atom",
         }
     }
 
@@ -121,7 +133,15 @@ impl ComputeKind {
 
     /// Whether the compute has per-atom values (`c_ID` in `dump custom` and `fix ave/chunk`).
     pub(super) fn has_per_atom(&self) -> bool {
-        matches!(self, ComputeKind::SdpdDensity)
+        matches!(self, ComputeKind::SdpdDensity | ComputeKind::StressAtom(_))
+    }
+
+    /// The per-atom columns: 0 for one value per atom, n for n columns.
+    pub(super) fn per_atom_width(&self) -> usize {
+        match self {
+            ComputeKind::StressAtom(_) => 6,
+            _ => 0,
+        }
     }
 
     pub(super) fn is_temperature(&self) -> bool {
@@ -133,7 +153,7 @@ impl ComputeKind {
 }
 
 /// The usage of `compute`, quoted in its errors.
-const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | temp/partial XFLAG YFLAG ZFLAG | pressure TEMP-ID | pe | ke | gyration | sdpd/density | reduce MODE INPUT… | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | temp/partial XFLAG YFLAG ZFLAG | pressure TEMP-ID | pe | ke | gyration | sdpd/density | reduce MODE INPUT… | stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial] | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
 
 /// A compute: its ID and what it computes.
 #[derive(Debug)]
@@ -248,6 +268,7 @@ impl Observe {
                 ComputeKind::SdpdDensity
             }
             "pressure" => Self::pressure(args, env)?,
+            "stress/atom" => ComputeKind::StressAtom(Self::stress_atom(args, env)?),
             "reduce" => ComputeKind::Reduce(super::reduce::Reduce::parse(args, env)?),
             "msd" => ComputeKind::Msd(Msd::new(sys, Self::msd_com(args)?)),
             "chunk/atom" if args.get(3).map(String::as_str) == Some("molecule") => {
@@ -319,6 +340,100 @@ impl Observe {
             ));
         }
         Ok(ComputeKind::Pressure(t.to_string()))
+    }
+
+    /// `compute ID all stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial]`: LAMMPS's
+    /// keywords (none: every part; `dihedral`, `improper`, `kspace` and `fix` add nothing
+    /// here).
+    fn stress_atom(args: &[String], env: &dyn Env) -> Result<StressAtom, String> {
+        let usage = "compute ID all stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial]";
+        let t = arg(args, 3, usage)?;
+        let temp = if t == "NULL" {
+            None
+        } else {
+            match env.observe().compute(t) {
+                Some(c) if c.kind.is_temperature() => {}
+                Some(c) => {
+                    return Err(format!(
+                        "compute stress/atom: compute '{t}' is a {} compute, not a temperature                          (give a temperature compute's ID or NULL)",
+                        c.kind.style()
+                    ));
+                }
+                None => {
+                    return Err(format!(
+                        "compute stress/atom: temperature compute '{t}' does not exist (define                          it first, or give NULL)"
+                    ));
+                }
+            }
+            Some(t.to_string())
+        };
+        let mut parts = StressParts {
+            ke: Some(KineticBias::None),
+            pair: true,
+            bond: true,
+            angle: true,
+        };
+        if args.len() > 4 {
+            parts = StressParts {
+                ke: None,
+                pair: false,
+                bond: false,
+                angle: false,
+            };
+        }
+        for w in &args[4..] {
+            match w.as_str() {
+                "ke" => parts.ke = Some(KineticBias::None),
+                "pair" => parts.pair = true,
+                "bond" => parts.bond = true,
+                "angle" => parts.angle = true,
+                "virial" => {
+                    parts.pair = true;
+                    parts.bond = true;
+                    parts.angle = true;
+                }
+                // LAMMPS's terms the standalone engine does not have (no dihedrals,
+                // impropers, kspace, or fixes with a virial): nothing to add, as in LAMMPS
+                // without them.
+                "dihedral" | "improper" | "kspace" | "fix" => {}
+                o => {
+                    return Err(format!(
+                        "unknown compute stress/atom keyword '{o}'; usage: {usage}"
+                    ));
+                }
+            }
+        }
+        Ok(StressAtom { temp, parts })
+    }
+
+    /// The parts of stress/atom compute `s` with its kinetic bias now (its temperature
+    /// compute's).
+    fn stress_parts(&self, s: &StressAtom) -> Result<StressParts, String> {
+        let mut parts = s.parts;
+        if parts.ke.is_some() {
+            parts.ke = Some(match (&s.temp, s.temp.as_deref().and_then(|t| self.compute(t))) {
+                (None, _) => KineticBias::None,
+                (Some(_), Some(c)) => match c.kind {
+                    ComputeKind::TempPartial(f) => KineticBias::Partial(f),
+                    ComputeKind::TempDeform => KineticBias::Deform,
+                    _ => KineticBias::None,
+                },
+                (Some(t), None) => {
+                    return Err(format!(
+                        "compute stress/atom: temperature compute '{t}' does not exist"
+                    ));
+                }
+            });
+        }
+        Ok(parts)
+    }
+
+    /// Whether a `compute stress/atom` is defined: the force evaluations then tally the
+    /// per-atom virial (`System::set_virial_atom`).
+    pub fn wants_virial_atom(&self) -> bool {
+        self.computes
+            .iter()
+            .any(|c| matches!(c.kind, ComputeKind::StressAtom(_)))
     }
 
     /// The keywords of `compute ID all msd [com yes|no] [average no]`: whether `com` is on.
@@ -546,6 +661,7 @@ impl Observe {
                 ComputeKind::Pressure(t) => t == id,
                 ComputeKind::GyrationChunk { chunk, .. } => chunk == id,
                 ComputeKind::Reduce(r) => r.uses_compute(id),
+                ComputeKind::StressAtom(s) => s.temp.as_deref() == Some(id),
                 _ => false,
             };
             if c.id != id && uses {
@@ -621,16 +737,7 @@ impl Observe {
     /// The per-atom values of compute `id` (in the atoms' internal order), for `c_ID` in
     /// `dump custom` and `fix ave/chunk`.
     pub fn compute_per_atom(&self, id: &str, sys: &System) -> Result<Vec<f64>, String> {
-        let c = self
-            .compute(id)
-            .ok_or_else(|| format!("compute '{id}' does not exist"))?;
-        match &c.kind {
-            ComputeKind::SdpdDensity => Ok(sdpd_densities(c, sys)?.to_vec()),
-            k => Err(format!(
-                "compute {} '{id}' does not calculate per-atom values",
-                k.style()
-            )),
-        }
+        self.per_atom_column(id, None, sys)
     }
 
     /// Whether compute `id` exists and has per-atom values.
@@ -643,19 +750,76 @@ impl Observe {
     pub(super) fn per_atom_width(&self, id: &str) -> Option<usize> {
         self.compute(id)
             .filter(|c| c.kind.has_per_atom())
-            .map(|_| 0)
+            .map(|c| c.kind.per_atom_width())
     }
 
-    /// Column `col` (None: the per-atom vector) of compute `id`'s per-atom values.
-    pub(super) fn per_atom_column(
+    /// `ID` or `ID[k]` (a per-atom reference after its `c_`): the compute's ID and column,
+    /// checked against its per-atom values; `what` names the user in errors.
+    pub fn per_atom_ref(&self, body: &str, what: &str) -> Result<(String, Option<usize>), String> {
+        let (id, col) = match body.split_once('[') {
+            Some((id, k)) => {
+                let k = k
+                    .strip_suffix(']')
+                    .and_then(|k| k.parse::<usize>().ok())
+                    .filter(|&k| k >= 1)
+                    .ok_or_else(|| format!("{what} 'c_{body}': expected c_ID[k] with k >= 1"))?;
+                (id, Some(k))
+            }
+            None => (body, None),
+        };
+        let width = self.per_atom_width(id).ok_or_else(|| {
+            if self.compute(id).is_some() {
+                format!("{what}: compute '{id}' does not calculate per-atom values")
+            } else {
+                format!("{what}: compute '{id}' does not exist")
+            }
+        })?;
+        match (col, width) {
+            (None, 0) => {}
+            (Some(k), n) if n > 0 && k <= n => {}
+            (None, n) => {
+                return Err(format!(
+                    "{what}: compute '{id}' has {n} per-atom columns: give one, c_{id}[k]"
+                ));
+            }
+            (Some(k), 0) => {
+                return Err(format!(
+                    "{what}: compute '{id}' has one per-atom value, not [{k}]"
+                ));
+            }
+            (Some(k), n) => {
+                return Err(format!(
+                    "{what}: compute '{id}' has {n} per-atom columns, [{k}] is out of range"
+                ));
+            }
+        }
+        Ok((id.to_string(), col))
+    }
+
+    /// Column `col` (1-based; None: the per-atom vector) of compute `id`'s per-atom values.
+    pub(crate) fn per_atom_column(
         &self,
         id: &str,
         col: Option<usize>,
         sys: &System,
     ) -> Result<Vec<f64>, String> {
-        match col {
-            None => self.compute_per_atom(id, sys),
-            Some(k) => Err(format!("compute '{id}' has no per-atom column [{k}]")),
+        let c = self
+            .compute(id)
+            .ok_or_else(|| format!("compute '{id}' does not exist"))?;
+        match (&c.kind, col) {
+            (ComputeKind::SdpdDensity, None) => Ok(sdpd_densities(c, sys)?.to_vec()),
+            (ComputeKind::StressAtom(s), Some(k @ 1..=6)) => {
+                let st = sys
+                    .stress_atom(self.stress_parts(s)?)
+                    .map_err(|e| format!("compute stress/atom '{id}': {e}"))?;
+                Ok(st.iter().map(|r| r[k - 1]).collect())
+            }
+            (k, _) if !k.has_per_atom() => Err(format!(
+                "compute {} '{id}' does not calculate per-atom values",
+                k.style()
+            )),
+            (_, None) => Err(format!("compute '{id}' has per-atom columns: give c_{id}[k]")),
+            (_, Some(k)) => Err(format!("compute '{id}' has no per-atom column [{k}]")),
         }
     }
 }
