@@ -4,8 +4,8 @@
 //! state they give, their global scalars and vectors).
 
 use super::{Env, Observe, arg, parse_num};
-use crate::engine::{KineticBias, StressParts, System};
 use crate::engine::measure::{Bin1d, BinOrigin, Discard, Msd};
+use crate::engine::{KineticBias, StressParts, System};
 
 /// Names of the computes LAMMPS defines by itself.
 pub(crate) const BUILTIN_COMPUTES: [&str; 3] = ["thermo_temp", "thermo_press", "thermo_pe"];
@@ -411,19 +411,21 @@ impl Observe {
     fn stress_parts(&self, s: &StressAtom) -> Result<StressParts, String> {
         let mut parts = s.parts;
         if parts.ke.is_some() {
-            parts.ke = Some(match (&s.temp, s.temp.as_deref().and_then(|t| self.compute(t))) {
-                (None, _) => KineticBias::None,
-                (Some(_), Some(c)) => match c.kind {
-                    ComputeKind::TempPartial(f) => KineticBias::Partial(f),
-                    ComputeKind::TempDeform => KineticBias::Deform,
-                    _ => KineticBias::None,
+            parts.ke = Some(
+                match (&s.temp, s.temp.as_deref().and_then(|t| self.compute(t))) {
+                    (None, _) => KineticBias::None,
+                    (Some(_), Some(c)) => match c.kind {
+                        ComputeKind::TempPartial(f) => KineticBias::Partial(f),
+                        ComputeKind::TempDeform => KineticBias::Deform,
+                        _ => KineticBias::None,
+                    },
+                    (Some(t), None) => {
+                        return Err(format!(
+                            "compute stress/atom: temperature compute '{t}' does not exist"
+                        ));
+                    }
                 },
-                (Some(t), None) => {
-                    return Err(format!(
-                        "compute stress/atom: temperature compute '{t}' does not exist"
-                    ));
-                }
-            });
+            );
         }
         Ok(parts)
     }
@@ -818,7 +820,9 @@ impl Observe {
                 "compute {} '{id}' does not calculate per-atom values",
                 k.style()
             )),
-            (_, None) => Err(format!("compute '{id}' has per-atom columns: give c_{id}[k]")),
+            (_, None) => Err(format!(
+                "compute '{id}' has per-atom columns: give c_{id}[k]"
+            )),
             (_, Some(k)) => Err(format!("compute '{id}' has no per-atom column [{k}]")),
         }
     }
