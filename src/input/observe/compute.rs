@@ -3,9 +3,10 @@
 //! the built-in `thermo_temp`, `thermo_press`, `thermo_pe` (parsing, `uncompute`, the thermo
 //! state they give, their global scalars and vectors).
 
+use super::stress_atom::StressAtom;
 use super::{Env, Observe, arg, parse_num};
+use crate::engine::System;
 use crate::engine::measure::{Bin1d, BinOrigin, Discard, Msd};
-use crate::engine::{KineticBias, StressParts, System};
 
 /// Names of the computes LAMMPS defines by itself.
 pub(crate) const BUILTIN_COMPUTES: [&str; 3] = ["thermo_temp", "thermo_press", "thermo_pe"];
@@ -53,14 +54,6 @@ pub(super) enum ComputeKind {
     /// `stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial]`: per atom 6 columns
     /// (`System::stress_atom`).
     StressAtom(StressAtom),
-}
-
-/// A `compute stress/atom`: the temperature compute whose bias the kinetic part removes
-/// (None: `NULL`) and the parts summed (`parts.ke`'s bias is resolved at each evaluation).
-#[derive(Debug)]
-pub(super) struct StressAtom {
-    temp: Option<String>,
-    parts: StressParts,
 }
 
 impl ComputeKind {
@@ -268,7 +261,7 @@ impl Observe {
                 ComputeKind::SdpdDensity
             }
             "pressure" => Self::pressure(args, env)?,
-            "stress/atom" => ComputeKind::StressAtom(Self::stress_atom(args, env)?),
+            "stress/atom" => ComputeKind::StressAtom(StressAtom::parse(args, env)?),
             "reduce" => ComputeKind::Reduce(super::reduce::Reduce::parse(args, env)?),
             "msd" => ComputeKind::Msd(Msd::new(sys, Self::msd_com(args)?)),
             "chunk/atom" if args.get(3).map(String::as_str) == Some("molecule") => {
@@ -340,102 +333,6 @@ impl Observe {
             ));
         }
         Ok(ComputeKind::Pressure(t.to_string()))
-    }
-
-    /// `compute ID all stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial]`: LAMMPS's
-    /// keywords (none: every part; `dihedral`, `improper`, `kspace` and `fix` add nothing
-    /// here).
-    fn stress_atom(args: &[String], env: &dyn Env) -> Result<StressAtom, String> {
-        let usage = "compute ID all stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial]";
-        let t = arg(args, 3, usage)?;
-        let temp = if t == "NULL" {
-            None
-        } else {
-            match env.observe().compute(t) {
-                Some(c) if c.kind.is_temperature() => {}
-                Some(c) => {
-                    return Err(format!(
-                        "compute stress/atom: compute '{t}' is a {} compute, not a temperature                          (give a temperature compute's ID or NULL)",
-                        c.kind.style()
-                    ));
-                }
-                None => {
-                    return Err(format!(
-                        "compute stress/atom: temperature compute '{t}' does not exist (define                          it first, or give NULL)"
-                    ));
-                }
-            }
-            Some(t.to_string())
-        };
-        let mut parts = StressParts {
-            ke: Some(KineticBias::None),
-            pair: true,
-            bond: true,
-            angle: true,
-        };
-        if args.len() > 4 {
-            parts = StressParts {
-                ke: None,
-                pair: false,
-                bond: false,
-                angle: false,
-            };
-        }
-        for w in &args[4..] {
-            match w.as_str() {
-                "ke" => parts.ke = Some(KineticBias::None),
-                "pair" => parts.pair = true,
-                "bond" => parts.bond = true,
-                "angle" => parts.angle = true,
-                "virial" => {
-                    parts.pair = true;
-                    parts.bond = true;
-                    parts.angle = true;
-                }
-                // LAMMPS's terms the standalone engine does not have (no dihedrals,
-                // impropers, kspace, or fixes with a virial): nothing to add, as in LAMMPS
-                // without them.
-                "dihedral" | "improper" | "kspace" | "fix" => {}
-                o => {
-                    return Err(format!(
-                        "unknown compute stress/atom keyword '{o}'; usage: {usage}"
-                    ));
-                }
-            }
-        }
-        Ok(StressAtom { temp, parts })
-    }
-
-    /// The parts of stress/atom compute `s` with its kinetic bias now (its temperature
-    /// compute's).
-    fn stress_parts(&self, s: &StressAtom) -> Result<StressParts, String> {
-        let mut parts = s.parts;
-        if parts.ke.is_some() {
-            parts.ke = Some(
-                match (&s.temp, s.temp.as_deref().and_then(|t| self.compute(t))) {
-                    (None, _) => KineticBias::None,
-                    (Some(_), Some(c)) => match c.kind {
-                        ComputeKind::TempPartial(f) => KineticBias::Partial(f),
-                        ComputeKind::TempDeform => KineticBias::Deform,
-                        _ => KineticBias::None,
-                    },
-                    (Some(t), None) => {
-                        return Err(format!(
-                            "compute stress/atom: temperature compute '{t}' does not exist"
-                        ));
-                    }
-                },
-            );
-        }
-        Ok(parts)
-    }
-
-    /// Whether a `compute stress/atom` is defined: the force evaluations then tally the
-    /// per-atom virial (`System::set_virial_atom`).
-    pub fn wants_virial_atom(&self) -> bool {
-        self.computes
-            .iter()
-            .any(|c| matches!(c.kind, ComputeKind::StressAtom(_)))
     }
 
     /// The keywords of `compute ID all msd [com yes|no] [average no]`: whether `com` is on.
@@ -663,7 +560,7 @@ impl Observe {
                 ComputeKind::Pressure(t) => t == id,
                 ComputeKind::GyrationChunk { chunk, .. } => chunk == id,
                 ComputeKind::Reduce(r) => r.uses_compute(id),
-                ComputeKind::StressAtom(s) => s.temp.as_deref() == Some(id),
+                ComputeKind::StressAtom(s) => s.uses_compute(id),
                 _ => false,
             };
             if c.id != id && uses {
@@ -755,49 +652,6 @@ impl Observe {
             .map(|c| c.kind.per_atom_width())
     }
 
-    /// `ID` or `ID[k]` (a per-atom reference after its `c_`): the compute's ID and column,
-    /// checked against its per-atom values; `what` names the user in errors.
-    pub fn per_atom_ref(&self, body: &str, what: &str) -> Result<(String, Option<usize>), String> {
-        let (id, col) = match body.split_once('[') {
-            Some((id, k)) => {
-                let k = k
-                    .strip_suffix(']')
-                    .and_then(|k| k.parse::<usize>().ok())
-                    .filter(|&k| k >= 1)
-                    .ok_or_else(|| format!("{what} 'c_{body}': expected c_ID[k] with k >= 1"))?;
-                (id, Some(k))
-            }
-            None => (body, None),
-        };
-        let width = self.per_atom_width(id).ok_or_else(|| {
-            if self.compute(id).is_some() {
-                format!("{what}: compute '{id}' does not calculate per-atom values")
-            } else {
-                format!("{what}: compute '{id}' does not exist")
-            }
-        })?;
-        match (col, width) {
-            (None, 0) => {}
-            (Some(k), n) if n > 0 && k <= n => {}
-            (None, n) => {
-                return Err(format!(
-                    "{what}: compute '{id}' has {n} per-atom columns: give one, c_{id}[k]"
-                ));
-            }
-            (Some(k), 0) => {
-                return Err(format!(
-                    "{what}: compute '{id}' has one per-atom value, not [{k}]"
-                ));
-            }
-            (Some(k), n) => {
-                return Err(format!(
-                    "{what}: compute '{id}' has {n} per-atom columns, [{k}] is out of range"
-                ));
-            }
-        }
-        Ok((id.to_string(), col))
-    }
-
     /// Column `col` (1-based; None: the per-atom vector) of compute `id`'s per-atom values.
     pub(crate) fn per_atom_column(
         &self,
@@ -812,7 +666,7 @@ impl Observe {
             (ComputeKind::SdpdDensity, None) => Ok(sdpd_densities(c, sys)?.to_vec()),
             (ComputeKind::StressAtom(s), Some(k @ 1..=6)) => {
                 let st = sys
-                    .stress_atom(self.stress_parts(s)?)
+                    .stress_atom(s.parts_now(self)?)
                     .map_err(|e| format!("compute stress/atom '{id}': {e}"))?;
                 Ok(st.iter().map(|r| r[k - 1]).collect())
             }
