@@ -79,9 +79,6 @@ impl StressAtom {
         Ok(StressAtom { temp, parts })
     }
 
-    /// The parts of stress/atom compute `s` with its kinetic bias now (its temperature
-    /// compute's).
-
     /// Whether its temperature compute is `id`.
     pub(super) fn uses_compute(&self, id: &str) -> bool {
         self.temp.as_deref() == Some(id)
