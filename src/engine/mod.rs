@@ -23,6 +23,7 @@ pub(crate) mod topology;
 mod bonded;
 mod shear;
 mod step;
+mod stress_atom;
 mod thermo;
 
 pub use crate::forces::dpd::ForceField;
@@ -30,6 +31,7 @@ pub use crate::forces::style::{PairStyle, SetupContext, SetupNote};
 pub use atoms::Atoms;
 pub use domain::SimBox;
 pub use neighbor::{NeighborList, PairTally};
+pub use stress_atom::{KineticBias, StressParts};
 pub use thermo::{Thermo, check_atoms};
 pub use topology::Topology;
 

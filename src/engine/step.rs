@@ -139,6 +139,7 @@ impl System {
     /// The forces of the current step: the pair style's, then the bonded terms. `setup`: the
     /// set-up's evaluation, right after a build (a pending flip waits for the first step).
     pub(super) fn compute_forces(&mut self, setup: bool) {
+        self.neighbor.virial_atom.clear();
         self.compute_pair_forces(setup);
         self.add_bonded();
     }

@@ -3,6 +3,7 @@
 //! the built-in `thermo_temp`, `thermo_press`, `thermo_pe` (parsing, `uncompute`, the thermo
 //! state they give, their global scalars and vectors).
 
+use super::stress_atom::StressAtom;
 use super::{Env, Observe, arg, parse_num};
 use crate::engine::System;
 use crate::engine::measure::{Bin1d, BinOrigin, Discard, Msd};
@@ -50,6 +51,9 @@ pub(super) enum ComputeKind {
     TempPartial([bool; 3]),
     /// `reduce MODE INPUT…` (in `reduce`): a scalar (one input) or a vector.
     Reduce(super::reduce::Reduce),
+    /// `stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial]`: per atom 6 columns
+    /// (`System::stress_atom`).
+    StressAtom(StressAtom),
 }
 
 impl ComputeKind {
@@ -67,6 +71,7 @@ impl ComputeKind {
             ComputeKind::SdpdDensity => "sdpd/density",
             ComputeKind::Reduce(_) => "reduce",
             ComputeKind::TempPartial(_) => "temp/partial",
+            ComputeKind::StressAtom(_) => "stress/atom",
         }
     }
 
@@ -121,7 +126,15 @@ impl ComputeKind {
 
     /// Whether the compute has per-atom values (`c_ID` in `dump custom` and `fix ave/chunk`).
     pub(super) fn has_per_atom(&self) -> bool {
-        matches!(self, ComputeKind::SdpdDensity)
+        matches!(self, ComputeKind::SdpdDensity | ComputeKind::StressAtom(_))
+    }
+
+    /// The per-atom columns: 0 for one value per atom, n for n columns.
+    pub(super) fn per_atom_width(&self) -> usize {
+        match self {
+            ComputeKind::StressAtom(_) => 6,
+            _ => 0,
+        }
     }
 
     pub(super) fn is_temperature(&self) -> bool {
@@ -133,7 +146,7 @@ impl ComputeKind {
 }
 
 /// The usage of `compute`, quoted in its errors.
-const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | temp/partial XFLAG YFLAG ZFLAG | pressure TEMP-ID | pe | ke | gyration | sdpd/density | reduce MODE INPUT… | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | temp/partial XFLAG YFLAG ZFLAG | pressure TEMP-ID | pe | ke | gyration | sdpd/density | reduce MODE INPUT… | stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial] | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
 
 /// A compute: its ID and what it computes.
 #[derive(Debug)]
@@ -248,6 +261,7 @@ impl Observe {
                 ComputeKind::SdpdDensity
             }
             "pressure" => Self::pressure(args, env)?,
+            "stress/atom" => ComputeKind::StressAtom(StressAtom::parse(args, env)?),
             "reduce" => ComputeKind::Reduce(super::reduce::Reduce::parse(args, env)?),
             "msd" => ComputeKind::Msd(Msd::new(sys, Self::msd_com(args)?)),
             "chunk/atom" if args.get(3).map(String::as_str) == Some("molecule") => {
@@ -546,6 +560,7 @@ impl Observe {
                 ComputeKind::Pressure(t) => t == id,
                 ComputeKind::GyrationChunk { chunk, .. } => chunk == id,
                 ComputeKind::Reduce(r) => r.uses_compute(id),
+                ComputeKind::StressAtom(s) => s.uses_compute(id),
                 _ => false,
             };
             if c.id != id && uses {
@@ -621,16 +636,7 @@ impl Observe {
     /// The per-atom values of compute `id` (in the atoms' internal order), for `c_ID` in
     /// `dump custom` and `fix ave/chunk`.
     pub fn compute_per_atom(&self, id: &str, sys: &System) -> Result<Vec<f64>, String> {
-        let c = self
-            .compute(id)
-            .ok_or_else(|| format!("compute '{id}' does not exist"))?;
-        match &c.kind {
-            ComputeKind::SdpdDensity => Ok(sdpd_densities(c, sys)?.to_vec()),
-            k => Err(format!(
-                "compute {} '{id}' does not calculate per-atom values",
-                k.style()
-            )),
-        }
+        self.per_atom_column(id, None, sys)
     }
 
     /// Whether compute `id` exists and has per-atom values.
@@ -643,19 +649,35 @@ impl Observe {
     pub(super) fn per_atom_width(&self, id: &str) -> Option<usize> {
         self.compute(id)
             .filter(|c| c.kind.has_per_atom())
-            .map(|_| 0)
+            .map(|c| c.kind.per_atom_width())
     }
 
-    /// Column `col` (None: the per-atom vector) of compute `id`'s per-atom values.
-    pub(super) fn per_atom_column(
+    /// Column `col` (1-based; None: the per-atom vector) of compute `id`'s per-atom values.
+    pub(crate) fn per_atom_column(
         &self,
         id: &str,
         col: Option<usize>,
         sys: &System,
     ) -> Result<Vec<f64>, String> {
-        match col {
-            None => self.compute_per_atom(id, sys),
-            Some(k) => Err(format!("compute '{id}' has no per-atom column [{k}]")),
+        let c = self
+            .compute(id)
+            .ok_or_else(|| format!("compute '{id}' does not exist"))?;
+        match (&c.kind, col) {
+            (ComputeKind::SdpdDensity, None) => Ok(sdpd_densities(c, sys)?.to_vec()),
+            (ComputeKind::StressAtom(s), Some(k @ 1..=6)) => {
+                let st = sys
+                    .stress_atom(s.parts_now(self)?)
+                    .map_err(|e| format!("compute stress/atom '{id}': {e}"))?;
+                Ok(st.iter().map(|r| r[k - 1]).collect())
+            }
+            (k, _) if !k.has_per_atom() => Err(format!(
+                "compute {} '{id}' does not calculate per-atom values",
+                k.style()
+            )),
+            (_, None) => Err(format!(
+                "compute '{id}' has per-atom columns: give c_{id}[k]"
+            )),
+            (_, Some(k)) => Err(format!("compute '{id}' has no per-atom column [{k}]")),
         }
     }
 }

@@ -39,6 +39,7 @@ mod fix;
 mod global;
 mod per_atom;
 mod reduce;
+mod stress_atom;
 
 pub use compute::ComputeDef;
 pub use fix::AveFix;

@@ -90,49 +90,8 @@ impl Reduce {
             };
         }
         if let Some(body) = w.strip_prefix("c_") {
-            let (id, col) = match body.split_once('[') {
-                Some((id, k)) => {
-                    let k = k
-                        .strip_suffix(']')
-                        .and_then(|k| k.parse::<usize>().ok())
-                        .filter(|&k| k >= 1)
-                        .ok_or_else(|| {
-                            format!("compute reduce input '{w}': expected c_ID[k] with k >= 1")
-                        })?;
-                    (id, Some(k))
-                }
-                None => (body, None),
-            };
-            let obs = env.observe();
-            let width = obs.per_atom_width(id).ok_or_else(|| {
-                if obs.compute(id).is_some() {
-                    format!("compute reduce: compute '{id}' does not calculate per-atom values")
-                } else {
-                    format!("compute reduce: compute '{id}' does not exist")
-                }
-            })?;
-            match (col, width) {
-                (None, 0) => {}
-                (Some(k), n) if n > 0 && k <= n => {}
-                (None, n) => {
-                    return Err(format!(
-                        "compute reduce: compute '{id}' has {n} per-atom columns: give one, \
-                         c_{id}[k]"
-                    ));
-                }
-                (Some(k), 0) => {
-                    return Err(format!(
-                        "compute reduce: compute '{id}' has one per-atom value, not [{k}]"
-                    ));
-                }
-                (Some(k), n) => {
-                    return Err(format!(
-                        "compute reduce: compute '{id}' has {n} per-atom columns, [{k}] is \
-                         out of range"
-                    ));
-                }
-            }
-            return Ok(Input::Compute(id.to_string(), col));
+            let (id, col) = env.observe().per_atom_ref(body, "compute reduce")?;
+            return Ok(Input::Compute(id, col));
         }
         Err(format!(
             "compute reduce input '{w}' not supported; usage: {USAGE}"

@@ -581,6 +581,15 @@ impl<'c> Interpreter<'c> {
 
     // ------------------------------------------------------------------ commands
 
+    /// The per-atom virial tally on while a `compute stress/atom` is defined (LAMMPS's
+    /// `vflag_atom`; off, the force loop is as without it).
+    fn sync_virial_atom(&mut self) {
+        let on = self.obs.wants_virial_atom();
+        if let Some(s) = self.system_mut() {
+            s.set_virial_atom(on);
+        }
+    }
+
     fn sys_mut(&mut self) -> Result<&mut System, String> {
         self.sys
             .as_mut()
@@ -621,12 +630,15 @@ impl<'c> Interpreter<'c> {
             "compute" => {
                 let c = Observe::parse_compute(args, &*self)?;
                 self.obs.add_compute(c);
+                self.sync_virial_atom();
                 Ok(())
             }
             "uncompute" => {
                 need(args, 1, "uncompute ID")?;
                 crate::grammar::at_most(args, 1, "uncompute ID")?;
-                self.obs.uncompute(&args[0])
+                self.obs.uncompute(&args[0])?;
+                self.sync_virial_atom();
+                Ok(())
             }
             "thermo" => {
                 need(args, 1, "thermo N")?;

@@ -60,13 +60,15 @@ impl Interpreter<'_> {
             args[5..].to_vec()
         };
         for c in &columns {
-            if let Some(id) = c.strip_prefix("c_") {
+            if let Some(body) = c.strip_prefix("c_") {
+                let id = body.split_once('[').map_or(body, |(id, _)| id);
                 if !self.obs.has_per_atom(id) {
                     return Err(format!(
                         "dump column '{c}': compute '{id}' does not exist or has no per-atom \
                          values"
                     ));
                 }
+                self.obs.per_atom_ref(body, &format!("dump column '{c}'"))?;
                 continue;
             }
             if c == "mol" && self.sys.as_ref().is_none_or(|s| s.topo.is_none()) {
@@ -209,7 +211,10 @@ impl Interpreter<'_> {
                 .iter()
                 .map(|c| {
                     c.strip_prefix("c_")
-                        .map(|id| self.obs.compute_per_atom(id, sys))
+                        .map(|body| {
+                            let (id, col) = self.obs.per_atom_ref(body, "dump")?;
+                            self.obs.per_atom_column(&id, col, sys)
+                        })
                         .transpose()
                 })
                 .collect::<Result<_, _>>()?;
