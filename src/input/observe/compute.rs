@@ -666,7 +666,7 @@ impl Observe {
             (ComputeKind::SdpdDensity, None) => Ok(sdpd_densities(c, sys)?.to_vec()),
             (ComputeKind::StressAtom(s), Some(k @ 1..=6)) => {
                 let st = sys
-                    .stress_atom(s.parts_now(self)?)
+                    .stress_atom(s.parts_with(self.kinetic_bias(s.temp_id())?))
                     .map_err(|e| format!("compute stress/atom '{id}': {e}"))?;
                 Ok(st.iter().map(|r| r[k - 1]).collect())
             }
@@ -767,4 +767,32 @@ fn gyration_by_molecule(sys: &System, n: usize) -> Vec<f64> {
         *r = if *m > 0.0 { (*r / m).sqrt() } else { 0.0 };
     }
     rg
+}
+
+impl Observe {
+    /// Whether a `compute stress/atom` is defined: the force evaluations then tally the
+    /// per-atom virial (`System::set_virial_atom`).
+    pub fn wants_virial_atom(&self) -> bool {
+        self.computes
+            .iter()
+            .any(|c| matches!(c.kind, ComputeKind::StressAtom(_)))
+    }
+
+    /// The velocity bias a `compute stress/atom` removes from its kinetic part: that of its
+    /// temperature compute `temp` (none for `temp` and `NULL`, the unflagged components for
+    /// `temp/partial`, the streaming velocity for `temp/deform`).
+    fn kinetic_bias(&self, temp: Option<&str>) -> Result<crate::engine::KineticBias, String> {
+        use crate::engine::KineticBias;
+        let Some(t) = temp else {
+            return Ok(KineticBias::None);
+        };
+        match self.compute(t).map(|c| &c.kind) {
+            Some(ComputeKind::TempPartial(f)) => Ok(KineticBias::Partial(*f)),
+            Some(ComputeKind::TempDeform) => Ok(KineticBias::Deform),
+            Some(_) => Ok(KineticBias::None),
+            None => Err(format!(
+                "compute stress/atom: temperature compute '{t}' does not exist"
+            )),
+        }
+    }
 }

@@ -2,8 +2,7 @@
 //! `ComputeStressAtom`): its words, and the parts and kinetic bias it asks of
 //! [`System::stress_atom`](crate::engine::System::stress_atom) at each evaluation.
 
-use super::compute::ComputeKind;
-use super::{Env, Observe, arg};
+use super::{Env, arg};
 use crate::engine::{KineticBias, StressParts};
 
 /// A `compute stress/atom`: the temperature compute whose bias the kinetic part removes
@@ -84,34 +83,18 @@ impl StressAtom {
         self.temp.as_deref() == Some(id)
     }
 
-    /// Its parts with the kinetic bias of its temperature compute now.
-    pub(super) fn parts_now(&self, obs: &Observe) -> Result<StressParts, String> {
+    /// Its temperature compute's ID (`TEMP-ID`; None for `NULL`).
+    pub(super) fn temp_id(&self) -> Option<&str> {
+        self.temp.as_deref()
+    }
+
+    /// Its parts, the kinetic part (when asked for) with `bias` removed: the bias of its
+    /// temperature compute now, which the caller looks up in the compute list.
+    pub(super) fn parts_with(&self, bias: KineticBias) -> StressParts {
         let mut parts = self.parts;
         if parts.ke.is_some() {
-            parts.ke = Some(match self.temp.as_deref() {
-                None => KineticBias::None,
-                Some(t) => match obs.compute(t).map(|c| &c.kind) {
-                    Some(ComputeKind::TempPartial(f)) => KineticBias::Partial(*f),
-                    Some(ComputeKind::TempDeform) => KineticBias::Deform,
-                    Some(_) => KineticBias::None,
-                    None => {
-                        return Err(format!(
-                            "compute stress/atom: temperature compute '{t}' does not exist"
-                        ));
-                    }
-                },
-            });
+            parts.ke = Some(bias);
         }
-        Ok(parts)
-    }
-}
-
-impl Observe {
-    /// Whether a `compute stress/atom` is defined: the force evaluations then tally the
-    /// per-atom virial (`System::set_virial_atom`).
-    pub fn wants_virial_atom(&self) -> bool {
-        self.computes
-            .iter()
-            .any(|c| matches!(c.kind, ComputeKind::StressAtom(_)))
+        parts
     }
 }
