@@ -155,19 +155,7 @@ pub(super) fn run_lammps(
 ) -> Result<PathBuf, CannotRun> {
     // 2. LAMMPS, a subprocess.
     let log_l = workdir.join("lammps.log");
-    let mut cmd = Command::new(lmp);
-    cmd.arg("-in")
-        .arg(script)
-        .arg("-log")
-        .arg(&log_l)
-        .args(["-screen", "none"]);
-    for (k, v) in vars {
-        cmd.args(["-var", k, v]);
-    }
-    cmd.args(["-var", "engine", "lammps"]);
-    let out = cmd
-        .output()
-        .map_err(|e| CannotRun(format!("cannot start {}: {e}", lmp.display())))?;
+    let out = run_lmp(lmp, script, &log_l, vars)?;
     if !out.status.success() {
         let log = std::fs::read_to_string(&log_l).unwrap_or_default();
         let tail: Vec<&str> = log.lines().rev().take(8).collect();
@@ -213,4 +201,26 @@ pub(super) fn run_lammps(
         move_file(l, &moved(workdir, l, "dump.lammps"))?;
     }
     Ok(log_l)
+}
+
+/// Run LAMMPS `lmp` on `input`, logging to `log`, screen off, with the `-var` pairs `vars` and
+/// `-var engine lammps`; its output once it has exited.
+pub(super) fn run_lmp(
+    lmp: &Path,
+    input: &Path,
+    log: &Path,
+    vars: &[(String, String)],
+) -> Result<std::process::Output, CannotRun> {
+    let mut cmd = Command::new(lmp);
+    cmd.arg("-in")
+        .arg(input)
+        .arg("-log")
+        .arg(log)
+        .args(["-screen", "none"]);
+    for (k, v) in vars {
+        cmd.args(["-var", k, v]);
+    }
+    cmd.args(["-var", "engine", "lammps"]);
+    cmd.output()
+        .map_err(|e| CannotRun(format!("cannot start {}: {e}", lmp.display())))
 }

@@ -9,7 +9,6 @@ use super::CannotRun;
 use dpdnl::input::{FromState, StateReport, first_run_line, setup_groups};
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::Command;
 
 /// The file names, in the work directory, of LAMMPS's set-up script, its log and its state.
 const SETUP_IN: &str = "lammps-setup.in";
@@ -93,19 +92,7 @@ pub(super) fn lammps_state(
     for f in [&data, &dump] {
         let _ = std::fs::remove_file(f);
     }
-    let mut cmd = Command::new(lmp);
-    cmd.arg("-in")
-        .arg(&setup)
-        .arg("-log")
-        .arg(&log)
-        .args(["-screen", "none"]);
-    for (k, v) in vars {
-        cmd.args(["-var", k, v]);
-    }
-    cmd.args(["-var", "engine", "lammps"]);
-    let out = cmd
-        .output()
-        .map_err(|e| CannotRun(format!("cannot start {}: {e}", lmp.display())))?;
+    let out = super::engines::run_lmp(lmp, &setup, &log, vars)?;
     if !out.status.success() || !data.is_file() {
         let tail = std::fs::read_to_string(&log).unwrap_or_default();
         let tail: Vec<&str> = tail.lines().rev().take(8).collect();
