@@ -225,12 +225,13 @@ pub struct NeighborList {
     pub(crate) virial_atom: Vec<[f64; 6]>,
     /// Slab k's per-atom virial on the atoms of slab k + 1.
     next_va: Vec<[f64; 6]>,
+    /// Positions at the last build (the rebuild check); during a build, the sort's scratch.
     x_at_build: Vec<[f64; 3]>,
+    /// Cell of each atom while the build sorts; then the sort's scratch.
     cell_of: Vec<u32>,
     cell_count: Vec<u32>,
     cell_start: Vec<u32>,
     perm: Vec<u32>,
-    perm_scratch: PermScratch,
     rcsq: Vec<f64>,
     ncell: [usize; 3],
     stencil_axes: [Vec<Vec<(usize, i8)>>; 3],
@@ -456,9 +457,6 @@ impl NeighborList {
             + self.x_at_inner.capacity() * 24
             + (self.cell_of.capacity() + self.perm.capacity()) * 4
             + (self.cell_count.capacity() + self.cell_start.capacity()) * 4
-            + self.perm_scratch.vec3.capacity() * 24
-            + self.perm_scratch.u32s.capacity() * 4
-            + self.perm_scratch.int3.capacity() * 12
     }
 
     /// The instruction set the pair loop uses: the override of [`NeighborList::set_isa`] if

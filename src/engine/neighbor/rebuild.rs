@@ -156,7 +156,7 @@ impl NeighborList {
             self.perm[*slot as usize] = i as u32;
             *slot += 1;
         }
-        permute(atoms, &self.perm, &mut self.perm_scratch);
+        permute(atoms, &self.perm, &mut self.x_at_build, &mut self.cell_of);
     }
 
     /// [`Self::build`]: the slabs over the sorted atoms and the second force array; true when
