@@ -271,10 +271,19 @@ pub(super) fn trim_buffer(v: &mut Vec<u32>) {
 }
 
 /// Reorder every per-atom array by `perm` (new index k holds old atom `perm[k]`): a parallel
-/// gather into one scratch array per element type, swapped with the field (so the scratch
-/// holds the old array for the next field of that type). The destructuring names every field
-/// of [`Atoms`]: a field added there fails to compile here until it is permuted too.
-pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch) {
+/// gather into a scratch array, swapped with the field (so the scratch holds the old array for
+/// the next field of that type). The scratch arrays are the list's own, dead while it is
+/// rebuilt: `vec3` the positions at the last build (rewritten at the end of the build), `u32s`
+/// the atoms' cells (read only until `perm` is made); the image counters go through `vec3` as
+/// exact f64, so the build holds no array of its own for the sort (40 B/atom less than a
+/// scratch per element type). The destructuring names every field of [`Atoms`]: a field added
+/// there fails to compile here until it is permuted too.
+pub(super) fn permute(
+    atoms: &mut Atoms,
+    perm: &[u32],
+    vec3: &mut Vec<[f64; 3]>,
+    u32s: &mut Vec<u32>,
+) {
     pub(super) fn gather<T: Copy + Send + Sync>(a: &mut Vec<T>, perm: &[u32], tmp: &mut Vec<T>) {
         tmp.clear();
         tmp.par_extend(perm.par_iter().map(|&p| a[p as usize]));
@@ -291,27 +300,25 @@ pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch
         mask,
         vest,
     } = atoms;
-    gather(x, perm, &mut scratch.vec3);
-    gather(v, perm, &mut scratch.vec3);
-    gather(f, perm, &mut scratch.vec3);
-    gather(tag, perm, &mut scratch.u32s);
-    gather(typ, perm, &mut scratch.u32s);
-    gather(image, perm, &mut scratch.int3);
+    gather(x, perm, vec3);
+    gather(v, perm, vec3);
+    gather(f, perm, vec3);
+    gather(tag, perm, u32s);
+    gather(typ, perm, u32s);
+    // Every i32 is an f64 exactly, and back.
+    vec3.clear();
+    vec3.par_extend(perm.par_iter().map(|&p| image[p as usize].map(f64::from)));
+    image
+        .par_iter_mut()
+        .zip(vec3.par_iter())
+        .for_each(|(im, t)| *im = t.map(|c| c as i32));
     if !mol.is_empty() {
-        gather(mol, perm, &mut scratch.u32s);
+        gather(mol, perm, u32s);
     }
     if !mask.is_empty() {
-        gather(mask, perm, &mut scratch.u32s);
+        gather(mask, perm, u32s);
     }
     if !vest.is_empty() {
-        gather(vest, perm, &mut scratch.vec3);
+        gather(vest, perm, vec3);
     }
-}
-
-/// Scratch arrays of [`permute`], one per element type (kept between builds).
-#[derive(Clone, Debug, Default)]
-pub(super) struct PermScratch {
-    pub(super) vec3: Vec<[f64; 3]>,
-    pub(super) u32s: Vec<u32>,
-    pub(super) int3: Vec<[i32; 3]>,
 }

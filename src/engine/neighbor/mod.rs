@@ -8,9 +8,10 @@
 //!
 //! so a slab's pairs touch only slab k and slab k + 1. Slabs are the parallel tasks, and need no
 //! colouring: task k adds its forces on slab-k atoms into `f` (which it alone writes there) and its
-//! forces on slab-(k+1) atoms into a second array (which it alone writes there), both starting from
-//! zero in its fixed pair order. The force on an atom is then the sum of exactly two partial sums,
-//! `own + next`, and IEEE addition is commutative: the result has the same bits whatever thread ran
+//! forces on slab-(k+1) atoms into a buffer of its own, both starting from zero in its fixed pair
+//! order; the later of tasks k and k + 1 to finish adds the buffer to `f` ([`slab_forces`]). The
+//! force on an atom is then the sum of exactly two partial sums, `own + next`, and IEEE addition
+//! is commutative: the result has the same bits whatever thread ran
 //! which slab, and F_ji = −F_ij exactly (both come from one evaluation). Energy and virial are
 //! summed per slab, then over slabs in order. Fewer than 3 slabs (small boxes): one task over the
 //! whole list (j > i in every neighbouring cell).
@@ -213,9 +214,8 @@ pub struct NeighborList {
     /// Number of builds so far.
     pub builds: u64,
     slabs: Vec<Slab>,
-    /// Forces of slab k's task on the atoms of slab k + 1 (slab mode only).
-    next_f: Vec<[f64; 3]>,
-    /// The same for the scalar sums of [`NeighborList::pair_sum`] (sDPD densities).
+    /// Slab k's scalar sums of [`NeighborList::pair_sum`] (sDPD densities) on the atoms of
+    /// slab k + 1.
     next_d: Vec<f64>,
     /// Whether [`NeighborList::compute_forces`] tallies the per-atom virial (LAMMPS's
     /// `vflag_atom`, on while a `compute stress/atom` is defined).
@@ -225,12 +225,13 @@ pub struct NeighborList {
     pub(crate) virial_atom: Vec<[f64; 6]>,
     /// Slab k's per-atom virial on the atoms of slab k + 1.
     next_va: Vec<[f64; 6]>,
+    /// Positions at the last build (the rebuild check); during a build, the sort's scratch.
     x_at_build: Vec<[f64; 3]>,
+    /// Cell of each atom while the build sorts; then the sort's scratch.
     cell_of: Vec<u32>,
     cell_count: Vec<u32>,
     cell_start: Vec<u32>,
     perm: Vec<u32>,
-    perm_scratch: PermScratch,
     rcsq: Vec<f64>,
     ncell: [usize; 3],
     stencil_axes: [Vec<Vec<(usize, i8)>>; 3],
@@ -450,15 +451,11 @@ impl NeighborList {
                     + (b.in_row_start.capacity() + b.in_nbr.capacity()) * 4
             })
             .sum();
-        rows + self.next_f.capacity() * 24
-            + self.next_d.capacity() * 8
+        rows + self.next_d.capacity() * 8
             + self.x_at_build.capacity() * 24
             + self.x_at_inner.capacity() * 24
             + (self.cell_of.capacity() + self.perm.capacity()) * 4
             + (self.cell_count.capacity() + self.cell_start.capacity()) * 4
-            + self.perm_scratch.vec3.capacity() * 24
-            + self.perm_scratch.u32s.capacity() * 4
-            + self.perm_scratch.int3.capacity() * 12
     }
 
     /// The instruction set the pair loop uses: the override of [`NeighborList::set_isa`] if
@@ -543,7 +540,6 @@ impl NeighborList {
             let va = va_on.then(|| (&mut self.virial_atom[..], &mut [][..]));
             s.compute(&ctx, f, &mut [], va);
         } else {
-            let (own, next) = own_next_slices(&self.slabs, f, &mut self.next_f);
             let mut va: Vec<Option<slab::VirialOut>> = Vec::new();
             if va_on {
                 self.next_va.clear();
@@ -554,11 +550,7 @@ impl NeighborList {
             } else {
                 va.resize_with(self.slabs.len(), || None);
             }
-            self.slabs
-                .par_iter_mut()
-                .zip(own.into_par_iter().zip(next.into_par_iter()))
-                .zip(va.into_par_iter())
-                .for_each(|((s, (own, next)), va)| s.compute(&ctx, own, next, va));
+            slab_forces(&mut self.slabs, &ctx, f, va);
             if va_on {
                 // The same sum as the forces': own + next, once per atom.
                 for (v, n) in self.virial_atom.iter_mut().zip(&self.next_va) {
@@ -567,14 +559,6 @@ impl NeighborList {
                     }
                 }
             }
-            // f = own + next: one addition of two partial sums per component (commutative).
-            f.par_iter_mut()
-                .zip(self.next_f.par_iter())
-                .for_each(|(f, n)| {
-                    f[0] += n[0];
-                    f[1] += n[1];
-                    f[2] += n[2];
-                });
         }
 
         let mut tally = PairTally::default();
@@ -586,6 +570,81 @@ impl NeighborList {
         }
         tally
     }
+}
+
+/// One slab's force array and the hand-off of its neighbour's forces on it, in
+/// [`slab_forces`].
+struct SlabOut<'a> {
+    /// The slab's atoms' forces; taken by its task while it runs.
+    f: Option<&'a mut [[f64; 3]]>,
+    /// The task has written its own sums into `f`.
+    done: bool,
+    /// The previous slab's sums on this slab's atoms, when that task finished first.
+    pending: Option<Vec<[f64; 3]>>,
+}
+
+/// All slabs' pairs, in parallel (slab mode): slab k's task sums its forces on its own atoms
+/// into `f[slab k]` and those on slab k + 1's atoms into a buffer of that slab's length, both
+/// from zero in its pair order; each atom's force is then own + next, one addition, whichever
+/// of the two tasks finished first (the later one adds, under slab k + 1's lock). IEEE addition
+/// is commutative, so the bits are those of any thread count, and of the former whole second
+/// force array, whose 24 B/atom this leaves out: only the hand-offs whose reader has not yet
+/// finished are held (a few slabs per thread).
+fn slab_forces(
+    slabs: &mut [Slab],
+    ctx: &Ctx,
+    f: &mut [[f64; 3]],
+    va: Vec<Option<slab::VirialOut>>,
+) {
+    use std::sync::Mutex;
+    let n = slabs.len();
+    let lens: Vec<usize> = slabs.iter().map(|s| s.end - s.start).collect();
+    let mut outs: Vec<Mutex<SlabOut>> = Vec::with_capacity(n);
+    let mut rest = f;
+    for &len in &lens {
+        let (a, b) = std::mem::take(&mut rest).split_at_mut(len);
+        outs.push(Mutex::new(SlabOut {
+            f: Some(a),
+            done: false,
+            pending: None,
+        }));
+        rest = b;
+    }
+    let add = |f: &mut [[f64; 3]], next: &[[f64; 3]]| {
+        for (f, n) in f.iter_mut().zip(next) {
+            f[0] += n[0];
+            f[1] += n[1];
+            f[2] += n[2];
+        }
+    };
+    // A poisoned lock can only follow a panic in another task, which rayon passes on.
+    let lock = |k: usize| outs[k].lock().unwrap_or_else(|e| e.into_inner());
+    slabs
+        .par_iter_mut()
+        .enumerate()
+        .zip(va.into_par_iter())
+        .for_each_init(Vec::new, |next, ((k, s), va)| {
+            let own = lock(k).f.take().expect("each slab's forces are taken once");
+            next.resize(lens[(k + 1) % n], [0.0; 3]);
+            s.compute(ctx, own, next, va);
+            {
+                let mut me = lock(k);
+                if let Some(p) = me.pending.take() {
+                    add(own, &p);
+                }
+                me.f = Some(own);
+                me.done = true;
+            }
+            let mut them = lock((k + 1) % n);
+            if them.done {
+                add(
+                    them.f.as_deref_mut().expect("a finished slab's forces"),
+                    next,
+                );
+            } else {
+                them.pending = Some(std::mem::take(next));
+            }
+        });
 }
 
 #[cfg(test)]

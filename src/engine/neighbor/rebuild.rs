@@ -28,7 +28,7 @@ impl NeighborList {
             dim: bx.dim,
         };
         self.sort_by_cell(atoms, cell_coords, total_cells);
-        let slab_mode = self.set_slabs(bx, ncell, total_cells, n);
+        let slab_mode = self.set_slabs(bx, ncell, total_cells);
 
         // Rows, slab by slab (each slab independent: parallel and deterministic).
         let rows = RowBuild {
@@ -156,18 +156,12 @@ impl NeighborList {
             self.perm[*slot as usize] = i as u32;
             *slot += 1;
         }
-        permute(atoms, &self.perm, &mut self.perm_scratch);
+        permute(atoms, &self.perm, &mut self.x_at_build, &mut self.cell_of);
     }
 
-    /// [`Self::build`]: the slabs over the sorted atoms and the second force array; true when
+    /// [`Self::build`]: the slabs over the sorted atoms; true when
     /// the box has slabs (3 layers or more), false when it runs as one task.
-    pub(super) fn set_slabs(
-        &mut self,
-        bx: &SimBox,
-        ncell: [usize; 3],
-        total_cells: usize,
-        n: usize,
-    ) -> bool {
+    pub(super) fn set_slabs(&mut self, bx: &SimBox, ncell: [usize; 3], total_cells: usize) -> bool {
         // Slabs: layers of cells along the last periodic axis (contiguous in the cell order).
         let axis = bx.dim - 1;
         let layers = ncell[axis];
@@ -183,11 +177,6 @@ impl NeighborList {
             } else {
                 s.end
             };
-        }
-        if slab_mode {
-            self.next_f.resize(n, [0.0; 3]);
-        } else {
-            self.next_f = Vec::new();
         }
         slab_mode
     }
