@@ -93,8 +93,12 @@ DPDNL_REQUIRE_LAMMPS=1 DPDNL_REQUIRE_PLUGIN=1 DPDNL_TUTORIAL_BUILD=1 $BOUNDED ca
 say "a new pair style is four files: the test-only style test/spring (cargo feature test-style, tests/new_style.rs)"
 cargo clippy -p dpdnl --features test-style --lib --tests -- -D warnings
 $BOUNDED cargo test --features test-style --test new_style
-say "LAMMPS shim tests (newton on/off, 1, 2, 3 and 4 ranks, restart, errors)"
-bash lammps-plugin/tests/run.sh
+# The shim tests are many short runs of Debian's LAMMPS, most on one rank: about one core (81 s
+# of CPU, where the last CI run gave them 82 s); the Python package's step is mostly one long
+# single-threaded rustc (pip building the extension module with link-time optimisation): the
+# two go side by side.
+say "LAMMPS shim tests (newton on/off, 1, 2, 3 and 4 ranks, restart, errors) and, side by side, the Python package (pip install ./python into .venv-python, pytest, the example)"
+together shim 'bash lammps-plugin/tests/run.sh' python 'bash python/test.sh'
 say "plugin tests in LAMMPS 22Jul2025 (the same, plus plugin load/unload, Python, examples)"
 bash lammps-plugin/tests/run-plugin.sh
 # The four peer tests are statistical runs of LAMMPS 22Jul2025, each one rank and one thread,
@@ -110,6 +114,4 @@ together \
   peer_bonded "DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --workspace --test plugin_peer_bonded -- --ignored --nocapture" \
   peer_mdpd "DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --workspace --test plugin_peer_mdpd -- --ignored --nocapture" \
   migration "DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --workspace --test plugin_migration -- --ignored --nocapture"
-say "Python package (pip install ./python into .venv-python, pytest, the example)"
-bash python/test.sh
 say "all tests passed"
