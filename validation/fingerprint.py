@@ -38,6 +38,7 @@ Options: --dpdnl BIN [target/release/dpdnl or $DPDNL], --lmp BIN [build/lmp_dpdn
 """
 
 import argparse
+import concurrent.futures
 import fnmatch
 import glob
 import hashlib
@@ -255,8 +256,12 @@ def check(args, exe):
     if missing_lmp and args.require_lmp:
         sys.exit(f"FAIL: no LAMMPS for the families {sorted(missing_lmp)} (--require-lmp)")
     if args.isa:
-        for isa in ("baseline", "avx2", "avx512"):
-            other = compute(None, exe, {"DPDNL_SIMD": isa})
+        # The three instruction sets' runs are independent and wait more than they compute
+        # (LAMMPS's MPI start-up, short runs): they go side by side, verdicts in this order.
+        isas = ("baseline", "avx2", "avx512")
+        with concurrent.futures.ThreadPoolExecutor(len(isas)) as pool:
+            others = list(pool.map(lambda isa: compute(None, exe, {"DPDNL_SIMD": isa}), isas))
+        for isa, other in zip(isas, others):
             bad = [n for n in now if other[n][0] != now[n][0]]
             if bad:
                 sys.exit(f"FAIL: DPDNL_SIMD={isa} changes the fingerprints of {bad}: they must "
