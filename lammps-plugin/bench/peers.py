@@ -29,6 +29,7 @@ Output: a Markdown table on stdout (medians over repetitions, min–max of the r
 run on stderr as it goes.
 """
 import argparse
+import json
 import os
 import platform
 import re
@@ -148,6 +149,9 @@ def main():
                     help=f"comma-separated, of: {', '.join(CASES)}")
     ap.add_argument("--steps-scale", type=float, default=1.0,
                     help="multiply every case's timed steps (e.g. 0.25 for a quick look)")
+    ap.add_argument("--json", help="also write the raw per-run results to this file")
+    ap.add_argument("--report-from", help="no runs: rebuild the table from the '# rep' lines "
+                    "of an earlier invocation's stderr (or from its --json file)")
     args = ap.parse_args()
     cases = args.cases.split(",")
     bad = [c for c in cases if c not in CASES]
@@ -165,6 +169,10 @@ def main():
         configs.append(("tstat", "table"))
     results = {cfg: [] for cfg in configs}
     loads = []
+    if args.report_from:
+        loads = read_back(args.report_from, results)
+        report(args, cases, configs, results, loads)
+        return
     with tempfile.TemporaryDirectory(prefix="dpdnl-peers-") as tmp:
         for rep in range(args.reps):
             loads.append(os.getloadavg()[0])
@@ -179,7 +187,37 @@ def main():
                       f"comm {r['comm'] * 1e3:.3f} ms/step, {r['builds']} builds",
                       file=sys.stderr, flush=True)
         loads.append(os.getloadavg()[0])
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump({"loads": loads, "runs": [{"case": c, "key": k, "results": rs}
+                                               for (c, k), rs in results.items()]}, fh, indent=1)
     report(args, cases, configs, results, loads)
+
+
+REP_LINE = re.compile(r"^# rep (\d+) (\S+)\s+(\S+)\s+([\d.]+) M atom-steps/s \(([\d.]+) per CPU-s, "
+                      r"CPU (\d+)%\) pair ([\d.]+) neigh ([\d.]+) comm ([\d.]+) ms/step, (\d+) builds")
+
+
+def read_back(path, results):
+    """Fill `results` from an earlier invocation (its --json file, or its stderr's '# rep' lines,
+    whose rates are rounded to 1e-3 M atom-steps/s). Returns the load averages (none from stderr)."""
+    text = open(path).read()
+    if text.lstrip().startswith("{"):
+        data = json.loads(text)
+        for run in data["runs"]:
+            if (run["case"], run["key"]) in results:
+                results[(run["case"], run["key"])] = run["results"]
+        return data["loads"]
+    for line in text.splitlines():
+        m = REP_LINE.match(line)
+        if not m or (m.group(2), m.group(3)) not in results:
+            continue
+        wall, per_cpu = float(m.group(4)) * 1e6, float(m.group(5)) * 1e6
+        results[(m.group(2), m.group(3))].append(
+            {"atom_steps": wall, "atom_steps_cpu": per_cpu, "cpu_frac": wall / per_cpu,
+             "pair": float(m.group(7)) / 1e3, "neigh": float(m.group(8)) / 1e3,
+             "comm": float(m.group(9)) / 1e3, "builds": int(m.group(10))})
+    return []
 
 
 def med(results, cfg, key):
@@ -199,8 +237,9 @@ def report(args, cases, configs, results, loads):
         print(f"- **{case}**: {CASES[case][0]} (`{CASES[case][1]}`)")
     print()
     print("| case | pair style | M atom-steps/s (wall) | M atom-steps per CPU-s | "
-          "Pair + Neigh + Comm ms/step | list builds | ÷ peer (wall) | ÷ peer (per CPU-s) |")
-    print("|---|---|---|---|---|---:|---:|---:|")
+          "Pair + Neigh + Comm ms/step (wall) | the same × % CPU (CPU ms/step) | list builds | "
+          "÷ peer (wall) | ÷ peer (per CPU-s) |")
+    print("|---|---|---|---|---|---|---:|---:|---:|")
 
     def span(xs):
         return f"{statistics.median(xs):.3f} ({min(xs):.3f}–{max(xs):.3f})"
@@ -215,21 +254,27 @@ def report(args, cases, configs, results, loads):
             per_cpu = [r["atom_steps_cpu"] / 1e6 for r in rs]
             pnc = " + ".join(f"{med(results, (case, key), p) * 1e3:.2f}"
                              for p in ("pair", "neigh", "comm"))
+            pnc_cpu = " + ".join(
+                f"{statistics.median(r[p] * r['cpu_frac'] for r in rs) * 1e3:.2f}"
+                for p in ("pair", "neigh", "comm"))
             builds = statistics.median(r["builds"] for r in rs)
             if role in ("ours", "scheme") and peer in results:
                 ratios = [f"{med(results, (case, key), q) / med(results, peer, q):.2f}"
                           for q in ("atom_steps", "atom_steps_cpu")]
             else:
                 ratios = ["—", "—"]
-            print(f"| {case} | {label} | {span(wall)} | {span(per_cpu)} | {pnc} | "
+            print(f"| {case} | {label} | {span(wall)} | {span(per_cpu)} | {pnc} | {pnc_cpu} | "
                   f"{builds:.0f} | {ratios[0]} | {ratios[1]} |")
         table = ("tstat", "table")
         if case in ("tstat", "ext-tstat") and table in results:
-            t = med(results, table, "pair")
-            ours, theirs = med(results, (case, "ours"), "pair"), med(results, (case, "peer"), "pair")
-            notes.append(f"- {case}: the thermostat alone (Pair − the table's {t * 1e3:.2f} "
-                         f"ms/step): ours {(ours - t) * 1e3:.2f}, peer {(theirs - t) * 1e3:.2f} "
-                         f"ms/step, peer ÷ ours {(theirs - t) / (ours - t):.2f}")
+            def pair_cpu(cfg):
+                return statistics.median(r["pair"] * r["cpu_frac"] for r in results[cfg])
+            t = pair_cpu(table)
+            ours, theirs = pair_cpu((case, "ours")), pair_cpu((case, "peer"))
+            notes.append(f"- {case}: the thermostat alone (Pair × % CPU less the table's "
+                         f"{t * 1e3:.2f} CPU ms/step): ours {(ours - t) * 1e3:.2f}, peer "
+                         f"{(theirs - t) * 1e3:.2f} CPU ms/step, peer ÷ ours "
+                         f"{(theirs - t) / (ours - t):.2f}")
     if notes:
         print("\n" + "\n".join(notes))
 

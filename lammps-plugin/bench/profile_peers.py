@@ -181,11 +181,13 @@ def profile_run(args, case, key, tmp):
     else:
         incl, full, n = perf_inclusive(f"{stem}.perf")
         unit = 1000.0 / args.freq  # ms of CPU per sample
+    logged = peers.parse_log(open(os.path.join(tmp, f"log.{key}")).read())
+    builds = logged["builds"] if logged else None
     if args.keep:
         os.makedirs(args.keep, exist_ok=True)
         for f in glob.glob(f"{stem}.*"):
             shutil.copy(f, args.keep)
-    return label, group(incl, full), unit
+    return label, group(incl, full), unit, builds
 
 
 def main():
@@ -216,18 +218,20 @@ def main():
     print(f"Case {args.case}: {peers.CASES[args.case][0]}; {what}; {args.steps} timed steps "
           f"after {args.warm}\n")
     per_step = "M instr/step" if args.tool == "callgrind" else "CPU ms/step"
-    print("| part | " + " | ".join(f"{label}: % | {per_step}" for label, _, _ in results) + " |")
+    print("| part | " + " | ".join(f"{label}: % | {per_step}" for label, _, _, _ in results) + " |")
     print("|---|" + "---:|---:|" * len(results))
     names = list(results[0][1][1].keys())
     for name in names + ["total"]:
         cells = []
-        for _, (total, rows), unit in results:
+        for _, (total, rows), unit, _ in results:
             v = total if name == "total" else rows[name]
             scale = (unit / args.steps) if unit else 1e-6 / args.steps
             if unit:  # perf: the whole process; the share is of the samples in Verlet::run
                 scale = unit / (args.steps + args.warm)
             cells.append(f"{100.0 * v / total:.1f} | {v * scale:.2f}" if total else "— | —")
         print(f"| {name} | " + " | ".join(cells) + " |")
+    print("| LAMMPS's list builds in the timed run | " +
+          " | ".join(f"{b} | " for _, _, _, b in results) + " |")
 
 
 if __name__ == "__main__":
