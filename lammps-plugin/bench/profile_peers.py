@@ -94,24 +94,26 @@ def callgrind_inclusive(path):
 
 
 def perf_inclusive(path):
+    """name -> inclusive CPU ms (perf's "Children" share of the cpu-clock event count, in ns)."""
     out = subprocess.run(["perf", "report", "-i", path, "--children", "--sort", "symbol",
                           "--stdio", "-g", "none", "--percent-limit", "0"],
                          capture_output=True, text=True).stdout
     incl = collections.defaultdict(float)
-    samples = re.search(r"# Samples: (\d+)", out)
-    n = int(samples.group(1)) if samples else 0
+    count = re.search(r"# Event count \(approx.\): (\d+)", out)
+    total_ms = int(count.group(1)) / 1e6 if count else 0.0
     for line in out.splitlines():
         m = re.match(r"^\s*([\d.]+)%\s+([\d.]+)%\s+\[\.\]\s+(.*)$", line)
         if m:
             sym = re.sub(r"(\s+-)+\s*$", "", m.group(3)).replace(" (inlined)", "")
             b = re.sub(r"\(.*$", "", sym).strip()
-            incl[b] = max(incl[b], float(m.group(1)) / 100.0 * n)
-    return incl, {}, n
+            incl[b] = max(incl[b], float(m.group(1)) / 100.0 * total_ms)
+    return incl, {}, total_ms
 
 
-def group(incl, full):
+def group(incl, full, total=None):
+    """Costs per part; `total` defaults to Verlet::run's inclusive cost (callgrind's window)."""
     s = lambda names: sum(incl.get(n, 0) for n in names)  # noqa: E731
-    total = s(PAIR_TOP)
+    total = s(PAIR_TOP) if total is None else total
     pair_comm = sum(v for k, v in full.items()
                     if re.match(r"LAMMPS_NS::CommBrick::(forward|reverse)_comm\(LAMMPS_NS::Pair", k))
     rows = collections.OrderedDict()
@@ -177,17 +179,20 @@ def profile_run(args, case, key, tmp):
         if len(dumps) < 2:
             sys.exit(f"callgrind wrote {dumps}: expected a dump after each of the two runs")
         incl, full = callgrind_inclusive(dumps[1])  # the second run: the timed one
+        grouped = group(incl, full)
         unit = None
     else:
-        incl, full, n = perf_inclusive(f"{stem}.perf")
-        unit = 1000.0 / args.freq  # ms of CPU per sample
+        # The whole process: "other" then holds the set-up and the warm-up's share too.
+        incl, full, total_ms = perf_inclusive(f"{stem}.perf")
+        grouped = group(incl, full, total_ms)
+        unit = 1.0  # costs are CPU ms
     logged = peers.parse_log(open(os.path.join(tmp, f"log.{key}")).read())
     builds = logged["builds"] if logged else None
     if args.keep:
         os.makedirs(args.keep, exist_ok=True)
         for f in glob.glob(f"{stem}.*"):
             shutil.copy(f, args.keep)
-    return label, group(incl, full), unit, builds
+    return label, grouped, unit, builds
 
 
 def main():
@@ -214,7 +219,8 @@ def main():
             results.append(profile_run(args, args.case, key, tmp))
             print(f"# profiled {args.case} {key}", file=sys.stderr, flush=True)
     what = "instructions (callgrind, AVX2 path)" if args.tool == "callgrind" else \
-        "CPU time (perf cpu-clock, whole process)"
+        "CPU time (perf cpu-clock, whole process: ms per step of both runs; other = the rest, " \
+        "set-up included)"
     print(f"Case {args.case}: {peers.CASES[args.case][0]}; {what}; {args.steps} timed steps "
           f"after {args.warm}\n")
     per_step = "M instr/step" if args.tool == "callgrind" else "CPU ms/step"
@@ -225,9 +231,9 @@ def main():
         cells = []
         for _, (total, rows), unit, _ in results:
             v = total if name == "total" else rows[name]
-            scale = (unit / args.steps) if unit else 1e-6 / args.steps
-            if unit:  # perf: the whole process; the share is of the samples in Verlet::run
-                scale = unit / (args.steps + args.warm)
+            # callgrind: the timed run's instructions; perf: CPU ms of the whole process over
+            # the steps of both runs (each part's cost per step, set-up in "other")
+            scale = 1.0 / (args.steps + args.warm) if unit else 1e-6 / args.steps
             cells.append(f"{100.0 * v / total:.1f} | {v * scale:.2f}" if total else "— | —")
         print(f"| {name} | " + " | ".join(cells) + " |")
     print("| LAMMPS's list builds in the timed run | " +
