@@ -126,7 +126,9 @@ def group(incl, full, total=None):
     rows["density pass"] = density
     rows["force pass (kernel + walk)"] = s(FORCE)
     rows["table (overlaid, both sides)"] = s(TABLE)
-    pair_call = s(PAIR_CALL)
+    # Under hybrid the plugin's PairDpdnl::compute runs inside PairHybrid::compute: count the
+    # outermost pair call only.
+    pair_call = s(PAIR_CALL[1:]) or s(PAIR_CALL[:1])
     inner = rows["own list (style)"] + s(DENSITY) + rows["force pass (kernel + walk)"] + \
         rows["table (overlaid, both sides)"]
     # Our style's density comm is called from PairDpdnl::compute, outside the passes.
