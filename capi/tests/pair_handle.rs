@@ -1420,14 +1420,39 @@ fn the_working_copy_of_the_list_gives_the_same_bits_as_the_list() {
     assert!(in_range, "atom 0 never reached its partner's cut-off");
 }
 
+/// A `dpd/nonlinear/ext` handle of two types (friction `fr`, noise `no`).
+fn ext_handle(fr: &str, no: &str) -> Handle {
+    let seed = SEED.to_string();
+    let h = new_style(
+        "dpd/nonlinear/ext",
+        &["0.7", "1.0", &seed, "friction", fr, "noise", no],
+        2,
+    )
+    .expect("style");
+    for line in [
+        [
+            "1", "1", "25", "4.5", "2.0", "1.0", "0.5", "1.0", "gamma1", "1.0",
+        ],
+        [
+            "1", "2", "10", "3.0", "1.0", "1.0", "1.0", "1.2", "gamma1", "0.5",
+        ],
+        [
+            "2", "2", "0", "5.0", "3.0", "0.5", "1.0", "0.9", "gamma1", "2.0",
+        ],
+    ] {
+        coeff(&h, 2, &line).expect("coeff");
+    }
+    h
+}
+
 #[test]
 fn threads_give_the_same_bits_over_a_long_lived_list() {
     // 1500 atoms whose rows run along x (so the threads' blocks are slabs: most atoms are one
     // block's alone, the rest shared), 40 calls while the atoms move, on 1, 2 and 3 threads,
-    // each count on its own handle kept for all the calls: LAMMPS's list walked as it is
-    // (build 0) and through the working copy (build >= 1); the list built again at call 15,
+    // each count on its own handle kept for all the calls; the list built again at call 15,
     // and changed in place at call 28 (same rows, same addresses and lengths: a pair of the
-    // first row now reaches the last row's atom, moved beside it). Half lists, newton on and
+    // first row now reaches the last row's atom, moved beside it). dpd/nonlinear walks the list
+    // as it is, dpd/nonlinear/ext its working copy. Half lists, newton on and
     // off, and a full list; tallies on every fourth call. Every bit the same.
     let skin = 0.4;
     let cut = 1.2 + skin;
@@ -1440,11 +1465,13 @@ fn threads_give_the_same_bits_over_a_long_lived_list() {
         let n = a.nlocal;
         let mut ilist: Vec<i32> = (0..n as i32).collect();
         ilist.sort_by(|&p, &q| a.x[3 * p as usize].total_cmp(&a.x[3 * q as usize]));
-        let handles: Vec<Vec<Handle>> = (0..2)
-            .map(|_| {
+        // dpd/nonlinear on LAMMPS's list, dpd/nonlinear/ext (non-central forces) on the copy.
+        let handles: Vec<Vec<Handle>> = [dpd_handle, ext_handle]
+            .iter()
+            .map(|make| {
                 (0..3)
                     .map(|_| {
-                        let h = dpd_handle("dot", "twostep");
+                        let h = make("dot", "twostep");
                         init(&h, n as i64, 7.5f64.powi(3)).expect("init");
                         h
                     })

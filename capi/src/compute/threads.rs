@@ -57,11 +57,12 @@ pub(crate) struct Block {
     pub(crate) err: Option<Error>,
 }
 
-/// A force event of phase 1: `f[atom] += v`.
+/// A force event of phase 1: `f[atom] += v`, made by the row at list position `pos`.
 #[derive(Clone, Copy)]
 pub(crate) struct Event {
     pub(crate) v: [f64; 3],
     pub(crate) atom: u32,
+    pub(crate) pos: u32,
 }
 
 /// An evaluated pair: atoms i and j and the force on i (−it on j).
@@ -217,20 +218,6 @@ pub(crate) fn threaded(
 pub(crate) enum Replay<'p, 's> {
     Part(&'p mut (usize, &'s mut [f64], Sinks<'s>)),
     Global(&'p mut Sinks<'s>),
-}
-
-/// Phase 2 of a force-only step of a threaded walk: the shared atoms' events, bucket `t` of
-/// every block in block order, added to the atoms `lo..` of `f`.
-pub(crate) fn add_events(blocks: &[Block], t: usize, f: &mut [f64], lo: usize) {
-    for b in blocks {
-        for e in &b.events[t] {
-            let k = 3 * (e.atom as usize - lo);
-            let fa = &mut f[k..k + 3];
-            fa[0] += e.v[0];
-            fa[1] += e.v[1];
-            fa[2] += e.v[2];
-        }
-    }
 }
 
 /// Phase 2 of a threaded walk: every record of `blocks` in list order, added to the atoms `lo..`
