@@ -146,7 +146,11 @@ fn errors_name_token_and_column() {
         ("1+", &["expected a value", "end"]),
         ("*3", &["'*'", "column 1"]),
         ("3 $ 4", &["'$'", "column 3"]),
-        ("x[12]", &["indexed", "column 2"]),
+        (
+            "x[12]",
+            &["atom references are not supported here", "column 1"],
+        ),
+        ("v_a[2]", &["indexed", "column 4"]),
         ("c_myTemp", &["compute and fix", "'c_myTemp'"]),
         ("f_ave", &["compute and fix"]),
         ("1 = 2", &["'='", "column 3"]),

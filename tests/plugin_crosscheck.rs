@@ -21,11 +21,10 @@ fn golden_cases_agree_between_standalone_and_plugin() {
     let Some(lammps) = plugin_support::find() else {
         return;
     };
-    let cases = cases();
-    assert!(
-        cases.len() >= 8,
-        "expected the golden cases, found {cases:?}"
-    );
+    let mut cases = cases();
+    let golden = cases.len();
+    cases.extend(plugin_support::plugin_only_cases());
+    assert!(golden >= 8, "expected the golden cases, found {cases:?}");
     let tmp = std::env::temp_dir().join(format!("dpdnl-plugin-crosscheck-{}", std::process::id()));
     let mut failures = Vec::new();
     let mut summary = Vec::new();

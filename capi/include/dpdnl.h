@@ -27,6 +27,9 @@ typedef enum DpdnlStatus {
   DPDNL_STATUS_INTERNAL = 4,
 } DpdnlStatus;
 
+// A `fix dpdnl/frames`: its period and, on the writing rank, the open file.
+typedef struct DpdnlFrames DpdnlFrames;
+
 // A pair style and its coefficients (opaque to C).
 typedef struct DpdnlPair DpdnlPair;
 
@@ -49,6 +52,38 @@ typedef struct DpdnlAtoms {
   // Owned plus ghost atoms.
   int32_t nall;
 } DpdnlAtoms;
+
+// What a frame says of the run besides its atoms (LAMMPS's `update`, `domain`, `force`).
+typedef struct DpdnlFrameHead {
+  // The step of the force (`update->ntimestep`).
+  int64_t step;
+  // 2 or 3.
+  int32_t dimension;
+  // Number of atom types.
+  int32_t ntypes;
+  // 1 for a triclinic box.
+  int32_t triclinic;
+  // 1 where the box is periodic along x, y, z.
+  int32_t periodic[3];
+  // 1 when the run integrates with `fix nve/euler`.
+  int32_t euler;
+  // 1 when the atom style is molecular.
+  int32_t molecular;
+  // Box corners.
+  double boxlo[3];
+  // See `boxlo`.
+  double boxhi[3];
+  // Tilt factors xy, xz, yz.
+  double tilt[3];
+  // Time step.
+  double dt;
+  // The run's first and last step.
+  int64_t beginstep;
+  // See `beginstep`.
+  int64_t endstep;
+  // The `special_bonds lj` factors in force.
+  double special_lj[4];
+} DpdnlFrameHead;
 
 // A fix or compute style of the LAMMPS side ([`dpdnl_lammps_style`]); static strings, all null
 // past the end of the list.
@@ -273,6 +308,48 @@ enum DpdnlStatus dpdnl_check_health(const struct DpdnlAtoms *atoms,
                                     double dt,
                                     const double *len,
                                     int32_t dimension);
+
+// Parse `fix ID GROUP dpdnl/frames N FILE` (`group` and the words after the style name) into
+// `*out`, a new handle; with `writer` != 0 (one rank), create FILE and write its header.
+//
+// # Safety
+// `group` is a NUL-terminated string; `arg` points to `narg` NUL-terminated strings; `out` is
+// valid for writing.
+enum DpdnlStatus dpdnl_frames_new(const char *group,
+                                  int32_t narg,
+                                  const char *const *arg,
+                                  int32_t writer,
+                                  struct DpdnlFrames **out);
+
+// Free a handle of [`dpdnl_frames_new`] (null is a no-op), closing its file.
+//
+// # Safety
+// `h` is null or a live handle, not used afterwards.
+void dpdnl_frames_free(struct DpdnlFrames *h);
+
+// `*due` = 1 when the force of `step` is a frame (a multiple of N), else 0.
+//
+// # Safety
+// `h` is a live handle; `due` is valid for writing.
+enum DpdnlStatus dpdnl_frames_due(const struct DpdnlFrames *h, int64_t step, int32_t *due);
+
+// Append one frame of `n` atoms (every atom of the run, gathered on the writing rank): ids
+// `tag`, types `typ`, masses `mass`, and `3 n` doubles each of positions `x`, velocities `v`
+// and the style's own force `f`; the style's name and settings from `pair`. On a rank
+// without the file (`writer` 0 at [`dpdnl_frames_new`]) an error.
+//
+// # Safety
+// `h` and `pair` are live handles; `head` is valid; the arrays hold `n` (or `3 n`) values.
+enum DpdnlStatus dpdnl_frames_write(struct DpdnlFrames *h,
+                                    struct DpdnlPair *pair,
+                                    const struct DpdnlFrameHead *head,
+                                    int64_t n,
+                                    const int32_t *tag,
+                                    const int32_t *typ,
+                                    const double *mass,
+                                    const double *x,
+                                    const double *v,
+                                    const double *f);
 
 // The lines to log left by the last successful [`crate::dpdnl_pair_init`] on this thread (""
 // when there is nothing to say; warnings start with "WARNING: "). Valid until the next such

@@ -27,6 +27,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use dpdnl::pair_gaussian;
 
 mod compute;
+mod frames;
 mod init;
 mod list;
 mod ownlist;
@@ -36,6 +37,7 @@ mod team;
 mod types;
 mod working;
 pub use compute::*;
+pub use frames::*;
 pub use init::*;
 pub use list::DpdnlNeighList;
 pub use ownlist::DpdnlSpecial;

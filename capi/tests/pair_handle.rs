@@ -830,7 +830,8 @@ fn lammps_style_list_names_the_fixes_and_computes() {
             ("fix", "nve/euler"),
             ("fix", "pex/push"),
             ("fix", "flip/momentum"),
-            ("compute", "sdpd/density")
+            ("compute", "sdpd/density"),
+            ("fix", "dpdnl/frames")
         ]
     );
     for (command, name, info) in &listed {

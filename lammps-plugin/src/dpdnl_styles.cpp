@@ -2,6 +2,7 @@
 #include "dpdnl_styles.h"
 
 #include "compute_sdpd_density.h"
+#include "fix_dpdnl_frames.h"
 #include "fix_flip_momentum.h"
 #include "fix_nve_euler.h"
 #include "fix_pex_push.h"
@@ -57,6 +58,7 @@ const Class CLASSES[] = {
     {"fix", "pex/push", &make_fix<FixPexPush>, nullptr},
     {"fix", "flip/momentum", &make_fix<FixFlipMomentum>, nullptr},
     {"compute", "sdpd/density", nullptr, &make_compute<ComputeSDPDDensity>},
+    {"fix", "dpdnl/frames", &make_fix<FixDpdnlFrames>, nullptr},
 };
 
 const Class *find_class(const char *command, const char *name)

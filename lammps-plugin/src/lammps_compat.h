@@ -71,6 +71,17 @@ inline void reverse_comm_pair(LAMMPS_NS::Comm *comm, LAMMPS_NS::Pair *pair)
 #endif
 }
 
+// Reverse communication of a fix's per-atom values (fix dpdnl/frames):
+// Comm::reverse_comm(Fix *, int) replaced reverse_comm_fix in 2022.
+inline void reverse_comm_fix(LAMMPS_NS::Comm *comm, LAMMPS_NS::Fix *fix)
+{
+#if DPDNL_LAMMPS_MODERN
+  comm->reverse_comm(fix);
+#else
+  comm->reverse_comm_fix(fix);
+#endif
+}
+
 }    // namespace dpdnl_compat
 
 #endif

@@ -19,6 +19,7 @@
 #include "domain.h"
 #include "error.h"
 #include "fix.h"
+#include "fix_dpdnl_frames.h"
 #include "fix_flip_momentum.h"
 #include "force.h"
 #include "group.h"
@@ -60,7 +61,7 @@ static_assert(SBBITS == 30, "the C ABI reads a neighbour's special-bond class fr
 
 PairDpdnl::PairDpdnl(LAMMPS *lmp, const char *style_name) :
     Pair(lmp), name(style_name), handle(nullptr), info(), values(nullptr), nmax(0), rc_max(0.0),
-    own_list(0)
+    own_list(0), frames(nullptr)
 {
   restartinfo = 1;
   writedata = 1;
@@ -152,8 +153,14 @@ void PairDpdnl::init_style()
     error->all(FLERR, "Pair " + name + " requires atom IDs (its noise is keyed by them)");
   if (!handle) error->all(FLERR, "Pair " + name + ": no pair_coeff given");
   bool euler = false;
-  for (int k = 0; k < modify->nfix; k++)
+  frames = nullptr;
+  for (int k = 0; k < modify->nfix; k++) {
     if (strcmp(modify->fix[k]->style, "nve/euler") == 0) euler = true;
+    if (strcmp(modify->fix[k]->style, "dpdnl/frames") == 0) {
+      frames = dynamic_cast<FixDpdnlFrames *>(modify->fix[k]);
+      if (frames) frames->claim(this);
+    }
+  }
   DpdnlSetup s;
   s.dimension = domain->dimension;
   s.natoms = atom->natoms;
@@ -286,9 +293,14 @@ void PairDpdnl::compute(int eflag, int vflag)
       error->one(FLERR, where + dpdnl_last_error());
     dpdnl_compat::forward_comm_pair(comm, this);
   }
-  if (dpdnl_pair_compute(handle, &c.atoms, &c.nl, &c.st, prepass ? values : nullptr, c.f,
+  // A step of fix dpdnl/frames: this style's force goes into the fix's zeroed buffer, which the
+  // fix then adds to atom->f and writes (fix_dpdnl_frames.h).
+  FixDpdnlFrames *frame = (frames && frames->due(update->ntimestep)) ? frames : nullptr;
+  double *f = frame ? frame->begin() : c.f;
+  if (dpdnl_pair_compute(handle, &c.atoms, &c.nl, &c.st, prepass ? values : nullptr, f,
                          &c.tally) != DPDNL_STATUS_OK)
     error->one(FLERR, where + dpdnl_last_error());
+  if (frame) frame->finish(handle, force->special_lj);
 
   if (vflag_fdotr) virial_fdotr_compute();
 

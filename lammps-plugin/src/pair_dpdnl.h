@@ -54,6 +54,7 @@ class PairDpdnl : public Pair {
   int nmax;
   double rc_max;         // the largest cut-off, from the last init (dpdnl_pair_init)
   int own_list;          // 1: the style builds its pair list (dpdnl_pair_own_list); 0: LAMMPS's
+  class FixDpdnlFrames *frames;    // fix dpdnl/frames of this run, if any
 
   void allocate();
   void adopt(DpdnlPair *h);

@@ -19,6 +19,13 @@ pub struct Atoms {
     /// Molecule ids (`atom_style bond|angle|molecular|full`); empty for `atomic`, else one per
     /// atom, permuted with the rest.
     pub mol: Vec<u32>,
+    /// Group masks, one bit per group of [`super::groups::Groups`] (`all` is bit 0, as LAMMPS's
+    /// `atom->mask`); empty while no group but `all` was ever defined (every atom's mask is
+    /// then 1: [`Atoms::mask_of`]), else one per atom, permuted with the rest.
+    pub mask: Vec<u32>,
+    /// `fix mvv/dpd`'s estimated velocities (LAMMPS's `vest`), from its first half to its
+    /// second in one step; empty without that fix, else one per atom, permuted with the rest.
+    pub vest: Vec<[f64; 3]>,
 }
 
 impl Atoms {
@@ -42,6 +49,12 @@ impl Atoms {
 
     /// The arrays every atom has (all but `mol`).
     fn push_common(&mut self, tag: u32, typ: u32, x: [f64; 3], v: [f64; 3], image: [i32; 3]) {
+        if !self.mask.is_empty() {
+            self.mask.push(1);
+        }
+        if !self.vest.is_empty() {
+            self.vest.push([0.0; 3]);
+        }
         self.x.push(x);
         self.v.push(v);
         self.f.push([0.0; 3]);
@@ -60,6 +73,9 @@ impl Atoms {
         self.typ.try_reserve(n)?;
         if !self.mol.is_empty() {
             self.mol.try_reserve(n)?;
+        }
+        if !self.mask.is_empty() {
+            self.mask.try_reserve(n)?;
         }
         self.image.try_reserve(n)
     }
@@ -105,6 +121,12 @@ impl Atoms {
         apply(&mut self.image, &mut scratch.image, perm);
         if !self.mol.is_empty() {
             apply(&mut self.mol, &mut scratch.mol, perm);
+        }
+        if !self.mask.is_empty() {
+            apply(&mut self.mask, &mut scratch.mask, perm);
+        }
+        if !self.vest.is_empty() {
+            apply(&mut self.vest, &mut scratch.vest, perm);
         }
     }
 }

@@ -17,6 +17,10 @@ pub(super) struct BondedState {
     pub(super) partners: HashMap<u32, Vec<(u32, u8)>>,
     /// The index form of the topology for the current atom order (rebuilt after each sort).
     pub(super) index: topology::BondedIndex,
+    /// The per-atom virial of the bonds and of the angles of the last evaluation, when
+    /// [`crate::engine::NeighborList`]'s per-atom tally is on (empty otherwise).
+    pub(crate) virial_bond: Vec<[f64; 6]>,
+    pub(crate) virial_angle: Vec<[f64; 6]>,
 }
 
 impl System {
@@ -222,6 +226,16 @@ impl System {
             Some(le) => bx.min_image_le(d, le).0,
         };
         let a = &mut self.atoms;
+        // The per-atom virial (`compute stress/atom`): ½ of a bond's to each atom, ⅓ of an
+        // angle's to each of its three (LAMMPS's `ev_tally`s).
+        let on = self.neighbor.virial_atom_on;
+        let (vb, vang) = (&mut self.bonded.virial_bond, &mut self.bonded.virial_angle);
+        vb.clear();
+        vang.clear();
+        if on {
+            vb.resize(a.len(), [0.0; 6]);
+            vang.resize(a.len(), [0.0; 6]);
+        }
         if let Some(style) = &t.bond_style {
             for &[i, j, typ] in &self.bonded.index.bonds {
                 let (i, j) = (i as usize, j as usize);
@@ -253,6 +267,9 @@ impl System {
                     a.f[j][k] -= fv[k];
                 }
                 tb.add_pair(d, fv, e);
+                if on {
+                    add_share(vb, &[i, j], outer_sym(d, fv), 0.5);
+                }
             }
         }
         if let Some(style) = &t.angle_style {
@@ -274,6 +291,11 @@ impl System {
                 ta.virial[3] += d1[0] * f1[1] + d2[0] * f3[1];
                 ta.virial[4] += d1[0] * f1[2] + d2[0] * f3[2];
                 ta.virial[5] += d1[1] * f1[2] + d2[1] * f3[2];
+                if on {
+                    let (w1, w2) = (outer_sym(d1, f1), outer_sym(d2, f3));
+                    let w = std::array::from_fn(|c| w1[c] + w2[c]);
+                    add_share(vang, &[i, j, k], w, 1.0 / 3.0);
+                }
             }
         }
         self.energies.ebond = tb.energy;
@@ -282,6 +304,27 @@ impl System {
             tb.virial[c] += ta.virial[c];
         }
         tb
+    }
+}
+
+/// r_a F_b in LAMMPS's order xx yy zz xy xz yz.
+fn outer_sym(d: [f64; 3], f: [f64; 3]) -> [f64; 6] {
+    [
+        d[0] * f[0],
+        d[1] * f[1],
+        d[2] * f[2],
+        d[0] * f[1],
+        d[0] * f[2],
+        d[1] * f[2],
+    ]
+}
+
+/// `share` × `w` added to the per-atom virial of each atom of `atoms`.
+fn add_share(va: &mut [[f64; 6]], atoms: &[usize], w: [f64; 6], share: f64) {
+    for &i in atoms {
+        for c in 0..6 {
+            va[i][c] += share * w[c];
+        }
     }
 }
 

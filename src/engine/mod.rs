@@ -12,8 +12,10 @@
 pub mod atoms;
 pub mod domain;
 pub mod fixes;
+pub mod groups;
 pub mod lees_edwards;
 pub mod measure;
+pub mod modify;
 pub(crate) mod neighbor;
 pub(crate) mod simd;
 pub(crate) mod topology;
@@ -21,6 +23,7 @@ pub(crate) mod topology;
 mod bonded;
 mod shear;
 mod step;
+mod stress_atom;
 mod thermo;
 
 pub use crate::forces::dpd::ForceField;
@@ -28,6 +31,7 @@ pub use crate::forces::style::{PairStyle, SetupContext, SetupNote};
 pub use atoms::Atoms;
 pub use domain::SimBox;
 pub use neighbor::{NeighborList, PairTally};
+pub use stress_atom::{KineticBias, StressParts};
 pub use thermo::{Thermo, check_atoms};
 pub use topology::Topology;
 
@@ -82,8 +86,21 @@ pub struct System {
     pub units: crate::units::Units,
     /// Current step (LAMMPS's `update->ntimestep`).
     pub step: u64,
+    /// The names of the groups by mask bit (`group`; the masks are [`Atoms::mask`]).
+    pub groups: groups::Groups,
     /// The integrator, if a `fix nve` or `fix nve/euler` is defined.
     pub integrator: Option<Integrator>,
+    /// The fixes with per-step hooks (`modify/`): integrators on groups, force fixes,
+    /// `momentum`. When none of them integrates, [`System::integrator`] integrates all atoms.
+    pub modify: modify::Modify,
+    /// True when the pair style stands for one sub-style of LAMMPS's `pair_style hybrid` or
+    /// `hybrid/overlay` (`dpdnl verify`, which recomputes that style's share of a LAMMPS run):
+    /// type pairs without coefficients belong to other styles ([`crate::forces::style::coverage`]).
+    /// False in a standalone run, which has no hybrid.
+    pub pair_substyle: bool,
+    /// When true, [`System::setup`] leaves the fixes' set-up to the caller, who first hands
+    /// them their variables ([`System::fix_inputs`]) and then calls [`System::setup_fixes`].
+    pub defer_fix_setup: bool,
     /// PeX pushes defined with `fix … pex/push`.
     pub pex: Vec<PexPush>,
     /// Energy and virial of the last force evaluation.
@@ -170,7 +187,11 @@ impl System {
             dt: 0.005,
             units: crate::units::Units::LJ,
             step: 0,
+            groups: groups::Groups::default(),
             integrator: None,
+            modify: modify::Modify::default(),
+            defer_fix_setup: false,
+            pair_substyle: false,
             pex: Vec::new(),
             tally: PairTally::default(),
             setup_notes: Vec::new(),

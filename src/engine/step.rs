@@ -66,10 +66,10 @@ impl System {
             density: self.atoms.len() as f64 / self.bx.volume(),
             mass: &self.mass,
             dt: self.dt,
-            euler: self.integrator == Some(Integrator::Euler),
+            euler: self.modify.scheme().or(self.integrator) == Some(Integrator::Euler),
             special_lj: self.special_lj(),
             units: self.units,
-            substyle: false,
+            substyle: self.pair_substyle,
             per_atom_mass: false,
         };
         let style = self
@@ -116,6 +116,9 @@ impl System {
         self.neighbor.build(&mut self.atoms, &self.bx, rc_max);
         self.setup_topology(rule, rc_max)?;
         self.compute_forces(true);
+        if !self.defer_fix_setup {
+            self.setup_fixes();
+        }
         Ok(())
     }
 
@@ -136,6 +139,7 @@ impl System {
     /// The forces of the current step: the pair style's, then the bonded terms. `setup`: the
     /// set-up's evaluation, right after a build (a pending flip waits for the first step).
     pub(super) fn compute_forces(&mut self, setup: bool) {
+        self.neighbor.virial_atom.clear();
         self.compute_pair_forces(setup);
         self.add_bonded();
     }
@@ -251,50 +255,37 @@ impl System {
     /// One step of integration and forces, without the end-of-step fixes: the caller applies
     /// [`System::apply_pex_push`] and its measurements in the order the fixes were defined.
     pub fn advance(&mut self) {
+        self.advance_to_forces();
+        self.advance_finish();
+    }
+
+    /// The first part of [`System::advance`] (LAMMPS's `Verlet::run` up to the forces): the
+    /// step number, the fixes' `initial_integrate` and `post_integrate`, the forces of the new
+    /// step. A caller whose fixes read variables evaluates them here
+    /// ([`System::fix_inputs`]), then calls [`System::advance_finish`].
+    pub fn advance_to_forces(&mut self) {
         self.step += 1;
-        let dt = self.dt;
-        let ftm2v = self.units.ftm2v;
-        let mass = &self.mass;
-        let a = &mut self.atoms;
-        match self.integrator {
-            Some(Integrator::VelocityVerlet) => {
-                // dtf / m per type, as LAMMPS `fix nve` forms it (dtf = δt/2 · ftm2v).
-                let dtf = 0.5 * dt * ftm2v;
-                let dtfm: Vec<f64> = mass.iter().map(|m| m.map_or(0.0, |m| dtf / m)).collect();
-                a.x.par_iter_mut()
-                    .zip(a.v.par_iter_mut())
-                    .zip(a.f.par_iter().zip(a.typ.par_iter()))
-                    .for_each(|((x, v), (f, &t))| {
-                        let dtfm = dtfm[t as usize];
-                        for k in 0..3 {
-                            v[k] += dtfm * f[k];
-                            x[k] += dt * v[k];
-                        }
-                    });
-                self.compute_forces(false);
-                let a = &mut self.atoms;
-                a.v.par_iter_mut()
-                    .zip(a.f.par_iter().zip(a.typ.par_iter()))
-                    .for_each(|(v, (f, &t))| {
-                        let dtfm = dtfm[t as usize];
-                        for k in 0..3 {
-                            v[k] += dtfm * f[k];
-                        }
-                    });
+        if self.modify.integrates() {
+            self.run_hook(modify::Hook::InitialIntegrate);
+        } else {
+            match self.integrator {
+                Some(Integrator::VelocityVerlet) => modify::nve_initial(self, 1),
+                Some(Integrator::Euler) => modify::euler(self, 1),
+                None => {}
             }
-            Some(Integrator::Euler) => {
-                // (δt · ftm2v) / m, as the LAMMPS fix passes δt · ftm2v.
-                let dtf = dt * ftm2v;
-                let dtfm: Vec<f64> = mass.iter().map(|m| m.map_or(0.0, |m| dtf / m)).collect();
-                a.x.par_iter_mut()
-                    .zip(a.v.par_iter_mut())
-                    .zip(a.f.par_iter().zip(a.typ.par_iter()))
-                    .for_each(|((x, v), (f, &t))| {
-                        fixes::euler_update(x, v, f, dt, dtfm[t as usize])
-                    });
-                self.compute_forces(false);
-            }
-            None => self.compute_forces(false),
+        }
+        self.run_hook(modify::Hook::PostIntegrate);
+        self.compute_forces(false);
+    }
+
+    /// The rest of [`System::advance`]: the fixes' `post_force` and `final_integrate`, the
+    /// plane of a 2-D model, `fix deform`'s end of step.
+    pub fn advance_finish(&mut self) {
+        self.run_hook(modify::Hook::PostForce);
+        if self.modify.integrates() {
+            self.run_hook(modify::Hook::FinalIntegrate);
+        } else if self.integrator == Some(Integrator::VelocityVerlet) {
+            modify::nve_final(self, 1);
         }
         if self.dim() == 2 {
             for (v, f) in self.atoms.v.iter_mut().zip(self.atoms.f.iter_mut()) {
@@ -303,6 +294,13 @@ impl System {
             }
         }
         self.deform_end_of_step();
+    }
+
+    /// The fixes' set-up after the set-up's forces (LAMMPS's `Modify::setup`: `setforce`,
+    /// `addforce`, `aveforce` act on step 0's forces). [`System::setup`] calls it unless
+    /// [`System::defer_fix_setup`] is set.
+    pub fn setup_fixes(&mut self) {
+        self.run_hook(modify::Hook::Setup);
     }
 
     /// The end-of-step action of PeX push `k` (index into [`System::pex`]) at the current step;

@@ -36,12 +36,7 @@ impl System {
         let mut kt = [0.0; 6];
         for ((v, &t), _) in self.atoms.v.iter().zip(&self.atoms.typ).zip(0..) {
             let m = self.mass[t as usize].unwrap_or(0.0);
-            kt[0] += m * v[0] * v[0];
-            kt[1] += m * v[1] * v[1];
-            kt[2] += m * v[2] * v[2];
-            kt[3] += m * v[0] * v[1];
-            kt[4] += m * v[0] * v[2];
-            kt[5] += m * v[1] * v[2];
+            add_kinetic(&mut kt, m, *v);
         }
         self.thermo_from_kinetic(kt)
     }
@@ -59,12 +54,7 @@ impl System {
                 .as_ref()
                 .map_or(0.0, |tr| tr.stream_x(&self.bx, x[1]));
             let w = [v[0] - u, v[1], v[2]];
-            kt[0] += m * w[0] * w[0];
-            kt[1] += m * w[1] * w[1];
-            kt[2] += m * w[2] * w[2];
-            kt[3] += m * w[0] * w[1];
-            kt[4] += m * w[0] * w[2];
-            kt[5] += m * w[1] * w[2];
+            add_kinetic(&mut kt, m, w);
         }
         self.thermo_from_kinetic(kt)
     }
@@ -73,11 +63,34 @@ impl System {
     /// mass × velocity²) of some temperature compute and the last force evaluation's virial,
     /// with LAMMPS's unit factors (each 1, so no bit changes, in `units lj`).
     pub(super) fn thermo_from_kinetic(&self, kt: [f64; 6]) -> Thermo {
+        let d = self.dim() as f64;
+        let n = self.atoms.len() as f64;
+        self.thermo_from_kinetic_dof(kt, d * n - d)
+    }
+
+    /// The kinetic part of LAMMPS's `compute temp/partial xflag yflag zflag`: Σ m v_a v_b of
+    /// the flagged components only (a product with an unflagged component is 0), over
+    /// dof = n_f N − (n_f / d) d, n_f the number of flags set (LAMMPS's `dof_compute` with
+    /// its default extra dof d), and the pressure of `compute pressure ID` with it.
+    pub fn thermo_partial(&self, flags: [bool; 3]) -> Thermo {
+        let on = flags.map(|f| if f { 1.0 } else { 0.0 });
+        let mut kt = [0.0; 6];
+        for (v, &t) in self.atoms.v.iter().zip(&self.atoms.typ) {
+            let m = self.mass[t as usize].unwrap_or(0.0);
+            let w = [on[0] * v[0], on[1] * v[1], on[2] * v[2]];
+            add_kinetic(&mut kt, m, w);
+        }
+        let d = self.dim() as f64;
+        let nper = on.iter().sum::<f64>();
+        let dof = nper * self.atoms.len() as f64 - (nper / d) * d;
+        self.thermo_from_kinetic_dof(kt, dof)
+    }
+
+    /// [`System::thermo_from_kinetic`] with the degrees of freedom of the temperature given.
+    fn thermo_from_kinetic_dof(&self, kt: [f64; 6], dof: f64) -> Thermo {
         let u = &self.units;
         let kt = kt.map(|x| u.mvv2e * x);
         let d = self.dim();
-        let n = self.atoms.len() as f64;
-        let dof = d as f64 * n - d as f64;
         let mv2 = if d == 3 {
             kt[0] + kt[1] + kt[2]
         } else {
@@ -178,4 +191,15 @@ pub fn check_atoms(
         }
     }
     Ok(())
+}
+
+/// Add one atom's m v_a v_b (xx yy zz xy xz yz) to the kinetic tensor `kt`.
+#[inline]
+fn add_kinetic(kt: &mut [f64; 6], m: f64, v: [f64; 3]) {
+    kt[0] += m * v[0] * v[0];
+    kt[1] += m * v[1] * v[1];
+    kt[2] += m * v[2] * v[2];
+    kt[3] += m * v[0] * v[1];
+    kt[4] += m * v[0] * v[2];
+    kt[5] += m * v[1] * v[2];
 }

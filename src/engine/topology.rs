@@ -35,25 +35,12 @@ impl AtomStyle {
             "molecular" => AtomStyle::Molecular,
             "full" => AtomStyle::Full,
             other => {
-                const ONLY: &str = "only atomic, bond, angle, molecular and full";
+                const ONLY: &str =
+                    "only atomic, bond, angle, molecular, full, charge, mdpd and hybrid of these";
                 let why = match other {
-                    "mdpd" => {
-                        ": pair_style mdpd/nonlinear computes the many-body density itself and \
-                         needs no atom style of its own (LAMMPS's rho, drho and vest columns \
-                         are not used); use atom_style atomic, or bond, molecular or full for \
-                         molecules"
-                    }
-                    "charge" => {
-                        ": the DPD styles here have no Coulomb force, so charges would not \
-                         be used; use atom_style atomic"
-                    }
                     "sphere" | "dipole" | "ellipsoid" => {
                         ": this engine has per-type masses only (the DPD styles use no radius, \
                          dipole or shape); use atom_style atomic with `mass`"
-                    }
-                    "hybrid" => {
-                        ": use the one of atomic, bond, angle, molecular or full that holds the \
-                         columns the pair and bond styles use"
                     }
                     _ => "",
                 };

@@ -35,6 +35,38 @@ pub(crate) const FLIP_MOMENTUM: StyleSpec = StyleSpec {
     keywords: &["mode"],
 };
 
+/// `fix ID all dpdnl/frames N FILE` (issue 56): the state a dpdnl pair style saw and its own
+/// force, every N steps (`crate::io::frames`).
+pub(crate) const FRAMES: StyleSpec = StyleSpec {
+    command: "fix",
+    style: "dpdnl/frames",
+    usage: "fix ID all dpdnl/frames N FILE",
+    keywords: &[],
+};
+
+/// Parse `fix ID group dpdnl/frames N FILE` (`args` after the style name; `group` its group
+/// name): every N steps, 1..=2147483647, into FILE. The frames hold every atom, so the group
+/// must be `all`.
+pub fn frames<S: AsRef<str>>(group: &str, args: &[S]) -> Result<(u64, String), String> {
+    let usage = FRAMES.usage;
+    need(args, 2, usage)?;
+    if group != "all" {
+        return Err(format!(
+            "group '{}': a frame holds every atom (the force of each depends on its \
+             neighbours), so the group must be all",
+            shown(group)
+        ));
+    }
+    let every = parse_int_in(args[0].as_ref(), "N", 1, INT_MAX)?;
+    if let Some(extra) = args.get(2) {
+        return Err(format!(
+            "unexpected argument '{}' (usage: {usage})",
+            shown(extra.as_ref())
+        ));
+    }
+    Ok((every, args[1].as_ref().to_string()))
+}
+
 /// Parse `fix ID group flip/momentum [mode jump|check]` (`args` after the style name): true
 /// for `mode jump` (the default: atoms put through y at a box flip get `remap v`'s velocity
 /// jump), false for `mode check` (nothing changes; the atoms and the momentum are counted and

@@ -36,8 +36,13 @@ pub struct StyleSpec {
 /// The fixes of this project. The pair styles' specs are in their registry entries
 /// (`forces::PairStyleEntry::specs`); `forces::spec` looks a spec up in both (this module, at
 /// the bottom of the crate, names no style).
-pub(crate) const SPECS: &[StyleSpec] =
-    &[fix::NVE, fix::NVE_EULER, fix::PEX_PUSH, fix::FLIP_MOMENTUM];
+pub(crate) const SPECS: &[StyleSpec] = &[
+    fix::NVE,
+    fix::NVE_EULER,
+    fix::PEX_PUSH,
+    fix::FLIP_MOMENTUM,
+    fix::FRAMES,
+];
 
 /// The largest seed or step interval a style accepts (LAMMPS `int`).
 pub(crate) const INT_MAX: u64 = i32::MAX as u64;

@@ -3,7 +3,7 @@
 
 /// One logical input line: the text after joining `&` continuations, and its first line number.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct RawLine {
+pub struct RawLine {
     /// 1-based line number of the first physical line.
     pub line: usize,
     /// The joined text.
@@ -11,7 +11,7 @@ pub(crate) struct RawLine {
 }
 
 /// Join lines ending in `&` (LAMMPS continuation) and number them.
-pub(crate) fn logical_lines(text: &str) -> Vec<RawLine> {
+pub fn logical_lines(text: &str) -> Vec<RawLine> {
     let mut out = Vec::new();
     let mut cur: Option<RawLine> = None;
     for (k, line) in text.lines().enumerate() {
@@ -78,7 +78,7 @@ pub fn strip_comment(s: &str) -> &str {
 
 /// Split into words on whitespace; a word in single, double or triple double quotes keeps its
 /// spaces and loses the quotes. Errors on an unterminated quote.
-pub(crate) fn split_words(s: &str) -> Result<Vec<String>, String> {
+pub fn split_words(s: &str) -> Result<Vec<String>, String> {
     let mut words = Vec::new();
     let mut rest = s.trim_start();
     while !rest.is_empty() {

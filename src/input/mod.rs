@@ -19,4 +19,7 @@ pub mod lexer;
 pub mod observe;
 pub mod script;
 
-pub use script::{Collect, Console, Interpreter, Options, PlannedRun, ScriptError};
+pub use script::{
+    CARRIED, Collect, Console, FromState, Interpreter, Options, PlannedRun, ScriptError,
+    StateReport, first_run_line, setup_groups,
+};

@@ -1,6 +1,7 @@
 //! LAMMPS file formats: data files ([`data`]), text dumps ([`dump_read`]) and logs
 //! ([`lammps_log`]); how the difference of two runs grows from the first step ([`growth`]); and
-//! the standalone engine's own binary restart files ([`restart`]).
+//! the standalone engine's own binary restart files ([`restart`]); the frames of `fix
+//! dpdnl/frames` that `dpdnl verify` reads ([`frames`]).
 //!
 //! Every reader refuses non-finite numbers (`nan`, `inf`, `-inf`, and decimal literals beyond
 //! the range of a double such as `1e999`) where it reads a value, naming the line and column
@@ -9,6 +10,7 @@
 
 pub mod data;
 pub mod dump_read;
+pub mod frames;
 pub mod growth;
 // The fields of the log's thermo blocks and comparison reports are their columns and counts,
 // documented on each struct.

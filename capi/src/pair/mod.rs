@@ -38,6 +38,7 @@ pub use registry::{
     DPDNL_PAIR_STYLE_SLOTS, DpdnlLammpsStyle, dpdnl_lammps_style, dpdnl_lammps_style_count,
     dpdnl_pair_style_count, dpdnl_pair_style_info, dpdnl_pair_style_name,
 };
+pub(crate) use restart::describe;
 pub use restart::{
     dpdnl_pair_data, dpdnl_pair_from_restart, dpdnl_pair_restart, dpdnl_pair_single,
 };

@@ -28,6 +28,11 @@ const LAMMPS_STYLES: &[(&str, &str, &str)] = &[
         "remap v's velocity jump at box flips",
     ),
     ("compute", "sdpd/density", "sDPD number densities"),
+    (
+        "fix",
+        "dpdnl/frames",
+        "frames of a dpdnl pair style for dpdnl verify",
+    ),
 ];
 
 /// A C string that lives as long as the library.

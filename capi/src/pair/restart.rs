@@ -46,6 +46,23 @@ pub unsafe extern "C" fn dpdnl_pair_restart(
     })
 }
 
+/// The style's name and its settings as text (its restart lines, one per line, words
+/// separated by spaces): what a frame of `fix dpdnl/frames` records of the style.
+///
+/// # Safety
+/// `h` is null or a live handle.
+pub(crate) unsafe fn describe(h: *mut DpdnlPair) -> Result<(String, String), Error> {
+    // SAFETY: forwarded caller's contract.
+    let h = unsafe { handle(h)? };
+    let lines: Vec<String> = h
+        .style
+        .restart_lines()
+        .iter()
+        .map(|l| l.join(" "))
+        .collect();
+    Ok((h.style.name().to_string(), lines.join("\n")))
+}
+
 /// A style from the text of [`dpdnl_pair_restart`] (`len` bytes at `data`) for `ntypes` types;
 /// `*out` gets a new handle (null on failure: a corrupt or foreign text is named).
 ///

@@ -7,6 +7,7 @@ mod design;
 mod diff;
 mod report;
 mod run;
+mod verify;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -34,6 +35,9 @@ enum Command {
     Diff(diff::DiffArgs),
     /// Run one script in both engines (standalone and LAMMPS) and compare the results.
     Crosscheck(crosscheck::CrosscheckArgs),
+    /// Check a LAMMPS run frame by frame: recompute the force of this project's pair style in
+    /// every frame of `fix dpdnl/frames` and compare it per atom.
+    Verify(verify::VerifyArgs),
     /// Turn run outputs into the papers' numbers (MB, NEMD, Einstein–Helfand, MSD, Couette).
     Analyze(analyze::AnalyzeArgs),
     /// Measure atom-steps per second on the reference systems, against LAMMPS (`--lmp`).
@@ -105,6 +109,7 @@ fn main() -> ExitCode {
         Command::Theory(a) => design::theory_main(a),
         Command::Diff(a) => diff::main(a),
         Command::Crosscheck(a) => crosscheck::main(a),
+        Command::Verify(a) => verify::main(a),
         Command::Analyze(a) => analyze::main(a),
         Command::Bench(a) => bench::main(a),
     };

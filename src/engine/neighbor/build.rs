@@ -288,6 +288,8 @@ pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch
         typ,
         image,
         mol,
+        mask,
+        vest,
     } = atoms;
     gather(x, perm, &mut scratch.vec3);
     gather(v, perm, &mut scratch.vec3);
@@ -297,6 +299,12 @@ pub(super) fn permute(atoms: &mut Atoms, perm: &[u32], scratch: &mut PermScratch
     gather(image, perm, &mut scratch.int3);
     if !mol.is_empty() {
         gather(mol, perm, &mut scratch.u32s);
+    }
+    if !mask.is_empty() {
+        gather(mask, perm, &mut scratch.u32s);
+    }
+    if !vest.is_empty() {
+        gather(vest, perm, &mut scratch.vec3);
     }
 }
 

@@ -217,6 +217,14 @@ pub struct NeighborList {
     next_f: Vec<[f64; 3]>,
     /// The same for the scalar sums of [`NeighborList::pair_sum`] (sDPD densities).
     next_d: Vec<f64>,
+    /// Whether [`NeighborList::compute_forces`] tallies the per-atom virial (LAMMPS's
+    /// `vflag_atom`, on while a `compute stress/atom` is defined).
+    pub(crate) virial_atom_on: bool,
+    /// The per-atom virial of the last evaluation with it on (½ r_a F_b of each pair to each
+    /// of its atoms; xx yy zz xy xz yz), in the atoms' current order; empty otherwise.
+    pub(crate) virial_atom: Vec<[f64; 6]>,
+    /// Slab k's per-atom virial on the atoms of slab k + 1.
+    next_va: Vec<[f64; 6]>,
     x_at_build: Vec<[f64; 3]>,
     cell_of: Vec<u32>,
     cell_count: Vec<u32>,
@@ -524,15 +532,41 @@ impl NeighborList {
             typ: &atoms.typ,
         };
         let f = &mut atoms.f;
+        let va_on = self.virial_atom_on;
+        let natoms = f.len();
+        self.virial_atom.clear();
+        if va_on {
+            self.virial_atom.resize(f.len(), [0.0; 6]);
+        }
         if self.slabs.len() == 1 {
             let s = &mut self.slabs[0];
-            s.compute(&ctx, f, &mut []);
+            let va = va_on.then(|| (&mut self.virial_atom[..], &mut [][..]));
+            s.compute(&ctx, f, &mut [], va);
         } else {
             let (own, next) = own_next_slices(&self.slabs, f, &mut self.next_f);
+            let mut va: Vec<Option<slab::VirialOut>> = Vec::new();
+            if va_on {
+                self.next_va.clear();
+                self.next_va.resize(natoms, [0.0; 6]);
+                let (vo, vn) =
+                    own_next_slices(&self.slabs, &mut self.virial_atom, &mut self.next_va);
+                va.extend(vo.into_iter().zip(vn).map(Some));
+            } else {
+                va.resize_with(self.slabs.len(), || None);
+            }
             self.slabs
                 .par_iter_mut()
                 .zip(own.into_par_iter().zip(next.into_par_iter()))
-                .for_each(|(s, (own, next))| s.compute(&ctx, own, next));
+                .zip(va.into_par_iter())
+                .for_each(|((s, (own, next)), va)| s.compute(&ctx, own, next, va));
+            if va_on {
+                // The same sum as the forces': own + next, once per atom.
+                for (v, n) in self.virial_atom.iter_mut().zip(&self.next_va) {
+                    for c in 0..6 {
+                        v[c] += n[c];
+                    }
+                }
+            }
             // f = own + next: one addition of two partial sums per component (commutative).
             f.par_iter_mut()
                 .zip(self.next_f.par_iter())

@@ -56,10 +56,25 @@ pub(super) struct RowScratch {
 impl Slab {
     /// All pairs of this slab's rows: forces on slab atoms into `own` (indexed from `start`),
     /// on next-slab atoms into `next` (indexed from `next_start`), both overwritten.
-    pub(super) fn compute(&mut self, ctx: &Ctx, own: &mut [[f64; 3]], next: &mut [[f64; 3]]) {
+    /// `va`: when Some, each pair's per-atom virial (½ r_a F_b to each atom) into these two
+    /// arrays, indexed as `own` and `next` (LAMMPS's `vflag_atom`; None leaves the loop as it
+    /// is).
+    pub(super) fn compute(
+        &mut self,
+        ctx: &Ctx,
+        own: &mut [[f64; 3]],
+        next: &mut [[f64; 3]],
+        va: Option<VirialOut>,
+    ) {
         own.fill([0.0; 3]);
         next.fill([0.0; 3]);
+        let va = va.map(|(o, n)| {
+            o.fill([0.0; 6]);
+            n.fill([0.0; 6]);
+            (o, n)
+        });
         let mut work = SlabWork {
+            va,
             start: self.start,
             end: self.end,
             next_start: self.next_start,
@@ -85,8 +100,13 @@ impl Slab {
     }
 }
 
+/// The per-atom virial arrays of a slab's task (its own atoms, the next slab's).
+pub(super) type VirialOut<'a> = (&'a mut [[f64; 6]], &'a mut [[f64; 6]]);
+
 /// What the slab loop reads and the scratch it writes.
 pub(super) struct SlabWork<'a> {
+    /// The per-atom virial output, when it is tallied.
+    pub(super) va: Option<VirialOut<'a>>,
     pub(super) start: usize,
     pub(super) end: usize,
     pub(super) next_start: usize,
@@ -231,6 +251,7 @@ pub(super) fn slab_run<const DIM: usize, const ONE_TYPE: bool, const SIMD: u8>(
         next,
         at,
         tally: &mut tally,
+        va: w.va.take(),
     };
     for i in w.start..w.end {
         let r = RowArgs {
@@ -523,6 +544,7 @@ pub(super) struct Sink<'a, 'c> {
     pub(super) next: &'a mut [[f64; 3]],
     pub(super) at: (usize, usize),
     pub(super) tally: &'a mut PairTally,
+    pub(super) va: Option<VirialOut<'a>>,
 }
 
 impl Sink<'_, '_> {
@@ -531,6 +553,10 @@ impl Sink<'_, '_> {
     pub(super) fn evaluate<const ONE_TYPE: bool>(&mut self, p: &mut Pending, len: &mut usize) {
         p.batch.len = *len;
         flush::<ONE_TYPE>(self.ctx, p, self.own, self.next, self.at, self.tally);
+        if let Some((vo, vn)) = self.va.as_mut() {
+            virial_atoms(p, self.at, vo, vn);
+        }
+        p.batch.len = 0;
         *len = 0;
     }
 }
@@ -594,7 +620,47 @@ pub(super) fn flush<const ONE_TYPE: bool>(
     }
     own[cur] = fi;
     *tally = t;
-    b.len = 0;
+    // The lanes evaluated (after the special pairs' filter), for `virial_atoms`.
+    b.len = n;
+}
+
+/// The per-atom virial of the pairs [`flush`] just evaluated: ½ r_a F_b of each pair to each
+/// of its two atoms, LAMMPS's `v_tally` (the same products as the global tally's, so the sum
+/// over atoms is the global virial to round-off). Out of the force loop, which it leaves as
+/// it is.
+#[inline(never)]
+fn virial_atoms(
+    p: &Pending,
+    (start, next_start): (usize, usize),
+    vo: &mut [[f64; 6]],
+    vn: &mut [[f64; 6]],
+) {
+    let b = &p.batch;
+    for l in 0..b.len.min(BATCH) {
+        let dr = [b.dr[0][l], b.dr[1][l], b.dr[2][l]];
+        let s = b.fpair[l];
+        let mut fv = [s * dr[0], s * dr[1], s * dr[2]];
+        if b.transverse {
+            fv = [fv[0] + b.ft[0][l], fv[1] + b.ft[1][l], fv[2] + b.ft[2][l]];
+        }
+        let w = [
+            0.5 * dr[0] * fv[0],
+            0.5 * dr[1] * fv[1],
+            0.5 * dr[2] * fv[2],
+            0.5 * dr[0] * fv[1],
+            0.5 * dr[0] * fv[2],
+            0.5 * dr[1] * fv[2],
+        ];
+        for k in [p.i[l] as usize, p.j[l] as usize] {
+            let v = match vo.get_mut(k.wrapping_sub(start)) {
+                Some(v) => v,
+                None => &mut vn[k - next_start],
+            };
+            for c in 0..6 {
+                v[c] += w[c];
+            }
+        }
+    }
 }
 
 /// The special pairs of a batch of `n` lanes (`docs/models.md` §4.8): a pair of bonded

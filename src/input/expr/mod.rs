@@ -10,6 +10,7 @@
 //!   through [`ExprContext::reference`] (a context without computes rejects them);
 //! - any other bare word: a thermo keyword (`step`, `temp`, `press`, `vol`, …), through
 //!   [`ExprContext::thermo`];
+//! - atom references `x[ID]` … (below);
 //! - in atom-style formulas only, the per-atom values of [`AtomValue`] (`id mass type x y z vx
 //!   vy vz fx fy fz`) and `v_name` of other atom-style variables;
 //! - functions `sqrt exp ln log abs sign sin cos tan asin acos atan atan2(y,x) ceil floor round
@@ -35,9 +36,12 @@
 //!   formula is always reported.
 //!
 //! Errors, as LAMMPS reports them: division or modulo by zero, `sqrt` of a negative value,
-//! `ln`/`log` of a non-positive value, `asin`/`acos` outside [−1, 1]. Atom references
-//! (`x[12]`), vector variables and group functions are not supported and give an error naming
-//! them.
+//! `ln`/`log` of a non-positive value, `asin`/`acos` outside [−1, 1]. Vector variables and
+//! group functions are not supported and give an error naming them.
+//!
+//! Atom references, in equal- and atom-style formulas: `x[ID]`, `vx[ID]`, `fx[ID]`,
+//! `mass[ID]`, `type[ID]`, … (any word of [`AtomValue`] with an atom ID from 1), through
+//! [`ExprContext::atom`]; an ID no atom has is an error, as in LAMMPS.
 //!
 //! A formula is parsed once into a [`Formula`] and can be evaluated many times. An atom-style
 //! formula is first *bound* ([`Formula::bind_atoms`]): every part that does not depend on the
@@ -46,7 +50,9 @@
 //!
 //! Every error names the offending token and its 1-based column in the formula.
 
+mod boolean;
 mod token;
+pub use boolean::eval_boolean;
 use token::tokenize;
 
 /// What a formula may refer to: variables, thermo keywords, computes and fixes.
@@ -63,6 +69,11 @@ pub trait ExprContext {
         _id: &str,
         _index: Option<usize>,
     ) -> Option<Result<f64, String>> {
+        None
+    }
+    /// The value `value` of the atom whose ID is `id` (LAMMPS's atom references `x[ID]`,
+    /// `vx[ID]`, `mass[ID]`, …); `None` if this context has no atoms.
+    fn atom(&self, _value: AtomValue, _id: u64) -> Option<Result<f64, String>> {
         None
     }
 }
@@ -574,6 +585,18 @@ impl Formula {
             return ctx
                 .variable(name)
                 .map_err(|e| format!("{} ({e})", self.err_at(t, "variable")));
+        }
+        if let Some((name, idx)) = w.split_once('[')
+            && let Some(value) = AtomValue::from_word(name)
+        {
+            let id: u64 = idx.trim_end_matches(']').parse().unwrap_or(0);
+            if id == 0 {
+                return Err(self.err_at(t, "atom ID must be >= 1 in"));
+            }
+            return match ctx.atom(value, id) {
+                None => Err(self.err_at(t, "atom references are not supported here:")),
+                Some(r) => r.map_err(|e| format!("{} ({e})", self.err_at(t, "atom reference"))),
+            };
         }
         let kind = if w.starts_with("c_") {
             Some(RefKind::Compute)

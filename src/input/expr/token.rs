@@ -32,8 +32,13 @@ pub(super) fn tokenize(src: &str) -> Result<Vec<Token>, String> {
             let mut len = rest
                 .find(|d: char| !(d.is_ascii_alphanumeric() || d == '_'))
                 .unwrap_or(rest.len());
-            // c_ID[i] and f_ID[i]: the index is part of the word.
-            if (rest.starts_with("c_") || rest.starts_with("f_")) && rest[len..].starts_with('[') {
+            // c_ID[i], f_ID[i] and the atom references x[ID], vx[ID], mass[ID], …: the index
+            // is part of the word.
+            if (rest.starts_with("c_")
+                || rest.starts_with("f_")
+                || AtomValue::from_word(&rest[..len]).is_some())
+                && rest[len..].starts_with('[')
+            {
                 let close = rest[len..].find(']').map(|k| len + k);
                 let digits = close.map(|k| &rest[len + 1..k]);
                 match (close, digits) {
@@ -85,7 +90,7 @@ pub(super) fn tokenize(src: &str) -> Result<Vec<Token>, String> {
             }
             None if c == '[' => {
                 return Err(format!(
-                    "indexed references (x[1], v_name[2]) are not supported: '[' (column {col}) \
+                    "indexed references of variables (v_name[2]) are not supported: '[' (column {col}) \
                      in '{src}'"
                 ));
             }

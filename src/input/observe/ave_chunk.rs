@@ -19,8 +19,8 @@ pub(super) enum ChunkValue {
     Mass,
     Temp,
     Var(String),
-    /// `c_ID`: a compute's per-atom values.
-    Compute(String),
+    /// `c_ID` or `c_ID[k]` (1-based): a compute's per-atom values or column.
+    Compute(String, Option<usize>),
 }
 
 #[derive(Debug)]
@@ -42,6 +42,15 @@ pub(super) struct AveChunk {
     format: String,
     /// The fix holds its lock on the chunk compute forever (`ave running|window`).
     pub(super) lock_forever: bool,
+}
+
+impl AveChunk {
+    /// Whether a value is compute `id`'s per-atom values.
+    pub(super) fn uses_value_compute(&self, id: &str) -> bool {
+        self.values
+            .iter()
+            .any(|v| matches!(v, ChunkValue::Compute(c, _) if c == id))
+    }
 }
 
 /// The lock a fix holds on a chunk compute, so that the chunks cannot change while it
@@ -121,10 +130,15 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveChunk, Vec<Stri
             "density/mass" => ChunkValue::DensityMass,
             "mass" => ChunkValue::Mass,
             "temp" => ChunkValue::Temp,
+            w if w.strip_prefix("c_").is_some_and(|b| {
+                env.observe()
+                    .has_per_atom(b.split_once('[').map_or(b, |(id, _)| id))
+            }) =>
+            {
+                let (id, col) = env.observe().per_atom_ref(&w[2..], "fix ave/chunk")?;
+                ChunkValue::Compute(id, col)
+            }
             w => match parse_ref(w)? {
-                Some((Source::Compute(id), None)) if env.observe().has_per_atom(&id) => {
-                    ChunkValue::Compute(id)
-                }
                 Some((Source::Var(name), None)) => match env.var_style(&name) {
                     VarStyle::Atom => ChunkValue::Var(name),
                     VarStyle::Undefined => {
@@ -142,7 +156,7 @@ pub(super) fn parse(f: FixArgs<'_>, env: &dyn Env) -> Result<(AveChunk, Vec<Stri
                 _ => {
                     return Err(format!(
                         "fix ave/chunk value '{w}' not supported (vx vy vz fx fy fz \
-                         density/number density/mass mass temp v_NAME c_ID of a per-atom compute)"
+                         density/number density/mass mass temp v_NAME c_ID or c_ID[k] of a per-atom compute)"
                     ));
                 }
             },
@@ -473,7 +487,7 @@ impl Observe {
                     })
                     .collect(),
                 ChunkValue::Var(name) => env.atom_variable(name)?,
-                ChunkValue::Compute(id) => env.observe().compute_per_atom(id, sys)?,
+                ChunkValue::Compute(id, col) => env.observe().per_atom_column(id, *col, sys)?,
             };
             for (i, b) in bins.iter().enumerate() {
                 if let Some(b) = b {

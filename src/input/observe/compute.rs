@@ -3,6 +3,7 @@
 //! the built-in `thermo_temp`, `thermo_press`, `thermo_pe` (parsing, `uncompute`, the thermo
 //! state they give, their global scalars and vectors).
 
+use super::stress_atom::StressAtom;
 use super::{Env, Observe, arg, parse_num};
 use crate::engine::System;
 use crate::engine::measure::{Bin1d, BinOrigin, Discard, Msd};
@@ -45,6 +46,14 @@ pub(super) enum ComputeKind {
     /// `sdpd/density`: per atom the number density d_i of `pair_style sdpd`'s last evaluation;
     /// vector [mean d, rms(d − mean)/mean].
     SdpdDensity,
+    /// `temp/partial xflag yflag zflag`: as `temp` over the flagged velocity components
+    /// (`System::thermo_partial`).
+    TempPartial([bool; 3]),
+    /// `reduce MODE INPUT…` (in `reduce`): a scalar (one input) or a vector.
+    Reduce(super::reduce::Reduce),
+    /// `stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial]`: per atom 6 columns
+    /// (`System::stress_atom`).
+    StressAtom(StressAtom),
 }
 
 impl ComputeKind {
@@ -60,14 +69,21 @@ impl ComputeKind {
             ComputeKind::Gyration => "gyration",
             ComputeKind::GyrationChunk { .. } => "gyration/chunk",
             ComputeKind::SdpdDensity => "sdpd/density",
+            ComputeKind::Reduce(_) => "reduce",
+            ComputeKind::TempPartial(_) => "temp/partial",
+            ComputeKind::StressAtom(_) => "stress/atom",
         }
     }
 
     pub(super) fn has_scalar(&self) -> bool {
+        if let ComputeKind::Reduce(r) = self {
+            return r.inputs.len() == 1;
+        }
         matches!(
             self,
             ComputeKind::Temp
                 | ComputeKind::TempDeform
+                | ComputeKind::TempPartial(_)
                 | ComputeKind::Pressure(_)
                 | ComputeKind::Pe
                 | ComputeKind::Ke
@@ -84,31 +100,53 @@ impl ComputeKind {
         match self {
             ComputeKind::Temp
             | ComputeKind::TempDeform
+            | ComputeKind::TempPartial(_)
             | ComputeKind::Pressure(_)
             | ComputeKind::Gyration => Some(6),
             ComputeKind::Msd(_) => Some(4),
             ComputeKind::GyrationChunk { nchunk, .. } => Some(*nchunk),
             ComputeKind::SdpdDensity => Some(2),
+            ComputeKind::Reduce(r) if r.inputs.len() > 1 => Some(r.inputs.len()),
             _ => None,
         }
     }
 
-    pub(super) fn extensive(&self) -> bool {
-        matches!(self, ComputeKind::Pe | ComputeKind::Ke)
+    /// Whether the scalar (`index` None) or the vector is extensive (LAMMPS's `extscalar`,
+    /// `extvector`): thermo output with `thermo_modify norm yes` divides it by the atom count.
+    /// The temperatures' vectors (Σ m v_a v_b) are, their scalars are not.
+    pub(super) fn extensive(&self, index: Option<usize>) -> bool {
+        match self {
+            ComputeKind::Reduce(r) => r.extensive(),
+            ComputeKind::Temp | ComputeKind::TempDeform | ComputeKind::TempPartial(_) => {
+                index.is_some()
+            }
+            k => matches!(k, ComputeKind::Pe | ComputeKind::Ke),
+        }
     }
 
     /// Whether the compute has per-atom values (`c_ID` in `dump custom` and `fix ave/chunk`).
     pub(super) fn has_per_atom(&self) -> bool {
-        matches!(self, ComputeKind::SdpdDensity)
+        matches!(self, ComputeKind::SdpdDensity | ComputeKind::StressAtom(_))
+    }
+
+    /// The per-atom columns: 0 for one value per atom, n for n columns.
+    pub(super) fn per_atom_width(&self) -> usize {
+        match self {
+            ComputeKind::StressAtom(_) => 6,
+            _ => 0,
+        }
     }
 
     pub(super) fn is_temperature(&self) -> bool {
-        matches!(self, ComputeKind::Temp | ComputeKind::TempDeform)
+        matches!(
+            self,
+            ComputeKind::Temp | ComputeKind::TempDeform | ComputeKind::TempPartial(_)
+        )
     }
 }
 
 /// The usage of `compute`, quoted in its errors.
-const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | pressure TEMP-ID | pe | ke | gyration | sdpd/density | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
+const COMPUTE_USAGE: &str = "compute ID all temp | temp/deform | temp/partial XFLAG YFLAG ZFLAG | pressure TEMP-ID | pe | ke | gyration | sdpd/density | reduce MODE INPUT… | stress/atom TEMP-ID|NULL [ke] [pair] [bond] [angle] [virial] | msd [com yes|no] | chunk/atom molecule | chunk/atom bin/1d x|y|z lower|center|upper|COORD DELTA [units box|lattice|reduced] [discard mixed|yes|no] [bound x|y|z lo|lower hi|upper]";
 
 /// A compute: its ID and what it computes.
 #[derive(Debug)]
@@ -138,7 +176,12 @@ impl Observe {
             return Err(format!("reuse of compute ID '{id}' (uncompute it first)"));
         }
         if args[1] != "all" {
-            return Err(format!("group '{}' not supported: only 'all'", args[1]));
+            return Err(format!(
+                "compute {} on group '{}' not supported in the standalone engine: its computes \
+                 act on group all only (fixes, velocity and dump take a group)",
+                args.get(2).map_or("", String::as_str),
+                args[1]
+            ));
         }
         let sys = env
             .system()
@@ -171,6 +214,26 @@ impl Observe {
                 extra(3)?;
                 ComputeKind::TempDeform
             }
+            "temp/partial" => {
+                let usage = "compute ID all temp/partial xflag yflag zflag (each 0 or 1)";
+                let mut flags = [false; 3];
+                for (k, f) in flags.iter_mut().enumerate() {
+                    *f = match arg(args, 3 + k, usage)? {
+                        "0" => false,
+                        "1" => true,
+                        o => {
+                            return Err(format!(
+                                "compute temp/partial flag '{o}' must be 0 or 1; usage: {usage}"
+                            ));
+                        }
+                    };
+                }
+                extra(6)?;
+                if flags[2] && sys.dim() == 2 {
+                    return Err("compute temp/partial cannot use vz (zflag 1) in 2-D".into());
+                }
+                ComputeKind::TempPartial(flags)
+            }
             "pe" => {
                 extra(3)?;
                 ComputeKind::Pe
@@ -198,6 +261,8 @@ impl Observe {
                 ComputeKind::SdpdDensity
             }
             "pressure" => Self::pressure(args, env)?,
+            "stress/atom" => ComputeKind::StressAtom(StressAtom::parse(args, env)?),
+            "reduce" => ComputeKind::Reduce(super::reduce::Reduce::parse(args, env)?),
             "msd" => ComputeKind::Msd(Msd::new(sys, Self::msd_com(args)?)),
             "chunk/atom" if args.get(3).map(String::as_str) == Some("molecule") => {
                 extra(4)?;
@@ -404,6 +469,26 @@ impl Observe {
         match self.compute(id).map(|c| &c.kind) {
             Some(ComputeKind::Temp) => Ok(sys.thermo()),
             Some(ComputeKind::TempDeform) => Ok(sys.thermo_deform()),
+            Some(ComputeKind::TempPartial(f)) => Ok(sys.thermo_partial(*f)),
+            Some(k) => Err(format!(
+                "compute '{id}' is a {} compute, not a temperature",
+                k.style()
+            )),
+            None => Err(format!("temperature compute '{id}' does not exist")),
+        }
+    }
+
+    /// The velocity components temperature compute `id` counts (`velocity … temp ID`): all
+    /// three for `temp`, the flagged ones for `temp/partial`; `temp/deform`'s bias (a
+    /// streaming velocity) is refused there.
+    pub fn temp_components(&self, id: &str) -> Result<[bool; 3], String> {
+        match self.compute(id).map(|c| &c.kind) {
+            Some(ComputeKind::Temp) => Ok([true; 3]),
+            Some(ComputeKind::TempPartial(f)) => Ok(*f),
+            Some(ComputeKind::TempDeform) => Err(format!(
+                "velocity with temp/deform compute '{id}' is not supported (use temp or \
+                 temp/partial)"
+            )),
             Some(k) => Err(format!(
                 "compute '{id}' is a {} compute, not a temperature",
                 k.style()
@@ -474,6 +559,8 @@ impl Observe {
             let uses = match &c.kind {
                 ComputeKind::Pressure(t) => t == id,
                 ComputeKind::GyrationChunk { chunk, .. } => chunk == id,
+                ComputeKind::Reduce(r) => r.uses_compute(id),
+                ComputeKind::StressAtom(s) => s.uses_compute(id),
                 _ => false,
             };
             if c.id != id && uses {
@@ -484,10 +571,17 @@ impl Observe {
         Ok(())
     }
 
-    pub(super) fn compute_scalar(&self, c: &ComputeDef, sys: &System) -> Result<f64, String> {
+    pub(super) fn compute_scalar(
+        &self,
+        c: &ComputeDef,
+        env: &dyn Env,
+        sys: &System,
+    ) -> Result<f64, String> {
         Ok(match &c.kind {
+            ComputeKind::Reduce(r) if r.inputs.len() == 1 => r.values(env, sys)?[0],
             ComputeKind::Temp => sys.thermo().temp,
             ComputeKind::TempDeform => sys.thermo_deform().temp,
+            ComputeKind::TempPartial(f) => sys.thermo_partial(*f).temp,
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.press,
             ComputeKind::Pe => sys.tally.energy,
             ComputeKind::Ke => sys.thermo().ke,
@@ -505,10 +599,17 @@ impl Observe {
         })
     }
 
-    pub(super) fn compute_vector(&self, c: &ComputeDef, sys: &System) -> Result<Vec<f64>, String> {
+    pub(super) fn compute_vector(
+        &self,
+        c: &ComputeDef,
+        env: &dyn Env,
+        sys: &System,
+    ) -> Result<Vec<f64>, String> {
         Ok(match &c.kind {
+            ComputeKind::Reduce(r) if r.inputs.len() > 1 => r.values(env, sys)?,
             ComputeKind::Temp => sys.thermo().ke_tensor.to_vec(),
             ComputeKind::TempDeform => sys.thermo_deform().ke_tensor.to_vec(),
+            ComputeKind::TempPartial(f) => sys.thermo_partial(*f).ke_tensor.to_vec(),
             ComputeKind::Pressure(t) => self.thermo_of_temp(t, sys)?.p_tensor.to_vec(),
             ComputeKind::Msd(m) => m.compute(sys)?.to_vec(),
             ComputeKind::Gyration => gyration_tensor(sys).to_vec(),
@@ -535,21 +636,49 @@ impl Observe {
     /// The per-atom values of compute `id` (in the atoms' internal order), for `c_ID` in
     /// `dump custom` and `fix ave/chunk`.
     pub fn compute_per_atom(&self, id: &str, sys: &System) -> Result<Vec<f64>, String> {
-        let c = self
-            .compute(id)
-            .ok_or_else(|| format!("compute '{id}' does not exist"))?;
-        match &c.kind {
-            ComputeKind::SdpdDensity => Ok(sdpd_densities(c, sys)?.to_vec()),
-            k => Err(format!(
-                "compute {} '{id}' does not calculate per-atom values",
-                k.style()
-            )),
-        }
+        self.per_atom_column(id, None, sys)
     }
 
     /// Whether compute `id` exists and has per-atom values.
     pub fn has_per_atom(&self, id: &str) -> bool {
         self.compute(id).is_some_and(|c| c.kind.has_per_atom())
+    }
+
+    /// The per-atom values of compute `id`: Some(0) for one value per atom (`c_ID`), Some(n)
+    /// for n columns (`c_ID[1]` … `c_ID[n]`), None without per-atom values.
+    pub(super) fn per_atom_width(&self, id: &str) -> Option<usize> {
+        self.compute(id)
+            .filter(|c| c.kind.has_per_atom())
+            .map(|c| c.kind.per_atom_width())
+    }
+
+    /// Column `col` (1-based; None: the per-atom vector) of compute `id`'s per-atom values.
+    pub(crate) fn per_atom_column(
+        &self,
+        id: &str,
+        col: Option<usize>,
+        sys: &System,
+    ) -> Result<Vec<f64>, String> {
+        let c = self
+            .compute(id)
+            .ok_or_else(|| format!("compute '{id}' does not exist"))?;
+        match (&c.kind, col) {
+            (ComputeKind::SdpdDensity, None) => Ok(sdpd_densities(c, sys)?.to_vec()),
+            (ComputeKind::StressAtom(s), Some(k @ 1..=6)) => {
+                let st = sys
+                    .stress_atom(s.parts_with(self.kinetic_bias(s.temp_id())?))
+                    .map_err(|e| format!("compute stress/atom '{id}': {e}"))?;
+                Ok(st.iter().map(|r| r[k - 1]).collect())
+            }
+            (k, _) if !k.has_per_atom() => Err(format!(
+                "compute {} '{id}' does not calculate per-atom values",
+                k.style()
+            )),
+            (_, None) => Err(format!(
+                "compute '{id}' has per-atom columns: give c_{id}[k]"
+            )),
+            (_, Some(k)) => Err(format!("compute '{id}' has no per-atom column [{k}]")),
+        }
     }
 }
 
@@ -638,4 +767,32 @@ fn gyration_by_molecule(sys: &System, n: usize) -> Vec<f64> {
         *r = if *m > 0.0 { (*r / m).sqrt() } else { 0.0 };
     }
     rg
+}
+
+impl Observe {
+    /// Whether a `compute stress/atom` is defined: the force evaluations then tally the
+    /// per-atom virial (`System::set_virial_atom`).
+    pub fn wants_virial_atom(&self) -> bool {
+        self.computes
+            .iter()
+            .any(|c| matches!(c.kind, ComputeKind::StressAtom(_)))
+    }
+
+    /// The velocity bias a `compute stress/atom` removes from its kinetic part: that of its
+    /// temperature compute `temp` (none for `temp` and `NULL`, the unflagged components for
+    /// `temp/partial`, the streaming velocity for `temp/deform`).
+    fn kinetic_bias(&self, temp: Option<&str>) -> Result<crate::engine::KineticBias, String> {
+        use crate::engine::KineticBias;
+        let Some(t) = temp else {
+            return Ok(KineticBias::None);
+        };
+        match self.compute(t).map(|c| &c.kind) {
+            Some(ComputeKind::TempPartial(f)) => Ok(KineticBias::Partial(*f)),
+            Some(ComputeKind::TempDeform) => Ok(KineticBias::Deform),
+            Some(_) => Ok(KineticBias::None),
+            None => Err(format!(
+                "compute stress/atom: temperature compute '{t}' does not exist"
+            )),
+        }
+    }
 }

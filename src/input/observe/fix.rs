@@ -269,7 +269,7 @@ impl AveFix {
         let v = |v: &ValueRef| v.source == Source::Compute(id.to_string());
         match &self.kind {
             AveKind::Time(t) => t.values.iter().any(v),
-            AveKind::Chunk(c) => c.chunk == id,
+            AveKind::Chunk(c) => c.chunk == id || c.uses_value_compute(id),
             AveKind::Histo(h) => h.inputs.iter().any(|i| match i {
                 HistoInput::Global(x) => v(x),
                 _ => false,

@@ -23,7 +23,7 @@ impl Observe {
                     .compute(id)
                     .ok_or_else(|| format!("compute '{id}' does not exist"))?;
                 match index {
-                    None => self.compute_scalar(c, sys),
+                    None => self.compute_scalar(c, env, sys),
                     Some(i) => {
                         let n = c.kind.vector_len().ok_or_else(|| {
                             format!(
@@ -36,7 +36,7 @@ impl Observe {
                                 "compute '{id}' vector has {n} elements, [{i}] is out of range"
                             ));
                         }
-                        Ok(self.compute_vector(c, sys)?[i - 1])
+                        Ok(self.compute_vector(c, env, sys)?[i - 1])
                     }
                 }
             }
@@ -82,7 +82,7 @@ impl Observe {
     /// `thermo_modify norm yes`, as LAMMPS).
     pub fn extensive(&self, kind: RefKind, id: &str, index: Option<usize>) -> bool {
         match kind {
-            RefKind::Compute => self.compute(id).is_some_and(|c| c.kind.extensive()),
+            RefKind::Compute => self.compute(id).is_some_and(|c| c.kind.extensive(index)),
             RefKind::Fix => self.fix(id).is_some_and(|f| f.extensive(self, index)),
         }
     }
@@ -110,7 +110,7 @@ impl Observe {
                 let c = self
                     .compute(id)
                     .ok_or_else(|| format!("compute '{id}' does not exist"))?;
-                self.compute_vector(c, sys)
+                self.compute_vector(c, env, sys)
             }
             Source::Fix(id) => {
                 let f = self

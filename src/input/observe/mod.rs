@@ -38,10 +38,12 @@ mod compute;
 mod fix;
 mod global;
 mod per_atom;
+mod reduce;
+mod stress_atom;
 
 pub use compute::ComputeDef;
 pub use fix::AveFix;
-pub(crate) use per_atom::eval_atoms;
+pub(crate) use per_atom::{atom_value, eval_atoms};
 
 use super::expr::RefKind;
 use super::format::{ArgKind, conversion_kinds};

@@ -2,6 +2,7 @@
 //! [`AtomValue`] (`id mass type x y z vx vy vz fx fy fz`) and atom-style formulas (`variable …
 //! atom`) evaluated for every atom.
 
+use super::Observe;
 use crate::engine::System;
 use crate::engine::measure::mass_of;
 use crate::input::expr::{AtomValue, Formula};
@@ -36,4 +37,49 @@ pub(crate) fn eval_atoms(f: &Formula, sys: &System) -> Result<Vec<f64>, String> 
         .into_par_iter()
         .map(|i| f.eval_atom(&|v| atom_value(sys, i, v)))
         .collect()
+}
+
+impl Observe {
+    /// `ID` or `ID[k]` (a per-atom reference after its `c_`): the compute's ID and column,
+    /// checked against its per-atom values; `what` names the user in errors.
+    pub fn per_atom_ref(&self, body: &str, what: &str) -> Result<(String, Option<usize>), String> {
+        let (id, col) = match body.split_once('[') {
+            Some((id, k)) => {
+                let k = k
+                    .strip_suffix(']')
+                    .and_then(|k| k.parse::<usize>().ok())
+                    .filter(|&k| k >= 1)
+                    .ok_or_else(|| format!("{what} 'c_{body}': expected c_ID[k] with k >= 1"))?;
+                (id, Some(k))
+            }
+            None => (body, None),
+        };
+        let width = self.per_atom_width(id).ok_or_else(|| {
+            if self.compute(id).is_some() {
+                format!("{what}: compute '{id}' does not calculate per-atom values")
+            } else {
+                format!("{what}: compute '{id}' does not exist")
+            }
+        })?;
+        match (col, width) {
+            (None, 0) => {}
+            (Some(k), n) if n > 0 && k <= n => {}
+            (None, n) => {
+                return Err(format!(
+                    "{what}: compute '{id}' has {n} per-atom columns: give one, c_{id}[k]"
+                ));
+            }
+            (Some(k), 0) => {
+                return Err(format!(
+                    "{what}: compute '{id}' has one per-atom value, not [{k}]"
+                ));
+            }
+            (Some(k), n) => {
+                return Err(format!(
+                    "{what}: compute '{id}' has {n} per-atom columns, [{k}] is out of range"
+                ));
+            }
+        }
+        Ok((id.to_string(), col))
+    }
 }

@@ -3,14 +3,15 @@
 
 use super::{CmdResult, Interpreter};
 use crate::engine::lees_edwards::{Deform, DeformOrder};
-use crate::engine::{Integrator, PexPush, System};
+use crate::engine::{PexPush, System};
 use crate::grammar::{self, need, parse_f64, parse_int};
 use crate::input::observe::Observe;
 
 #[derive(Clone, Debug, PartialEq)]
 pub(super) enum FixKind {
-    Nve,
-    NveEuler,
+    /// A fix of the engine's list (`engine::modify`): integrators on a group, force fixes,
+    /// `momentum` (`fix_group.rs`).
+    Engine,
     Enforce2d,
     Pex,
     /// `deform … xy erate R remap v` (Lees–Edwards, `engine::lees_edwards`).
@@ -19,6 +20,11 @@ pub(super) enum FixKind {
     FlipMomentum,
     /// `ave/time`, `ave/chunk`, `ave/histo` (in `observe`).
     Observe,
+    /// `dpdnl/frames N FILE`: LAMMPS's (the frames `dpdnl verify` checks); words checked,
+    /// nothing written here.
+    Frames,
+    /// `print` (in `fix_print`).
+    Print,
 }
 
 impl Interpreter<'_> {
@@ -31,14 +37,38 @@ impl Interpreter<'_> {
     }
 
     fn define_fix(&mut self, args: &[String]) -> CmdResult {
-        let usage = "fix ID all nve | nve/euler | enforce2d | pex/push DP [width W] [every N] | deform … | flip/momentum [mode jump|check] | ave/time … | ave/chunk … | ave/histo …";
+        let usage = "fix ID GROUP nve | nve/euler | mvv/dpd [LAMBDA] | setforce … | addforce … | aveforce … | momentum … | enforce2d | print N TEXT … | fix ID all pex/push DP [width W] [every N] | deform … | flip/momentum [mode jump|check] | dpdnl/frames N FILE | ave/time … | ave/chunk … | ave/histo …";
         need(args, 3, usage)?;
-        if args[1] != "all" {
-            return Err(format!("group '{}' not supported: only 'all'", args[1]));
-        }
         let id = args[0].clone();
         if self.fixes.iter().any(|(i, _)| i == &id) {
             return Err(format!("fix ID '{id}' already exists (unfix it first)"));
+        }
+        if super::fix_group::GROUP_FIXES.contains(&args[2].as_str()) {
+            let fix = self.group_fix(args)?;
+            if args[2] == "momentum" {
+                let bit = self.group_bit(&args[1])?;
+                if self.sys_mut()?.group_count(bit) == 0 {
+                    return Err(format!("fix momentum: group '{}' has no atoms", args[1]));
+                }
+            }
+            let sys = self.sys_mut()?;
+            sys.modify.add(fix);
+            sys.integrator = sys.modify.scheme();
+            self.fixes.push((id, FixKind::Engine));
+            return Ok(());
+        }
+        match args[2].as_str() {
+            "wall/reflect" => return self.wall_reflect(),
+            "enforce2d" => {
+                self.group_bit(&args[1])?;
+            }
+            s if args[1] != "all" => {
+                return Err(format!(
+                    "fix {s} on group '{}' not supported: only group all",
+                    args[1]
+                ));
+            }
+            _ => {}
         }
         if matches!(args[2].as_str(), "ave/time" | "ave/chunk" | "ave/histo") {
             let f = Observe::parse_fix(args, &*self)?;
@@ -46,24 +76,25 @@ impl Interpreter<'_> {
             self.fixes.push((id, FixKind::Observe));
             return Ok(());
         }
+        if args[2] == "dpdnl/frames" {
+            grammar::fix::frames(&args[1], &args[3..])?;
+            self.out(
+                "fix dpdnl/frames: LAMMPS writes the frames; the standalone engine's forces are \
+                 the reference `dpdnl verify` recomputes, so it writes none",
+            );
+            self.fixes.push((id, FixKind::Frames));
+            return Ok(());
+        }
+        if args[2] == "print" {
+            self.sys_mut()?;
+            let p = super::fix_print::PrintFix::parse(args)?;
+            self.prints.insert(id.clone(), p);
+            self.fixes.push((id, FixKind::Print));
+            return Ok(());
+        }
         let dim = self.dim;
         let sys = self.sys_mut()?;
         let kind = match args[2].as_str() {
-            s @ ("nve" | "nve/euler") => {
-                grammar::fix::integrator(s, &args[3..])?;
-                if sys.integrator.is_some() {
-                    return Err(
-                        "only one time-integration fix (nve or nve/euler) is allowed".into(),
-                    );
-                }
-                if s == "nve" {
-                    sys.integrator = Some(Integrator::VelocityVerlet);
-                    FixKind::Nve
-                } else {
-                    sys.integrator = Some(Integrator::Euler);
-                    FixKind::NveEuler
-                }
-            }
             "enforce2d" => {
                 if dim != 2 {
                     return Err("fix enforce2d needs dimension 2".into());
@@ -197,7 +228,10 @@ impl Interpreter<'_> {
         self.fix_lines.remove(&id);
         if let Some(sys) = self.sys.as_mut() {
             match kind {
-                FixKind::Nve | FixKind::NveEuler => sys.integrator = None,
+                FixKind::Engine => {
+                    sys.modify.remove(&id);
+                    sys.integrator = sys.modify.scheme();
+                }
                 FixKind::Pex => sys.pex.retain(|p| p.id != id),
                 FixKind::Deform => {
                     if let Some(t) = sys.tri.as_mut() {
@@ -209,9 +243,12 @@ impl Interpreter<'_> {
                         t.flip_fix = None;
                     }
                 }
-                FixKind::Enforce2d => {}
+                FixKind::Enforce2d | FixKind::Frames => {}
                 FixKind::Observe => {
                     self.obs.unfix(&id);
+                }
+                FixKind::Print => {
+                    self.prints.remove(&id);
                 }
             }
         }

@@ -9,8 +9,10 @@
 //! - this file: the [`Interpreter`] and its [`Options`], [`Console`] and [`ScriptError`]; reading
 //!   scripts (`include`), variables and `$` substitution, the command dispatch;
 //! - `setup`: the box and the atoms (`units`, `dimension`, `boundary`, `atom_style`, `region`,
-//!   `create_box`, `create_atoms`, `read_data`, `write_data`, `mass`, `neighbor`, `timestep`,
-//!   `change_box`, `reset_timestep`);
+//!   `create_box`, `create_atoms`, `mass`, `neighbor`, `timestep`, `change_box`,
+//!   `reset_timestep`);
+//! - `data`: `read_data`, `write_data`;
+//! - `state`: crosscheck's run from LAMMPS's state ([`FromState`]);
 //! - `velocity`: `velocity`;
 //! - `pair`: `pair_style`, `pair_coeff` (parsed by [`crate::grammar`]);
 //! - `fix`: `fix`, `unfix` and `fix deform`;
@@ -18,21 +20,31 @@
 //! - `output`: `dump`, `dump_modify`, `undump`, the dump files, `print`, `log`;
 //! - `run`: `run`, the end-of-step fixes, dry runs and their [`PlannedRun`];
 //! - `restart`: `write_restart`, `read_restart`, `restart N FILE` (the file format is
-//!   [`crate::io::restart`]).
+//!   [`crate::io::restart`]);
+//! - `run_style verlet` is accepted in the dispatch (`run`).
 
 mod bonded;
+mod control;
+mod data;
 mod fix;
+mod fix_group;
+mod fix_print;
+mod group;
 mod output;
 mod pair;
 mod restart;
 mod run;
 mod setup;
+mod state;
 mod thermo;
+mod variables;
+use variables::Ctx;
 mod velocity;
 
 pub use run::PlannedRun;
+pub use state::{CARRIED, FromState, StateReport, first_run_line, setup_groups};
 
-use super::expr::{AtomBinder, ExprContext, Formula, RefKind, eval_equal};
+use super::expr::{AtomBinder, ExprContext, eval_equal};
 use super::format::{FmtArg, sprintf};
 use super::lexer::{logical_lines, split_words, strip_comment};
 use super::observe::{self, Observe, VarStyle};
@@ -108,7 +120,8 @@ impl std::error::Error for ScriptError {}
 
 #[derive(Clone, Debug)]
 enum Var {
-    Index(String),
+    /// `index` and `loop` variables: their values and the one `next` has reached.
+    Index(Vec<String>, usize),
     Str(String),
     Equal(String),
     /// `variable NAME atom FORMULA` (per-atom values; see `observe`).
@@ -140,6 +153,12 @@ pub struct Options {
     /// Cap on the number of atoms `create_atoms` may bring the system to (None: only the
     /// memory check). For untrusted scripts, as `max_steps`.
     pub max_atoms: Option<usize>,
+    /// Take this sub-style's words from a `pair_style hybrid`/`hybrid/overlay` line instead of
+    /// refusing it (`dpdnl verify`, which recomputes one dpdnl style of a LAMMPS run that
+    /// overlays others): its words are the longest run after its name that it parses.
+    pub substyle: Option<String>,
+    /// Run from LAMMPS's state (`dpdnl crosscheck --from lammps`): see [`FromState`].
+    pub from_state: Option<FromState>,
 }
 
 /// The interpreter state.
@@ -149,11 +168,18 @@ pub struct Interpreter<'c> {
     vars: BTreeMap<String, Var>,
     dim: usize,
     regions: BTreeMap<String, [[f64; 2]; 3]>,
+    /// The same regions as atoms are matched against them (INF unbounded).
+    region_match: BTreeMap<String, [[f64; 2]; 3]>,
     /// Tilt factors (xy, xz, yz) of `region … prism` regions.
     prisms: BTreeMap<String, [f64; 3]>,
     sys: Option<System>,
     /// `atom_style` (the columns `read_data` reads; molecular styles carry a topology).
     atom_style: crate::engine::topology::AtomStyle,
+    /// The columns of `atom_style`'s data-file lines (`charge`, `mdpd`, `hybrid` …).
+    atom_columns: crate::io::data::AtomColumns,
+    /// The extra columns' values by atom id (read from a data file, written back by
+    /// `write_data`; atoms made later get 0).
+    atom_extra: BTreeMap<u32, crate::io::data::AtomExtra>,
     /// `bond_style`, `angle_style` words and `special_bonds` given before the box exists.
     pre_topo: bonded::PreTopology,
     /// `pair_style` words given before the box exists (the style is made with the box).
@@ -169,6 +195,10 @@ pub struct Interpreter<'c> {
     thermo: ThermoSettings,
     dumps: Vec<Dump>,
     fixes: Vec<(String, FixKind)>,
+    /// The files `write_dump` wrote (for [`Interpreter::dump_files`]).
+    written_dumps: Vec<String>,
+    /// The `fix print` fixes, by ID.
+    prints: BTreeMap<String, fix_print::PrintFix>,
     /// The words of each fix's `fix` command, by ID (for restart files).
     fix_lines: BTreeMap<String, Vec<String>>,
     /// `restart N FILE`, when set.
@@ -179,9 +209,18 @@ pub struct Interpreter<'c> {
     /// [`Options::max_steps`] and [`Options::max_atoms`].
     max_steps: Option<u64>,
     max_atoms: Option<usize>,
+    /// [`Options::substyle`].
+    substyle: Option<String>,
     depth: usize,
+    /// `jump` and `next`: the jump the last command asked for, and whether the next `jump` is
+    /// skipped (a `next` that exhausted its variable).
+    flow: control::Flow,
     run_first: u64,
     obs: Observe,
+    /// The "from LAMMPS's state" mode, when [`Options::from_state`] is set.
+    state: Option<state::StateMode>,
+    /// The `run` commands started (a set-up error is one before the first).
+    runs_started: u64,
 }
 
 type CmdResult = Result<(), String>;
@@ -237,7 +276,7 @@ impl<'c> Interpreter<'c> {
         };
         let mut vars = BTreeMap::new();
         for (k, v) in &opts.vars {
-            vars.insert(k.clone(), Var::Index(v.clone()));
+            vars.insert(k.clone(), Var::Index(vec![v.clone()], 0));
         }
         Ok(Interpreter {
             console,
@@ -245,9 +284,12 @@ impl<'c> Interpreter<'c> {
             vars,
             dim: 3,
             regions: BTreeMap::new(),
+            region_match: BTreeMap::new(),
             prisms: BTreeMap::new(),
             sys: None,
             atom_style: Default::default(),
+            atom_columns: Default::default(),
+            atom_extra: BTreeMap::new(),
             pre_topo: Default::default(),
             pre_pair: None,
             comm_cutoff: 0.0,
@@ -259,15 +301,21 @@ impl<'c> Interpreter<'c> {
             thermo: ThermoSettings::default(),
             dumps: Vec::new(),
             fixes: Vec::new(),
+            prints: BTreeMap::new(),
+            written_dumps: Vec::new(),
             fix_lines: BTreeMap::new(),
             restart: None,
             restart_fixes: Vec::new(),
             threads: opts.threads.max(1),
             max_steps: opts.max_steps,
             max_atoms: opts.max_atoms,
+            substyle: opts.substyle.clone(),
             depth: 0,
+            flow: Default::default(),
             run_first: 0,
             obs: Observe::new(),
+            state: opts.from_state.clone().map(state::StateMode::new),
+            runs_started: 0,
         })
     }
 
@@ -288,10 +336,20 @@ impl<'c> Interpreter<'c> {
         self.sys.as_mut()
     }
 
+    /// The number of `run` commands started so far (0: an error came from the set-up).
+    pub fn runs_started(&self) -> u64 {
+        self.runs_started
+    }
+
     /// The file names of the dumps currently defined, as given to `dump` (after variable
-    /// substitution), in the order they were defined.
+    /// substitution), in the order they were defined; then those `write_dump` wrote, in the
+    /// order written.
     pub fn dump_files(&self) -> Vec<String> {
-        self.dumps.iter().map(|d| d.path.clone()).collect()
+        self.dumps
+            .iter()
+            .map(|d| d.path.clone())
+            .chain(self.written_dumps.iter().cloned())
+            .collect()
     }
 
     fn out(&mut self, text: &str) {
@@ -319,15 +377,30 @@ impl<'c> Interpreter<'c> {
 
     /// Run script text; `name` is used in error messages.
     pub fn run_text(&mut self, text: &str, name: &str) -> Result<(), ScriptError> {
-        for raw in logical_lines(text) {
+        let mut name = name.to_string();
+        let mut lines = logical_lines(text);
+        let mut k = 0;
+        // `jump FILE LABEL`: the label searched for (lines are skipped, unsubstituted, until
+        // `label LABEL`), and the line of that jump.
+        let mut seeking: Option<(String, usize)> = None;
+        while k < lines.len() {
+            let raw = &lines[k];
+            k += 1;
+            let line = raw.line;
             let err = |command: &str, message: String| ScriptError {
-                file: name.to_string(),
-                line: raw.line,
+                file: name.clone(),
+                line,
                 command: command.to_string(),
                 message,
             };
             let body = strip_comment(&raw.text);
             if body.trim().is_empty() {
+                continue;
+            }
+            if let Some((label, _)) = &seeking {
+                if control::is_label(body, label) {
+                    seeking = None;
+                }
                 continue;
             }
             let first = body.split_whitespace().next().unwrap_or("").to_string();
@@ -336,30 +409,70 @@ impl<'c> Interpreter<'c> {
             let Some((cmd, args)) = words.split_first() else {
                 continue;
             };
+            if let Some(r) = self.state_command(raw.line, cmd, args) {
+                r.map_err(|m| err(cmd, m))?;
+                continue;
+            }
             if cmd == "include" {
-                if args.len() != 1 {
-                    return Err(err(cmd, "usage: include FILE".into()));
-                }
-                if self.depth > 16 {
-                    return Err(err(cmd, "include nested more than 16 deep".into()));
-                }
-                // A missing file is an error of this line (file and line of the `include`).
-                let text = std::fs::read_to_string(&args[0]).map_err(|e| {
-                    err(
-                        cmd,
-                        format!("cannot read '{}': {e}", crate::grammar::shown(&args[0])),
-                    )
-                })?;
-                self.depth += 1;
-                let r = self.run_text(&text, &args[0]);
-                self.depth -= 1;
-                r?;
+                self.include(args)
+                    .map_err(|e| e.unwrap_or_else(|m| err(cmd, m)))?;
                 continue;
             }
             self.command(cmd, args).map_err(|m| err(cmd, m))?;
+            if let Some(jump) = self.flow.pending.take() {
+                self.flow
+                    .count_jump(self.max_steps)
+                    .map_err(|m| err("jump", m))?;
+                if let Some(file) = jump.file {
+                    let text = std::fs::read_to_string(&file).map_err(|e| {
+                        err(
+                            "jump",
+                            format!("cannot read '{}': {e}", crate::grammar::shown(&file)),
+                        )
+                    })?;
+                    lines = logical_lines(&text);
+                    name = file;
+                }
+                k = 0;
+                seeking = jump.label.map(|l| (l, line));
+            }
+        }
+        if let Some((label, line)) = seeking {
+            let message = format!(
+                "label '{label}' not found in {}",
+                crate::grammar::shown(&name)
+            );
+            return Err(ScriptError {
+                file: name,
+                line,
+                command: "jump".into(),
+                message,
+            });
         }
         self.flush_outputs();
         Ok(())
+    }
+
+    /// `include FILE`: its errors are the included file's (`Err(Ok(e))`), or this line's
+    /// (`Err(Err(message))`: a missing file, too deep).
+    fn include(&mut self, args: &[String]) -> Result<(), Result<ScriptError, String>> {
+        if args.len() != 1 {
+            return Err(Err("usage: include FILE".into()));
+        }
+        if self.depth > 16 {
+            return Err(Err("include nested more than 16 deep".into()));
+        }
+        // A missing file is an error of this line (file and line of the `include`).
+        let text = std::fs::read_to_string(&args[0]).map_err(|e| {
+            Err(format!(
+                "cannot read '{}': {e}",
+                crate::grammar::shown(&args[0])
+            ))
+        })?;
+        self.depth += 1;
+        let r = self.run_text(&text, &args[0]);
+        self.depth -= 1;
+        r.map_err(Ok)
     }
 
     // ------------------------------------------------------------------ variables
@@ -367,7 +480,8 @@ impl<'c> Interpreter<'c> {
     fn var_string(&self, name: &str) -> Result<String, String> {
         match self.vars.get(name) {
             None => Err(format!("variable '{name}' is not defined")),
-            Some(Var::Index(s)) | Some(Var::Str(s)) => Ok(s.clone()),
+            Some(Var::Index(v, at)) => Ok(v[*at].clone()),
+            Some(Var::Str(s)) => Ok(s.clone()),
             Some(Var::Equal(e)) => {
                 let v = self.eval(e)?;
                 sprintf("%.15g", &[FmtArg::Float(v)])
@@ -389,20 +503,30 @@ impl<'c> Interpreter<'c> {
         let mut out = String::with_capacity(s.len());
         let mut i = 0;
         let b = s.as_bytes();
-        let mut in_single = false;
-        let mut in_triple = false;
         while i < b.len() {
-            if !in_single && s[i..].starts_with("\"\"\"") {
-                in_triple = !in_triple;
-                out.push_str("\"\"\"");
-                i += 3;
+            // As LAMMPS's `Input::substitute`: text in single, double or triple quotes is
+            // copied as it is (the commands that take such text, `print`, `if`, `fix print`,
+            // `run every`, substitute it themselves when they use it). An unmatched quote
+            // copies the rest (the word split reports it).
+            let quote = if s[i..].starts_with("\"\"\"") {
+                Some("\"\"\"")
+            } else if b[i] == b'"' {
+                Some("\"")
+            } else if b[i] == b'\'' {
+                Some("'")
+            } else {
+                None
+            };
+            if let Some(q) = quote {
+                let end = s[i + q.len()..]
+                    .find(q)
+                    .map_or(s.len(), |e| i + q.len() + e + q.len());
+                out.push_str(&s[i..end]);
+                i = end;
                 continue;
             }
             let c = b[i];
-            if c == b'\'' && !in_triple {
-                in_single = !in_single;
-            }
-            if c != b'$' || in_single || in_triple || i + 1 >= b.len() {
+            if c != b'$' || i + 1 >= b.len() {
                 let ch = s[i..].chars().next().unwrap_or(' ');
                 out.push(ch);
                 i += ch.len_utf8();
@@ -457,6 +581,15 @@ impl<'c> Interpreter<'c> {
 
     // ------------------------------------------------------------------ commands
 
+    /// The per-atom virial tally on while a `compute stress/atom` is defined (LAMMPS's
+    /// `vflag_atom`; off, the force loop is as without it).
+    fn sync_virial_atom(&mut self) {
+        let on = self.obs.wants_virial_atom();
+        if let Some(s) = self.system_mut() {
+            s.set_virial_atom(on);
+        }
+    }
+
     fn sys_mut(&mut self) -> Result<&mut System, String> {
         self.sys
             .as_mut()
@@ -476,6 +609,7 @@ impl<'c> Interpreter<'c> {
             "atom_style" => self.cmd_atom_style(args),
             "variable" => self.cmd_variable(args),
             "region" => self.cmd_region(args),
+            "group" => self.cmd_group(args),
             "create_box" => self.cmd_create_box(args),
             "create_atoms" => self.cmd_create_atoms(args),
             "read_data" => self.cmd_read_data(args),
@@ -496,12 +630,15 @@ impl<'c> Interpreter<'c> {
             "compute" => {
                 let c = Observe::parse_compute(args, &*self)?;
                 self.obs.add_compute(c);
+                self.sync_virial_atom();
                 Ok(())
             }
             "uncompute" => {
                 need(args, 1, "uncompute ID")?;
                 crate::grammar::at_most(args, 1, "uncompute ID")?;
-                self.obs.uncompute(&args[0])
+                self.obs.uncompute(&args[0])?;
+                self.sync_virial_atom();
+                Ok(())
             }
             "thermo" => {
                 need(args, 1, "thermo N")?;
@@ -514,7 +651,16 @@ impl<'c> Interpreter<'c> {
             "dump" => self.cmd_dump(args),
             "dump_modify" => self.cmd_dump_modify(args),
             "undump" => self.cmd_undump(args),
-            "run" => self.cmd_run(args),
+            "run" => {
+                self.runs_started += 1;
+                self.cmd_run(args)
+            }
+            "run_style" => run::cmd_run_style(args),
+            "write_dump" => self.cmd_write_dump(args),
+            "if" => self.cmd_if(args),
+            "label" => control::cmd_label(args),
+            "jump" => self.cmd_jump(args),
+            "next" => self.cmd_next(args),
             "change_box" => self.cmd_change_box(args),
             "reset_timestep" => self.cmd_reset_timestep(args),
             "print" => self.cmd_print(args),
@@ -527,103 +673,12 @@ impl<'c> Interpreter<'c> {
             )),
         }
     }
-
-    fn cmd_variable(&mut self, args: &[String]) -> CmdResult {
-        need(args, 2, "variable NAME STYLE ARGS…")?;
-        let name = args[0].clone();
-        if !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
-            return Err(format!("variable name '{name}' must be alphanumeric or _"));
-        }
-        match args[1].as_str() {
-            "delete" => {
-                self.vars.remove(&name);
-            }
-            "index" => {
-                need(args, 3, "variable NAME index VALUE…")?;
-                if args.len() > 3 {
-                    return Err(
-                        "index variables with several values (loops with next) are not supported"
-                            .into(),
-                    );
-                }
-                // As LAMMPS: an index variable already defined (e.g. by -var) is kept.
-                self.vars.entry(name).or_insert(Var::Index(args[2].clone()));
-            }
-            "string" => {
-                need(args, 3, "variable NAME string VALUE")?;
-                self.vars.insert(name, Var::Str(args[2].clone()));
-            }
-            "equal" => {
-                need(args, 3, "variable NAME equal FORMULA")?;
-                self.vars.insert(name, Var::Equal(args[2..].join(" ")));
-            }
-            "atom" => {
-                need(args, 3, "variable NAME atom FORMULA")?;
-                let f = args[2..].join(" ");
-                Formula::parse(&f)?;
-                self.vars.insert(name, Var::Atom(f));
-            }
-            o => {
-                return Err(format!(
-                    "variable style '{o}' not supported (index, string, equal, atom, delete)"
-                ));
-            }
-        }
-        Ok(())
-    }
 }
 
 impl Interpreter<'_> {
     /// Consume the interpreter, returning the system (if a box was created).
     pub fn into_system(self) -> Option<System> {
         self.sys
-    }
-}
-
-/// The formula context of an interpreter: variables, thermo keywords, computes and fixes;
-/// the depth guards against variables that refer to themselves.
-struct Ctx<'a, 'b>(&'a Interpreter<'b>, usize);
-
-impl ExprContext for Ctx<'_, '_> {
-    fn variable(&self, name: &str) -> Result<f64, String> {
-        if self.1 > 64 {
-            return Err(format!("variable '{name}' refers to itself"));
-        }
-        match self.0.vars.get(name) {
-            None => Err(format!("variable '{name}' is not defined")),
-            Some(Var::Index(s)) | Some(Var::Str(s)) => s
-                .trim()
-                .parse::<f64>()
-                .map_err(|_| format!("variable '{name}' = '{s}' is not a number")),
-            Some(Var::Equal(e)) => eval_equal(e, &Ctx(self.0, self.1 + 1)),
-            Some(Var::Atom(_)) => Err(format!(
-                "variable '{name}' is atom-style: not usable in an equal-style formula"
-            )),
-        }
-    }
-    fn thermo(&self, keyword: &str) -> Option<Result<f64, String>> {
-        self.0.thermo_value(keyword)
-    }
-    fn reference(
-        &self,
-        kind: RefKind,
-        id: &str,
-        index: Option<usize>,
-    ) -> Option<Result<f64, String>> {
-        Some(self.0.obs.reference(kind, id, index, self.0))
-    }
-}
-
-impl AtomBinder for Ctx<'_, '_> {
-    fn atom_variable(&self, name: &str) -> Option<Result<Formula, String>> {
-        let Some(Var::Atom(src)) = self.0.vars.get(name) else {
-            return None;
-        };
-        if self.1 > 64 {
-            return Some(Err(format!("variable '{name}' refers to itself")));
-        }
-        let inner = Ctx(self.0, self.1 + 1);
-        Some(Formula::parse(src).and_then(|f| f.bind_atoms(&inner, &inner)))
     }
 }
 

@@ -1,5 +1,5 @@
 //! Files and screen output other than thermo: `dump` (custom style, sorted by atom ID),
-//! `dump_modify`, `undump` and the dump files, `print`, `log`.
+//! `dump_modify`, `undump`, `write_dump` and the dump files, `print`, `log`.
 
 use super::{CmdResult, Interpreter};
 use crate::grammar::{at_most, need, parse_int};
@@ -8,7 +8,9 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 
 pub(super) struct Dump {
-    id: String,
+    pub(super) id: String,
+    /// The group whose atoms are written (at each write, as LAMMPS).
+    pub(super) group: String,
     every: u64,
     pub(super) path: String,
     columns: Vec<String>,
@@ -21,12 +23,12 @@ pub(super) struct Dump {
 
 impl Interpreter<'_> {
     pub(super) fn cmd_dump(&mut self, args: &[String]) -> CmdResult {
-        let usage = "dump ID all custom N FILE COLUMNS… | dump ID all atom N FILE";
+        let usage = "dump ID GROUP custom N FILE COLUMNS… | dump ID GROUP atom N FILE";
         // The style word first, so that a style this engine lacks is named as such, whatever
         // its arguments.
         need(args, 3, usage)?;
         if args[1] != "all" {
-            return Err(format!("group '{}' not supported: only 'all'", args[1]));
+            self.group_bit(&args[1])?;
         }
         // `atom` is LAMMPS's default atom dump: id, type and scaled positions.
         let atom_style = match args[2].as_str() {
@@ -58,13 +60,15 @@ impl Interpreter<'_> {
             args[5..].to_vec()
         };
         for c in &columns {
-            if let Some(id) = c.strip_prefix("c_") {
+            if let Some(body) = c.strip_prefix("c_") {
+                let id = body.split_once('[').map_or(body, |(id, _)| id);
                 if !self.obs.has_per_atom(id) {
                     return Err(format!(
                         "dump column '{c}': compute '{id}' does not exist or has no per-atom \
                          values"
                     ));
                 }
+                self.obs.per_atom_ref(body, &format!("dump column '{c}'"))?;
                 continue;
             }
             if c == "mol" && self.sys.as_ref().is_none_or(|s| s.topo.is_none()) {
@@ -109,6 +113,7 @@ impl Interpreter<'_> {
             .map_err(|e| format!("cannot open dump file {}: {e}", args[4]))?;
         self.dumps.push(Dump {
             id: args[0].clone(),
+            group: args[1].clone(),
             every,
             path: args[4].clone(),
             columns,
@@ -170,8 +175,11 @@ impl Interpreter<'_> {
             }
             let _ = setup;
             d.last = Some(step);
-            let n = sys.atoms.len();
-            let mut order: Vec<usize> = (0..n).collect();
+            let bit = sys.groups.bit(&d.group).unwrap_or(1);
+            let mut order: Vec<usize> = (0..sys.atoms.len())
+                .filter(|&i| sys.atoms.mask_of(i) & bit != 0)
+                .collect();
+            let n = order.len();
             order.sort_by_key(|&i| sys.atoms.tag[i]);
             let w = &mut d.writer;
             let io = |e: std::io::Error| format!("cannot write dump file: {e}");
@@ -203,7 +211,10 @@ impl Interpreter<'_> {
                 .iter()
                 .map(|c| {
                     c.strip_prefix("c_")
-                        .map(|id| self.obs.compute_per_atom(id, sys))
+                        .map(|body| {
+                            let (id, col) = self.obs.per_atom_ref(body, "dump")?;
+                            self.obs.per_atom_column(&id, col, sys)
+                        })
                         .transpose()
                 })
                 .collect::<Result<_, _>>()?;
@@ -288,6 +299,53 @@ impl Interpreter<'_> {
         Ok(())
     }
 
+    /// `write_dump GROUP custom|atom FILE [COLUMNS…] [modify DUMP_MODIFY-ARGS…]` (LAMMPS's
+    /// `WriteDump`): one snapshot of the current step, written as a dump of the same style with
+    /// those `dump_modify` settings would write it, then closed; the script's own dumps are
+    /// not touched.
+    pub(super) fn cmd_write_dump(&mut self, args: &[String]) -> CmdResult {
+        let usage = "write_dump GROUP custom|atom FILE [COLUMNS…] [modify DUMP_MODIFY-ARGS…]";
+        need(args, 3, usage)?;
+        let (dump_part, modify) = match args.iter().position(|a| a == "modify") {
+            Some(k) => (&args[..k], Some(&args[k + 1..])),
+            None => (args, None),
+        };
+        need(dump_part, 3, usage)?;
+        const ID: &str = "WRITE_DUMP";
+        let mut dump_args: Vec<String> =
+            vec![ID.into(), dump_part[0].clone(), dump_part[1].clone()];
+        dump_args.push("1".into());
+        dump_args.extend(dump_part[2..].iter().cloned());
+        let saved = std::mem::take(&mut self.dumps);
+        let r = self.write_dump_now(&dump_args, modify);
+        self.dumps = saved;
+        r
+    }
+
+    /// Define the dump of `write_dump`, apply its `modify` words and write its one frame.
+    fn write_dump_now(&mut self, dump_args: &[String], modify: Option<&[String]>) -> CmdResult {
+        self.sys_mut()?;
+        self.cmd_dump(dump_args)?;
+        if let Some(m) = modify {
+            if m.is_empty() {
+                return Err("write_dump modify needs dump_modify arguments".into());
+            }
+            let mut margs = vec![dump_args[0].clone()];
+            margs.extend(m.iter().cloned());
+            self.cmd_dump_modify(&margs)?;
+        }
+        self.write_dumps(false)?;
+        for d in self.dumps.iter_mut() {
+            d.writer
+                .flush()
+                .map_err(|e| format!("cannot write dump file {}: {e}", d.path))?;
+            if !self.written_dumps.contains(&d.path) {
+                self.written_dumps.push(d.path.clone());
+            }
+        }
+        Ok(())
+    }
+
     pub(super) fn cmd_undump(&mut self, args: &[String]) -> CmdResult {
         need(args, 1, "undump ID")?;
         let before = self.dumps.len();
@@ -317,6 +375,9 @@ impl Interpreter<'_> {
             }
             k += 2;
         }
+        // As LAMMPS's print: the text's own `$` variables are substituted now (those inside
+        // quotes, which the line's substitution leaves).
+        let text = self.substitute(&args[0])?;
         if let Some((path, append)) = file {
             let mut f = std::fs::OpenOptions::new()
                 .create(true)
@@ -325,12 +386,12 @@ impl Interpreter<'_> {
                 .truncate(!append)
                 .open(&path)
                 .map_err(|e| format!("cannot open {path}: {e}"))?;
-            writeln!(f, "{}", args[0]).map_err(|e| format!("cannot write {path}: {e}"))?;
+            writeln!(f, "{text}").map_err(|e| format!("cannot write {path}: {e}"))?;
         }
         if screen {
-            self.out(&args[0]);
+            self.out(&text);
         } else if let Some(l) = self.log.as_mut() {
-            let _ = writeln!(l, "{}", args[0]);
+            let _ = writeln!(l, "{text}");
         }
         Ok(())
     }

@@ -24,11 +24,42 @@ fn hybrid_refusal(name: &str) -> String {
     )
 }
 
+/// The words of sub-style `name` in `pair_style hybrid… ARGS` (`args[0]` the hybrid word):
+/// `name` and the longest run of words after it that the style parses (the next sub-style's
+/// name ends it). `name` must occur once.
+fn pick_substyle(args: &[String], name: &str, dt: f64) -> Result<Vec<String>, String> {
+    let at: Vec<usize> = (1..args.len()).filter(|&k| args[k] == name).collect();
+    let &[at] = at.as_slice() else {
+        return Err(format!(
+            "style '{}' names sub-style {name} {} times: dpdnl verify recomputes one",
+            grammar::shown(&args[0]),
+            at.len()
+        ));
+    };
+    let rest = &args[at + 1..];
+    let mut first_err = None;
+    for k in (0..=rest.len()).rev() {
+        match crate::forces::new_pair_style(name, &rest[..k], 1, dt) {
+            Ok(_) => return Ok(args[at..=at + k].to_vec()),
+            Err(e) => {
+                first_err.get_or_insert(e);
+            }
+        }
+    }
+    Err(first_err.unwrap_or_default())
+}
+
 impl Interpreter<'_> {
     pub(super) fn cmd_pair_style(&mut self, args: &[String]) -> CmdResult {
         need(args, 1, crate::forces::pair_style_usage())?;
         if args[0].starts_with("hybrid") {
-            return Err(hybrid_refusal(&args[0]));
+            return match self.substyle.clone() {
+                Some(name) => {
+                    let words = pick_substyle(args, &name, self.dt)?;
+                    self.cmd_pair_style(&words)
+                }
+                None => Err(hybrid_refusal(&args[0])),
+            };
         }
         let dt = self.dt;
         let Some(sys) = self.sys.as_mut() else {

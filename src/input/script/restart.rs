@@ -97,6 +97,8 @@ impl Interpreter<'_> {
         self.dt = r.dt;
         self.skin = r.skin;
         self.atom_style = r.topo.as_ref().map_or(AtomStyle::Atomic, |t| t.style);
+        self.atom_columns = crate::io::data::AtomColumns::of(self.atom_style);
+        self.atom_extra.clear();
         self.new_system(r.ntypes as usize, r.lo, r.hi)
             .map_err(bad)?;
         let natoms = r.atoms.len();
@@ -104,6 +106,7 @@ impl Interpreter<'_> {
         sys.step = r.step;
         sys.mass = r.masses;
         sys.atoms = r.atoms;
+        sys.groups = crate::engine::groups::Groups::from_names(r.groups).map_err(bad)?;
         sys.tally = r.tally;
         let topo_lines = match r.topo {
             Some(t) => {
@@ -222,6 +225,7 @@ impl Interpreter<'_> {
             atoms: std::mem::take(&mut sys.atoms),
             tally: sys.tally,
             units: sys.units.style,
+            groups: sys.groups.names().to_vec(),
         };
         let bytes = restart::encode(&r);
         sys.atoms = r.atoms;

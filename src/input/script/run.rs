@@ -4,9 +4,11 @@
 use super::fix::FixKind;
 use super::{CmdResult, Interpreter};
 use crate::engine::lees_edwards::flip_jump_note;
+use crate::engine::modify::InputValue;
 use crate::engine::{Integrator, SetupNote, System};
 use crate::forces::StylePlan;
 use crate::grammar::{need, parse_int};
+use crate::input::observe::Env;
 use std::io::Write;
 use std::sync::Arc;
 use std::time::Instant;
@@ -70,6 +72,7 @@ pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
     matches!(
         cmd,
         "dump"
+            | "write_dump"
             | "dump_modify"
             | "undump"
             | "write_data"
@@ -77,20 +80,26 @@ pub(super) fn dry_run_skips(cmd: &str, args: &[String]) -> bool {
             | "restart"
             | "log"
             | "print"
-    ) || (cmd == "fix" && args.get(2).is_some_and(|s| s.starts_with("ave/")))
+    ) || (cmd == "fix"
+        && args
+            .get(2)
+            .is_some_and(|s| s.starts_with("ave/") || s == "print"))
 }
 
-/// What `run N [upto] [start S] [stop E] [pre yes|no] [post yes|no]` asks for.
 struct RunArgs {
     n: u64,
     upto: bool,
     start: Option<u64>,
     stop: Option<u64>,
+    /// `every M CMD…` (`every M NULL`: no commands): run in chunks of M steps and run the
+    /// commands after each.
+    every: Option<(u64, Vec<String>)>,
 }
 
-const RUN_USAGE: &str = "run N [upto] [start S] [stop E] [pre yes|no] [post yes|no]";
+const RUN_USAGE: &str =
+    "run N [upto] [start S] [stop E] [pre yes|no] [post yes|no] [every M CMD…|NULL]";
 
-/// `run N [upto] [start S] [stop E] [pre yes|no] [post yes|no]`.
+/// `run N [upto] [start S] [stop E] [pre yes|no] [post yes|no] [every M CMD…|NULL]`.
 fn parse_run_args(args: &[String]) -> Result<RunArgs, String> {
     need(args, 1, RUN_USAGE)?;
     let mut r = RunArgs {
@@ -98,6 +107,7 @@ fn parse_run_args(args: &[String]) -> Result<RunArgs, String> {
         upto: false,
         start: None,
         stop: None,
+        every: None,
     };
     let mut k = 1;
     while k < args.len() {
@@ -119,14 +129,52 @@ fn parse_run_args(args: &[String]) -> Result<RunArgs, String> {
                 }
                 k += 2;
             }
+            "every" => {
+                // As LAMMPS: every takes the rest of the line.
+                let m = args
+                    .get(k + 1)
+                    .ok_or_else(|| format!("run every needs M; usage: {RUN_USAGE}"))?;
+                let m: u64 = parse_int(m, "run every")?;
+                if m == 0 {
+                    return Err(format!("run every M = 0 must be > 0; usage: {RUN_USAGE}"));
+                }
+                let mut cmds = args[k + 2..].to_vec();
+                if cmds.len() == 1 && cmds[0] == "NULL" {
+                    cmds.clear();
+                }
+                r.every = Some((m, cmds));
+                k = args.len();
+            }
             o => {
                 return Err(format!(
-                    "run keyword '{o}' not supported (upto, start, stop, pre, post)"
+                    "run keyword '{o}' not supported (upto, start, stop, pre, post, every)"
                 ));
             }
         }
     }
     Ok(r)
+}
+
+/// `run_style verlet`: the standalone engine's only run style (velocity Verlet, or the Euler
+/// update of `fix nve/euler`, both driven as LAMMPS's `Verlet` drives them), so the command is
+/// accepted and changes nothing; every other style (`respa`, `verlet/split`, …) is refused.
+pub(super) fn cmd_run_style(args: &[String]) -> CmdResult {
+    need(args, 1, "run_style verlet")?;
+    match args[0].as_str() {
+        "verlet" => {
+            crate::grammar::at_most(args, 1, "run_style verlet")?;
+            Ok(())
+        }
+        s @ ("respa" | "respa/omp") => Err(format!(
+            "run_style {s} is not supported: the standalone engine has one force evaluation \
+             per step (run_style verlet); use run_style verlet, or drop the line (verlet is \
+             the default)"
+        )),
+        s => Err(format!(
+            "run_style {s} is not supported: the standalone engine runs run_style verlet \
+             only; use run_style verlet, or drop the line (verlet is the default)"
+        )),
+    }
 }
 
 /// Steps between blow-up checks ([`crate::engine::System::check_health`]) when no thermo
@@ -160,6 +208,14 @@ impl Interpreter<'_> {
                         sys.apply_pex_push(p);
                     }
                 }
+                FixKind::Engine if !setup => {
+                    let id = id.clone();
+                    self.sys_mut()?.fix_end_of_step(&id);
+                }
+                FixKind::Print => {
+                    let id = id.clone();
+                    self.fix_print_step(&id, setup)?;
+                }
                 FixKind::Observe => {
                     if let Some(sample) = self.obs.sample(id, &*self)? {
                         let (id, step) = (id.clone(), self.sys_mut()?.step);
@@ -172,25 +228,77 @@ impl Interpreter<'_> {
         Ok(())
     }
 
+    /// Hand the engine's fixes the variables they read at the coming `post_force` (or set-up),
+    /// evaluated now, after the forces of the step (as LAMMPS evaluates them in `post_force`).
+    fn feed_fix_inputs(&mut self) -> CmdResult {
+        let wanted = self.sys_mut()?.fix_inputs();
+        if wanted.is_empty() {
+            return Ok(());
+        }
+        let mut values = Vec::new();
+        for (fix, inputs) in wanted {
+            for (k, input) in inputs.iter().enumerate() {
+                let v = if input.atom {
+                    InputValue::Atom(self.atom_variable(&input.name)?)
+                } else {
+                    InputValue::Equal(self.equal_variable(&input.name)?)
+                };
+                values.push((fix, k, v));
+            }
+        }
+        let sys = self.sys_mut()?;
+        for (fix, k, v) in values {
+            sys.set_fix_input(fix, k, v);
+        }
+        Ok(())
+    }
+
     pub(super) fn cmd_run(&mut self, args: &[String]) -> CmdResult {
         let RunArgs {
             mut n,
             upto,
             start,
             stop,
+            every,
         } = parse_run_args(args)?;
+        let step = self.sys_mut()?.step;
+        if upto {
+            n = n
+                .checked_sub(step)
+                .ok_or("run upto: target step is in the past")?;
+        }
+        let Some((m, cmds)) = every else {
+            return self.run_chunk(n, start, stop);
+        };
+        if let Some(cap) = self.max_steps.filter(|&cap| n > cap) {
+            return Err(format!(
+                "run of {n} steps exceeds the cap of {cap} (Options::max_steps)"
+            ));
+        }
+        // LAMMPS's `Run::command` with `every`: chunks of at most M steps (one of 0 steps
+        // for `run 0`), each a run of its own with its set-up, then the commands.
+        let mut left = n;
+        let mut first = true;
+        while left > 0 || first {
+            let chunk = left.min(m);
+            self.run_chunk(chunk, start, stop)?;
+            for c in &cmds {
+                self.one(c).map_err(|e| format!("every: {e}"))?;
+            }
+            left -= chunk;
+            first = false;
+        }
+        Ok(())
+    }
+
+    /// One run of `n` steps (a whole `run`, or one chunk of `run N every M`).
+    fn run_chunk(&mut self, n: u64, start: Option<u64>, stop: Option<u64>) -> CmdResult {
         let threads = self.threads;
         let step = self.sys_mut()?.step;
         if self.console.get().interrupted() {
             return Err(self.interrupted_at(step, None));
         }
         self.drop_unclaimed_fix_state();
-        let sys = self.sys_mut()?;
-        if upto {
-            n = n
-                .checked_sub(sys.step)
-                .ok_or("run upto: target step is in the past")?;
-        }
         if let Some(cap) = self.max_steps.filter(|&cap| n > cap) {
             return Err(format!(
                 "run of {n} steps exceeds the cap of {cap} (Options::max_steps)"
@@ -204,7 +312,11 @@ impl Interpreter<'_> {
                 sys.step
             ));
         }
+        sys.defer_fix_setup = true;
         sys.setup_run_window(sys.step + n, start, stop)?;
+        self.feed_fix_inputs()?;
+        let sys = self.sys_mut()?;
+        sys.setup_fixes();
         let notes = std::mem::take(&mut sys.setup_notes);
         let integ = sys.integrator;
         let first = sys.step;
@@ -291,7 +403,9 @@ impl Interpreter<'_> {
         let every = self.thermo.every;
         let start = Instant::now();
         let mut last_progress = Instant::now();
-        let measuring = self.obs.has_fixes();
+        let measuring = self.obs.has_fixes()
+            || !self.prints.is_empty()
+            || self.fixes.iter().any(|(_, k)| *k == FixKind::Engine);
         for _ in 0..n {
             // LAMMPS re-neighbours on the steps it writes a restart file.
             let next = self.sys_mut()?.step + 1;
@@ -300,10 +414,14 @@ impl Interpreter<'_> {
             if rebuild {
                 sys.rebuild_at_next_step();
             }
-            if measuring {
-                sys.advance();
-            } else {
-                sys.step_once();
+            sys.advance_to_forces();
+            self.feed_fix_inputs()?;
+            let sys = self.sys_mut()?;
+            sys.advance_finish();
+            if !measuring {
+                for k in 0..sys.pex.len() {
+                    sys.apply_pex_push(k);
+                }
             }
             let step = sys.step;
             let thermo_due = (every > 0 && step % every == 0) || step == last;

@@ -1,15 +1,13 @@
 //! The box and the atoms: `units`, `dimension`, `boundary`, `atom_style`, `region`,
-//! `create_box`, `create_atoms`, `read_data`, `write_data`, `mass`, `neighbor`, `timestep`,
-//! `change_box`, `reset_timestep`.
+//! `create_box`, `create_atoms`, `mass`, `neighbor`, `timestep`, `change_box`,
+//! `reset_timestep` (`read_data` and `write_data`: `data`).
 
 use super::{CmdResult, Interpreter, type_range};
 use crate::engine::lees_edwards::Triclinic;
-use crate::engine::topology::AtomStyle;
 use crate::engine::{SimBox, System};
 use crate::grammar::{at_most, need, parse_f64, parse_int};
-use crate::io::data::{CoeffKind, DataFile, format_data_with, parse_data_styled, style_match};
+use crate::io::data::AtomColumns;
 use crate::rng::{STREAM_CREATE_ATOMS, keyed_uniform};
-use std::collections::BTreeMap;
 
 impl Interpreter<'_> {
     /// `units lj|real|metal|si|cgs|micro|nano`: LAMMPS's constants ([`crate::units::Units::standalone`]), and
@@ -52,14 +50,26 @@ impl Interpreter<'_> {
     }
 
     pub(super) fn cmd_atom_style(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, "atom_style atomic|bond|angle|molecular|full")?;
-        // The style word first (`hybrid` takes sub-styles), then the count.
-        let style = AtomStyle::from_word(&args[0])?;
-        exact(args, 1, "atom_style atomic|bond|angle|molecular|full")?;
+        need(
+            args,
+            1,
+            "atom_style atomic|bond|angle|molecular|full|charge|mdpd|hybrid …",
+        )?;
+        // The style words first (`hybrid` takes sub-styles), then the box.
+        let columns = AtomColumns::parse(args)?;
+        if columns.per_atom_mass() {
+            return Err(format!(
+                "atom_style {}: per-atom masses (sphere's diameter and density) are not \
+                 supported: this engine has per-type masses only (the DPD styles use no radius); \
+                 use atom_style atomic (or charge, mdpd, bond, …) with `mass`",
+                columns.words.join(" ")
+            ));
+        }
         if self.sys.is_some() {
             return Err("atom_style command after simulation box is defined".into());
         }
-        self.atom_style = style;
+        self.atom_style = columns.base;
+        self.atom_columns = columns;
         Ok(())
     }
 
@@ -135,6 +145,22 @@ impl Interpreter<'_> {
             }
         }
         self.regions.insert(args[0].clone(), b);
+        // What an atom is matched against (`group region`, a fix's `region`): INF is
+        // unbounded there, as LAMMPS's ±BIG (an atom not yet wrapped back into the box stays
+        // inside), EDGE the box face.
+        let mut m = b;
+        for d in 0..3 {
+            for s in 0..2 {
+                if args[2 + 2 * d + s] == "INF" {
+                    m[d][s] = if s == 0 {
+                        f64::NEG_INFINITY
+                    } else {
+                        f64::INFINITY
+                    };
+                }
+            }
+        }
+        self.region_match.insert(args[0].clone(), m);
         match prism {
             Some(t) => {
                 self.prisms.insert(args[0].clone(), t);
@@ -146,7 +172,15 @@ impl Interpreter<'_> {
         Ok(())
     }
 
-    fn region(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
+    /// The bounds atoms are matched against in region `id` (INF unbounded).
+    pub(super) fn region_for_atoms(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
+        self.region_match
+            .get(id)
+            .copied()
+            .ok_or_else(|| format!("no region with ID '{id}'"))
+    }
+
+    pub(super) fn region(&self, id: &str) -> Result<[[f64; 2]; 3], String> {
         self.regions
             .get(id)
             .copied()
@@ -304,314 +338,6 @@ impl Interpreter<'_> {
         }
         self.out(&format!("Created {created} atoms"));
         Ok(())
-    }
-
-    pub(super) fn cmd_read_data(&mut self, args: &[String]) -> CmdResult {
-        let usage = "read_data FILE [nocoeff] [extra/atom/types N] [extra/bond/types N] [extra/angle/types N] [extra/bond|angle|dihedral|improper|special/per/atom N]";
-        need(args, 1, usage)?;
-        // LAMMPS's keywords that make room for more (types added to the file's counts; the
-        // per-atom ones only size LAMMPS's arrays and change nothing here), and `nocoeff`
-        // (the file's coefficient sections are skipped).
-        let mut extra_types = [0usize; 3];
-        let mut nocoeff = false;
-        let mut k = 1;
-        while k < args.len() {
-            let slot = match args[k].as_str() {
-                "nocoeff" => {
-                    nocoeff = true;
-                    k += 1;
-                    continue;
-                }
-                "extra/atom/types" => Some(0),
-                "extra/bond/types" => Some(1),
-                "extra/angle/types" => Some(2),
-                "extra/bond/per/atom"
-                | "extra/angle/per/atom"
-                | "extra/dihedral/per/atom"
-                | "extra/improper/per/atom"
-                | "extra/special/per/atom" => None,
-                other => {
-                    return Err(format!(
-                        "read_data keyword '{}' not supported; usage: {usage}",
-                        crate::grammar::shown(other)
-                    ));
-                }
-            };
-            let v = args
-                .get(k + 1)
-                .ok_or_else(|| format!("read_data {} needs a count", args[k]))?;
-            let n: usize = parse_int(v, &args[k])?;
-            if let Some(s) = slot {
-                if s > 0 && !self.atom_style.molecular() {
-                    return Err(format!(
-                        "read_data {}: atom_style {} has no bonds",
-                        args[k],
-                        self.atom_style.word()
-                    ));
-                }
-                extra_types[s] = n;
-            }
-            k += 2;
-        }
-        let text = std::fs::read_to_string(&args[0])
-            .map_err(|e| format!("cannot read data file {}: {e}", args[0]))?;
-        let mut d = parse_data_styled(&text, &args[0], self.atom_style)?;
-        d.ntypes = d.ntypes.saturating_add(extra_types[0]);
-        d.nbondtypes = d.nbondtypes.saturating_add(extra_types[1]);
-        d.nangletypes = d.nangletypes.saturating_add(extra_types[2]);
-        crate::engine::check_ntypes(d.ntypes)?;
-        for n in [d.nbondtypes, d.nangletypes] {
-            crate::engine::check_ntypes(n.max(1))?;
-        }
-        d.masses.resize(d.ntypes + 1, None);
-        if self.dim == 2 && d.atoms.iter().any(|a| a.2[2] != 0.0) {
-            return Err(format!(
-                "{}: a 2-D system needs z = 0 for every atom",
-                args[0]
-            ));
-        }
-        if let Some(h) = &d.atoms_hint
-            && !style_match(h, self.atom_style.word())
-        {
-            self.warn(&format!(
-                "Atom style in data file {h} differs from currently defined atom style {}",
-                self.atom_style.word()
-            ));
-        }
-        // The topology (styles given before read_data take the type counts), then the box
-        // with the pair style given before it, then the coefficient sections in file order.
-        let topo = if self.atom_style.molecular() {
-            let mut t = self
-                .pre_topo
-                .topology(self.atom_style, d.nbondtypes, d.nangletypes)?;
-            t.bonds = d.bonds.clone();
-            t.angles = d.angles.clone();
-            Some(t)
-        } else {
-            None
-        };
-        self.new_system(d.ntypes, d.lo, d.hi)?;
-        let filled = self.fill_from_data(&d, topo, nocoeff, &args[0]);
-        if filled.is_err() {
-            // As if the command had not run (an embedding may go on).
-            self.sys = None;
-        }
-        filled?;
-        let n = d.atoms.len();
-        self.out(&format!(
-            "Read data file {}: {n} atoms, {} atom types",
-            args[0], d.ntypes
-        ));
-        if self.atom_style.molecular() {
-            self.out(&format!(
-                "  {} bonds, {} bond types, {} angles, {} angle types",
-                d.bonds.len(),
-                d.nbondtypes,
-                d.angles.len(),
-                d.nangletypes
-            ));
-        }
-        Ok(())
-    }
-
-    /// The new box of `read_data` filled from the file `d`: the topology `topo`, the tilt, the
-    /// atoms, velocities and masses, and the coefficient sections ([`Self::apply_data_coeffs`]).
-    fn fill_from_data(
-        &mut self,
-        d: &DataFile,
-        topo: Option<crate::engine::Topology>,
-        nocoeff: bool,
-        file: &str,
-    ) -> CmdResult {
-        let sys = self.sys_mut()?;
-        if let Some(t) = d.tilt {
-            sys.tri = Some(Triclinic::new(t[0]));
-        }
-        sys.topo = topo;
-        let mut index = BTreeMap::new();
-        for (k, &(tag, t, x, im)) in d.atoms.iter().enumerate() {
-            match d.mol.get(k) {
-                Some(&m) => sys.atoms.push_mol(tag, t, m, x, [0.0; 3], im),
-                None => sys.atoms.push(tag, t, x, [0.0; 3], im),
-            }
-            index.insert(tag, k);
-        }
-        // A tilted box: every atom into the box as LAMMPS's `read_data` remaps it (through y
-        // with the tilt, no velocity change), x + ix L_x + iy xy kept.
-        sys.remap_into_box();
-        for (tag, v) in &d.velocities {
-            let k = index
-                .get(tag)
-                .ok_or_else(|| format!("{file}: Velocities for unknown atom id {tag}"))?;
-            sys.atoms.v[*k] = *v;
-        }
-        for (t, m) in d.masses.iter().enumerate() {
-            if m.is_some() {
-                sys.mass[t] = *m;
-            }
-        }
-        self.apply_data_coeffs(d, nocoeff, file)
-    }
-
-    /// The coefficient sections of a data file, in file order, as LAMMPS's `read_data` applies
-    /// them: each needs its style defined before `read_data` ("Must define pair_style before
-    /// Pair Coeffs", an error naming the file and line); a `# style` after the title that does
-    /// not match the style defined (LAMMPS's `style_match`) is LAMMPS's warning, and the lines
-    /// go to the style defined all the same, each as its coefficient command (`Pair Coeffs`
-    /// line `I c…` as `pair_coeff I I c…`), whose errors name the file and line. A later
-    /// `pair_coeff`, `bond_coeff` or `angle_coeff` overrides them, as any second coefficient
-    /// command does. With `nocoeff` LAMMPS reads the sections into `zero` styles and drops them:
-    /// no style is needed, and the warning compares the `# style` with `zero`.
-    fn apply_data_coeffs(&mut self, d: &DataFile, nocoeff: bool, file: &str) -> CmdResult {
-        for c in &d.coeffs {
-            let title = c.kind.title();
-            let sys = self.sys_mut()?;
-            let defined: Option<&'static str> = if nocoeff {
-                Some("zero")
-            } else {
-                match c.kind {
-                    CoeffKind::Pair | CoeffKind::PairIJ => sys.pair.as_deref().map(|p| p.name()),
-                    CoeffKind::Bond => sys
-                        .topo
-                        .as_ref()
-                        .and_then(|t| t.bond_style.as_ref())
-                        .map(|b| b.form.word()),
-                    CoeffKind::Angle => sys
-                        .topo
-                        .as_ref()
-                        .and_then(|t| t.angle_style.as_ref())
-                        .map(|a| a.form.word()),
-                }
-            };
-            let Some(defined) = defined else {
-                return Err(format!(
-                    "{file}:{}: Must define {} before {title}",
-                    c.line,
-                    c.kind.style_command()
-                ));
-            };
-            if let Some(h) = &c.style
-                && !style_match(h, defined)
-            {
-                let (big, small) = match c.kind {
-                    CoeffKind::Pair | CoeffKind::PairIJ => ("Pair", "pair"),
-                    CoeffKind::Bond => ("Bond", "bond"),
-                    CoeffKind::Angle => ("Angle", "angle"),
-                };
-                self.warn(&format!(
-                    "{big} style {h} in data file differs from currently defined {small} style \
-                     {defined}"
-                ));
-            }
-            if nocoeff {
-                continue;
-            }
-            let sys = self.sys_mut()?;
-            for (k, (line, _)) in c.lines.iter().enumerate() {
-                let words = c.command_words(k);
-                let res = match c.kind {
-                    CoeffKind::Pair | CoeffKind::PairIJ => {
-                        sys.pair.as_deref_mut().map(|p| p.coeff(&words))
-                    }
-                    CoeffKind::Bond => sys
-                        .topo
-                        .as_mut()
-                        .and_then(|t| t.bond_style.as_mut())
-                        .map(|b| b.set_coeff(&words)),
-                    CoeffKind::Angle => sys
-                        .topo
-                        .as_mut()
-                        .and_then(|t| t.angle_style.as_mut())
-                        .map(|a| a.set_coeff(&words)),
-                };
-                if let Some(Err(e)) = res {
-                    return Err(format!("{file}:{line}: {title}: {e}"));
-                }
-            }
-        }
-        Ok(())
-    }
-
-    pub(super) fn cmd_write_data(&mut self, args: &[String]) -> CmdResult {
-        need(args, 1, "write_data FILE [nocoeff]")?;
-        let mut nocoeff = false;
-        for a in &args[1..] {
-            if a != "nocoeff" {
-                return Err(format!("write_data keyword '{a}' not supported"));
-            }
-            nocoeff = true;
-        }
-        let sys = self.sys.as_mut().ok_or("needs a simulation box first")?;
-        // A tilted box: LAMMPS's `write_data` wraps the atoms first (`Domain::pbc`, with the
-        // velocity jump of `remap v` for an atom through y), then writes them in its tilted
-        // cell with its image flags.
-        let tilt = sys.tri.is_some().then(|| sys.pbc());
-        let sys = self.sys.as_ref().ok_or("needs a simulation box first")?;
-        let mut order: Vec<usize> = (0..sys.atoms.len()).collect();
-        order.sort_by_key(|&i| sys.atoms.tag[i]);
-        let mut atoms = Vec::with_capacity(order.len());
-        let mut vels = Vec::with_capacity(order.len());
-        let mut mol = Vec::new();
-        for &i in &order {
-            let mut x = sys.atoms.x[i];
-            let mut im = sys.atoms.image[i];
-            match tilt {
-                Some(xy) => sys.to_tilted_cell(&mut x, &mut im, xy),
-                None => sys.bx.wrap(&mut x, &mut im),
-            }
-            atoms.push((sys.atoms.tag[i], sys.atoms.typ[i], x, im));
-            vels.push((sys.atoms.tag[i], sys.atoms.v[i]));
-            if sys.topo.is_some() {
-                mol.push(sys.atoms.mol_of(i));
-            }
-        }
-        let mut d = DataFile {
-            ntypes: sys.ntypes,
-            lo: sys.bx.lo,
-            hi: sys.bx.hi,
-            tilt: tilt.map(|xy| [xy, 0.0, 0.0]),
-            masses: sys.mass.clone(),
-            atoms,
-            velocities: vels,
-            mol,
-            ..DataFile::default()
-        };
-        let mut coeffs = [None, None];
-        if let Some(t) = &sys.topo {
-            d.style = t.style;
-            d.nbondtypes = t.nbondtypes;
-            d.nangletypes = t.nangletypes;
-            d.bonds = t.bonds.clone();
-            d.angles = t.angles.clone();
-            if !nocoeff {
-                let rows = |c: &[Option<Vec<f64>>]| -> Option<Vec<Vec<f64>>> {
-                    c.iter()
-                        .skip(1)
-                        .cloned()
-                        .collect::<Option<Vec<_>>>()
-                        .map(|mut v| {
-                            v.insert(0, Vec::new());
-                            v
-                        })
-                };
-                if let Some(b) = &t.bond_style
-                    && t.nbondtypes > 0
-                {
-                    coeffs[0] = rows(&b.coeff).map(|r| (b.form.word().to_string(), r));
-                }
-                if let Some(a) = &t.angle_style
-                    && t.nangletypes > 0
-                {
-                    coeffs[1] = rows(&a.coeff).map(|r| (a.form.word().to_string(), r));
-                }
-            }
-        }
-        let title = format!(
-            "LAMMPS data file via write_data (dpdnl), timestep = {}",
-            sys.step
-        );
-        std::fs::write(&args[0], format_data_with(&d, &title, &coeffs))
-            .map_err(|e| format!("cannot write {}: {e}", args[0]))
     }
 
     pub(super) fn cmd_mass(&mut self, args: &[String]) -> CmdResult {

@@ -1,5 +1,6 @@
 //! LAMMPS data files (`read_data` / `write_data`) for `atom_style atomic`, `bond`, `angle`,
-//! `molecular` and `full`.
+//! `molecular` and `full`, and the columns of `charge`, `mdpd`, `sphere` and `hybrid` of these
+//! ([`AtomColumns`]).
 //!
 //! Supported: the header keywords `atoms`, `atom types`, `bonds`, `bond types`, `angles`,
 //! `angle types` (dihedrals and impropers: 0), the `extra … per atom` counts LAMMPS writes
@@ -55,6 +56,15 @@ pub struct DataFile {
     /// The style named after `#` on the `Atoms` line (write_data's hint), if any (none when
     /// `Atoms` is the first section: LAMMPS does not see it there).
     pub atoms_hint: Option<String>,
+    /// The columns of the `Atoms` and `Velocities` lines (those of `style` unless a `charge`,
+    /// `mdpd`, `sphere` or `hybrid` style was given: [`parse_data_columns`]).
+    pub columns: AtomColumns,
+    /// The values of the columns beyond the five styles', one per atom of `atoms` (empty for
+    /// those styles).
+    pub extra: Vec<AtomExtra>,
+    /// The angular velocities of `sphere`'s `Velocities` lines, one per line of `velocities`
+    /// (empty without them).
+    pub omega: Vec<[f64; 3]>,
 }
 
 /// Which coefficient section.
@@ -158,10 +168,12 @@ pub fn style_match(one: &str, two: &str) -> bool {
     len1 == 0 || len1 == len2 || two.as_bytes().starts_with(&one.as_bytes()[..len1])
 }
 
+mod columns;
 mod read;
 mod write;
 
-pub use read::{parse_data, parse_data_styled};
+pub use columns::{AtomColumns, AtomExtra, Field};
+pub use read::{parse_data, parse_data_columns, parse_data_styled};
 pub use write::{CoeffRows, format_data, format_data_with};
 
 #[cfg(test)]

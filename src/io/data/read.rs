@@ -166,6 +166,9 @@ fn atoms_line(
     toks: &[&str],
     ctx: &dyn Fn(String) -> String,
 ) -> Result<(), String> {
+    if !d.columns.is_plain() {
+        return atoms_line_columns(d, toks, ctx);
+    }
     let cols = d.style.columns();
     let n = cols.split_whitespace().count();
     if toks.len() != n && toks.len() != n + 3 {
@@ -217,19 +220,107 @@ fn atoms_line(
     Ok(())
 }
 
-/// One line of the `Velocities` section: `id vx vy vz`.
+/// One line of the `Atoms` section of the columns of a `charge`, `mdpd`, `sphere` or `hybrid`
+/// style ([`AtomColumns`]), then optionally `ix iy iz`.
+fn atoms_line_columns(
+    d: &mut DataFile,
+    toks: &[&str],
+    ctx: &dyn Fn(String) -> String,
+) -> Result<(), String> {
+    let n = d.columns.count();
+    if toks.len() != n && toks.len() != n + 3 {
+        return Err(ctx(format!(
+            "Atoms line of atom_style {} needs '{} [ix iy iz]' ({n} or {} values), found {}",
+            d.columns.words.join(" "),
+            d.columns.describe(),
+            n + 3,
+            toks.len()
+        )));
+    }
+    let (mut tag, mut t, mut mol) = (0u32, 0u32, None);
+    let mut x = [0.0; 3];
+    let mut e = AtomExtra::default();
+    let mut q = 0.0;
+    let mut k = 0;
+    for f in d.columns.atom.clone() {
+        match f {
+            Field::Id => tag = num(toks, k, "an atom id", ctx)?,
+            Field::Type => t = num(toks, k, "an atom type", ctx)?,
+            Field::Mol => mol = Some(num(toks, k, "a molecule id", ctx)?),
+            Field::Q => q = real(toks, k, "a charge", ctx)?,
+            Field::Rho => e.rho = real(toks, k, "a density rho", ctx)?,
+            Field::Diameter => e.diameter = real(toks, k, "a diameter", ctx)?,
+            Field::Density => e.density = real(toks, k, "a density", ctx)?,
+            Field::X => {
+                for a in 0..3 {
+                    x[a] = real(toks, k + a, "a coordinate", ctx)?;
+                }
+                k += 2;
+            }
+        }
+        k += 1;
+    }
+    if tag == 0 {
+        return Err(ctx("atom id 0 is not allowed".into()));
+    }
+    if t == 0 || t as usize > d.ntypes {
+        return Err(ctx(format!("atom type {t} out of range 1..{}", d.ntypes)));
+    }
+    if q != 0.0 {
+        return Err(ctx(format!(
+            "atom {tag} has charge {q}: this engine has no Coulomb interactions, every charge \
+             must be 0"
+        )));
+    }
+    if d.columns.per_atom_mass() && e.density <= 0.0 {
+        return Err(ctx(format!(
+            "Invalid density in Atoms section of data file: atom {tag} has density {} (must be \
+             > 0)",
+            e.density
+        )));
+    }
+    if d.columns.per_atom_mass() && e.diameter < 0.0 {
+        return Err(ctx(format!("atom {tag} has diameter {} < 0", e.diameter)));
+    }
+    let mut im = [0; 3];
+    if toks.len() == n + 3 {
+        for a in 0..3 {
+            im[a] = num(toks, n + a, "an image flag", ctx)?;
+        }
+    }
+    if let Some(m) = mol {
+        d.mol.push(m);
+    }
+    d.atoms.push((tag, t, x, im));
+    d.extra.push(e);
+    Ok(())
+}
+
+/// One line of the `Velocities` section: `id vx vy vz`, and `wx wy wz` for `sphere`.
 fn velocities_line(
     d: &mut DataFile,
     toks: &[&str],
     ctx: &dyn Fn(String) -> String,
 ) -> Result<(), String> {
-    if toks.len() != 4 {
-        return Err(ctx("Velocities line needs 'id vx vy vz'".into()));
+    let omega = d.columns.omega;
+    if toks.len() != if omega { 7 } else { 4 } {
+        return Err(ctx(if omega {
+            "Velocities line needs 'id vx vy vz wx wy wz'".into()
+        } else {
+            "Velocities line needs 'id vx vy vz'".into()
+        }));
     }
     let tag: u32 = num(toks, 0, "an atom id", ctx)?;
     let mut v = [0.0; 3];
     for a in 0..3 {
         v[a] = real(toks, 1 + a, "a velocity", ctx)?;
+    }
+    if omega {
+        let mut w = [0.0; 3];
+        for a in 0..3 {
+            w[a] = real(toks, 4 + a, "an angular velocity", ctx)?;
+        }
+        d.omega.push(w);
     }
     d.velocities.push((tag, v));
     Ok(())
@@ -313,9 +404,20 @@ pub fn parse_data(text: &str, name: &str) -> Result<DataFile, String> {
 /// Parse a data file's text whose `Atoms` lines have the columns of `style`. `name` is used in
 /// error messages.
 pub fn parse_data_styled(text: &str, name: &str, style: AtomStyle) -> Result<DataFile, String> {
+    parse_data_columns(text, name, &AtomColumns::of(style))
+}
+
+/// Parse a data file's text whose `Atoms` and `Velocities` lines have the columns `columns`
+/// (any style [`AtomColumns::parse`] reads). `name` is used in error messages.
+pub fn parse_data_columns(
+    text: &str,
+    name: &str,
+    columns: &AtomColumns,
+) -> Result<DataFile, String> {
     let lines: Vec<&str> = text.lines().collect();
     let mut d = DataFile {
-        style,
+        style: columns.base,
+        columns: columns.clone(),
         ..DataFile::default()
     };
     let mut counts = Counts::default();

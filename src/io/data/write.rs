@@ -3,8 +3,9 @@
 use super::*;
 
 /// Write a data file (LAMMPS `write_data` layout, 17 significant digits so it reads back
-/// exactly): header, `Masses`, the coefficient sections given in `coeffs` (bond, angle: the
-/// style name and the words after the type of each type's line), `Atoms` in the style's
+/// exactly): header, `Masses`, the `Pair Coeffs`/`PairIJ Coeffs` sections of `d.coeffs`, the
+/// coefficient sections given in `coeffs` (bond, angle: the style name and the words after the
+/// type of each type's line), `Atoms` in the style's
 /// columns with image flags, `Velocities`, `Bonds`, `Angles`.
 pub fn format_data(d: &DataFile, title: &str) -> String {
     format_data_with(d, title, &[None, None])
@@ -43,6 +44,20 @@ pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffRows; 2]) -> S
             }
         }
     }
+    for c in d
+        .coeffs
+        .iter()
+        .filter(|c| matches!(c.kind, CoeffKind::Pair | CoeffKind::PairIJ))
+    {
+        let hint = c
+            .style
+            .as_deref()
+            .map_or(String::new(), |h| format!(" # {h}"));
+        let _ = writeln!(s, "\n{}{hint}\n", c.kind.title());
+        for (_, words) in &c.lines {
+            let _ = writeln!(s, "{}", words.join(" "));
+        }
+    }
     for (c, what) in coeffs.iter().zip(["Bond", "Angle"]) {
         if let Some((style, rows)) = c {
             let _ = writeln!(s, "\n{what} Coeffs # {style}\n");
@@ -55,9 +70,21 @@ pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffRows; 2]) -> S
             }
         }
     }
-    let _ = writeln!(s, "\nAtoms # {}\n", d.style.word());
+    let plain = d.columns.is_plain() || d.columns.base != d.style;
+    let word = if plain {
+        d.style.word()
+    } else {
+        d.columns.word()
+    };
+    let _ = writeln!(s, "\nAtoms # {word}\n");
     for (k, (tag, t, x, im)) in d.atoms.iter().enumerate() {
         let mol = d.mol.get(k).copied().unwrap_or(0);
+        if !plain {
+            let e = d.extra.get(k).copied().unwrap_or_default();
+            let line = columns_line(&d.columns, (*tag, *t, mol), x, &e);
+            let _ = writeln!(s, "{line} {} {} {}", im[0], im[1], im[2]);
+            continue;
+        }
         let lead = match d.style {
             AtomStyle::Atomic => format!("{tag} {t}"),
             AtomStyle::Full => format!("{tag} {mol} {t} 0"),
@@ -71,8 +98,13 @@ pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffRows; 2]) -> S
     }
     if !d.velocities.is_empty() {
         let _ = writeln!(s, "\nVelocities\n");
-        for (tag, v) in &d.velocities {
-            let _ = writeln!(s, "{tag} {:.16e} {:.16e} {:.16e}", v[0], v[1], v[2]);
+        for (k, (tag, v)) in d.velocities.iter().enumerate() {
+            let _ = write!(s, "{tag} {:.16e} {:.16e} {:.16e}", v[0], v[1], v[2]);
+            if d.columns.omega && !plain {
+                let w = d.omega.get(k).copied().unwrap_or_default();
+                let _ = write!(s, " {:.16e} {:.16e} {:.16e}", w[0], w[1], w[2]);
+            }
+            let _ = writeln!(s);
         }
     }
     if !d.bonds.is_empty() {
@@ -87,6 +119,33 @@ pub fn format_data_with(d: &DataFile, title: &str, coeffs: &[CoeffRows; 2]) -> S
             let [p, q, r] = a.atoms;
             let _ = writeln!(s, "{} {} {p} {q} {r}", k + 1, a.typ);
         }
+    }
+    s
+}
+
+/// An `Atoms` line in the columns `c` (before the image flags): (id, type, molecule), the
+/// position and the extra values; charges are 0.
+fn columns_line(
+    c: &AtomColumns,
+    (tag, t, mol): (u32, u32, u32),
+    x: &[f64; 3],
+    e: &AtomExtra,
+) -> String {
+    let mut s = String::new();
+    for (k, f) in c.atom.iter().enumerate() {
+        if k > 0 {
+            s.push(' ');
+        }
+        let _ = match f {
+            Field::Id => write!(s, "{tag}"),
+            Field::Type => write!(s, "{t}"),
+            Field::Mol => write!(s, "{mol}"),
+            Field::Q => write!(s, "0"),
+            Field::Rho => write!(s, "{:.16e}", e.rho),
+            Field::Diameter => write!(s, "{:.16e}", e.diameter),
+            Field::Density => write!(s, "{:.16e}", e.density),
+            Field::X => write!(s, "{:.16e} {:.16e} {:.16e}", x[0], x[1], x[2]),
+        };
     }
     s
 }

@@ -207,6 +207,13 @@ pub(super) fn decode_payload(buf: &[u8], version: u32) -> Field<Restart> {
     } else {
         crate::units::UnitStyle::Lj
     };
+    let (groups, mask) = if version >= 4 {
+        decode_groups(&mut i, atoms.len())?
+    } else {
+        (vec!["all".to_string()], Vec::new())
+    };
+    let mut atoms = atoms;
+    atoms.mask = mask;
     if i.pos != buf.len() {
         return Err(format!("{} bytes after the last field", buf.len() - i.pos));
     }
@@ -226,7 +233,36 @@ pub(super) fn decode_payload(buf: &[u8], version: u32) -> Field<Restart> {
         tally: PairTally { energy, virial },
         topo,
         units,
+        groups,
     })
+}
+
+/// The groups block of a version-4 payload: the names by bit (`all` first, at most 32) and the
+/// masks (none, or one per atom with bit 0 set and no bit of a free slot).
+fn decode_groups(i: &mut In, natoms: usize) -> Field<(Vec<String>, Vec<u32>)> {
+    let n = i.count(4, "group names")?;
+    let names = (0..n)
+        .map(|_| i.str("group name"))
+        .collect::<Field<Vec<_>>>()?;
+    crate::engine::groups::Groups::from_names(names.clone())?;
+    let nmask = i.u64("number of group masks")?;
+    if nmask != 0 && nmask != natoms as u64 {
+        return Err(format!("{nmask} group masks for {natoms} atoms"));
+    }
+    i.check_room(nmask as usize, 4, "group masks")?;
+    let mask = many(i, nmask as usize, |i| i.u32("group masks"))?;
+    let defined: u32 = names
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| !n.is_empty())
+        .map(|(b, _)| 1u32 << b)
+        .sum();
+    if let Some(m) = mask.iter().find(|&&m| m & 1 == 0 || m & !defined != 0) {
+        return Err(format!(
+            "group mask {m:#x}: not in 'all' or a bit of no group"
+        ));
+    }
+    Ok((names, mask))
 }
 
 /// Bytes per atom in the payload: tag, type, x, v, f, image.
@@ -279,6 +315,8 @@ fn decode_atoms(i: &mut In, ntypes: u32) -> Field<Atoms> {
         typ,
         image,
         mol: Vec::new(),
+        mask: Vec::new(),
+        vest: Vec::new(),
     })
 }
 

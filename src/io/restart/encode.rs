@@ -112,4 +112,8 @@ pub(super) fn encode_payload(r: &Restart, buf: &mut Vec<u8>) {
         }
     }
     o.str(r.units.name());
+    o.len(r.groups.len());
+    r.groups.iter().for_each(|g| o.str(g));
+    o.u64(r.atoms.mask.len() as u64);
+    r.atoms.mask.iter().for_each(|&m| o.u32(m));
 }

@@ -9,8 +9,8 @@ use super::{Restart, RestartError};
 pub const MAGIC: &[u8; 8] = b"DPDNLRST";
 
 /// The format version this build writes; it reads this one and every older one (version 1:
-/// no topology block, an `atomic` system; versions 1 and 2: no unit style, `units lj`).
-pub const FORMAT_VERSION: u32 = 3;
+/// no topology block, an `atomic` system; versions 1 and 2: no unit style, `units lj`; versions 1 to 3: no groups, every atom in `all` only).
+pub const FORMAT_VERSION: u32 = 4;
 
 /// Bytes before the payload: magic, version and payload length.
 pub(super) const HEADER: usize = 8 + 4 + 8;

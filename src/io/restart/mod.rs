@@ -62,6 +62,9 @@ pub struct Restart {
     pub topo: Option<TopoRecord>,
     /// The unit style (version 3; `lj` in older files).
     pub units: crate::units::UnitStyle,
+    /// The group names by mask bit, `all` first (version 4; only `all` in older files, whose
+    /// atoms have no masks). The masks are `atoms.mask`.
+    pub groups: Vec<String>,
 }
 
 /// The topology block (version 2): what `read_restart` needs to rebuild bonds, angles,
@@ -167,6 +170,7 @@ mod tests {
         atoms.push(3, 1, [0.5, -0.0, 1.25], [1e-300, 2.0, -3.0], [1, -2, 0]);
         atoms.push(1, 2, [4.0, 1.0, 0.1], [0.0, -1.0, 0.5], [0, 0, 7]);
         atoms.f[1] = [0.1, 0.2, 0.3];
+        atoms.mask = vec![1, 5];
         Restart {
             dim: 3,
             ntypes: 2,
@@ -221,6 +225,7 @@ mod tests {
                 },
             }),
             units: crate::units::UnitStyle::Real,
+            groups: vec!["all".into(), String::new(), "wall".into()],
         }
     }
 
@@ -236,14 +241,35 @@ mod tests {
         out
     }
 
+    /// The bytes of the version-4 groups block of a record with only `all` and no masks:
+    /// the name count (4), "all" (4 + 3), the mask count (8).
+    const NO_GROUPS: usize = 4 + 7 + 8;
+
+    /// A record without groups (what a file before version 4 reads as).
+    fn sample_without_groups() -> Restart {
+        let mut r = sample();
+        r.groups = vec!["all".into()];
+        r.atoms.mask.clear();
+        r
+    }
+
+    /// A version-3 file (before groups): every atom in `all` only.
+    #[test]
+    fn version_3_files_read_without_groups() {
+        let r = sample_without_groups();
+        let v4 = encode(&r);
+        let v3 = as_version(&v4, 3, v4.len() - HEADER - 8 - NO_GROUPS);
+        assert_eq!(decode(&v3), Ok(r));
+    }
+
     /// A version-2 file (before the unit style): read as `units lj`.
     #[test]
     fn version_2_files_read_as_lj() {
-        let mut r = sample();
-        let v3 = encode(&r);
+        let mut r = sample_without_groups();
+        let v4 = encode(&r);
         // Version 2's payload is version 3's without the unit style string ("real": 4 + 4
         // bytes) at its end.
-        let v2 = as_version(&v3, 2, v3.len() - HEADER - 8 - 8);
+        let v2 = as_version(&v4, 2, v4.len() - HEADER - 8 - NO_GROUPS - 8);
         r.units = crate::units::UnitStyle::Lj;
         assert_eq!(decode(&v2), Ok(r));
     }
@@ -251,12 +277,12 @@ mod tests {
     /// A version-1 file (before topology): no topology block, read as an atomic system.
     #[test]
     fn version_1_files_still_read() {
-        let mut r = sample();
+        let mut r = sample_without_groups();
         r.topo = None;
-        let v3 = encode(&r);
+        let v4 = encode(&r);
         // Version 1's payload is version 3's without the unit style string ("real": 8 bytes)
         // and the topology flag before it (1 byte).
-        let v1 = as_version(&v3, 1, v3.len() - HEADER - 8 - 8 - 1);
+        let v1 = as_version(&v4, 1, v4.len() - HEADER - 8 - NO_GROUPS - 8 - 1);
         r.units = crate::units::UnitStyle::Lj;
         assert_eq!(decode(&v1), Ok(r));
     }

@@ -7,6 +7,7 @@ use super::verdict::{
 };
 use super::{CannotRun, CrosscheckArgs};
 use crate::report::{TableStyle, c, write_exact_table};
+use dpdnl::input::{FromState, StateReport};
 use dpdnl::io::dump_read::{DumpFrame, parse_dump};
 use dpdnl::io::growth::{classify, merged, printed_digits, resolution, timeline};
 use dpdnl::io::lammps_log::{
@@ -23,9 +24,9 @@ pub(super) fn compare(
     lmp: &Path,
     script: &Path,
     workdir: &Path,
-    log_s: &Path,
-    log_l: &Path,
+    (log_s, log_l): (&Path, &Path),
     dumps: &[(PathBuf, PathBuf)],
+    from: Option<(&FromState, &StateReport)>,
 ) -> Result<bool, CannotRun> {
     // 3. Compare.
     let tol = Tolerance {
@@ -52,6 +53,12 @@ pub(super) fn compare(
     if let Some(line) = neighbor_line(&neigh) {
         println!("{line}");
     }
+    if let Some((st, r)) = from {
+        for line in super::state::report_lines(r, st) {
+            println!("{line}");
+        }
+    }
+    let state_part = from.map(|(_, r)| super::state::verdict_part(r));
     let mut notes = shear_notes(&text_l, &neigh);
     notes.extend(flip_leak_notes(&text_s, &text_l));
     for n in &notes {
@@ -110,8 +117,9 @@ pub(super) fn compare(
         } else {
             String::new()
         };
+        let state = state_part.map_or(String::new(), |p| format!("; {p}"));
         println!(
-            "CROSSCHECK AGREE: {what} within rtol {}{atol}",
+            "CROSSCHECK AGREE: {what} within rtol {}{atol}{state}",
             c("%g", a.rtol)
         );
     } else {
@@ -119,12 +127,17 @@ pub(super) fn compare(
         let res = digits.iter().min().map_or(0.0, |&d| resolution(d));
         let growth = classify(&points, a.rtol, res);
         print!("{}", growth_table(&merged(&points), a.rtol));
+        // From LAMMPS's state both engines start alike, whatever the set-up drew.
         let random_setup = std::fs::read_to_string(script)
             .ok()
+            .filter(|_| from.is_none())
             .and_then(|t| engine_random_setup(&t));
         let mut v = differ_verdict(&what, a.rtol, &neigh, &growth, random_setup.as_ref());
         for n in &notes {
             let _ = write!(v, "; {n}");
+        }
+        if let Some(p) = state_part {
+            let _ = write!(v, "; {p}");
         }
         println!("{v}");
     }

@@ -2,7 +2,7 @@
 //! their dumps moved into the work directory.
 
 use super::{CannotRun, CrosscheckArgs};
-use dpdnl::input::{Console, Interpreter, Options};
+use dpdnl::input::{Console, FromState, Interpreter, Options, StateReport};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -66,15 +66,40 @@ pub(super) fn moved(workdir: &Path, p: &Path, tag: &str) -> PathBuf {
     workdir.join(name)
 }
 
-/// Step 1: the standalone engine, in-process (`-var engine standalone`); its log and the pairs
-/// (standalone dump, LAMMPS dump) of the dumps whose names contain the engine name, the
-/// standalone ones moved to the work directory.
+/// What the standalone engine's run left: its log, the pairs (standalone dump, LAMMPS dump) of
+/// the dumps whose names contain the engine name, and, from LAMMPS's state, what the state
+/// carried.
+pub(super) struct Standalone {
+    pub(super) log: PathBuf,
+    pub(super) dumps: Vec<(PathBuf, PathBuf)>,
+    pub(super) state: Option<StateReport>,
+}
+
+/// Why the standalone engine did not run: the error, and whether it came from the set-up
+/// (before the first `run`), where a crosscheck from LAMMPS's state may still go on.
+pub(super) struct StandaloneFailed {
+    pub(super) error: CannotRun,
+    pub(super) in_setup: bool,
+}
+
+impl From<CannotRun> for StandaloneFailed {
+    fn from(error: CannotRun) -> Self {
+        StandaloneFailed {
+            error,
+            in_setup: false,
+        }
+    }
+}
+
+/// Step 1: the standalone engine, in-process (`-var engine standalone`), from its own set-up or
+/// from LAMMPS's state (`from`); the standalone dumps moved to the work directory.
 pub(super) fn run_standalone(
     script: &Path,
     workdir: &Path,
     vars: &mut Vec<(String, String)>,
     threads: usize,
-) -> Result<(PathBuf, Vec<(PathBuf, PathBuf)>), CannotRun> {
+    from: Option<&FromState>,
+) -> Result<Standalone, StandaloneFailed> {
     // 1. Standalone engine, in-process.
     // A global pool may already exist (e.g. when called twice in one process); that is fine.
     let _ = rayon::ThreadPoolBuilder::new()
@@ -86,16 +111,20 @@ pub(super) fn run_standalone(
         log: Some(log_s.clone()),
         vars: vars.clone(),
         threads,
+        from_state: from.cloned(),
         ..Options::default()
     };
     vars.pop();
     let mut quiet = Quiet;
-    let dump_files = {
-        let mut interp = Interpreter::new(&mut quiet, &opts)?;
-        interp
-            .run_file(script)
-            .map_err(|e| CannotRun(format!("the standalone engine failed: {e}")))?;
-        interp.dump_files()
+    let (dump_files, state) = {
+        let mut interp = Interpreter::new(&mut quiet, &opts).map_err(CannotRun)?;
+        if let Err(e) = interp.run_file(script) {
+            return Err(StandaloneFailed {
+                error: CannotRun(format!("the standalone engine failed: {e}")),
+                in_setup: interp.runs_started() == 0,
+            });
+        }
+        (interp.dump_files(), interp.state_report().cloned())
     };
     // Dumps whose names contain the engine name: (standalone file, lammps file).
     let mut dumps: Vec<(PathBuf, PathBuf)> = Vec::new();
@@ -108,7 +137,11 @@ pub(super) fn run_standalone(
     for (s, _) in &dumps {
         move_file(s, &moved(workdir, s, "dump.standalone"))?;
     }
-    Ok((log_s, dumps))
+    Ok(Standalone {
+        log: log_s,
+        dumps,
+        state,
+    })
 }
 
 /// Step 2: LAMMPS, a subprocess (`-var engine lammps`); its log, its dumps moved to the work
@@ -122,19 +155,7 @@ pub(super) fn run_lammps(
 ) -> Result<PathBuf, CannotRun> {
     // 2. LAMMPS, a subprocess.
     let log_l = workdir.join("lammps.log");
-    let mut cmd = Command::new(lmp);
-    cmd.arg("-in")
-        .arg(script)
-        .arg("-log")
-        .arg(&log_l)
-        .args(["-screen", "none"]);
-    for (k, v) in vars {
-        cmd.args(["-var", k, v]);
-    }
-    cmd.args(["-var", "engine", "lammps"]);
-    let out = cmd
-        .output()
-        .map_err(|e| CannotRun(format!("cannot start {}: {e}", lmp.display())))?;
+    let out = run_lmp(lmp, script, &log_l, vars)?;
     if !out.status.success() {
         let log = std::fs::read_to_string(&log_l).unwrap_or_default();
         let tail: Vec<&str> = log.lines().rev().take(8).collect();
@@ -180,4 +201,26 @@ pub(super) fn run_lammps(
         move_file(l, &moved(workdir, l, "dump.lammps"))?;
     }
     Ok(log_l)
+}
+
+/// Run LAMMPS `lmp` on `input`, logging to `log`, screen off, with the `-var` pairs `vars` and
+/// `-var engine lammps`; its output once it has exited.
+pub(super) fn run_lmp(
+    lmp: &Path,
+    input: &Path,
+    log: &Path,
+    vars: &[(String, String)],
+) -> Result<std::process::Output, CannotRun> {
+    let mut cmd = Command::new(lmp);
+    cmd.arg("-in")
+        .arg(input)
+        .arg("-log")
+        .arg(log)
+        .args(["-screen", "none"]);
+    for (k, v) in vars {
+        cmd.args(["-var", k, v]);
+    }
+    cmd.args(["-var", "engine", "lammps"]);
+    cmd.output()
+        .map_err(|e| CannotRun(format!("cannot start {}: {e}", lmp.display())))
 }

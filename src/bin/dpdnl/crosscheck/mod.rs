@@ -12,13 +12,19 @@
 //! lists missed pairs, e.g. under the `neigh_modify delay 10` default of older LAMMPS) a DIFFER
 //! verdict says so and names the fix, `neigh_modify delay 0 every 1 check yes`. The standalone
 //! engine checks every step.
+//!
+//! `--from lammps` (and `--from auto`, the default, when the standalone engine cannot build the
+//! system: an error before the first `run`) starts both engines from LAMMPS's state: LAMMPS
+//! runs the script's set-up (its lines before the first top-level `run`) and writes its state,
+//! which the standalone engine installs at `create_box`/`read_data` (see [`state`]).
 
 mod compare;
 mod engines;
+mod state;
 mod verdict;
 
 use compare::compare;
-use engines::{find_lmp, run_lammps, run_standalone};
+use engines::{Standalone, find_lmp, run_lammps, run_standalone};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -53,6 +59,29 @@ pub struct CrosscheckArgs {
     /// one per CPU available; a larger N than that is capped at the CPU count, with a warning.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64))]
     pub threads: u64,
+    /// Where the standalone engine's run starts. `script`: both engines run the whole script
+    /// (start from `read_data` for the same state: `create_atoms random` and `velocity create`
+    /// draw differently in the two engines). `lammps`: LAMMPS runs the set-up (the script's
+    /// lines before its first top-level `run`: lattice, create_atoms, velocity create, region
+    /// shapes, set, delete_atoms, minimize, …) and writes its state (write_data: box, tilt,
+    /// atoms, image flags, velocities, masses, topology, step; group memberships); the
+    /// standalone engine installs it at `create_box`/`read_data`, skips the set-up commands the
+    /// state carries (logged), and both run the rest of the script; the verdict names what
+    /// was not carried. `auto`: `script`, then `lammps` when the standalone engine cannot build
+    /// the system (an error before the first run).
+    #[arg(long, value_enum, default_value_t = StartFrom::Auto)]
+    pub from: StartFrom,
+}
+
+/// `--from`: where the standalone engine's run starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum StartFrom {
+    /// `script`, then `lammps` when the standalone engine cannot build the system.
+    Auto,
+    /// Both engines run the whole script.
+    Script,
+    /// The standalone engine starts from LAMMPS's state after the set-up.
+    Lammps,
 }
 
 /// An error that means "cannot run" (exit 2).
@@ -123,7 +152,31 @@ fn run(a: &CrosscheckArgs) -> Result<bool, CannotRun> {
     std::env::set_current_dir(&script_dir)
         .map_err(|e| CannotRun(format!("cannot enter {}: {e}", script_dir.display())))?;
 
-    let (log_s, dumps) = run_standalone(&script, &workdir, &mut vars, threads)?;
+    let mut from_state = None;
+    if a.from == StartFrom::Lammps {
+        from_state = Some(state::lammps_state(&lmp, &script, &workdir, &vars)?);
+    }
+    let standalone =
+        match run_standalone(&script, &workdir, &mut vars, threads, from_state.as_ref()) {
+            Ok(s) => s,
+            Err(f) if a.from == StartFrom::Auto && f.in_setup => {
+                println!(
+                    "note: the standalone engine cannot build this system ({}); crosschecking \
+                 from LAMMPS's state (--from lammps)",
+                    f.error
+                        .0
+                        .trim_start_matches("the standalone engine failed: ")
+                );
+                let st = state::lammps_state(&lmp, &script, &workdir, &vars)?;
+                let s = run_standalone(&script, &workdir, &mut vars, threads, Some(&st))
+                    .map_err(|f| f.error)?;
+                from_state = Some(st);
+                s
+            }
+            Err(f) => return Err(f.error),
+        };
+    let Standalone { log, dumps, state } = standalone;
     let log_l = run_lammps(&lmp, &script, &workdir, &vars, &dumps)?;
-    compare(a, &lmp, &script, &workdir, &log_s, &log_l, &dumps)
+    let from = from_state.as_ref().zip(state.as_ref());
+    compare(a, &lmp, &script, &workdir, (&log, &log_l), &dumps, from)
 }

@@ -138,9 +138,8 @@ pub(super) fn differ_verdict(
         (Growth::AtStart { start, .. }, Some((line, cmd))) => format!(
             " (the engines start from different states: already {} at step {} ({}), because \
              line {line}, `{cmd}`, draws LAMMPS's random numbers in LAMMPS and keyed ones in \
-             the standalone engine; this is not a model difference: let LAMMPS write_data \
-             after the set-up and read_data that file in both, or set the velocities with \
-             `velocity … set` or `ramp`)",
+             the standalone engine; this is not a model difference: run `dpdnl crosscheck \
+             --from lammps`, which starts both engines from LAMMPS's state after the set-up)",
             c("%.1e", start.diff),
             start.step,
             start.what,
