@@ -52,6 +52,10 @@ pub(crate) struct Block {
     pub(crate) events: Vec<Vec<Event>>,
     /// Its copy of f (force-only steps: the forces of the atoms only this block adds to).
     pub(crate) own: Vec<f64>,
+    /// Bit per atom: the atoms this block adds to (force-only steps, [`Owners`]).
+    pub(crate) seen: Vec<u64>,
+    /// The atoms of other slabs its rows near a face add to (force-only steps, [`Owners`]).
+    pub(crate) foreign: Vec<usize>,
     /// Whether the block met an atom marked as another block's ([`Owners`]).
     pub(crate) stale: bool,
     pub(crate) err: Option<Error>,
