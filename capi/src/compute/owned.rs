@@ -261,10 +261,8 @@ struct Own<'e, const J: u8> {
     at: usize,
     pos: u32,
     me: u32,
-    /// The block's events, kept up to `n`: a slot is written for every addition to a j and
-    /// kept only for a shared atom (no branch per addition; one count, held in a register).
-    events: &'e mut Vec<Event>,
-    n: usize,
+    buckets: &'e mut [Vec<Event>],
+    chunk: u32,
     nlocal: usize,
     /// The row being summed (`usize::MAX` before the first) and the force on it so far.
     i: usize,
@@ -275,20 +273,9 @@ struct Own<'e, const J: u8> {
 impl<const J: u8> Own<'_, J> {
     /// An event of the row being walked: `f[atom] += v`.
     #[inline(always)]
-    fn push(&mut self, atom: usize, v: [f64; 3], keep: bool) {
+    fn push(&mut self, atom: usize, v: [f64; 3]) {
         let (atom, pos) = (atom as u32, self.pos);
-        self.events[self.n] = Event { v, atom, pos };
-        self.n += usize::from(keep);
-    }
-
-    /// Room for `more` events, and one (a batch's lanes push at most two each: the row before
-    /// and j; the last row one after the last batch).
-    #[inline(always)]
-    fn room(&mut self, more: usize) {
-        if self.events.len() < self.n + more + 1 {
-            self.events
-                .resize(2 * (self.n + more + 1), Event::default());
-        }
+        self.buckets[(atom / self.chunk) as usize].push(Event { v, atom, pos });
     }
 
     /// A finished row: `f[i] += fi` (nothing before the first row).
@@ -305,7 +292,7 @@ impl<const J: u8> Own<'_, J> {
                 f[1] += fi[1];
                 f[2] += fi[2];
             }
-            SHARED => self.push(i, fi, true),
+            SHARED => self.push(i, fi),
             _ => self.stale = true,
         }
     }
@@ -327,7 +314,6 @@ impl<const J: u8> Own<'_, J> {
     /// The lanes of a batch, in order (as [`Sum::batch`]).
     #[inline(always)]
     fn batch(&mut self, b: &PairBatch, is: &[u32], js: &[u32]) {
-        self.room(2 * is.len());
         for (l, (&i, &j)) in is.iter().zip(js).enumerate() {
             let (i, j) = (i as usize, j as usize);
             let (_, fv) = lane_force(b, l);
@@ -340,24 +326,23 @@ impl<const J: u8> Own<'_, J> {
             self.fi[1] += fv[1];
             self.fi[2] += fv[2];
             if J == J_ALWAYS || (J == J_OWNED && j < self.nlocal) {
-                // Without a branch on the mark: the block's copy of f[j] is added to whatever
-                // the mark (read only when the atom is the block's alone), an event slot is
-                // written and kept only for a shared atom, and any other mark is stale.
-                let m = self.mark[j];
-                let (mine, shared) = (m == self.me, m == SHARED);
-                let fj = &mut self.f[3 * j..3 * j + 3];
-                fj[0] -= fv[0];
-                fj[1] -= fv[1];
-                fj[2] -= fv[2];
-                self.push(j, [-fv[0], -fv[1], -fv[2]], shared);
-                self.stale |= !mine & !shared;
+                match self.mark[j] {
+                    m if m == self.me => {
+                        let fj = &mut self.f[3 * j..3 * j + 3];
+                        fj[0] -= fv[0];
+                        fj[1] -= fv[1];
+                        fj[2] -= fv[2];
+                    }
+                    SHARED => self.push(j, [-fv[0], -fv[1], -fv[2]]),
+                    _ => self.stale = true,
+                }
             }
         }
     }
 }
 
-/// One block's phase 1: its rows walked into its copy of `f0` (read back only for the atoms it
-/// alone adds to) and its events; returns whether the marks were stale.
+/// One block's phase 1: its rows walked into its copy of `f0` (only the atoms it alone adds
+/// to are copied and read) and its events; returns whether the marks were stale.
 #[allow(clippy::too_many_arguments)]
 fn block<const J: u8>(
     walk: &Walk,
@@ -367,10 +352,20 @@ fn block<const J: u8>(
     f0: &[f64],
     mark: &[u32],
     me: u32,
+    (ntasks, chunk): (usize, usize),
     nlocal: usize,
 ) -> Result<bool, Error> {
-    b.own.clear();
-    b.own.extend_from_slice(f0);
+    if b.own.len() < f0.len() {
+        b.own.resize(f0.len(), 0.0);
+    }
+    for ((own, f), _) in (b.own.chunks_exact_mut(3).zip(f0.chunks_exact(3)))
+        .zip(mark)
+        .filter(|&(_, &m)| m == me)
+    {
+        own.copy_from_slice(f);
+    }
+    b.events.resize_with(ntasks, Vec::new);
+    b.events.iter_mut().for_each(Vec::clear);
     let mut own = Own::<J> {
         f: &mut b.own,
         mark,
@@ -379,8 +374,8 @@ fn block<const J: u8>(
         at: 0,
         pos: u32::MAX,
         me,
-        events: &mut b.events,
-        n: 0,
+        buckets: &mut b.events,
+        chunk: chunk as u32,
         nlocal,
         i: usize::MAX,
         fi: [0.0; 3],
@@ -391,7 +386,6 @@ fn block<const J: u8>(
         own.batch(bt, is, js)
     })?;
     own.add_row();
-    b.kept = own.n;
     Ok(own.stale)
 }
 
@@ -408,6 +402,7 @@ pub(crate) fn force_only(
     let nall = f.len() / 3;
     let nb = w.threads();
     let chunk = nall.div_ceil(nb).max(1);
+    let ntasks = nall.div_ceil(chunk);
     let key = rows_key(rows, flags, walk.mask, nall, nb);
     let (team, blocks, owners) = (&w.team, &mut w.blocks[..nb], &mut w.owners);
     team.scope(|| {
@@ -425,12 +420,13 @@ pub(crate) fn force_only(
             };
             team.for_each(blocks, &|k, b: &mut Block| {
                 let me = k as u32 + 1;
+                let tasks = (ntasks, chunk);
                 let m = mark;
                 let nl = flags.nlocal;
                 let r = match j_rule {
-                    J_NEVER => block::<J_NEVER>(walk, b, rows, &mine[k], f0, m, me, nl),
-                    J_ALWAYS => block::<J_ALWAYS>(walk, b, rows, &mine[k], f0, m, me, nl),
-                    _ => block::<J_OWNED>(walk, b, rows, &mine[k], f0, m, me, nl),
+                    J_NEVER => block::<J_NEVER>(walk, b, rows, &mine[k], f0, m, me, tasks, nl),
+                    J_ALWAYS => block::<J_ALWAYS>(walk, b, rows, &mine[k], f0, m, me, tasks, nl),
+                    _ => block::<J_OWNED>(walk, b, rows, &mine[k], f0, m, me, tasks, nl),
                 };
                 (b.stale, b.err) = match r {
                     Ok(stale) => (stale, None),
@@ -452,7 +448,7 @@ pub(crate) fn force_only(
             team.for_each(&mut parts, &|_, (t, f)| {
                 let lo = *t * chunk;
                 gather(done, &mark[lo..lo + f.len() / 3], f, lo);
-                merge_events(done, f, lo);
+                merge_events(done, *t, f, lo);
             });
             return Ok(());
         }
@@ -473,23 +469,20 @@ fn gather(blocks: &[Block], mark: &[u32], f: &mut [f64], lo: usize) {
     }
 }
 
-/// Phase 2's events: every block's (each in list order), merged by list position, those of the
-/// atoms `lo..` added to `f`: a block's events are taken as a run up to the next position of
-/// another block's (a per-event choice between the blocks cost 25 ns an event, n = 16, 2
-/// threads).
-fn merge_events(blocks: &[Block], f: &mut [f64], lo: usize) {
-    let hi = lo + f.len() / 3;
+/// Phase 2's events: bucket `t` of every block (each in list order), merged by list position
+/// and added to the atoms `lo..` of `f`: a block's events are taken as a run up to the next
+/// position of another block's (a per-event choice between the blocks cost 25 ns an event,
+/// n = 16, 2 threads).
+fn merge_events(blocks: &[Block], t: usize, f: &mut [f64], lo: usize) {
     let mut add = |e: &Event| {
-        let a = e.atom as usize;
-        if (lo..hi).contains(&a) {
-            let fa = &mut f[3 * (a - lo)..3 * (a - lo) + 3];
-            fa[0] += e.v[0];
-            fa[1] += e.v[1];
-            fa[2] += e.v[2];
-        }
+        let k = 3 * (e.atom as usize - lo);
+        let fa = &mut f[k..k + 3];
+        fa[0] += e.v[0];
+        fa[1] += e.v[1];
+        fa[2] += e.v[2];
     };
     // The first block's run up to the next event of any other, then that block's run, ...
-    let streams: Vec<&[Event]> = blocks.iter().map(|b| &b.events[..b.kept]).collect();
+    let streams: Vec<&[Event]> = blocks.iter().map(|b| &b.events[t][..]).collect();
     let mut at = vec![0usize; streams.len()];
     loop {
         let heads = streams.iter().zip(&at).enumerate();

@@ -48,10 +48,8 @@ pub(crate) struct Block {
     pub(crate) near: Vec<u32>,
     pub(crate) pairs: Vec<PairRec>,
     pub(crate) tally: Vec<TallyRec>,
-    /// Force events (force-only steps: the shared atoms' additions, in list order).
-    pub(crate) events: Vec<Event>,
-    /// The events kept in `events` (its slots beyond are scratch).
-    pub(crate) kept: usize,
+    /// Force events by phase-2 task (force-only steps: the shared atoms' additions).
+    pub(crate) events: Vec<Vec<Event>>,
     /// Its copy of f (force-only steps: the forces of the atoms only this block adds to).
     pub(crate) own: Vec<f64>,
     /// Bit per atom: the atoms this block adds to (force-only steps, [`Owners`]).
@@ -64,7 +62,7 @@ pub(crate) struct Block {
 }
 
 /// A force event of phase 1: `f[atom] += v`, made by the row at list position `pos`.
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Copy)]
 pub(crate) struct Event {
     pub(crate) v: [f64; 3],
     pub(crate) atom: u32,
