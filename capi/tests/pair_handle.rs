@@ -1421,6 +1421,125 @@ fn the_working_copy_of_the_list_gives_the_same_bits_as_the_list() {
     assert!(in_range, "atom 0 never reached its partner's cut-off");
 }
 
+/// A `dpd/nonlinear/ext` handle of two types (friction `fr`, noise `no`).
+fn ext_handle(fr: &str, no: &str) -> Handle {
+    let seed = SEED.to_string();
+    let h = new_style(
+        "dpd/nonlinear/ext",
+        &["0.7", "1.0", &seed, "friction", fr, "noise", no],
+        2,
+    )
+    .expect("style");
+    for line in [
+        [
+            "1", "1", "25", "4.5", "2.0", "1.0", "0.5", "1.0", "gamma1", "1.0",
+        ],
+        [
+            "1", "2", "10", "3.0", "1.0", "1.0", "1.0", "1.2", "gamma1", "0.5",
+        ],
+        [
+            "2", "2", "0", "5.0", "3.0", "0.5", "1.0", "0.9", "gamma1", "2.0",
+        ],
+    ] {
+        coeff(&h, 2, &line).expect("coeff");
+    }
+    h
+}
+
+#[test]
+fn threads_give_the_same_bits_over_a_long_lived_list() {
+    // 1500 atoms whose rows run along x (so the threads' blocks are slabs: most atoms are one
+    // block's alone, the rest shared), 40 calls while the atoms move, on 1, 2 and 3 threads,
+    // each count on its own handle kept for all the calls; the list built again at call 15,
+    // and changed in place at call 28 (same rows, same addresses and lengths: a pair of the
+    // first row now reaches the last row's atom, moved beside it). dpd/nonlinear walks the list
+    // as it is, dpd/nonlinear/ext its working copy. Half lists, newton on and
+    // off, and a full list; tallies on every fourth call. Every bit the same.
+    let skin = 0.4;
+    let cut = 1.2 + skin;
+    for (kind, full, newton) in [
+        (ListKind::HalfNewtonOn, false, true),
+        (ListKind::HalfNewtonOff, false, false),
+        (ListKind::Full, true, false),
+    ] {
+        let mut a = Atoms::new(1500, 7.5, cut);
+        let n = a.nlocal;
+        let mut ilist: Vec<i32> = (0..n as i32).collect();
+        ilist.sort_by(|&p, &q| a.x[3 * p as usize].total_cmp(&a.x[3 * q as usize]));
+        // dpd/nonlinear on LAMMPS's list, dpd/nonlinear/ext (non-central forces) on the copy.
+        let handles: Vec<Vec<Handle>> = [dpd_handle, ext_handle]
+            .iter()
+            .map(|make| {
+                (0..3)
+                    .map(|_| {
+                        let h = make("dot", "twostep");
+                        init(&h, n as i64, 7.5f64.powi(3)).expect("init");
+                        h
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut lists = a.list(kind, cut);
+        let mut rows = CList::new(ilist.clone(), &lists);
+        let mut build = 1;
+        for call in 0..40i64 {
+            if call == 15 {
+                lists = a.list(kind, cut);
+                rows = CList::new(ilist.clone(), &lists);
+                build += 1;
+            }
+            if call == 28 {
+                let (p, q) = (ilist[0] as usize, ilist[n - 1] as usize);
+                let row = &mut lists[p];
+                assert!(!row.is_empty(), "row {p} is empty");
+                row[0] = q as i32 | (1 << 30);
+                for d in 0..3 {
+                    a.x[3 * q + d] = a.x[3 * p + d] + [0.5, 0.1, -0.1][d];
+                }
+            }
+            let tallies = call % 4 == 0;
+            for (family, copy) in handles.iter().zip([(0, 0.0), (build, skin)]) {
+                let sums: Vec<Sums> = family
+                    .iter()
+                    .zip(1..)
+                    .map(|(h, threads)| {
+                        compute_list(
+                            h,
+                            &a,
+                            &rows,
+                            (full, newton),
+                            &[],
+                            threads,
+                            tallies,
+                            copy,
+                            call,
+                        )
+                    })
+                    .collect();
+                for (s, threads) in sums.iter().zip(1..).skip(1) {
+                    assert!(
+                        s.bits() == sums[0].bits(),
+                        "{kind:?} call {call} (build {}, tallies {tallies}): {threads} threads \
+                         differ from 1",
+                        copy.0
+                    );
+                }
+            }
+            let step: Vec<[f64; 3]> = (0..n)
+                .map(|i| {
+                    let k = (i as u32) * 3 + call as u32 * 7919;
+                    [0, 1, 2].map(|c| uniform(k, 400 + c, -0.01, 0.01))
+                })
+                .collect();
+            for g in 0..a.nall() {
+                for (x, s) in a.x[3 * g..3 * g + 3].iter_mut().zip(step[a.owner[g]]) {
+                    *x += s;
+                }
+            }
+        }
+    }
+}
+
 /// `pair_style hybrid` on a subset of type pairs (issue 42): as a sub-style the pairs without
 /// coefficients belong to other styles and get no force (the same bits as the pair given zero
 /// coefficients), the largest cut-off is over the style's own pairs; as the top-level style the

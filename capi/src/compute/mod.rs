@@ -13,6 +13,7 @@ use crate::types::*;
 use crate::working::WorkingList;
 use crate::{DpdnlStatus, Error, guard, slice, slice_mut};
 
+mod owned;
 mod tally;
 mod threads;
 mod walk;

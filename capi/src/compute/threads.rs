@@ -1,10 +1,10 @@
-//! The threads inside a rank ([`Workers`]): row blocks evaluated in parallel into force events
-//! (or per-pair records on tally steps), then added in list order, so every sum keeps the
-//! one-thread order and the bits do not depend on the thread count.
+//! The threads inside a rank ([`Workers`]): row blocks evaluated in parallel, their results
+//! added in list order, so every sum keeps the one-thread order and the bits do not depend on
+//! the thread count. Force-only steps: `owned.rs`; tally steps: per-pair records, here.
 
-use dpdnl::PairBatch;
 use dpdnl::host::{Batcher, lane_force};
 
+use super::owned::{Owners, force_only};
 use super::tally::*;
 use super::walk::*;
 use crate::Error;
@@ -20,22 +20,25 @@ pub(crate) const BLOCKS_PER_THREAD: usize = 4;
 pub(crate) const WINDOW_ROWS: usize = 1024;
 
 /// The threads of a pair style's walk over a LAMMPS list ([`walk_pairs`]) and their buffers,
-/// kept from step to step. The rows are taken in windows of [`WINDOW_ROWS`], in list order.
+/// kept from step to step.
+///
+/// Force-only steps ([`force_only`]): one block of rows per thread, each adding straight into
+/// its own copy of f the forces of the atoms only it touches, and events for the atoms several
+/// blocks touch ([`Owners`]); phase 2 copies the former and adds the latter in list order.
+///
+/// Tally steps: the rows are taken in windows of [`WINDOW_ROWS`], in list order.
 /// Phase 1 splits a window into contiguous row blocks, evaluated in parallel; phase 2 adds
 /// their results in list order, each task to a contiguous range of atoms, so that every atom's
 /// force (and per-atom tallies) is summed in the single-threaded order. The bits do not depend
-/// on the thread count (tested with 1, 2 and 3).
-///
-/// Force-only steps: each block emits the single-threaded walk's additions to f as events
-/// (`f[atom] += v`: −f_ij on j for each pair, the row's sum on i after its last pair, in the
-/// order [`Apply`] performs them), bucketed by the phase-2 task owning the atom; task t reads
-/// bucket t of every block, in block order, so each event is read once. Tally steps: each block
+/// on the thread count (tested with 1, 2 and 3). Each block
 /// stores, in list order, atom i, atom j, the force on i and what the tallies need; each task
 /// scans every record and adds only to its atoms, and one more task sums the global energy and
 /// virial over all records.
 pub(crate) struct Workers {
     pub(crate) team: Team,
     pub(crate) blocks: Vec<Block>,
+    /// Which block adds to which atom on force-only steps (kept while the rows are the same).
+    pub(crate) owners: Owners,
 }
 
 /// One row block's buffers (phase 1).
@@ -45,67 +48,25 @@ pub(crate) struct Block {
     pub(crate) near: Vec<u32>,
     pub(crate) pairs: Vec<PairRec>,
     pub(crate) tally: Vec<TallyRec>,
-    /// Force events by phase-2 task (force-only steps).
+    /// Force events by phase-2 task (force-only steps: the shared atoms' additions).
     pub(crate) events: Vec<Vec<Event>>,
+    /// Its copy of f (force-only steps: the forces of the atoms only this block adds to).
+    pub(crate) own: Vec<f64>,
+    /// Bit per atom: the atoms this block adds to (force-only steps, [`Owners`]).
+    pub(crate) seen: Vec<u64>,
+    /// The atoms of other slabs its rows near a face add to (force-only steps, [`Owners`]).
+    pub(crate) foreign: Vec<usize>,
+    /// Whether the block met an atom marked as another block's ([`Owners`]).
+    pub(crate) stale: bool,
     pub(crate) err: Option<Error>,
 }
 
-/// A force event of phase 1: `f[atom] += v`.
+/// A force event of phase 1: `f[atom] += v`, made by the row at list position `pos`.
 #[derive(Clone, Copy)]
 pub(crate) struct Event {
     pub(crate) v: [f64; 3],
     pub(crate) atom: u32,
-}
-
-/// Phase 1 of a force-only step: a block's pairs, in list order, turned into the additions
-/// [`Apply::pair`] and [`Apply::finish_row`] perform, in the same order, each pushed to the
-/// bucket of the task owning its atom (`atom / chunk`). `f[j] -= fv` becomes `f[j] += -fv`,
-/// the same IEEE result.
-pub(crate) struct Emit<'e> {
-    pub(crate) buckets: &'e mut [Vec<Event>],
-    pub(crate) chunk: u32,
-    /// Half list: j's side is added when newton is on or j is owned (j < `nlocal`).
-    pub(crate) half: bool,
-    pub(crate) newton: bool,
-    pub(crate) nlocal: u32,
-    /// The row being summed: atom i and the force on it so far.
-    pub(crate) row: Option<(u32, [f64; 3])>,
-}
-
-impl Emit<'_> {
-    #[inline(always)]
-    pub(crate) fn push(&mut self, atom: u32, v: [f64; 3]) {
-        self.buckets[(atom / self.chunk) as usize].push(Event { v, atom });
-    }
-
-    /// The lanes of a batch, in order (the row's running force in locals, as in [`Sum`]).
-    #[inline(always)]
-    pub(crate) fn batch(&mut self, b: &PairBatch, is: &[u32], js: &[u32]) {
-        let mut row = self.row.take();
-        for (l, (&i, &j)) in is.iter().zip(js).enumerate() {
-            let fv = lane_force(b, l).1;
-            if let Some((r, fr)) = row
-                && r != i
-            {
-                self.push(r, fr);
-                row = None;
-            }
-            let fi = &mut row.get_or_insert((i, [0.0; 3])).1;
-            fi[0] += fv[0];
-            fi[1] += fv[1];
-            fi[2] += fv[2];
-            if self.half && (self.newton || j < self.nlocal) {
-                self.push(j, [-fv[0], -fv[1], -fv[2]]);
-            }
-        }
-        self.row = row;
-    }
-
-    pub(crate) fn finish_row(&mut self) {
-        if let Some((i, fi)) = self.row.take() {
-            self.push(i, fi);
-        }
-    }
+    pub(crate) pos: u32,
 }
 
 /// An evaluated pair: atoms i and j and the force on i (−it on j).
@@ -133,6 +94,7 @@ impl Workers {
             blocks: (0..threads * BLOCKS_PER_THREAD)
                 .map(|_| Block::default())
                 .collect(),
+            owners: Owners::default(),
         })
     }
 
@@ -163,7 +125,9 @@ pub(crate) fn threaded(
     sinks: &mut Sinks,
     flags: Flags,
 ) -> Result<(), Error> {
-    let tallying = sinks.any();
+    if !sinks.any() {
+        return force_only(walk, w, rows, f, flags);
+    }
     // Phase 2's tasks: contiguous ranges of atoms, each with its part of f, eatom and vatom;
     // one more task for the global energy and virial.
     let nall = f.len() / 3;
@@ -215,11 +179,11 @@ pub(crate) fn threaded(
             team.for_each(blocks, &|k, b: &mut Block| {
                 let part = &win[(k * per).min(win.len())..((k + 1) * per).min(win.len())];
                 let rows = part.iter().map(|&r| Ok(r));
-                b.err = if tallying {
-                    b.pairs.clear();
-                    b.tally.clear();
-                    let (pairs, tally) = (&mut b.pairs, &mut b.tally);
-                    walk.rows(rows, &mut b.bt, &mut b.near, |bt, is, js| {
+                b.pairs.clear();
+                b.tally.clear();
+                let (pairs, tally) = (&mut b.pairs, &mut b.tally);
+                b.err = walk
+                    .rows(rows, &mut b.bt, &mut b.near, |bt, is, js| {
                         for (l, (&i, &j)) in is.iter().zip(js).enumerate() {
                             let (dr, fv) = lane_force(bt, l);
                             pairs.push(PairRec { i, j, f: fv });
@@ -230,34 +194,12 @@ pub(crate) fn threaded(
                             });
                         }
                     })
-                } else {
-                    b.events.resize_with(ntasks, Vec::new);
-                    b.events.iter_mut().for_each(Vec::clear);
-                    let mut emit = Emit {
-                        buckets: &mut b.events,
-                        chunk: chunk as u32,
-                        half: !flags.full,
-                        newton: flags.newton,
-                        nlocal: flags.nlocal as u32,
-                        row: None,
-                    };
-                    let r = walk.rows(rows, &mut b.bt, &mut b.near, |bt, is, js| {
-                        emit.batch(bt, is, js)
-                    });
-                    emit.finish_row();
-                    r
-                }
-                .err();
+                    .err();
             });
             if let Some(e) = blocks.iter_mut().find_map(|b| b.err.take()) {
                 return Err(e);
             }
             let done: &[Block] = blocks;
-            if !tallying {
-                // Phase 2: each task adds its bucket of every block, in block order.
-                team.for_each(&mut parts, &|t, (lo, f, _)| add_events(done, t, f, *lo));
-                continue;
-            }
             // Phase 2 of a tally step: every record of the window in list order, once per range
             // of atoms (forces and per-atom tallies), and once for the global energy and virial.
             let mut tasks: Vec<Replay> = global
@@ -280,20 +222,6 @@ pub(crate) fn threaded(
 pub(crate) enum Replay<'p, 's> {
     Part(&'p mut (usize, &'s mut [f64], Sinks<'s>)),
     Global(&'p mut Sinks<'s>),
-}
-
-/// Phase 2 of a force-only step of a threaded walk: bucket `t` of every block, in block order,
-/// added to the atoms `lo..` of `f`.
-pub(crate) fn add_events(blocks: &[Block], t: usize, f: &mut [f64], lo: usize) {
-    for b in blocks {
-        for e in &b.events[t] {
-            let k = 3 * (e.atom as usize - lo);
-            let fa = &mut f[k..k + 3];
-            fa[0] += e.v[0];
-            fa[1] += e.v[1];
-            fa[2] += e.v[2];
-        }
-    }
 }
 
 /// Phase 2 of a threaded walk: every record of `blocks` in list order, added to the atoms `lo..`
