@@ -391,6 +391,19 @@ impl HistoBins {
     }
 }
 
+/// Add w v_a v_b (xx yy zz xy xz yz) to the symmetric tensor `t`: one atom's m v_a v_b of a
+/// kinetic tensor (temp, temp/deform, temp/partial, stress/atom), or its m d_a d_b of
+/// `compute gyration`.
+#[inline]
+pub(crate) fn add_outer(t: &mut [f64; 6], w: f64, v: [f64; 3]) {
+    t[0] += w * v[0] * v[0];
+    t[1] += w * v[1] * v[1];
+    t[2] += w * v[2] * v[2];
+    t[3] += w * v[0] * v[1];
+    t[4] += w * v[0] * v[2];
+    t[5] += w * v[1] * v[2];
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -86,13 +86,7 @@ impl System {
         if let Some(bias) = parts.ke {
             for (i, s) in s.iter_mut().enumerate() {
                 let m = u.mvv2e * self.mass[self.atoms.typ[i] as usize].unwrap_or(0.0);
-                let v = self.thermal_velocity(i, bias);
-                s[0] += m * v[0] * v[0];
-                s[1] += m * v[1] * v[1];
-                s[2] += m * v[2] * v[2];
-                s[3] += m * v[0] * v[1];
-                s[4] += m * v[0] * v[2];
-                s[5] += m * v[1] * v[2];
+                super::measure::add_outer(s, m, self.thermal_velocity(i, bias));
             }
         }
         for s in &mut s {

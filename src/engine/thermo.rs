@@ -36,7 +36,7 @@ impl System {
         let mut kt = [0.0; 6];
         for ((v, &t), _) in self.atoms.v.iter().zip(&self.atoms.typ).zip(0..) {
             let m = self.mass[t as usize].unwrap_or(0.0);
-            add_kinetic(&mut kt, m, *v);
+            super::measure::add_outer(&mut kt, m, *v);
         }
         self.thermo_from_kinetic(kt)
     }
@@ -54,7 +54,7 @@ impl System {
                 .as_ref()
                 .map_or(0.0, |tr| tr.stream_x(&self.bx, x[1]));
             let w = [v[0] - u, v[1], v[2]];
-            add_kinetic(&mut kt, m, w);
+            super::measure::add_outer(&mut kt, m, w);
         }
         self.thermo_from_kinetic(kt)
     }
@@ -78,7 +78,7 @@ impl System {
         for (v, &t) in self.atoms.v.iter().zip(&self.atoms.typ) {
             let m = self.mass[t as usize].unwrap_or(0.0);
             let w = [on[0] * v[0], on[1] * v[1], on[2] * v[2]];
-            add_kinetic(&mut kt, m, w);
+            super::measure::add_outer(&mut kt, m, w);
         }
         let d = self.dim() as f64;
         let nper = on.iter().sum::<f64>();
@@ -191,15 +191,4 @@ pub fn check_atoms(
         }
     }
     Ok(())
-}
-
-/// Add one atom's m v_a v_b (xx yy zz xy xz yz) to the kinetic tensor `kt`.
-#[inline]
-fn add_kinetic(kt: &mut [f64; 6], m: f64, v: [f64; 3]) {
-    kt[0] += m * v[0] * v[0];
-    kt[1] += m * v[1] * v[1];
-    kt[2] += m * v[2] * v[2];
-    kt[3] += m * v[0] * v[1];
-    kt[4] += m * v[0] * v[2];
-    kt[5] += m * v[1] * v[2];
 }

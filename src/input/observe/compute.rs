@@ -714,12 +714,7 @@ fn gyration_tensor(sys: &System) -> [f64; 6] {
         let m = crate::engine::measure::mass_of(sys, i);
         let u = crate::engine::measure::unwrapped(sys, i);
         let d = [u[0] - cm[0], u[1] - cm[1], u[2] - cm[2]];
-        g[0] += m * d[0] * d[0];
-        g[1] += m * d[1] * d[1];
-        g[2] += m * d[2] * d[2];
-        g[3] += m * d[0] * d[1];
-        g[4] += m * d[0] * d[2];
-        g[5] += m * d[1] * d[2];
+        crate::engine::measure::add_outer(&mut g, m, d);
         mtot += m;
     }
     if mtot > 0.0 {
