@@ -41,6 +41,8 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
+sys.path.insert(0, HERE)
+import peers  # noqa: E402  (LAMMPS's log, read as the peer benchmark reads it)
 
 RHO = 6.05
 TOTAL = 1e8
@@ -68,22 +70,13 @@ def run(lmp, plugin_dir, style, cells, steps, workdir):
            "-var", "steps", str(steps), "-log", log, "-screen", "none", "-nocite"]
     p = subprocess.run(cmd, cwd=HERE, env=env, capture_output=True, text=True)
     text = open(log).read() if os.path.exists(log) else ""
-    if p.returncode != 0 or "Loop time" not in text:
+    r = peers.parse_log(text)
+    ghosts = re.findall(r"^Nghost:\s+(\d+)", text, re.M)
+    if p.returncode != 0 or r is None or not ghosts:
         sys.exit(f"{' '.join(cmd)} failed:\n{p.stdout[-1500:]}{p.stderr[-1500:]}{text[-1500:]}")
-
-    def last(pattern):
-        return re.findall(pattern, text, re.M)[-1]
-
-    loop, nsteps, natoms = last(r"Loop time of ([\d.eE+-]+) on \d+ procs for (\d+) steps "
-                                r"with (\d+) atoms")
-    nsteps = int(nsteps)
-    part = {k: float(last(rf"^{k}\s+\|\s+([\d.eE+-]+)")) / nsteps
-            for k in ("Pair", "Neigh", "Comm", "Modify")}
-    return {"natoms": int(natoms), "steps": nsteps, "t_step": float(loop) / nsteps,
-            "cpu": float(last(r"([\d.]+)% CPU use with")) / 100.0,
-            "nghost": int(last(r"^Nghost:\s+(\d+)")), "builds": int(last(r"^Neighbor list "
-                                                                        r"builds = (\d+)")),
-            **{f"t_{k.lower()}": v for k, v in part.items()}}
+    return {"natoms": r["atoms"], "steps": r["steps"], "t_step": r["loop"] / r["steps"],
+            "cpu": r["cpu_frac"], "nghost": int(ghosts[-1]), "builds": r["builds"],
+            "t_pair": r["pair"], "t_neigh": r["neigh"], "t_comm": r["comm"]}
 
 
 def measure(args):
@@ -126,7 +119,7 @@ def from_stderr(path):
         data["runs"][style][str(cells)].append(
             {"natoms": int(n), "steps": int(steps), "t_step": float(t) / 1e3,
              "t_pair": float(pair) / 1e3, "t_neigh": float(neigh) / 1e3,
-             "t_comm": float(comm) / 1e3, "t_modify": 0.0, "cpu": int(cpu) / 100.0,
+             "t_comm": float(comm) / 1e3, "cpu": int(cpu) / 100.0,
              "nghost": int(ghost), "builds": int(builds)})
     data["reps"] = len(reps)
     return data
@@ -138,7 +131,7 @@ def cpu_model():
 
 
 def median_run(runs):
-    keys = ("t_step", "t_pair", "t_neigh", "t_comm", "t_modify", "cpu")
+    keys = ("t_step", "t_pair", "t_neigh", "t_comm", "cpu")
     m = {k: statistics.median(r[k] for r in runs) for k in keys}
     m.update(natoms=runs[0]["natoms"], nghost=runs[0]["nghost"],
              build_every=runs[0]["steps"] / max(1, runs[0]["builds"]))
@@ -151,7 +144,7 @@ def ghost_count(n):
     return RHO * ((side + 2 * GHOST_CUT) ** 3 - side ** 3)
 
 
-def network(n, ghosts, build_every, ranks):
+def network(ghosts, build_every, ranks):
     """Seconds per step the network adds to a rank's own work (the model of the docstring)."""
     bytes_step = ghosts * (BYTES_PER_GHOST + BORDER_BYTES_PER_GHOST / build_every)
     messages = PHASES * SWAPS + SWAPS / build_every
@@ -200,7 +193,7 @@ def table(data):
             scale = n / m["natoms"]
             t1 = m["t_step"] * scale
             ghosts = ghost_count(n)
-            t_net, bytes_step = network(n, ghosts, m["build_every"], ranks)
+            t_net, bytes_step = network(ghosts, m["build_every"], ranks)
             step = t1 + t_net
             eff = t1 / step
             hours = step * 1e6 / 3600
