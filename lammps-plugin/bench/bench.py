@@ -15,7 +15,6 @@ stdout as a Markdown table, with the load average before each repetition.
 import argparse
 import os
 import platform
-import re
 import statistics
 import subprocess
 import sys
@@ -23,6 +22,8 @@ import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
+sys.path.insert(0, HERE)
+import peers  # noqa: E402  (LAMMPS's log, read once for every benchmark here)
 
 SYSTEMS = {"ideal": "ideal DPD, n = 16, N = 20000, δt = 1e-3",
            "gw": "Groot–Warren, n = 3, a = 25, N = 20000, δt = 0.04",
@@ -60,20 +61,13 @@ def run(lmp, plugin_dirs, system, style, steps, threads, workdir, ranks=1, mpiru
     text = open(log).read() if os.path.exists(log) else ""
     if p.returncode != 0:
         sys.exit(f"{' '.join(cmd)} failed:\n{p.stdout[-1500:]}{p.stderr[-1500:]}")
-    loops = re.findall(r"Loop time of ([\d.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms",
-                       text)
-    pairs = re.findall(r"^Pair\s+\|\s+([\d.eE+-]+)", text, re.M)
-    neighs = re.findall(r"^Neigh\s+\|\s+([\d.eE+-]+)", text, re.M)
-    builds = re.findall(r"^Neighbor list builds = (\d+)", text, re.M)
-    cpu = re.findall(r"([\d.]+)% CPU use with", text)
-    loop, _, nsteps, natoms = loops[-1]
-    work = int(natoms) * int(nsteps)
-    return {"atom_steps": work / float(loop),
+    r = peers.parse_log(text)
+    if r is None:
+        sys.exit(f"{' '.join(cmd)}: no timed run in its log:\n{text[-1500:]}")
+    return {"atom_steps": r["atom_steps"],
             # per CPU-second of the loop (LAMMPS's "% CPU use"): less sensitive to other load
-            "atom_steps_cpu": work / (float(loop) * float(cpu[-1]) / 100.0),
-            "pair_per_step": float(pairs[-1]) / int(nsteps),
-            "neigh_per_step": float(neighs[-1]) / int(nsteps) if neighs else 0.0,
-            "builds": int(builds[-1]) if builds else 0}
+            "atom_steps_cpu": r["atom_steps_cpu"],
+            "pair_per_step": r["pair"], "neigh_per_step": r["neigh"], "builds": r["builds"]}
 
 
 def main():
